@@ -1,0 +1,2 @@
+MERGE (m:SchemaInfo {id: 'sg3d'})
+SET m.version = $version

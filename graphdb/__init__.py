@@ -1,0 +1,1 @@
+"""The graph store: driver and sessions, embedded server lifecycle, schema, merge, export."""

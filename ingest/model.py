@@ -1,0 +1,85 @@
+"""Plain data that flows from perception into the store.
+
+`ingest` produces `LocalGraph`s; `graphdb` persists and merges them. Nothing here touches the
+store or the models, so every layer can import it.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Optional
+
+import numpy as np
+
+HIST_BINS = 8  # per HSV axis; the paper's c (Sec. V-B), 8**3 = 512 values
+HIST_SIZE = HIST_BINS ** 3
+TOP_K = 5
+
+# The fixed whitelist of relation types. Cypher cannot take a relation type as a parameter,
+# so every type that reaches a statement must be one of these.
+RELATION_TYPES = (
+    "ON", "UNDER", "ABOVE", "BELOW", "IN", "CONTAINS_OBJ", "NEXT_TO", "NEAR",
+    "IN_FRONT_OF", "BEHIND", "LEFT_OF", "RIGHT_OF", "BIGGER_THAN", "SMALLER_THAN",
+)
+
+COLOUR_NAMES = (
+    "red", "orange", "yellow", "green", "blue", "purple", "pink",
+    "brown", "black", "white", "grey",
+)
+
+
+@dataclass
+class ObjectObservation:
+    """One object of a local 3-D scene graph (the paper's vertex, Sec. V-A/V-B).
+
+    Positions are in the sequence's world frame (camera-to-world poses), metres.
+    """
+
+    local_id: str
+    labels: list[str]                      # top-k labels, best first
+    scores: list[float]                    # their scores, same order
+    mean: tuple[float, float, float]       # Gaussian position mean (Eq. 8 points)
+    var: tuple[float, float, float]        # per-axis variance
+    n_points: int                          # points behind mean/var
+    size: tuple[float, float, float]       # extent: width, depth, height (height along "up"), m
+    hist: np.ndarray                       # HSV histogram, HIST_SIZE counts (Eq. 9)
+    colour: str = "grey"                   # dominant colour name from COLOUR_NAMES
+    thumbnail: Optional[bytes] = None      # JPEG bytes of the box
+    first_frame: int = 0
+    last_frame: int = 0
+    n_frames: int = 1                      # frames of the keyframe group that saw it
+
+    @property
+    def label(self) -> str:
+        return self.labels[0]
+
+    @property
+    def score(self) -> float:
+        return float(self.scores[0])
+
+
+@dataclass
+class RelationObservation:
+    """A directed edge subject -[predicate]-> object between objects of one local graph."""
+
+    subject: str        # local_id
+    predicate: str      # one of RELATION_TYPES
+    object: str         # local_id
+    score: float = 1.0
+
+    def __post_init__(self) -> None:
+        if self.predicate not in RELATION_TYPES:
+            raise ValueError(f"unknown relation type {self.predicate!r}")
+
+
+@dataclass
+class LocalGraph:
+    """The local 3-D scene graph of one keyframe group (Sec. V-B)."""
+
+    room: str
+    objects: list[ObjectObservation]
+    relations: list[RelationObservation] = field(default_factory=list)
+    building: str = "default"
+    # identifies this observation so a re-run or --resume can skip it; None = always merge
+    key: Optional[str] = None
+    frames: list[int] = field(default_factory=list)
+    up: Optional[tuple[float, float, float]] = None  # room's up direction in world frame

@@ -1,0 +1,1 @@
+"""Reading the graph: questions -> Cypher templates -> answers; graph -> PDDL -> plans."""

@@ -1,0 +1,3 @@
+from sg3d.cli import main
+
+main()

@@ -1,0 +1,85 @@
+"""`sg3d db start|stop|status|reset`: the embedded store's lifecycle."""
+from __future__ import annotations
+
+import json
+import time
+
+import click
+
+from sg3d.errors import UserError
+
+
+def _server(settings):
+    from graphdb.embedded import EmbeddedServer
+
+    if not settings.embedded:
+        raise UserError("`sg3d db start|stop|status` manage the embedded store; drop --uri/SG3D_URI "
+                        "(a Neo4j server is managed by its own tools, see docker-compose.yml)")
+    return EmbeddedServer(settings.embedded_home())
+
+
+@click.group()
+def db() -> None:
+    """Manage the embedded graph store (started on demand by every command that needs it)."""
+
+
+@db.command()
+@click.option("--json", "as_json", is_flag=True, help="Machine-readable output.")
+@click.pass_obj
+def status(settings, as_json: bool) -> None:
+    """Say whether the embedded store runs, where, and since when."""
+    server = _server(settings)
+    st = server.status()
+    data = {"running": st.running, "home": str(server.home), "recovered_stale": st.recovered_stale}
+    if st.info:
+        data.update(pid=st.info.pid, uri=st.info.uri, database=st.info.database,
+                    uptime_s=round(time.time() - st.info.started_at, 1))
+    if as_json:
+        click.echo(json.dumps(data))
+        return
+    if st.recovered_stale:
+        click.echo("cleared the leftovers of a store that had stopped without shutting down")
+    if not st.running:
+        click.echo(f"not running (home {server.home})")
+    elif st.info is None:
+        click.echo(f"starting (home {server.home})")
+    else:
+        click.echo(f"running: {st.info.uri} database {st.info.database} pid {st.info.pid} "
+                   f"up {data['uptime_s']:.0f} s (home {server.home})")
+
+
+@db.command()
+@click.pass_obj
+def start(settings) -> None:
+    """Start the embedded store (no-op if it already runs)."""
+    server = _server(settings)
+    st = server.status()
+    if st.running and st.info:
+        click.echo(f"already running: {st.info.uri} pid {st.info.pid}")
+        return
+    t0 = time.monotonic()
+    info = server.start()
+    settings.store().ensure_schema()
+    click.echo(f"started: {info.uri} database {info.database} pid {info.pid} in {time.monotonic() - t0:.1f} s")
+
+
+@db.command()
+@click.pass_obj
+def stop(settings) -> None:
+    """Stop the embedded store cleanly."""
+    server = _server(settings)
+    click.echo("stopped" if server.stop() else "not running")
+
+
+@db.command()
+@click.option("--yes", is_flag=True, help="Do not ask.")
+@click.pass_obj
+def reset(settings, yes: bool) -> None:
+    """Delete every node and edge of the store (asks first)."""
+    if not yes:
+        click.confirm(f"delete the whole graph in {settings.uri or 'the embedded store'}?", abort=True)
+    settings.store().wipe()
+    click.echo("store emptied")
+
+
+commands = [db]

@@ -1,0 +1,48 @@
+"""Turning failures into one clear line instead of a traceback."""
+from __future__ import annotations
+
+import os
+
+import click
+
+
+class UserError(click.ClickException):
+    """A failure the user can act on; printed as one line, exit status 2."""
+
+    exit_code = 2
+
+
+def run_cli(group: click.Group) -> int:
+    from neo4j.exceptions import AuthError, CypherSyntaxError, ClientError, ServiceUnavailable
+
+    try:
+        group.main(standalone_mode=False, prog_name="sg3d")
+        return 0
+    except click.exceptions.Abort:
+        click.echo("aborted", err=True)
+        return 130
+    except click.ClickException as exc:
+        exc.show()
+        return exc.exit_code
+    except ServiceUnavailable as exc:
+        click.echo(f"error: cannot reach the graph store ({_first_line(exc).rstrip(':')})", err=True)
+        return 2
+    except AuthError as exc:
+        click.echo(f"error: the graph store refused the credentials: {_first_line(exc)}", err=True)
+        return 2
+    except (CypherSyntaxError, ClientError) as exc:
+        click.echo(f"error: {exc.code}: {_first_line(exc.message or str(exc))}", err=True)
+        return 2
+    except KeyboardInterrupt:
+        click.echo("interrupted", err=True)
+        return 130
+    except Exception as exc:  # noqa: BLE001 - last line of defence, the traceback on demand
+        if os.environ.get("SG3D_DEBUG"):
+            raise
+        click.echo(f"error: {type(exc).__name__}: {_first_line(exc)} (SG3D_DEBUG=1 for the traceback)", err=True)
+        return 1
+
+
+def _first_line(exc: object) -> str:
+    text = str(exc).strip()
+    return text.splitlines()[0] if text else type(exc).__name__
