@@ -1,0 +1,47 @@
+"""Shared fixtures: the real data beside the repo, and one real embedded store per session."""
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+import pytest
+
+REPO = Path(__file__).resolve().parents[1]
+SHARED = Path(os.environ.get("SG3D_SHARED", REPO.parent / "shared"))
+KITCHEN = SHARED / "data" / "7scenes-redkitchen"
+
+
+@pytest.fixture(scope="session")
+def kitchen_dir() -> Path:
+    """The real 7-Scenes red kitchen; skips (with the reason) where ../shared is absent."""
+    if not (KITCHEN / "camera-intrinsics.txt").exists():
+        pytest.skip(f"real kitchen data not found at ../shared/data/7scenes-redkitchen (set SG3D_SHARED)")
+    return KITCHEN
+
+
+@pytest.fixture(scope="session")
+def embedded_home(tmp_path_factory) -> Path:
+    return tmp_path_factory.mktemp("sg3d-home")
+
+
+@pytest.fixture(scope="session")
+def store_session(embedded_home):
+    """One real embedded ArcadeDB server for the whole test session, reached over Bolt."""
+    from graphdb.embedded import EmbeddedServer
+    from graphdb.store import Store
+
+    server = EmbeddedServer(embedded_home)
+    info = server.ensure_running()
+    store = Store(info.uri, (info.user, info.password), info.database)
+    store.ensure_schema()
+    yield store
+    store.close()
+    server.stop()
+
+
+@pytest.fixture
+def store(store_session):
+    """The session's store, emptied before each test."""
+    store_session.wipe()
+    store_session.ensure_schema()
+    return store_session
