@@ -1,0 +1,125 @@
+"""Detector: label map, top-k gathering + NMS on hand-made candidates, real SSD on a kitchen frame."""
+from __future__ import annotations
+
+import cv2
+import numpy as np
+import pytest
+
+from ingest.detect import (
+    COCO_LABELS_FILE,
+    Detection,
+    OnnxDetector,
+    SsdMobilenetDetector,
+    box_iou,
+    detections_from_candidates,
+    load_label_map,
+    make_detector,
+)
+
+
+def test_label_map_has_80_classes_with_tf_zoo_ids():
+    labels = load_label_map(COCO_LABELS_FILE)
+    assert len(labels) == 80
+    assert len(set(labels.values())) == 80
+    assert min(labels) == 1 and max(labels) == 90
+    # ids the TF zoo leaves unused
+    for unused in (12, 26, 29, 30, 45, 66, 68, 69, 71, 83):
+        assert unused not in labels
+    assert labels[1] == "person"
+    assert labels[44] == "bottle"
+    assert labels[47] == "cup"
+    assert labels[62] == "chair"
+    assert labels[67] == "dining table"
+    assert labels[72] == "tv"
+    assert labels[82] == "refrigerator"
+    assert labels[90] == "toothbrush"
+
+
+def test_box_iou():
+    iou = box_iou(np.array([[0, 0, 10, 10]]), np.array([[0, 0, 10, 10], [5, 0, 15, 10], [20, 20, 30, 30]]))
+    assert iou[0] == pytest.approx([1.0, 50 / 150, 0.0])
+
+
+LABELS = {47: "cup", 51: "bowl", 62: "chair", 67: "dining table", 44: "bottle"}
+
+
+def test_same_region_candidates_become_top_k_labels_of_one_object():
+    boxes = np.array([
+        [100, 100, 140, 150],   # cup, strong
+        [101, 100, 141, 151],   # bowl, same region -> second label
+        [100, 101, 140, 149],   # bottle, same region, weaker -> third label
+        [102, 102, 139, 150],   # cup again, weaker duplicate -> suppressed by NMS
+        [300, 200, 500, 400],   # chair elsewhere
+        [100, 100, 140, 150],   # unknown class id 999 -> ignored
+    ], dtype=float)
+    class_ids = np.array([47, 51, 44, 47, 62, 999])
+    scores = np.array([0.8, 0.3, 0.1, 0.5, 0.6, 0.99])
+    dets = detections_from_candidates(boxes, class_ids, scores, LABELS)
+    assert len(dets) == 2
+    cup = next(d for d in dets if d.label == "cup")
+    assert cup.labels == ["cup", "bowl", "bottle"]
+    assert cup.scores == pytest.approx([0.8, 0.3, 0.1])
+    assert cup.box == pytest.approx((100, 100, 140, 150))
+    chair = next(d for d in dets if d.label == "chair")
+    assert chair.labels == ["chair"]
+
+
+def test_two_strong_classes_on_one_region_are_one_object_and_low_scores_are_dropped():
+    boxes = np.array([[0, 0, 100, 100], [1, 1, 100, 100], [400, 400, 450, 450]], dtype=float)
+    dets = detections_from_candidates(boxes, np.array([67, 62, 47]), np.array([0.5, 0.45, 0.2]), LABELS)
+    assert len(dets) == 1                         # the cup at 0.2 is below the 0.23 threshold
+    assert dets[0].labels == ["dining table", "chair"]
+
+
+def test_distinct_overlapping_objects_survive():
+    # a cup on a table: heavy containment but low IoU -> both objects stay
+    boxes = np.array([[0, 0, 400, 300], [100, 50, 140, 100]], dtype=float)
+    dets = detections_from_candidates(boxes, np.array([67, 47]), np.array([0.7, 0.6]), LABELS)
+    assert sorted(d.label for d in dets) == ["cup", "dining table"]
+
+
+def test_make_detector_choices(tmp_path):
+    assert isinstance(make_detector(None), SsdMobilenetDetector)
+    assert isinstance(make_detector("ssd-mobilenet-v2-coco"), SsdMobilenetDetector)
+    assert make_detector({"kind": "ssd", "score_threshold": 0.4}).score_threshold == 0.4
+    model = tmp_path / "mine.onnx"
+    model.write_bytes(b"")
+    (tmp_path / "mine.txt").write_text("background\nmug\nplate\n")
+    onnx = make_detector(str(model))
+    assert isinstance(onnx, OnnxDetector)
+    assert onnx.label_map == {0: "background", 1: "mug", 2: "plate"}
+    with pytest.raises(ValueError):
+        make_detector("yolo-nonexistent")
+    with pytest.raises(FileNotFoundError):
+        make_detector(str(tmp_path / "other.onnx"))
+
+
+@pytest.fixture(scope="module")
+def ssd():
+    return SsdMobilenetDetector()
+
+
+def test_real_ssd_finds_chair_and_table_on_kitchen_frame(ssd, kitchen_dir):
+    image = cv2.imread(str(kitchen_dir / "frame-000000.color.jpg"))
+    assert image is not None
+    h, w = image.shape[:2]
+    dets = ssd.detect(image)
+    labels = [d.label for d in dets]
+    assert "chair" in labels
+    assert "dining table" in labels
+    for d in dets:
+        assert isinstance(d, Detection)
+        x1, y1, x2, y2 = d.box
+        assert 0 <= x1 < x2 <= w and 0 <= y1 < y2 <= h
+        assert d.score >= 0.23
+        assert 1 <= len(d.labels) <= 5 and len(d.labels) == len(d.scores)
+        assert list(d.scores) == sorted(d.scores, reverse=True)
+    chair = max((d for d in dets if d.label == "chair"), key=lambda d: d.score)
+    assert chair.score > 0.5
+    # the chair at the left of the table in frame 0 stands in the left half of the image
+    assert (chair.box[0] + chair.box[2]) / 2 < w / 2
+
+
+def test_real_ssd_on_blank_image_finds_nothing_confident(ssd):
+    dets = ssd.detect(np.full((480, 640, 3), 128, np.uint8))
+    assert all(d.score < 0.5 for d in dets)
