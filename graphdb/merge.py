@@ -1,0 +1,191 @@
+"""Merging a local 3-D scene graph into the stored global graph (paper Sec. V-C).
+
+The whole merge of one local graph is ONE write transaction (`session.execute_write`, retried
+on transient errors): a failure anywhere inside, in Python or in Cypher, rolls everything back.
+Inside it: fetch candidates (same room, inside a spatial window around the local graph), score
+them against the local objects in Python (`graphdb.similarity`), pair them one-to-one, update
+the matched nodes, create the rest, merge the edges, and log the merge under the graph's key so
+that a re-run or `--resume` skips it.
+"""
+from __future__ import annotations
+
+import time
+import uuid
+from collections import defaultdict
+from dataclasses import dataclass, field
+from typing import Optional
+
+import numpy as np
+from neo4j import ManagedTransaction
+from scipy.optimize import linear_sum_assignment
+
+from graphdb import cypher
+from graphdb.similarity import (SimilarityParams, histogram_intersection, label_similarity,
+                                position_similarity, total_similarity)
+from graphdb.update import (combine_gaussians, combine_histograms, combine_labels, combine_sizes,
+                            incoming_has_best_label)
+from ingest.embedding import LabelEmbedding, cosine, default_embedding
+from ingest.model import LocalGraph, ObjectObservation
+
+
+@dataclass
+class MergeReport:
+    key: Optional[str]
+    skipped: bool = False          # already merged under this key
+    created: int = 0
+    updated: int = 0
+    candidates: int = 0
+    relations: int = 0
+    node_ids: dict[str, str] = field(default_factory=dict)   # local_id -> global id
+    seconds: float = 0.0
+
+
+def room_id(building: str, room: str) -> str:
+    return f"{building}/{room}"
+
+
+def _pair_scores(objects: list[ObjectObservation], cands: list[dict], embedding: LabelEmbedding,
+                 params: SimilarityParams) -> np.ndarray:
+    """s_total (Eq. 15) for every (local object, candidate) pair, shape (n_local, n_cand)."""
+    n, m = len(objects), len(cands)
+    if n == 0 or m == 0:
+        return np.zeros((n, m))
+    mean_c = np.array([o.mean for o in objects], float)
+    mean_o = np.array([[c["x"], c["y"], c["z"]] for c in cands], float)
+    var_o = np.array([c["var"] for c in cands], float)
+    s_pos = position_similarity(mean_o[None, :, :], var_o[None, :, :], mean_c[:, None, :],
+                                params.sigma_floor, params.sigma_cap)
+    h_c = np.array([o.hist for o in objects], float)
+    h_o = np.array([c["hist"] for c in cands], float)
+    s_col = histogram_intersection(h_c[:, None, :], h_o[None, :, :])
+    vecs = embedding.vectors({o.label for o in objects} | {c["labels"][0] for c in cands})
+    s_lab = np.zeros((n, m))
+    for i, obj in enumerate(objects):
+        for j, cand in enumerate(cands):
+            word = cosine(vecs[cand["labels"][0]], vecs[obj.label])
+            s_lab[i, j] = label_similarity(cand["labels"], cand["scores"], obj.labels, obj.scores, word)
+    return total_similarity(s_lab, s_col, s_pos, params)
+
+
+def match_nodes(objects: list[ObjectObservation], cands: list[dict], embedding: LabelEmbedding,
+                params: SimilarityParams = SimilarityParams()) -> dict[int, int]:
+    """Same-node detection: local index -> candidate index, one-to-one, s_total ≥ threshold."""
+    scores = _pair_scores(objects, cands, embedding, params)
+    if scores.size == 0:
+        return {}
+    rows, cols = linear_sum_assignment(-scores)
+    return {int(i): int(j) for i, j in zip(rows, cols) if scores[i, j] >= params.threshold}
+
+
+def _new_props(obj: ObjectObservation, rid: str, now: float) -> dict:
+    mean = [float(v) for v in obj.mean]
+    size = [float(v) for v in obj.size]
+    return {
+        "id": f"o-{uuid.uuid4().hex[:16]}", "room": rid,
+        "label": obj.label, "labels": list(obj.labels), "scores": [float(s) for s in obj.scores],
+        "score": float(max(obj.scores)),
+        "x": mean[0], "y": mean[1], "z": mean[2], "var": [float(v) for v in obj.var],
+        "n_points": int(obj.n_points), "size": size, "volume": float(np.prod(size)),
+        "hist": [float(v) for v in obj.hist], "colour": obj.colour,
+        "thumbnail": obj.thumbnail or b"",
+        "first_frame": int(obj.first_frame), "last_frame": int(obj.last_frame),
+        "observations": 1, "n_frames": int(obj.n_frames), "updated_at": now,
+    }
+
+
+def _updated_props(cand: dict, obj: ObjectObservation, now: float) -> dict:
+    labels, scores = combine_labels(cand["labels"], cand["scores"], obj.labels, obj.scores)
+    mean, var, n = combine_gaussians([cand["x"], cand["y"], cand["z"]], cand["var"], cand["n_points"],
+                                     obj.mean, obj.var, obj.n_points)
+    hist = combine_histograms(cand["hist"], obj.hist)
+    size = combine_sizes(cand["size"], cand["observations"], obj.size)
+    props = {
+        "label": labels[0], "labels": labels, "scores": scores, "score": float(max(scores)),
+        "x": float(mean[0]), "y": float(mean[1]), "z": float(mean[2]), "var": [float(v) for v in var],
+        "n_points": int(n), "size": [float(v) for v in size], "volume": float(np.prod(size)),
+        "hist": [float(v) for v in hist],
+        # the dominant colour follows the larger share of the combined histogram's pixels
+        "colour": obj.colour if float(np.sum(obj.hist)) > float(np.sum(cand["hist"])) else cand["colour"],
+        "first_frame": min(int(cand["first_frame"]), int(obj.first_frame)),
+        "last_frame": max(int(cand["last_frame"]), int(obj.last_frame)),
+        "observations": int(cand["observations"]) + 1,
+        "n_frames": int(cand["n_frames"]) + int(obj.n_frames), "updated_at": now,
+    }
+    if incoming_has_best_label(cand["scores"], obj.scores) and obj.thumbnail:
+        props["thumbnail"] = obj.thumbnail
+    return props
+
+
+def _window(objects: list[ObjectObservation], margin: float) -> dict:
+    means = np.array([o.mean for o in objects], float)
+    lo = means.min(axis=0) - margin
+    hi = means.max(axis=0) + margin
+    return {"xmin": lo[0], "xmax": hi[0], "ymin": lo[1], "ymax": hi[1], "zmin": lo[2], "zmax": hi[2]}
+
+
+def merge_in_tx(tx: ManagedTransaction, graph: LocalGraph, embedding: Optional[LabelEmbedding] = None,
+                params: SimilarityParams = SimilarityParams()) -> MergeReport:
+    """The body of the merge transaction; `merge_local_graph` runs it with execute_write."""
+    t0 = time.perf_counter()
+    report = MergeReport(key=graph.key)
+    if graph.key and tx.run(cypher.load("merge_log_exists"), key=graph.key).single():
+        report.skipped = True
+        return report
+    embedding = embedding or default_embedding()
+    rid = room_id(graph.building, graph.room)
+    now = time.time()
+    tx.run(cypher.load("room_ensure"), building=graph.building, room=rid, name=graph.room,
+           up=[float(v) for v in graph.up] if graph.up is not None else None).consume()
+
+    objects = graph.objects
+    cands: list[dict] = []
+    if objects:
+        cands = tx.run(cypher.load("merge_candidates"), room=rid,
+                       **_window(objects, params.window_margin())).data()
+    report.candidates = len(cands)
+    matches = match_nodes(objects, cands, embedding, params)
+
+    updates, creates = [], []
+    for i, obj in enumerate(objects):
+        if i in matches:
+            cand = cands[matches[i]]
+            report.node_ids[obj.local_id] = cand["id"]
+            updates.append({"id": cand["id"], "props": _updated_props(cand, obj, now)})
+        else:
+            props = _new_props(obj, rid, now)
+            report.node_ids[obj.local_id] = props["id"]
+            creates.append({"props": props})
+    if updates:
+        tx.run(cypher.load("object_update"), rows=updates).consume()
+    if creates:
+        tx.run(cypher.load("object_create"), room=rid, rows=creates).consume()
+    report.updated, report.created = len(updates), len(creates)
+
+    by_type: dict[str, list[dict]] = defaultdict(list)
+    for rel in graph.relations:
+        s, o = report.node_ids[rel.subject], report.node_ids[rel.object]
+        if s != o:  # two local objects merged into one node relate to nothing new
+            by_type[rel.predicate].append({"s": s, "o": o, "score": float(rel.score), "at": now})
+    for rel_type, rows in sorted(by_type.items()):
+        tx.run(cypher.render("relation_merge", rel_type), rows=rows).consume()
+        report.relations += len(rows)
+
+    if graph.key:
+        tx.run(cypher.load("merge_log_create"), key=graph.key, room=rid, at=now,
+               frames=[int(f) for f in graph.frames], created=report.created,
+               updated=report.updated).consume()
+    report.seconds = time.perf_counter() - t0
+    return report
+
+
+def merge_local_graph(store, graph: LocalGraph, embedding: Optional[LabelEmbedding] = None,
+                      params: SimilarityParams = SimilarityParams()) -> MergeReport:
+    """Merge one local graph as ONE transaction; the store is unchanged if anything fails."""
+    embedding = embedding or default_embedding()
+    store.ensure_schema()
+    return store.execute_write(lambda tx: merge_in_tx(tx, graph, embedding, params))
+
+
+def merged_keys(store, prefix: str) -> set[str]:
+    """Keys of the merges logged under `prefix` (what a resumed build may skip)."""
+    return {row["key"] for row in store.read("merge_log_keys", prefix=prefix)}

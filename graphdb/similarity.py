@@ -1,0 +1,112 @@
+"""Same-node detection (paper Sec. V-C.1): label, position and colour similarity, Eq. 10-15.
+
+Scoring is done in Python (NumPy/SciPy) inside the merge transaction function rather than in
+Cypher: the normal CDF, histogram intersections over 512 bins and label vectors are clearer and
+faster here, and the candidates were already fetched by one indexed, windowed read.
+
+Two readings of the printed equations, both documented where they are made:
+- Eq. 10 multiplies the score by the *count* of shared labels, which is unbounded (k shared
+  labels give k·score) and would let the label term alone pass the threshold for any two
+  objects of one class anywhere in the room. We divide the count by the smaller label-set
+  size, so s_label stays in [0, 1] and the weights of Eq. 15 keep their meaning.
+- Eq. 14 as printed is the histogram intersection, a similarity (1 = same colours); taking
+  s_color = 1 − d_h would score identical histograms 0. We use the intersection as s_color.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Sequence
+
+import numpy as np
+from scipy.special import ndtr
+
+WEIGHTS = {"label": 0.375, "color": 0.25, "position": 0.375}
+THRESHOLD = 0.7
+# A Gaussian fitted to a few centre-region points can be a few millimetres wide, far tighter
+# than the centimetres that depth noise and pose drift move an object between views; the floor
+# keeps two views of one cup comparable. The cap keeps a huge table from matching across a room.
+SIGMA_FLOOR_M = 0.08
+SIGMA_CAP_M = 0.75
+
+
+@dataclass(frozen=True)
+class SimilarityParams:
+    w_label: float = WEIGHTS["label"]
+    w_color: float = WEIGHTS["color"]
+    w_position: float = WEIGHTS["position"]
+    threshold: float = THRESHOLD
+    sigma_floor: float = SIGMA_FLOOR_M
+    sigma_cap: float = SIGMA_CAP_M
+
+    def window_margin(self) -> float:
+        """How far (m, per axis) a candidate can be and still reach the threshold.
+
+        With perfect label and colour scores a pair needs s_position ≥ p_min; Eq. 13 falls
+        below p_min beyond z* standard deviations, and σ is capped, so nothing farther than
+        z*·σ_cap on any axis can match: the candidate query may ignore it safely.
+        """
+        p_min = (self.threshold - self.w_label - self.w_color) / self.w_position
+        if p_min <= 0:
+            return float("inf")
+        z = _tail_inverse(p_min * _two_sided_tail(1.0))
+        return float(z * self.sigma_cap)
+
+
+def _two_sided_tail(z):
+    """1 − Φ(z) + Φ(−z): the mass of the standard normal beyond ±z."""
+    z = np.abs(z)
+    return 1.0 - ndtr(z) + ndtr(-z)
+
+
+def _tail_inverse(p: float) -> float:
+    from scipy.special import ndtri
+
+    return float(-ndtri(p / 2.0))
+
+
+def label_score(scores_o: Sequence[float], scores_c: Sequence[float]) -> float:
+    """Eq. 11: score = max over both candidate sets of the score of any of their labels."""
+    return float(max(max(scores_o, default=0.0), max(scores_c, default=0.0)))
+
+
+def label_similarity(labels_o: Sequence[str], scores_o: Sequence[float],
+                     labels_c: Sequence[str], scores_c: Sequence[float],
+                     word_similarity: float) -> float:
+    """Eq. 10: shared top-k labels times the score, else (1 − d_wv(l_o, l_c)) times the score.
+
+    `word_similarity` is 1 − d_wv of the two best labels (cosine of their vectors), only used
+    when the sets share nothing. The shared count is normalised by the smaller set (module doc).
+    """
+    score = label_score(scores_o, scores_c)
+    common = len(set(labels_o) & set(labels_c))
+    if common > 0:
+        return score * common / max(1, min(len(set(labels_o)), len(set(labels_c))))
+    return max(0.0, float(word_similarity)) * score
+
+
+def position_similarity(mean_o, var_o, mean_c, sigma_floor: float = SIGMA_FLOOR_M,
+                        sigma_cap: float = SIGMA_CAP_M) -> np.ndarray:
+    """Eq. 12-13: product over x, y, z of I^j; 1 inside ±σ_o, else the normal tail ratio.
+
+    Broadcasts: mean_o/var_o (..., 3) against mean_c (..., 3); returns (...).
+    """
+    mean_o = np.asarray(mean_o, dtype=float)
+    mean_c = np.asarray(mean_c, dtype=float)
+    sigma = np.clip(np.sqrt(np.maximum(np.asarray(var_o, dtype=float), 0.0)), sigma_floor, sigma_cap)
+    z = np.abs(mean_c - mean_o) / sigma
+    per_axis = np.where(z < 1.0, 1.0, _two_sided_tail(z) / _two_sided_tail(1.0))
+    return np.prod(per_axis, axis=-1)
+
+
+def histogram_intersection(h_i, h_j) -> np.ndarray:
+    """Eq. 14: Σ min(h_i, h_j) / min(|h_i|, |h_j|) over the 3-D HSV bins (broadcasts on rows)."""
+    h_i = np.asarray(h_i, dtype=float)
+    h_j = np.asarray(h_j, dtype=float)
+    inter = np.minimum(h_i, h_j).sum(axis=-1)
+    norm = np.minimum(h_i.sum(axis=-1), h_j.sum(axis=-1))
+    return np.where(norm > 0, inter / np.maximum(norm, 1e-12), 0.0)
+
+
+def total_similarity(s_label, s_color, s_position, params: SimilarityParams = SimilarityParams()):
+    """Eq. 15: s_total = Σ w_i s_i over {label, color, position}."""
+    return params.w_label * s_label + params.w_color * s_color + params.w_position * s_position

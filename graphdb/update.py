@@ -1,0 +1,49 @@
+"""Updating a global node with a matched observation (paper Sec. V-C.2, "Merge and Update")."""
+from __future__ import annotations
+
+from typing import Sequence
+
+import numpy as np
+
+from ingest.model import TOP_K
+
+
+def combine_labels(labels_o: Sequence[str], scores_o: Sequence[float],
+                   labels_c: Sequence[str], scores_c: Sequence[float],
+                   k: int = TOP_K) -> tuple[list[str], list[float]]:
+    """The top-k labels with the maximum scores from C_o ∪ C_c (a label in both keeps its max)."""
+    best: dict[str, float] = {}
+    for label, score in list(zip(labels_o, scores_o)) + list(zip(labels_c, scores_c)):
+        if score > best.get(label, -1.0):
+            best[label] = float(score)
+    ranked = sorted(best.items(), key=lambda kv: (-kv[1], kv[0]))[:k]
+    return [lbl for lbl, _ in ranked], [s for _, s in ranked]
+
+
+def combine_gaussians(mean_o, var_o, n_o: int, mean_c, var_c, n_c: int):
+    """Mean and variance of the union of both point sets, from their moments (per axis).
+
+    Equivalent to recomputing over all points: E[x²] of each set is var + mean².
+    """
+    n = n_o + n_c
+    if n == 0:
+        return np.asarray(mean_o, float), np.asarray(var_o, float), 0
+    mean_o, var_o, mean_c, var_c = (np.asarray(a, dtype=float) for a in (mean_o, var_o, mean_c, var_c))
+    mean = (n_o * mean_o + n_c * mean_c) / n
+    second = (n_o * (var_o + mean_o ** 2) + n_c * (var_c + mean_c ** 2)) / n
+    return mean, np.maximum(second - mean ** 2, 0.0), n
+
+
+def combine_histograms(h_o, h_c) -> np.ndarray:
+    """Histograms are pixel counts (Eq. 9), so combining the observations adds them."""
+    return np.asarray(h_o, dtype=float) + np.asarray(h_c, dtype=float)
+
+
+def combine_sizes(size_o, obs_o: int, size_c) -> np.ndarray:
+    """Running mean of the 3-D extent over the observations (the paper leaves size open)."""
+    return (np.asarray(size_o, float) * obs_o + np.asarray(size_c, float)) / (obs_o + 1)
+
+
+def incoming_has_best_label(scores_o: Sequence[float], scores_c: Sequence[float]) -> bool:
+    """The thumbnail is replaced when the label of maximum score comes from the new graph."""
+    return max(scores_c, default=0.0) > max(scores_o, default=0.0)
