@@ -1,0 +1,70 @@
+"""Same-node similarity (paper Eq. 10-15) and the update rules, on hand-computed numbers."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from graphdb.similarity import (SimilarityParams, histogram_intersection, label_score,
+                                label_similarity, position_similarity, total_similarity)
+from graphdb.update import combine_gaussians, combine_labels
+
+
+def phi(z):  # standard normal CDF, written out so the test does not share SciPy's path
+    return 0.5 * (1 + math.erf(z / math.sqrt(2)))
+
+
+def test_label_score_is_the_max_over_both_sets():
+    assert label_score([0.2, 0.7], [0.5]) == 0.7
+
+
+def test_label_similarity_shared_labels_and_word_distance():
+    assert label_similarity(["cup", "bowl"], [0.8, 0.1], ["cup", "vase"], [0.6, 0.2], 0.1) == 0.8 * 1 / 2
+    assert label_similarity(["cup"], [0.8], ["cup"], [0.9], 0.0) == 0.9
+    assert math.isclose(label_similarity(["cup"], [0.8], ["mug"], [0.5], 0.71), 0.71 * 0.8)
+
+
+def test_position_similarity_is_one_inside_sigma_and_a_tail_ratio_outside():
+    mean_o, var_o = (0.0, 0.0, 0.0), (0.25, 0.25, 0.25)  # sigma 0.5
+    assert position_similarity(mean_o, var_o, (0.4, -0.4, 0.1)) == 1.0
+    z = 1.0 / 0.5
+    expected = (1 - phi(z) + phi(-z)) / (1 - phi(1) + phi(-1))
+    assert math.isclose(position_similarity(mean_o, var_o, (1.0, 0.0, 0.0)), expected, rel_tol=1e-9)
+    assert position_similarity(mean_o, var_o, (5.0, 0.0, 0.0)) < 1e-6
+
+
+def test_histogram_intersection_normalises_by_the_smaller_histogram():
+    a = np.array([10, 0, 5, 5], float)
+    b = np.array([5, 5, 0, 0], float)
+    assert histogram_intersection(a, b) == 5 / 10
+    assert histogram_intersection(a, a) == 1.0
+
+
+def test_total_similarity_uses_the_papers_weights():
+    p = SimilarityParams()
+    assert math.isclose(total_similarity(1.0, 1.0, 1.0, p), 1.0)
+    assert math.isclose(total_similarity(0.0, 1.0, 1.0, p), 0.625)
+    assert total_similarity(0.0, 1.0, 1.0, p) < p.threshold
+
+
+def test_window_margin_excludes_only_candidates_that_cannot_match():
+    p = SimilarityParams()
+    margin = p.window_margin()
+    # a candidate just outside the margin, with the largest sigma and perfect label/colour
+    just_out = position_similarity((0, 0, 0), (p.sigma_cap ** 2,) * 3, (margin * 1.01, 0, 0))
+    just_in = position_similarity((0, 0, 0), (p.sigma_cap ** 2,) * 3, (margin * 0.99, 0, 0))
+    assert total_similarity(1.0, 1.0, just_out, p) < p.threshold <= total_similarity(1.0, 1.0, just_in, p)
+
+
+def test_combine_labels_keeps_top_k_by_max_score():
+    labels, scores = combine_labels(["cup", "bowl"], [0.5, 0.4], ["bowl", "vase"], [0.9, 0.1], k=2)
+    assert labels == ["bowl", "cup"] and scores == [0.9, 0.5]
+
+
+def test_combine_gaussians_equals_recomputing_over_all_points():
+    rng = np.random.default_rng(0)
+    a, b = rng.normal(1, 0.2, (50, 3)), rng.normal(1.3, 0.1, (150, 3))
+    mean, var, n = combine_gaussians(a.mean(0), a.var(0), 50, b.mean(0), b.var(0), 150)
+    both = np.vstack([a, b])
+    assert n == 200
+    assert np.allclose(mean, both.mean(0)) and np.allclose(var, both.var(0))
