@@ -1,0 +1,142 @@
+"""Spurious detection rejection: classes, repetition, relation voting, Eq. 7 prior."""
+from __future__ import annotations
+
+import math
+
+import pytest
+
+from ingest.detect import Detection
+from ingest.model import RELATION_TYPES, RelationObservation as Rel
+from ingest.sdr import (
+    IRRELEVANT_CLASSES,
+    PriorEntry,
+    RelationPrior,
+    default_prior,
+    filter_relations,
+    reject_irrelevant,
+    reject_rare_tracks,
+    relation_prior_probability,
+    vote_relations,
+)
+from ingest.tracks import FrameDetection, Track
+
+
+def det(labels, scores, box=(0, 0, 10, 10)):
+    return Detection(box, list(labels), list(scores))
+
+
+def test_irrelevant_classes_are_rejected_and_stripped():
+    dets = [
+        det(["person", "chair"], [0.9, 0.3]),
+        det(["car"], [0.5]),
+        det(["chair", "person", "bench"], [0.8, 0.2, 0.1]),
+        det(["cup"], [0.6]),
+    ]
+    kept = reject_irrelevant(dets)
+    assert [d.labels for d in kept] == [["chair", "bench"], ["cup"]]
+    assert kept[0].scores == [0.8, 0.1]
+    assert {"person", "car", "bus", "truck", "bird", "horse", "traffic light"} <= IRRELEVANT_CLASSES
+    assert not {"cup", "chair", "dining table", "tv", "refrigerator"} & IRRELEVANT_CLASSES
+    # the list is configurable
+    assert [d.label for d in reject_irrelevant(dets, irrelevant={"cup"})] == ["person", "car", "chair"]
+
+
+def test_tracks_seen_in_fewer_than_two_frames_are_rejected():
+    def fd(frame):
+        return FrameDetection(frame, det(["cup"], [0.5]), (0.0, 0.0, 0.0))
+    once = Track(0, [fd(3)])
+    twice = Track(1, [fd(3), fd(5)])
+    same_frame_twice = Track(2, [fd(4), fd(4)])
+    assert reject_rare_tracks([once, twice, same_frame_twice]) == [twice]
+    assert reject_rare_tracks([once, twice], min_frames=1) == [once, twice]
+    assert reject_rare_tracks([once, twice], min_frames=3) == []
+
+
+def as_set(relations):
+    return {(r.subject, r.predicate, r.object) for r in relations}
+
+
+def test_vote_keeps_most_occurred_predicate_per_pair():
+    frames = [
+        [Rel("cup", "ON", "table", 0.9), Rel("cup", "SMALLER_THAN", "table", 0.8)],
+        [Rel("cup", "ON", "table", 0.7), Rel("cup", "SMALLER_THAN", "table", 0.8)],
+        [Rel("cup", "ABOVE", "table", 0.5), Rel("cup", "SMALLER_THAN", "table", 0.8)],
+    ]
+    kept = vote_relations(frames)
+    assert as_set(kept) == {("cup", "ON", "table"), ("cup", "SMALLER_THAN", "table")}
+    on = next(r for r in kept if r.predicate == "ON")
+    assert on.score == pytest.approx(0.8)
+    # the paper's literal rule (one vote over all predicates of a pair): SMALLER_THAN (3) wins
+    assert as_set(vote_relations(frames, groups=None)) == {("cup", "SMALLER_THAN", "table")}
+
+
+def test_vote_tie_keeps_all_top_ranked():
+    frames = [
+        [Rel("a", "NEXT_TO", "b", 0.6)],
+        [Rel("a", "NEAR", "b", 0.7)],
+        [Rel("a", "NEXT_TO", "b", 0.8), Rel("a", "NEAR", "b", 0.5), Rel("b", "NEAR", "a", 0.5)],
+        [Rel("a", "ON", "c", 0.9)],
+    ]
+    kept = vote_relations(frames)
+    assert as_set(kept) == {("a", "NEXT_TO", "b"), ("a", "NEAR", "b"), ("b", "NEAR", "a"), ("a", "ON", "c")}
+
+
+def test_vote_counts_a_predicate_once_per_frame():
+    frames = [[Rel("a", "NEAR", "b"), Rel("a", "NEAR", "b")], [Rel("a", "NEXT_TO", "b")], [Rel("a", "NEXT_TO", "b")]]
+    assert as_set(vote_relations(frames)) == {("a", "NEXT_TO", "b")}
+
+
+def test_eq7_on_hand_made_numbers():
+    # Pr = 0.8 * phi(1.5) / phi(1.0) with mu = 1, sigma = 0.5: exp(-0.5 * 1^2) = 0.60653...
+    assert relation_prior_probability(0.8, 1.5, 1.0, 0.5) == pytest.approx(0.8 * 0.6065306597, rel=1e-9)
+    # at the mean the distance term is 1
+    assert relation_prior_probability(0.9, 2.0, 2.0, 0.3) == pytest.approx(0.9)
+    # symmetric, two sigmas away: exp(-2) = 0.135335...
+    assert relation_prior_probability(1.0, 40.0, 100.0, 30.0) == pytest.approx(0.1353352832, rel=1e-9)
+    assert relation_prior_probability(1.0, 160.0, 100.0, 30.0) == pytest.approx(0.1353352832, rel=1e-9)
+
+
+def test_relation_prior_lookup_order_and_default():
+    prior = RelationPrior({
+        ("cup", "ON", "dining table"): PriorEntry(0.9, 0.7, 0.5),
+        ("dining table", "ON", "*"): PriorEntry(0.1),
+        ("*", "ON", "cup"): PriorEntry(0.3),
+        ("*", "BIGGER_THAN", "*"): PriorEntry(0.7),
+    }, default=PriorEntry(0.6))
+    assert prior.probability("cup", "ON", "dining table", 0.7) == pytest.approx(0.9)
+    assert prior.probability("cup", "ON", "dining table", 1.2) == pytest.approx(0.9 * math.exp(-0.5))
+    assert prior.probability("dining table", "ON", "cup", 0.5) == pytest.approx(0.1)   # (s, p, *) first
+    assert prior.probability("spoon", "ON", "cup", 0.1) == pytest.approx(0.3)
+    assert prior.probability("cup", "BIGGER_THAN", "spoon", 9.0) == pytest.approx(0.7)
+    assert prior.probability("vase", "NEAR", "clock", 9.0) == pytest.approx(0.6)
+
+
+def test_shipped_dictionary_is_valid_and_covers_kitchen_triples():
+    prior = default_prior()
+    assert len(prior.entries) > 50
+    for (s, p, o), e in prior.entries.items():
+        assert p in RELATION_TYPES
+        assert 0.0 <= e.pr <= 1.0
+        assert (e.mu is None) == (e.sigma is None)
+        assert e.sigma is None or e.sigma > 0
+    for s in ("cup", "bowl", "bottle", "wine glass", "fork", "knife", "spoon"):
+        assert (s, "ON", "dining table") in prior.entries
+    assert ("chair", "NEXT_TO", "dining table") in prior.entries
+    assert prior.default.pr > 0.5 and prior.default.mu is None
+
+
+def test_filter_relations_with_the_shipped_prior():
+    labels = {"c": "cup", "t": "dining table", "k": "chair", "v": "vase", "w": "clock"}
+    positions = {"c": (0.3, 0.2, 0.8), "t": (0.0, 0.0, 0.375), "k": (0.0, 0.8, 0.45),
+                 "v": (5.0, 5.0, 1.0), "w": (9.0, 5.0, 1.0)}
+    relations = [
+        Rel("c", "ON", "t"),            # plausible at 0.5 m: kept
+        Rel("t", "ON", "c"),            # implausible triple: deleted
+        Rel("k", "NEXT_TO", "t"),       # plausible: kept
+        Rel("v", "NEAR", "w"),          # unlisted: neutral default keeps it
+    ]
+    kept = filter_relations(relations, labels, positions)
+    assert as_set(kept) == {("c", "ON", "t"), ("k", "NEXT_TO", "t"), ("v", "NEAR", "w")}
+    # the same ON at an implausible 3 m distance is deleted by the Gaussian term
+    far = dict(positions, c=(3.0, 0.0, 0.8))
+    assert as_set(filter_relations([Rel("c", "ON", "t")], labels, far)) == set()
