@@ -1,0 +1,401 @@
+"""Posed RGB-D sequences on disk -> lazily decoded `Frame`s.
+
+Layouts (auto-detected by `open_sequence`):
+- ``7scenes`` (also 3DMatch): ``frame-NNNNNN.color.jpg|png``, ``.depth.png`` (uint16 mm),
+  ``.pose.txt`` (4x4 camera-to-world), ``camera-intrinsics.txt`` (3x3, here or one folder up).
+- ``tum`` (TUM RGB-D): ``rgb.txt``, ``depth.txt``, ``groundtruth.txt`` (t tx ty tz qx qy qz qw),
+  colour/depth/pose associated by nearest timestamp within ``max_dt`` seconds; depth scale 5000.
+  Intrinsics from ``camera-intrinsics.txt`` / ``intrinsics.txt`` or, for the Freiburg
+  recordings, the published calibration chosen by the folder name.
+- ``scannet`` (SensReader export): ``color/N.jpg``, ``depth/N.png`` (mm), ``pose/N.txt``,
+  ``intrinsic/intrinsic_color.txt`` (4x4) and ``intrinsic_depth.txt``.
+
+Depth is delivered as float32 metres registered to the colour image (see `ingest.registration`),
+raw 0 and 65535 read as 0 = invalid. A bad frame (missing or corrupt image, non-finite or
+non-rigid pose, no timestamp match) is skipped and listed in `Sequence.skipped` as
+(frame name, reason naming the file); a sequence without intrinsics is a `SequenceError`.
+"""
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Iterator, Optional, Union
+
+import cv2
+import numpy as np
+
+from ingest.frames import Frame, FrameError
+from ingest.registration import DepthRegistrar, Registration
+from sg3d.errors import UserError
+
+LAYOUTS = ("7scenes", "tum", "scannet")
+_ALIASES = {"3dmatch": "7scenes", "7-scenes": "7scenes", "tum-rgbd": "tum", "sens": "scannet"}
+
+# Published calibration of the TUM RGB-D Freiburg cameras (fx, fy, cx, cy).
+TUM_FREIBURG = {
+    "freiburg1": (517.3, 516.5, 318.6, 255.3),
+    "freiburg2": (520.9, 521.0, 325.1, 249.7),
+    "freiburg3": (535.4, 539.2, 320.1, 247.6),
+}
+
+
+class SequenceError(UserError):
+    """The sequence as a whole cannot be read (missing folder, unknown layout, no intrinsics)."""
+
+
+@dataclass
+class _Entry:
+    name: str
+    color: Path
+    depth: Path
+    timestamp: float
+    pose: Optional[np.ndarray] = None      # already parsed (TUM)
+    pose_file: Optional[Path] = None       # parsed when the frame is reached (7-Scenes, ScanNet)
+
+
+class _FileSource:
+    """Decodes one frame's files; every failure names the file."""
+
+    __slots__ = ("entry", "seq")
+
+    def __init__(self, entry: _Entry, seq: "Sequence"):
+        self.entry = entry
+        self.seq = seq
+
+    def _read(self, path: Path, flags: int) -> np.ndarray:
+        if not path.is_file():
+            raise FrameError(self.entry.name, f"missing {path.name}")
+        img = cv2.imread(str(path), flags)
+        if img is None:
+            raise FrameError(self.entry.name, f"cannot decode {path.name} (corrupt or not an image)")
+        return img
+
+    def _check_size(self, img: np.ndarray, path: Path, factor: int = 1) -> np.ndarray:
+        w, h = self.seq.image_size
+        if factor == 1 and (img.shape[1], img.shape[0]) != (w, h):
+            raise FrameError(self.entry.name, f"{path.name} is {img.shape[1]}x{img.shape[0]}, "
+                                              f"the sequence's colour images are {w}x{h}")
+        return img
+
+    def color(self) -> np.ndarray:
+        img = self._read(self.entry.color, cv2.IMREAD_COLOR)
+        return self._check_size(img, self.entry.color)
+
+    def gray(self) -> np.ndarray:
+        img = self._read(self.entry.color, cv2.IMREAD_GRAYSCALE)
+        return self._check_size(img, self.entry.color)
+
+    def preview(self, factor: int) -> np.ndarray:
+        flags = {2: cv2.IMREAD_REDUCED_COLOR_2, 4: cv2.IMREAD_REDUCED_COLOR_4,
+                 8: cv2.IMREAD_REDUCED_COLOR_8}.get(factor)
+        if flags is None:
+            img = self.color()
+            return cv2.resize(img, (img.shape[1] // factor, img.shape[0] // factor), interpolation=cv2.INTER_AREA)
+        return self._read(self.entry.color, flags)
+
+    def depth(self) -> np.ndarray:
+        raw = self._read(self.entry.depth, cv2.IMREAD_UNCHANGED)
+        if raw.ndim != 2 or raw.dtype != np.uint16:
+            raise FrameError(self.entry.name, f"{self.entry.depth.name} is not a 16-bit single-channel depth image")
+        depth = raw.astype(np.float32)
+        depth *= np.float32(1.0 / self.seq.depth_scale)
+        depth[raw == 65535] = 0.0  # the sensor's "no reading" marker, like 0
+        return self.seq.registrar(depth)
+
+
+def _parse_pose(entry: _Entry) -> np.ndarray:
+    if entry.pose is not None:
+        pose = entry.pose
+    else:
+        path = entry.pose_file
+        if path is None or not path.is_file():
+            raise FrameError(entry.name, f"missing {path.name if path else 'pose'}")
+        try:
+            values = np.array(path.read_text().split(), dtype=np.float64)
+        except ValueError:
+            raise FrameError(entry.name, f"{path.name} is not a list of numbers") from None
+        if values.size != 16:
+            raise FrameError(entry.name, f"{path.name} holds {values.size} numbers, a 4x4 pose needs 16")
+        pose = values.reshape(4, 4)
+    source = entry.pose_file.name if entry.pose_file else "the ground-truth pose"
+    if not np.all(np.isfinite(pose)):
+        raise FrameError(entry.name, f"{source} is not finite (tracking lost)")
+    R = pose[:3, :3]
+    if np.abs(R.T @ R - np.eye(3)).max() > 1e-3 or np.abs(pose[3] - (0, 0, 0, 1)).max() > 1e-6:
+        raise FrameError(entry.name, f"{source} is not a rigid transform")
+    return pose
+
+
+class Sequence:
+    """A posed RGB-D sequence: `len(seq)`, `seq.frames(...)`, `seq.K`, `seq.skipped`."""
+
+    layout = ""
+    depth_scale = 1000.0
+
+    def __init__(self, path: Path, entries: list[_Entry], K: np.ndarray,
+                 registration: Optional[Registration], skipped: list[tuple[str, str]]):
+        self.path = path
+        self.K = np.asarray(K, dtype=np.float64)
+        self.registration = registration
+        self._entries = entries
+        self._skipped: dict[str, str] = dict(skipped)
+        self.image_size = self._probe_size()
+        self.registrar = DepthRegistrar(registration, self.K, self.image_size)
+
+    def __len__(self) -> int:
+        return len(self._entries)
+
+    def __repr__(self) -> str:
+        return f"{type(self).__name__}({str(self.path)!r}, {len(self)} frames)"
+
+    @property
+    def skipped(self) -> list[tuple[str, str]]:
+        """(frame name, reason) of every frame left out so far (listing and iteration)."""
+        return list(self._skipped.items())
+
+    def skip(self, name: str, reason: str) -> None:
+        self._skipped.setdefault(name, reason)
+
+    def _probe_size(self) -> tuple[int, int]:
+        for entry in self._entries[:50]:
+            img = cv2.imread(str(entry.color), cv2.IMREAD_GRAYSCALE) if entry.color.is_file() else None
+            if img is not None:
+                return img.shape[1], img.shape[0]
+        raise SequenceError(f"no readable colour image among the first frames of {self.path}")
+
+    def frames(self, start: int = 0, stop: Optional[int] = None, step: int = 1,
+               lazy: bool = False) -> Iterator[Frame]:
+        """Yield frames in order. `lazy=False` decodes colour and depth before yielding (a bad
+        image skips the frame); `lazy=True` yields frames that decode on first access, so a
+        caller that only needs `frame.gray` or the pose never pays for the rest."""
+        for i in range(start, len(self) if stop is None else min(stop, len(self)), step):
+            entry = self._entries[i]
+            try:
+                pose = _parse_pose(entry)
+            except FrameError as exc:
+                self.skip(exc.name, exc.reason)
+                continue
+            frame = Frame(i, None, None, self.K, pose, entry.timestamp, entry.name,
+                          size=self.image_size, source=_FileSource(entry, self), on_error=self.skip)
+            if not lazy:
+                try:
+                    frame.load()
+                except FrameError:
+                    continue  # already recorded through on_error
+            yield frame
+
+    def frame(self, i: int, lazy: bool = False) -> Frame:
+        """One frame by position (raises FrameError when it is bad)."""
+        entry = self._entries[i]
+        frame = Frame(i, None, None, self.K, _parse_pose(entry), entry.timestamp, entry.name,
+                      size=self.image_size, source=_FileSource(entry, self), on_error=self.skip)
+        return frame if lazy else frame.load()
+
+
+# -- intrinsics ------------------------------------------------------------------------------
+
+def _read_matrix(path: Path) -> np.ndarray:
+    try:
+        values = np.array(path.read_text().split(), dtype=np.float64)
+    except ValueError:
+        raise SequenceError(f"{path} is not a list of numbers") from None
+    if values.size == 9:
+        K = values.reshape(3, 3)
+    elif values.size == 16:
+        K = values.reshape(4, 4)[:3, :3]
+    elif values.size == 4:  # fx fy cx cy
+        K = np.array([[values[0], 0, values[2]], [0, values[1], values[3]], [0, 0, 1]])
+    else:
+        raise SequenceError(f"{path} holds {values.size} numbers; expected a 3x3 or 4x4 matrix or fx fy cx cy")
+    if not np.all(np.isfinite(K)) or K[0, 0] <= 0 or K[1, 1] <= 0:
+        raise SequenceError(f"{path} does not hold valid intrinsics (focal lengths must be positive)")
+    return K
+
+
+# -- 7-Scenes / 3DMatch ----------------------------------------------------------------------
+
+_SEVEN = re.compile(r"^(frame-(\d+))\.color\.(jpg|jpeg|png)$", re.IGNORECASE)
+
+
+class SevenScenesSequence(Sequence):
+    layout = "7scenes"
+    depth_scale = 1000.0
+
+    @classmethod
+    def open(cls, path: Path, registration: Optional[Registration] = None) -> "SevenScenesSequence":
+        candidates = [path / "camera-intrinsics.txt", path.parent / "camera-intrinsics.txt"]
+        intr = next((p for p in candidates if p.is_file()), None)
+        if intr is None:
+            raise SequenceError(f"missing intrinsics file {path / 'camera-intrinsics.txt'} "
+                                f"(3x3 colour camera matrix; 7-Scenes' Kinect: fx=fy=585, cx=320, cy=240)")
+        K = _read_matrix(intr)
+        found = []
+        for p in path.iterdir():
+            m = _SEVEN.match(p.name)
+            if m:
+                found.append((int(m.group(2)), m.group(1), p))
+        found.sort()
+        entries, skipped = [], []
+        for number, stem, color in found:
+            depth = path / f"{stem}.depth.png"
+            if not depth.is_file():
+                skipped.append((stem, f"missing {depth.name}"))
+                continue
+            entries.append(_Entry(stem, color, depth, timestamp=number / 30.0,  # Kinect v1 runs at 30 Hz
+                                  pose_file=path / f"{stem}.pose.txt"))
+        if not entries:
+            raise SequenceError(f"no frame-NNNNNN.color.jpg|png with a .depth.png in {path}")
+        reg = Registration.seven_scenes() if registration is None else registration
+        return cls(path, entries, K, reg, skipped)
+
+
+# -- TUM RGB-D -------------------------------------------------------------------------------
+
+def _read_list(path: Path, columns: int) -> list[list[str]]:
+    rows = []
+    for line in path.read_text().splitlines():
+        line = line.strip()
+        if not line or line.startswith("#"):
+            continue
+        parts = line.split()
+        if len(parts) >= columns:
+            rows.append(parts)
+    return rows
+
+
+def _nearest(query: np.ndarray, reference: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Index of the nearest reference timestamp for each query, and the absolute difference."""
+    if reference.size == 0:
+        return np.zeros(query.shape, int), np.full(query.shape, np.inf)
+    order = np.argsort(reference)
+    ref = reference[order]
+    right = np.clip(np.searchsorted(ref, query), 0, ref.size - 1)
+    left = np.clip(right - 1, 0, ref.size - 1)
+    pick = np.where(np.abs(ref[left] - query) <= np.abs(ref[right] - query), left, right)
+    return order[pick], np.abs(ref[pick] - query)
+
+
+def quaternion_to_matrix(q: np.ndarray) -> np.ndarray:
+    """Rotation matrix of a unit quaternion (qx, qy, qz, qw), normalised first."""
+    x, y, z, w = np.asarray(q, dtype=np.float64) / np.linalg.norm(q)
+    return np.array([
+        [1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+        [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+        [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)],
+    ])
+
+
+class TumSequence(Sequence):
+    layout = "tum"
+    depth_scale = 5000.0
+
+    @classmethod
+    def open(cls, path: Path, registration: Optional[Registration] = None,
+             max_dt: float = 0.02) -> "TumSequence":
+        for name in ("rgb.txt", "depth.txt", "groundtruth.txt"):
+            if not (path / name).is_file():
+                raise SequenceError(f"missing {path / name} (TUM RGB-D layout)")
+        K = cls._intrinsics(path)
+        rgb = _read_list(path / "rgb.txt", 2)
+        depth = _read_list(path / "depth.txt", 2)
+        gt = _read_list(path / "groundtruth.txt", 8)
+        t_rgb = np.array([float(r[0]) for r in rgb])
+        t_depth = np.array([float(r[0]) for r in depth])
+        t_gt = np.array([float(r[0]) for r in gt])
+        gt_values = np.array([[float(v) for v in r[1:8]] for r in gt]) if gt else np.zeros((0, 7))
+        di, ddt = _nearest(t_rgb, t_depth)
+        gi, gdt = _nearest(t_rgb, t_gt)
+        entries, skipped = [], []
+        for k, row in enumerate(rgb):
+            name = Path(row[1]).stem
+            if ddt[k] > max_dt:
+                skipped.append((name, f"no depth image within {max_dt} s of {row[1]} in depth.txt"))
+                continue
+            if gdt[k] > max_dt:
+                skipped.append((name, f"no pose within {max_dt} s of {row[1]} in groundtruth.txt"))
+                continue
+            values = gt_values[gi[k]]
+            pose = np.eye(4)
+            if np.all(np.isfinite(values)) and np.linalg.norm(values[3:7]) > 0:
+                pose[:3, :3] = quaternion_to_matrix(values[3:7])
+                pose[:3, 3] = values[:3]
+            else:
+                pose[:] = np.nan  # reported as a non-finite pose when the frame is reached
+            entries.append(_Entry(name, path / row[1], path / depth[di[k]][1], float(t_rgb[k]), pose=pose))
+        if not entries:
+            raise SequenceError(f"no colour frame of {path / 'rgb.txt'} has depth and a pose within {max_dt} s")
+        return cls(path, entries, K, registration, skipped)
+
+    @staticmethod
+    def _intrinsics(path: Path) -> np.ndarray:
+        for name in ("camera-intrinsics.txt", "intrinsics.txt"):
+            if (path / name).is_file():
+                return _read_matrix(path / name)
+        for key, (fx, fy, cx, cy) in TUM_FREIBURG.items():
+            if key in path.resolve().name:
+                return np.array([[fx, 0, cx], [0, fy, cy], [0, 0, 1]])
+        raise SequenceError(f"missing intrinsics file {path / 'camera-intrinsics.txt'} (3x3 colour camera "
+                            f"matrix, or fx fy cx cy); only rgbd_dataset_freiburg1/2/3_* folders have a default")
+
+
+# -- ScanNet ---------------------------------------------------------------------------------
+
+class ScanNetSequence(Sequence):
+    layout = "scannet"
+    depth_scale = 1000.0
+
+    @classmethod
+    def open(cls, path: Path, registration: Optional[Registration] = None) -> "ScanNetSequence":
+        intr = path / "intrinsic" / "intrinsic_color.txt"
+        if not intr.is_file():
+            raise SequenceError(f"missing intrinsics file {intr} (ScanNet SensReader export)")
+        K = _read_matrix(intr)
+        if registration is None and (path / "intrinsic" / "intrinsic_depth.txt").is_file():
+            registration = Registration.from_intrinsics(K, _read_matrix(path / "intrinsic" / "intrinsic_depth.txt"))
+        if not (path / "color").is_dir():
+            raise SequenceError(f"missing folder {path / 'color'} (ScanNet SensReader export)")
+        numbered = []
+        for p in (path / "color").iterdir():
+            if p.suffix.lower() in (".jpg", ".jpeg", ".png") and p.stem.isdigit():
+                numbered.append((int(p.stem), p))
+        numbered.sort()
+        entries, skipped = [], []
+        for number, color in numbered:
+            depth = path / "depth" / f"{color.stem}.png"
+            if not depth.is_file():
+                skipped.append((color.stem, f"missing depth/{depth.name}"))
+                continue
+            entries.append(_Entry(color.stem, color, depth, timestamp=number / 30.0,
+                                  pose_file=path / "pose" / f"{color.stem}.txt"))
+        if not entries:
+            raise SequenceError(f"no color/N.jpg with a depth/N.png in {path}")
+        return cls(path, entries, K, registration, skipped)
+
+
+# -- entry point -----------------------------------------------------------------------------
+
+def detect_layout(path: Path) -> str:
+    """The layout of a sequence folder, from the files it holds."""
+    if (path / "rgb.txt").is_file() and (path / "depth.txt").is_file():
+        return "tum"
+    if (path / "color").is_dir() and ((path / "intrinsic").is_dir() or (path / "depth").is_dir()):
+        return "scannet"
+    if (path / "camera-intrinsics.txt").is_file() or any(_SEVEN.match(p.name) for p in path.iterdir()):
+        return "7scenes"
+    raise SequenceError(f"cannot tell the layout of {path}: expected 7-Scenes (frame-NNNNNN.color.jpg), "
+                        f"TUM RGB-D (rgb.txt, depth.txt) or ScanNet (color/, depth/, pose/, intrinsic/)")
+
+
+def open_sequence(path: Union[str, Path], layout: Optional[str] = None,
+                  registration: Optional[Registration] = None) -> Sequence:
+    """Open a posed RGB-D sequence folder. `layout`: one of LAYOUTS (auto-detected when None);
+    `registration`: depth-to-colour registration (None: the layout's default)."""
+    path = Path(path).expanduser()
+    if not path.is_dir():
+        raise SequenceError(f"sequence folder not found: {path}")
+    name = detect_layout(path) if layout is None else _ALIASES.get(layout.lower(), layout.lower())
+    readers = {"7scenes": SevenScenesSequence, "tum": TumSequence, "scannet": ScanNetSequence}
+    if name not in readers:
+        raise SequenceError(f"unknown layout {layout!r}; choose one of {', '.join(LAYOUTS)}")
+    return readers[name].open(path, registration=registration)
