@@ -26,11 +26,14 @@ from ingest.model import ObjectObservation, RelationObservation
 # Depth noise of consumer RGB-D at 1-3 m is ~1-3 cm and object boxes come from partial views,
 # so "touching" is allowed a gap or interpenetration of this much.
 ON_TOLERANCE = 0.08
+# A support's box (from the points of its 2-D box) is often inflated upwards by what stands
+# behind it, so the supported object may sink into it by this fraction of its height.
+ON_PENETRATION_FRACTION = 0.2
 # Most of the supported object's footprint must lie over its support: a cup hanging mostly
 # over the table's edge is not "on" it.
 ON_MIN_FOOTPRINT_OVERLAP = 0.5
-# UNDER: the lower object is mostly covered by the upper one's footprint; a chair tucked under
-# a table may rise this far above the table top with its back.
+# UNDER: the lower object stands on the same floor and is mostly covered by the upper one's
+# footprint; a chair tucked under a table may rise this far above the table top with its back.
 UNDER_MIN_FOOTPRINT_OVERLAP = 0.5
 UNDER_TOP_TOLERANCE = 0.20
 # ABOVE/BELOW: stacked with air in between, within a room's height, footprints overlapping.
@@ -185,20 +188,26 @@ def _in_score(a: _Box, b: _Box) -> float:
 
 def _on_score(a: _Box, b: _Box) -> float:
     gap = a.bottom - b.top
-    if abs(gap) > ON_TOLERANCE or a.footprint >= b.footprint:
+    penetration = max(ON_TOLERANCE, ON_PENETRATION_FRACTION * b.s[2])
+    if not (-penetration <= gap <= ON_TOLERANCE) or a.footprint >= b.footprint:
         return 0.0
-    if a.c[2] < b.top - ON_TOLERANCE / 2:      # A's body must rise above B's top
+    if a.top < b.top - ON_TOLERANCE:           # A must reach B's top surface
         return 0.0
     overlap = _footprint_intersection(a, b) / a.footprint
     if overlap < ON_MIN_FOOTPRINT_OVERLAP:
         return 0.0
-    return min(1.0, overlap) * (1.0 - 0.5 * abs(gap) / ON_TOLERANCE)
+    allowed = ON_TOLERANCE if gap >= 0 else penetration
+    return min(1.0, overlap) * (1.0 - 0.5 * abs(gap) / allowed)
 
 
 def _under_score(a: _Box, b: _Box) -> float:
     # compared with B's top, not its centre: a table's box reaches the floor, so a chair
     # tucked under it has its centre at the table's mid-height
     if a.c[2] >= b.top - ON_TOLERANCE or a.top > b.top + UNDER_TOP_TOLERANCE or a.footprint >= b.footprint:
+        return 0.0
+    # tucked under furniture standing on the same floor; without this a cup inside a table
+    # box inflated by the background would be "under" the table
+    if a.bottom > b.bottom + NEXT_TO_BASE_TOLERANCE:
         return 0.0
     overlap = _footprint_intersection(a, b) / a.footprint
     return min(1.0, overlap) if overlap >= UNDER_MIN_FOOTPRINT_OVERLAP else 0.0

@@ -168,3 +168,12 @@ def test_scores_in_unit_interval():
     objs = [table(), cup(), ObjectGeometry("c1", "chair", (0.0, -0.8, 0.45), (0.45, 0.5, 0.9))]
     for r in spatial_relations(objs, UP, camera_looking_along_y()):
         assert 0.0 < r.score <= 1.0
+
+
+def test_cup_sunk_into_an_inflated_table_box_is_on_not_under():
+    # the table's box reaches 0.95 m because the counter behind it fell into its 2-D box
+    inflated = ObjectGeometry("table", "dining table", (0.0, 0.0, 0.475), (1.6, 0.9, 0.95))
+    sunk = ObjectGeometry("cup", "cup", (0.2, 0.1, 0.87), (0.08, 0.08, 0.12))   # bottom 0.81, top 0.93
+    r = rels([inflated, sunk])
+    assert ("cup", "ON", "table") in r
+    assert ("cup", "UNDER", "table") not in r
