@@ -1,0 +1,248 @@
+"""Per-object 3-D attributes from a 2-D box in one frame (paper Sec. V-B, Eq. 8-9).
+
+Boxes are (x1, y1, x2, y2) in colour pixels, x2/y2 exclusive, clipped to the image.
+
+- Position (Eq. 8): the box is split 5x5 and the centre cell's pixels with depth are lifted to
+  world coordinates; their per-axis mean and variance form the position Gaussian. When the
+  centre cell has fewer than `MIN_CENTRE_POINTS` depths (thin objects, holes, black surfaces)
+  the centre 3x3 cells are used instead. Depths far from the region's median (more than
+  max(10 cm, 3 robust sigmas)) are dropped first: a centre cell that looks through a handle or
+  past a chair's slats should not drag the object onto the wall behind it. None without depth.
+- Size: the object's points are the box pixels connected (no depth jump) to the centre
+  region, which separates the object from background seen around it; their extent between the
+  5th and 95th percentile along (e1, e2, up) of `ingest.relations.horizontal_basis(up)` gives
+  (width, depth, height), the frame relations reason in.
+- Colour histogram (Eq. 9): HSV, HIST_BINS per axis (OpenCV ranges H 0-180, S and V 0-256),
+  counts (sums to the number of box pixels).
+- Dominant colour: each pixel of the box's inner region (20 % margin cut on every side, which
+  is mostly background for rounded objects) is named from its HSV value with the fixed palette
+  COLOUR_NAMES; the most frequent name wins.
+- Thumbnail: JPEG bytes of the box, longest side at most 128 px.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Optional, Sequence
+
+import cv2
+import numpy as np
+
+from ingest.frames import Frame
+from ingest.model import COLOUR_NAMES, HIST_BINS
+from ingest.relations import horizontal_basis
+
+Box = Sequence[float]
+
+MIN_CENTRE_POINTS = 10
+THUMBNAIL_SIDE = 128
+# A neighbouring pixel belongs to the same surface unless depth jumps by more than this
+# (absolute metres, or relative to the depth: Kinect noise grows with range).
+DEPTH_JUMP_M = 0.04
+DEPTH_JUMP_REL = 0.03
+
+
+def clip_box(box: Box, width: int, height: int) -> tuple[int, int, int, int]:
+    """Integer pixel bounds [x1, x2) x [y1, y2) inside the image; ValueError when empty."""
+    x1, y1, x2, y2 = (float(v) for v in box)
+    ix1, iy1 = max(0, int(np.floor(x1))), max(0, int(np.floor(y1)))
+    ix2, iy2 = min(width, int(np.ceil(x2))), min(height, int(np.ceil(y2)))
+    if ix2 <= ix1 or iy2 <= iy1:
+        raise ValueError(f"box {tuple(box)} is empty inside a {width}x{height} image")
+    return ix1, iy1, ix2, iy2
+
+
+def grid_cells(bounds: tuple[int, int, int, int], first: int, last: int, n: int = 5) -> tuple[int, int, int, int]:
+    """Pixel bounds of cells first..last (inclusive, both axes) of an n x n split of a box."""
+    x1, y1, x2, y2 = bounds
+    xs = np.linspace(x1, x2, n + 1)
+    ys = np.linspace(y1, y2, n + 1)
+    cx1, cx2 = int(np.floor(xs[first])), int(np.ceil(xs[last + 1]))
+    cy1, cy2 = int(np.floor(ys[first])), int(np.ceil(ys[last + 1]))
+    return cx1, cy1, max(cx2, cx1 + 1), max(cy2, cy1 + 1)
+
+
+def world_points(u: np.ndarray, v: np.ndarray, d: np.ndarray, K: np.ndarray, pose: np.ndarray) -> np.ndarray:
+    """Eq. 8: p'' = T D(p) K^-1 p: pixels (u, v) with depth d (metres) -> Nx3 world points, with
+    T the frame's camera-to-world pose (the paper's "relative to the first keyframe" is the
+    world frame of the sequence's poses here)."""
+    x = (u - K[0, 2]) / K[0, 0] * d
+    y = (v - K[1, 2]) / K[1, 1] * d
+    cam = np.stack([x, y, d], axis=-1).reshape(-1, 3)
+    return cam @ pose[:3, :3].T + pose[:3, 3]
+
+
+def _region_pixels(depth: np.ndarray, bounds: tuple[int, int, int, int]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    x1, y1, x2, y2 = bounds
+    region = depth[y1:y2, x1:x2]
+    v, u = np.nonzero(region > 0)
+    return (u + x1).astype(np.float64), (v + y1).astype(np.float64), region[v, u].astype(np.float64)
+
+
+def _drop_depth_outliers(d: np.ndarray) -> np.ndarray:
+    med = np.median(d)
+    spread = 1.4826 * np.median(np.abs(d - med))
+    return np.abs(d - med) <= max(0.10, 3.0 * spread)
+
+
+@dataclass(frozen=True)
+class PositionGaussian:
+    mean: tuple[float, float, float]
+    var: tuple[float, float, float]
+    n_points: int
+    region: str               # "centre cell" or "centre 3x3"
+    median_depth: float       # of the region, metres (the object's distance from the camera)
+
+
+def position_gaussian(frame: Frame, box: Box, min_points: int = MIN_CENTRE_POINTS) -> Optional[PositionGaussian]:
+    """The object's 3-D position as a per-axis Gaussian over its centre region (Eq. 8)."""
+    w, h = frame.size
+    bounds = clip_box(box, w, h)
+    depth = frame.depth
+    for region, (first, last) in (("centre cell", (2, 2)), ("centre 3x3", (1, 3))):
+        u, v, d = _region_pixels(depth, grid_cells(bounds, first, last))
+        if d.size >= min_points:
+            break
+    if d.size == 0:
+        return None
+    keep = _drop_depth_outliers(d)
+    pts = world_points(u[keep], v[keep], d[keep], frame.K, frame.pose)
+    return PositionGaussian(tuple(float(x) for x in pts.mean(axis=0)), tuple(float(x) for x in pts.var(axis=0)),
+                            int(len(pts)), region, float(np.median(d[keep])))
+
+
+def object_mask(depth: np.ndarray, bounds: tuple[int, int, int, int]) -> np.ndarray:
+    """Pixels of the box (bool, box-sized) on the depth surface connected to its centre 3x3."""
+    x1, y1, x2, y2 = bounds
+    crop = depth[y1:y2, x1:x2]
+    valid = crop > 0
+    tol = np.maximum(DEPTH_JUMP_M, DEPTH_JUMP_REL * crop)
+    jump = np.zeros_like(valid)
+    dx = np.abs(np.diff(crop, axis=1)) > tol[:, 1:]
+    dy = np.abs(np.diff(crop, axis=0)) > tol[1:, :]
+    # cut on the far side of each jump: the nearer surface keeps its border pixels
+    far_x = crop[:, 1:] > crop[:, :-1]
+    jump[:, 1:] |= dx & far_x
+    jump[:, :-1] |= dx & ~far_x
+    far_y = crop[1:, :] > crop[:-1, :]
+    jump[1:, :] |= dy & far_y
+    jump[:-1, :] |= dy & ~far_y
+    n, labels = cv2.connectedComponents((valid & ~jump).astype(np.uint8), connectivity=4)
+    cx1, cy1, cx2, cy2 = grid_cells((0, 0, x2 - x1, y2 - y1), 1, 3)
+    centre = labels[cy1:cy2, cx1:cx2]
+    counts = np.bincount(centre[centre > 0].ravel(), minlength=n)
+    if n <= 1 or counts.max() == 0:
+        return valid
+    return labels == int(np.argmax(counts))
+
+
+def object_size(frame: Frame, box: Box, up: Optional[Sequence[float]] = None,
+                lo: float = 5.0, hi: float = 95.0) -> Optional[tuple[float, float, float]]:
+    """(width, depth, height) in metres along (e1, e2, up) of horizontal_basis(up); None without
+    depth. `up` defaults to the camera's image-up direction (-y_cam) in world coordinates."""
+    w, h = frame.size
+    bounds = clip_box(box, w, h)
+    mask = object_mask(frame.depth, bounds)
+    v, u = np.nonzero(mask)
+    if u.size < 3:
+        return None
+    x1, y1 = bounds[0], bounds[1]
+    d = frame.depth[v + y1, u + x1].astype(np.float64)
+    pts = world_points((u + x1).astype(np.float64), (v + y1).astype(np.float64), d, frame.K, frame.pose)
+    if up is None:
+        up = -frame.pose[:3, 1]
+    R = np.stack(horizontal_basis(up))
+    local = pts @ R.T
+    extent = np.percentile(local, hi, axis=0) - np.percentile(local, lo, axis=0)
+    return tuple(float(x) for x in extent)
+
+
+def hsv_histogram(image: np.ndarray, box: Optional[Box] = None, bins: int = HIST_BINS) -> np.ndarray:
+    """Eq. 9: h_{H,S,V} = N Pr(H = h, S = s, V = v) over the box's pixels, bins^3 counts (float64,
+    H-major: index = (h * bins + s) * bins + v); sums to N, the number of pixels."""
+    if box is not None:
+        x1, y1, x2, y2 = clip_box(box, image.shape[1], image.shape[0])
+        image = image[y1:y2, x1:x2]
+    hsv = cv2.cvtColor(np.ascontiguousarray(image), cv2.COLOR_BGR2HSV)
+    hist = cv2.calcHist([hsv], [0, 1, 2], None, [bins, bins, bins], [0, 180, 0, 256, 0, 256])
+    return hist.reshape(-1).astype(np.float64)
+
+
+def colour_names(hsv: np.ndarray) -> np.ndarray:
+    """Index into COLOUR_NAMES for every pixel of an OpenCV HSV array (H 0-179, S/V 0-255).
+
+    Achromatic first (dark -> black, unsaturated -> white/grey by brightness); brown is the
+    red-to-yellow hues when dark or washed out (wood, leather, cardboard), which saturated
+    bright reds, oranges and yellows are not."""
+    h = hsv[..., 0].astype(np.int16).ravel()
+    s = hsv[..., 1].astype(np.int16).ravel()
+    v = hsv[..., 2].astype(np.int16).ravel()
+    idx = {name: i for i, name in enumerate(COLOUR_NAMES)}
+    out = np.full(h.shape, idx["grey"], np.int16)
+    red_hue = (h < 5) | (h >= 168)
+    warm = (h >= 5) & (h < 30)
+    out[red_hue] = idx["red"]
+    out[red_hue & (s < 110) & (v >= 150)] = idx["pink"]
+    out[red_hue & (v < 90) & (s < 150)] = idx["brown"]
+    out[warm & (h < 18)] = idx["orange"]
+    out[warm & (h >= 18)] = idx["yellow"]
+    out[warm & ((v < 180) | (s < 140))] = idx["brown"]
+    out[(h >= 30) & (h < 85)] = idx["green"]
+    out[(h >= 85) & (h < 128)] = idx["blue"]
+    out[(h >= 128) & (h < 150)] = idx["purple"]
+    out[(h >= 150) & (h < 168)] = idx["pink"]
+    grey = s < 40
+    out[grey] = idx["grey"]
+    out[grey & (v >= 180)] = idx["white"]
+    out[v < 45] = idx["black"]
+    return out
+
+
+def dominant_colour(image: np.ndarray, box: Optional[Box] = None, margin: float = 0.2) -> str:
+    """The most frequent COLOUR_NAMES name over the box's inner region."""
+    x1, y1, x2, y2 = clip_box(box if box is not None else (0, 0, image.shape[1], image.shape[0]),
+                              image.shape[1], image.shape[0])
+    mx, my = int((x2 - x1) * margin), int((y2 - y1) * margin)
+    inner = image[y1 + my:max(y2 - my, y1 + my + 1), x1 + mx:max(x2 - mx, x1 + mx + 1)]
+    hsv = cv2.cvtColor(np.ascontiguousarray(inner), cv2.COLOR_BGR2HSV)
+    counts = np.bincount(colour_names(hsv), minlength=len(COLOUR_NAMES))
+    return COLOUR_NAMES[int(np.argmax(counts))]
+
+
+def thumbnail(image: np.ndarray, box: Optional[Box] = None, max_side: int = THUMBNAIL_SIDE,
+              quality: int = 85) -> bytes:
+    """JPEG bytes of the box, scaled down so its longest side is at most max_side."""
+    if box is not None:
+        x1, y1, x2, y2 = clip_box(box, image.shape[1], image.shape[0])
+        image = image[y1:y2, x1:x2]
+    h, w = image.shape[:2]
+    scale = min(1.0, max_side / max(h, w))
+    if scale < 1.0:
+        image = cv2.resize(image, (max(1, round(w * scale)), max(1, round(h * scale))), interpolation=cv2.INTER_AREA)
+    ok, buf = cv2.imencode(".jpg", image, [cv2.IMWRITE_JPEG_QUALITY, quality])
+    if not ok:
+        raise ValueError("JPEG encoding failed")
+    return buf.tobytes()
+
+
+@dataclass(frozen=True)
+class ObjectAttributes:
+    """What one frame tells about one boxed object: the fields of ObjectObservation but labels."""
+
+    mean: tuple[float, float, float]
+    var: tuple[float, float, float]
+    n_points: int
+    size: tuple[float, float, float]
+    hist: np.ndarray
+    colour: str
+    thumbnail: bytes
+
+
+def measure_object(frame: Frame, box: Box, up: Optional[Sequence[float]] = None) -> Optional[ObjectAttributes]:
+    """All attributes of a boxed object in a frame; None when the box has no usable depth."""
+    pos = position_gaussian(frame, box)
+    if pos is None:
+        return None
+    size = object_size(frame, box, up) or (0.0, 0.0, 0.0)
+    image = frame.color
+    return ObjectAttributes(pos.mean, pos.var, pos.n_points, size, hsv_histogram(image, box),
+                            dominant_colour(image, box), thumbnail(image, box))

@@ -1,0 +1,149 @@
+"""Per-object attributes on synthetic frames with known answers, and gravity on the real kitchen."""
+from __future__ import annotations
+
+import cv2
+import numpy as np
+import pytest
+
+from ingest.attributes import (dominant_colour, hsv_histogram, measure_object, object_size,
+                               position_gaussian, thumbnail, world_points)
+from ingest.frames import Frame
+from ingest.gravity import estimate_gravity, estimate_up, sample_frames
+from ingest.model import COLOUR_NAMES, HIST_SIZE
+from ingest.readers import open_sequence, quaternion_to_matrix
+
+W, H = 160, 120
+K = np.array([[100.0, 0, 80.0], [0, 100.0, 60.0], [0, 0, 1]])
+BOX = (40, 20, 90, 70)        # the object fills it exactly
+OBJECT_DEPTH, WALL_DEPTH = 1.5, 3.0
+
+
+def _pose() -> np.ndarray:
+    T = np.eye(4)
+    T[:3, :3] = quaternion_to_matrix(np.array([0.2, 0.1, -0.3, 0.9]))
+    T[:3, 3] = (0.4, -1.2, 2.0)
+    return T
+
+
+def _scene(depth_hook=None) -> Frame:
+    depth = np.full((H, W), WALL_DEPTH, np.float32)
+    x1, y1, x2, y2 = BOX
+    depth[y1:y2, x1:x2] = OBJECT_DEPTH
+    if depth_hook:
+        depth_hook(depth)
+    color = np.full((H, W, 3), 200, np.uint8)
+    color[y1:y2, x1:x2] = (0, 0, 255)
+    return Frame(0, color, depth, K, _pose(), 0.0, "synthetic")
+
+
+def _true_centre() -> np.ndarray:
+    # the centre cell [60, 70) x [40, 50) is symmetric about pixel (64.5, 44.5)
+    return world_points(np.array([64.5]), np.array([44.5]), np.array([OBJECT_DEPTH]), K, _pose())[0]
+
+
+def test_position_recovers_the_3d_centre_with_a_posed_camera():
+    pos = position_gaussian(_scene(), BOX)
+    assert pos.region == "centre cell" and pos.n_points == 100
+    np.testing.assert_allclose(pos.mean, _true_centre(), atol=1e-9)
+    # a flat patch 10 px = 0.15 m wide: per-axis variance well under (0.15 m)^2
+    assert max(pos.var) < 0.15 ** 2 and min(pos.var) >= 0
+    assert pos.median_depth == pytest.approx(OBJECT_DEPTH)
+
+
+def test_position_ignores_background_seen_through_the_centre():
+    def hole(depth):
+        depth[42:46, 61:66] = WALL_DEPTH  # 20 of 100 centre pixels see the wall behind
+    pos = position_gaussian(_scene(hole), BOX)
+    assert pos.n_points == 80
+    assert np.linalg.norm(np.asarray(pos.mean) - _true_centre()) < 0.02
+
+
+def test_position_falls_back_to_centre_3x3_then_none():
+    def sparse(depth):
+        depth[40:50, 60:70] = 0          # centre cell without depth
+    pos = position_gaussian(_scene(sparse), BOX)
+    assert pos.region == "centre 3x3" and pos.n_points == 30 * 30 - 100
+    np.testing.assert_allclose(pos.mean, _true_centre(), atol=0.02)
+
+    def blind(depth):
+        depth[:] = 0
+    assert position_gaussian(_scene(blind), BOX) is None
+    assert measure_object(_scene(blind), BOX) is None
+
+
+def test_size_keeps_the_object_not_the_wall_around_it():
+    wide_box = (30, 10, 100, 80)  # 10 px of wall on every side
+    up = -_pose()[:3, 1]          # the camera's image up
+    w, d, h = object_size(_scene(), wide_box, up)
+    true_w = (BOX[2] - BOX[0]) * OBJECT_DEPTH / K[0, 0]
+    true_h = (BOX[3] - BOX[1]) * OBJECT_DEPTH / K[1, 1]
+    # percentiles 5-95 keep 90 % of a uniform extent
+    assert h == pytest.approx(0.9 * true_h, rel=0.05)
+    assert np.hypot(w, d) == pytest.approx(0.9 * true_w, rel=0.1)
+
+
+def test_histogram_sums_to_pixel_count_and_bins_hsv():
+    rng = np.random.default_rng(0)
+    img = rng.integers(0, 256, size=(H, W, 3), dtype=np.uint8)
+    hist = hsv_histogram(img, BOX)
+    assert hist.shape == (HIST_SIZE,)
+    assert hist.sum() == (BOX[2] - BOX[0]) * (BOX[3] - BOX[1])
+    red = np.zeros((10, 10, 3), np.uint8)
+    red[:] = (0, 0, 255)             # HSV (0, 255, 255): bins (0, 7, 7)
+    h = hsv_histogram(red)
+    assert h[(0 * 8 + 7) * 8 + 7] == 100 and h.sum() == 100
+
+
+@pytest.mark.parametrize("bgr,name", [
+    ((0, 0, 220), "red"), ((255, 255, 255), "white"), ((10, 10, 10), "black"), ((128, 128, 128), "grey"),
+    ((200, 60, 20), "blue"), ((40, 180, 40), "green"), ((0, 220, 240), "yellow"), ((0, 130, 255), "orange"),
+    ((60, 100, 150), "brown"), ((180, 40, 130), "purple"), ((200, 170, 255), "pink"),
+])
+def test_dominant_colour_names(bgr, name):
+    assert name in COLOUR_NAMES
+    img = np.zeros((100, 100, 3), np.uint8)
+    img[:] = (255, 255, 255) if name != "white" else (0, 0, 0)
+    img[20:80, 20:80] = bgr          # the margin is background of another colour
+    assert dominant_colour(img, (10, 10, 90, 90)) == name
+
+
+def test_thumbnail_is_a_small_jpeg_of_the_box():
+    img = np.zeros((400, 600, 3), np.uint8)
+    img[100:300, 50:450] = (0, 255, 0)
+    data = thumbnail(img, (50, 100, 450, 300))
+    assert data[:2] == b"\xff\xd8"
+    back = cv2.imdecode(np.frombuffer(data, np.uint8), cv2.IMREAD_COLOR)
+    assert back.shape == (64, 128, 3)
+    assert back[32, 64, 1] > 200 and back[32, 64, 2] < 60
+
+
+def test_measure_object_bundles_everything():
+    a = measure_object(_scene(), BOX)
+    np.testing.assert_allclose(a.mean, _true_centre(), atol=1e-9)
+    assert a.colour == "red" and a.hist.sum() == 50 * 50 and a.thumbnail[:2] == b"\xff\xd8"
+    assert all(s > 0 for s in a.size[:1]) and a.n_points == 100
+
+
+def test_up_is_perpendicular_to_the_kitchen_table(kitchen_dir):
+    seq = open_sequence(kitchen_dir)
+    gravity = estimate_gravity(sample_frames(seq, 12))
+    up = np.asarray(gravity.up)
+    assert np.linalg.norm(up) == pytest.approx(1.0)
+    np.testing.assert_allclose(estimate_up(sample_frames(seq, 12)), up)
+    # a patch of the table top in frame 1 (chosen by looking at the image): fit its plane here
+    f = seq.frame(1)
+    x1, y1, x2, y2 = 300, 240, 420, 320
+    d = f.depth[y1:y2, x1:x2]
+    v, u = np.nonzero(d > 0)
+    pts = world_points(u + float(x1), v + float(y1), d[v, u].astype(float), f.K, f.pose)
+    centred = pts - pts.mean(axis=0)
+    _, sv, vt = np.linalg.svd(centred, full_matrices=False)
+    assert sv[2] / np.sqrt(len(pts)) < 0.02          # it is a plane (rms off-plane < 2 cm)
+    angle = np.degrees(np.arccos(abs(vt[2] @ up)))
+    assert angle < 5.0
+    # up points against gravity: cameras are held upright, their image-up agrees
+    assert np.mean([(-g.pose[:3, 1]) @ up > 0 for g in sample_frames(seq, 12)]) > 0.9
+    # the table top lies well above the floor, below the cameras
+    assert gravity.floor_height is not None
+    table = float(pts.mean(axis=0) @ up) - gravity.floor_height
+    assert 0.5 < table < 1.1
