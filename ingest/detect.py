@@ -308,7 +308,9 @@ def make_detector(config: Union[None, str, Mapping[str, Any]] = None) -> Detecto
     - "path/to/model.onnx": an `OnnxDetector`, labels from "path/to/model.labels.json" or
       "path/to/model.txt" beside it;
     - a mapping with "kind" ("ssd-mobilenet-v2-coco" or "onnx") and that class's keyword
-      arguments (for ONNX: "path", "labels_file", "input_size", ...).
+      arguments (for ONNX: "path", "labels_file", "input_size", ...); "recognize": true wraps
+      the detector in `ingest.recognize.RecognizingDetector` (EfficientNet-Lite3 re-ranking,
+      needs ai-edge-litert; off by default: ~10-20 ms more per box).
     """
     if config is None:
         return SsdMobilenetDetector()
@@ -324,9 +326,15 @@ def make_detector(config: Union[None, str, Mapping[str, Any]] = None) -> Detecto
             raise FileNotFoundError(f"no labels file beside {path} (.labels.json, .json or .txt)")
         raise ValueError(f"unknown detector {text!r}: use {DEFAULT_DETECTOR!r} or a .onnx path")
     options = dict(config)
+    recognize = bool(options.pop("recognize", False))
     kind = str(options.pop("kind", DEFAULT_DETECTOR)).lower()
     if kind in _SSD_NAMES:
-        return SsdMobilenetDetector(**options)
-    if kind == "onnx":
-        return OnnxDetector(**options)
-    raise ValueError(f"unknown detector kind {kind!r}")
+        detector: Detector = SsdMobilenetDetector(**options)
+    elif kind == "onnx":
+        detector = OnnxDetector(**options)
+    else:
+        raise ValueError(f"unknown detector kind {kind!r}")
+    if recognize:
+        from ingest.recognize import RecognizingDetector   # optional dependency, load on demand
+        detector = RecognizingDetector(detector)
+    return detector

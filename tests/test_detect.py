@@ -123,3 +123,35 @@ def test_real_ssd_finds_chair_and_table_on_kitchen_frame(ssd, kitchen_dir):
 def test_real_ssd_on_blank_image_finds_nothing_confident(ssd):
     dets = ssd.detect(np.full((480, 640, 3), 128, np.uint8))
     assert all(d.score < 0.5 for d in dets)
+
+
+# --------------------------------------------------------------------------- recognition
+
+def test_classifier_evidence_promotes_and_enriches_but_never_demotes():
+    from ingest.recognize import fuse_with_classifier
+
+    d = Detection((0, 0, 10, 10), ["bowl", "cup"], [0.30, 0.24])
+    fused = fuse_with_classifier(d, [("coffee mug", 0.5), ("cup", 0.3), ("espresso", 0.1)], weight=0.5)
+    # cup: 1 - (1 - 0.24) * (1 - 0.5 * 0.8) = 0.544; bowl keeps 0.30
+    assert fused.labels == ["cup", "bowl"]
+    assert fused.scores == pytest.approx([0.544, 0.30])
+    unmapped = fuse_with_classifier(d, [("crate", 0.9)])
+    assert unmapped.labels == d.labels and unmapped.scores == d.scores
+    added = fuse_with_classifier(Detection((0, 0, 1, 1), ["tv"], [0.4]), [("monitor", 0.6)], weight=0.5)
+    assert added.labels == ["tv"] and added.scores == pytest.approx([1 - 0.6 * 0.7])
+
+
+def test_real_recognizer_on_a_kitchen_crop(ssd, kitchen_dir):
+    pytest.importorskip("ai_edge_litert")
+    from ingest.recognize import EfficientNetRecognizer, RecognizingDetector, crop
+
+    image = cv2.imread(str(kitchen_dir / "frame-000000.color.jpg"))
+    table = next(d for d in ssd.detect(image) if d.label == "dining table")
+    recognizer = EfficientNetRecognizer()
+    top = recognizer.classify(crop(image, table.box))
+    assert len(top) == 5 and all(0.0 <= p <= 1.0 for _, p in top)
+    assert [p for _, p in top] == sorted((p for _, p in top), reverse=True)
+    assert "dining table" in [name for name, _ in top]
+    dets = RecognizingDetector(ssd, recognizer).detect(image)
+    assert "dining table" in [d.label for d in dets]
+    assert isinstance(make_detector({"kind": "ssd", "recognize": True}), RecognizingDetector)
