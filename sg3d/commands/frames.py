@@ -1,0 +1,164 @@
+"""`sg3d frames SEQUENCE`: read a posed RGB-D sequence, reject blurry frames (ABIR) and extract
+keyframe groups (KGE); report what would go on to detection, and how fast."""
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Optional
+
+import click
+
+from sg3d.errors import UserError
+
+SHEET_PAIRS = 24
+SHEET_FACTOR = 4   # thumbnails at 1/4 of the colour size (160x120 for 640x480)
+
+
+@click.command("frames")
+@click.argument("sequence", type=click.Path(path_type=Path))
+@click.option("--layout", default=None, metavar="NAME",
+              help="7scenes (also 3DMatch), tum or scannet. Default: detected from the files.")
+@click.option("--abir-gain", type=float, default=None, show_default=False,
+              help="ABIR gain g of Eq. 4 [10, the authors' code; the paper prints 30].")
+@click.option("--abir-offset", type=float, default=None, help="ABIR offset b of Eq. 4 [25].")
+@click.option("--abir-alpha", type=float, default=None, help="ABIR smoothing factor alpha of Eq. 2 [0.9].")
+@click.option("--t-key", type=float, default=None, help="KGE keyframe overlap threshold [0.2].")
+@click.option("--t-anchor", type=float, default=None, help="KGE anchor overlap threshold [0.68].")
+@click.option("--limit", type=click.IntRange(min=1), default=None, metavar="N", help="Read at most N frames.")
+@click.option("--step", type=click.IntRange(min=1), default=1, show_default=True, help="Read every STEP-th frame.")
+@click.option("--json", "as_json", is_flag=True, help="Machine-readable output on stdout.")
+@click.option("--sheet", type=click.Path(dir_okay=False, path_type=Path), default=None, metavar="PNG",
+              help="Write a contact sheet: frames rejected as blurry beside the last sharp frame before each.")
+def frames_command(sequence: Path, layout: Optional[str], abir_gain, abir_offset, abir_alpha, t_key, t_anchor,
+                   limit: Optional[int], step: int, as_json: bool, sheet: Optional[Path]) -> None:
+    """Blur rejection and keyframe groups over SEQUENCE (a sequence folder)."""
+    from rich.console import Console
+    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeRemainingColumn
+
+    from ingest.abir import ABIR, DEFAULT_ALPHA, DEFAULT_GAIN, DEFAULT_OFFSET
+    from ingest.kge import DEFAULT_T_ANCHOR, DEFAULT_T_KEY, KeyframeGrouper
+    from ingest.readers import open_sequence
+    from ingest.selection import FrameSelector
+
+    params = dict(abir_alpha=DEFAULT_ALPHA if abir_alpha is None else abir_alpha,
+                  abir_gain=DEFAULT_GAIN if abir_gain is None else abir_gain,
+                  abir_offset=DEFAULT_OFFSET if abir_offset is None else abir_offset,
+                  t_key=DEFAULT_T_KEY if t_key is None else t_key,
+                  t_anchor=DEFAULT_T_ANCHOR if t_anchor is None else t_anchor)
+    try:
+        abir = ABIR(params["abir_alpha"], params["abir_gain"], params["abir_offset"])
+        grouper = KeyframeGrouper(params["t_key"], params["t_anchor"])
+    except ValueError as exc:
+        raise UserError(str(exc)) from None
+    seq = open_sequence(sequence, layout=layout)
+    stop = len(seq) if limit is None else min(len(seq), limit * step)
+    selector = FrameSelector(abir, grouper)
+    pairs: list[tuple[int, object, int, object]] = []   # (blurry index, decision, sharp index, decision)
+    last_sharp: list = [None, None]
+    groups: list[list[int]] = []
+
+    def on_frame(frame, decision, role):
+        progress.advance(task)
+        if sheet is None or decision is None:
+            return
+        if role == "blurry":
+            if last_sharp[0] is not None:
+                pairs.append((frame.index, decision, last_sharp[0], last_sharp[1]))
+        elif role != "skipped":
+            last_sharp[:] = [frame.index, decision]
+
+    console = Console(stderr=True)
+    with Progress(TextColumn("[bold]frames"), BarColumn(), MofNCompleteColumn(), TimeRemainingColumn(),
+                  console=console, transient=True, disable=as_json and not console.is_terminal) as progress:
+        task = progress.add_task("frames", total=len(range(0, stop, step)))
+        for group in selector.groups(seq, 0, stop, step, on_frame=on_frame):
+            groups.append([f.index for f in group.frames])
+    stats = selector.stats
+
+    if sheet is not None:
+        _write_sheet(seq, pairs, sheet)
+
+    skipped = seq.skipped
+    if as_json:
+        click.echo(json.dumps({"sequence": str(sequence), "layout": seq.layout, "frames_in_sequence": len(seq),
+                               **stats.as_dict(), "params": params,
+                               "skipped_frames": [{"frame": n, "reason": r} for n, r in skipped],
+                               "groups_frames": groups, "sheet": str(sheet) if sheet else None}))
+        return
+    out = Console()
+    out.print(f"[bold]{sequence}[/] ({seq.layout}, {len(seq)} frames, {seq.image_size[0]}x{seq.image_size[1]})")
+    rows = [
+        ("frames read", f"{stats.read}", f"of {stats.frames} asked for"),
+        ("skipped", f"{stats.skipped}", "bad frames, listed below" if skipped else ""),
+        ("blurry (ABIR)", f"{stats.blurry}", f"alpha {params['abir_alpha']}, gain {params['abir_gain']}, "
+                                              f"offset {params['abir_offset']}"),
+        ("keyframes", f"{stats.keyframes}", f"t_key {params['t_key']}"),
+        ("anchors", f"{stats.anchors}", f"t_anchor {params['t_anchor']}"),
+        ("groups", f"{stats.groups}", "frames per group: " + " ".join(str(len(g)) for g in groups[:20])
+         + (" ..." if len(groups) > 20 else "")),
+        ("processed further", f"{100 * stats.fraction_kept:.1f} %", f"{stats.kept} of {stats.read} frames read"),
+        ("time", f"{stats.seconds:.2f} s", f"{stats.frames_per_second:.0f} frames/s"),
+    ]
+    for label, value, note in rows:
+        out.print(f"  {label:<18} {value:>9}   [dim]{note}[/]")
+    for name, reason in skipped[:10]:
+        out.print(f"  [yellow]skipped[/] {name}: {reason}")
+    if len(skipped) > 10:
+        out.print(f"  [yellow]... and {len(skipped) - 10} more skipped frames[/]")
+    if sheet is not None:
+        out.print(f"  contact sheet: {sheet} ({min(len(pairs), SHEET_PAIRS)} blurry/sharp pairs)")
+
+
+def _write_sheet(seq, pairs, path: Path) -> None:
+    """Rows of [rejected as blurry | last sharp frame before it], each labelled V and threshold."""
+    import cv2
+    import numpy as np
+
+    from ingest.frames import FrameError
+
+    if len(pairs) > SHEET_PAIRS:  # spread over the whole run, not the first burst only
+        pick = np.linspace(0, len(pairs) - 1, SHEET_PAIRS).round().astype(int)
+        pairs = [pairs[i] for i in pick]
+    w, h = seq.image_size
+    tw, th = max(1, w // SHEET_FACTOR), max(1, h // SHEET_FACTOR)
+    label_h, gap, per_row = 16, 8, 3
+
+    def tile(index: int, decision, blurry: bool):
+        try:
+            img = seq.frame(index, lazy=True).preview(SHEET_FACTOR)
+            img = cv2.resize(img, (tw, th), interpolation=cv2.INTER_AREA)
+        except FrameError:
+            img = np.zeros((th, tw, 3), np.uint8)
+        canvas = np.full((th + label_h, tw, 3), 255, np.uint8)
+        canvas[label_h:] = img
+        text = f"#{index} V={decision.variance:.0f} {'<' if blurry else '>='} t={decision.threshold:.0f}"
+        colour = (0, 0, 200) if blurry else (0, 140, 0)
+        cv2.putText(canvas, text, (2, 12), cv2.FONT_HERSHEY_SIMPLEX, 0.38, colour, 1, cv2.LINE_AA)
+        return canvas
+
+    cells = []
+    for bi, bd, si, sd in pairs:
+        pair = np.hstack([tile(bi, bd, True), np.full((th + label_h, 2, 3), 0, np.uint8), tile(si, sd, False)])
+        cells.append(pair)
+    header_h = 24
+    cell_w = 2 * tw + 2
+    rows = max(1, (len(cells) + per_row - 1) // per_row)
+    sheet = np.full((header_h + rows * (th + label_h + gap), per_row * (cell_w + gap), 3), 255, np.uint8)
+    title = ("rejected as blurry (left, red) | last sharp frame before it (right, green)" if cells
+             else "no frame was rejected as blurry")
+    cv2.putText(sheet, title, (4, 16), cv2.FONT_HERSHEY_SIMPLEX, 0.45, (0, 0, 0), 1, cv2.LINE_AA)
+    for k, cell in enumerate(cells):
+        r, c = divmod(k, per_row)
+        y = header_h + r * (th + label_h + gap)
+        x = c * (cell_w + gap)
+        sheet[y:y + cell.shape[0], x:x + cell.shape[1]] = cell
+    path = Path(path)
+    if path.suffix.lower() != ".png":
+        raise UserError(f"--sheet writes a PNG; give a file name ending in .png, not {path.name}")
+    if not path.parent.exists():
+        raise UserError(f"cannot write the contact sheet: folder {path.parent} does not exist")
+    if not cv2.imwrite(str(path), sheet):
+        raise UserError(f"cannot write the contact sheet to {path}")
+
+
+commands = [frames_command]
