@@ -85,6 +85,11 @@ class ABIR:
         self.t = 0
         self.ema = 0.0
 
+    @classmethod
+    def paper(cls) -> "ABIR":
+        """The paper's printed form: g = 30, b = 25, alpha = 0.9, S_1 = V_1."""
+        return cls(DEFAULT_ALPHA, PAPER_GAIN, DEFAULT_OFFSET, paper_start=True)
+
     def update_variance(self, variance: float) -> AbirDecision:
         self.t += 1
         if self.t == 1 and self.paper_start:

@@ -42,6 +42,9 @@ def test_paper_start_reproduces_printed_eq_2():
     abir = ABIR(alpha=0.9, gain=10, offset=25, paper_start=True)
     got = [abir.update_variance(v).threshold for v in VARIANCES]
     assert got == pytest.approx(_expected_thresholds(VARIANCES, 0.9, 10, 25, paper_start=True), rel=1e-12)
+    paper = ABIR.paper()
+    got = [paper.update_variance(v).threshold for v in VARIANCES]
+    assert got == pytest.approx(_expected_thresholds(VARIANCES, 0.9, 30, 25, paper_start=True), rel=1e-12)
 
 
 def test_equation_functions():
