@@ -20,11 +20,11 @@ from neo4j import ManagedTransaction
 from scipy.optimize import linear_sum_assignment
 
 from graphdb import cypher
-from graphdb.similarity import (SimilarityParams, histogram_intersection, label_similarity,
+from graphdb.similarity import (SimilarityParams, histogram_intersection, label_similarity_matrix,
                                 position_similarity, total_similarity)
 from graphdb.update import (combine_gaussians, combine_histograms, combine_labels, combine_sizes,
                             incoming_has_best_label)
-from ingest.embedding import LabelEmbedding, cosine, default_embedding
+from ingest.embedding import LabelEmbedding, default_embedding
 from ingest.model import LocalGraph, ObjectObservation
 
 
@@ -44,33 +44,70 @@ def room_id(building: str, room: str) -> str:
     return f"{building}/{room}"
 
 
-def _pair_scores(objects: list[ObjectObservation], cands: list[dict], embedding: LabelEmbedding,
-                 params: SimilarityParams) -> np.ndarray:
+def pack_hist(hist) -> bytes:
+    """The 512-bin histogram as little-endian float32 bytes: one Bolt value instead of a
+    512-element list, which the driver would pack element by element (5x slower upserts)."""
+    return np.asarray(hist, dtype="<f4").tobytes()
+
+
+def unpack_hist(value) -> np.ndarray:
+    if isinstance(value, (bytes, bytearray)):
+        return np.frombuffer(value, dtype="<f4").astype(float)
+    return np.asarray(value, dtype=float)  # stores written as lists stay readable
+
+
+def _rows(result) -> list[dict]:
+    """Records as plain dicts (cheaper than Result.data(), which re-walks every value)."""
+    keys = result.keys()
+    return [dict(zip(keys, values)) for values in result.values()]
+
+
+def _fetch_candidates(tx: ManagedTransaction, rid: str, objects: list[ObjectObservation],
+                      params: SimilarityParams) -> tuple[list[dict], np.ndarray]:
+    """Candidates and the (n_local, n_cand) position similarity (Eq. 12-13) of each pair.
+
+    Two passes so the store never ships a histogram that cannot matter: positions inside the
+    window first, then the full attributes of the candidates some local object is close to.
+    """
+    near = _rows(tx.run(cypher.load("merge_candidates"), room=rid, **_window(objects, params.window_margin())))
+    if not near:
+        return [], np.zeros((len(objects), 0))
+    mean_c = np.array([o.mean for o in objects], float)
+    mean_o = np.array([[c["x"], c["y"], c["z"]] for c in near], float)
+    var_o = np.array([c["var"] for c in near], float)
+    s_pos = position_similarity(mean_o[None, :, :], var_o[None, :, :], mean_c[:, None, :],
+                                params.sigma_floor, params.sigma_cap)
+    keep = np.flatnonzero((s_pos >= params.min_position_similarity()).any(axis=0))
+    if keep.size == 0:
+        return [], np.zeros((len(objects), 0))
+    details = {c["id"]: c for c in _rows(tx.run(cypher.load("merge_candidate_details"),
+                                                ids=[near[j]["id"] for j in keep]))}
+    cands = [{**near[j], **details[near[j]["id"]]} for j in keep]
+    return cands, s_pos[:, keep]
+
+
+def _pair_scores(objects: list[ObjectObservation], cands: list[dict], s_pos: np.ndarray,
+                 embedding: LabelEmbedding, params: SimilarityParams) -> np.ndarray:
     """s_total (Eq. 15) for every (local object, candidate) pair, shape (n_local, n_cand)."""
     n, m = len(objects), len(cands)
     if n == 0 or m == 0:
         return np.zeros((n, m))
-    mean_c = np.array([o.mean for o in objects], float)
-    mean_o = np.array([[c["x"], c["y"], c["z"]] for c in cands], float)
-    var_o = np.array([c["var"] for c in cands], float)
-    s_pos = position_similarity(mean_o[None, :, :], var_o[None, :, :], mean_c[:, None, :],
-                                params.sigma_floor, params.sigma_cap)
-    h_c = np.array([o.hist for o in objects], float)
-    h_o = np.array([c["hist"] for c in cands], float)
-    s_col = histogram_intersection(h_c[:, None, :], h_o[None, :, :])
-    vecs = embedding.vectors({o.label for o in objects} | {c["labels"][0] for c in cands})
-    s_lab = np.zeros((n, m))
-    for i, obj in enumerate(objects):
-        for j, cand in enumerate(cands):
-            word = cosine(vecs[cand["labels"][0]], vecs[obj.label])
-            s_lab[i, j] = label_similarity(cand["labels"], cand["scores"], obj.labels, obj.scores, word)
+    s_col = np.zeros((n, m))
+    # only pairs close enough to pass get the 512-bin intersection
+    rows, cols = np.nonzero(s_pos >= params.min_position_similarity())
+    if rows.size:
+        h_c = np.array([o.hist for o in objects], float)
+        h_o = np.array([unpack_hist(c["hist"]) for c in cands], float)
+        s_col[rows, cols] = histogram_intersection(h_c[rows], h_o[cols])
+    s_lab = label_similarity_matrix([o.labels for o in objects], [o.scores for o in objects],
+                                    [c["labels"] for c in cands], [c["scores"] for c in cands], embedding)
     return total_similarity(s_lab, s_col, s_pos, params)
 
 
-def match_nodes(objects: list[ObjectObservation], cands: list[dict], embedding: LabelEmbedding,
-                params: SimilarityParams = SimilarityParams()) -> dict[int, int]:
+def match_nodes(objects: list[ObjectObservation], cands: list[dict], s_pos: np.ndarray,
+                embedding: LabelEmbedding, params: SimilarityParams = SimilarityParams()) -> dict[int, int]:
     """Same-node detection: local index -> candidate index, one-to-one, s_total ≥ threshold."""
-    scores = _pair_scores(objects, cands, embedding, params)
+    scores = _pair_scores(objects, cands, s_pos, embedding, params)
     if scores.size == 0:
         return {}
     rows, cols = linear_sum_assignment(-scores)
@@ -86,7 +123,7 @@ def _new_props(obj: ObjectObservation, rid: str, now: float) -> dict:
         "score": float(max(obj.scores)),
         "x": mean[0], "y": mean[1], "z": mean[2], "var": [float(v) for v in obj.var],
         "n_points": int(obj.n_points), "size": size, "volume": float(np.prod(size)),
-        "hist": [float(v) for v in obj.hist], "colour": obj.colour,
+        "hist": pack_hist(obj.hist), "colour": obj.colour,
         "thumbnail": obj.thumbnail or b"",
         "first_frame": int(obj.first_frame), "last_frame": int(obj.last_frame),
         "observations": 1, "n_frames": int(obj.n_frames), "updated_at": now,
@@ -97,15 +134,15 @@ def _updated_props(cand: dict, obj: ObjectObservation, now: float) -> dict:
     labels, scores = combine_labels(cand["labels"], cand["scores"], obj.labels, obj.scores)
     mean, var, n = combine_gaussians([cand["x"], cand["y"], cand["z"]], cand["var"], cand["n_points"],
                                      obj.mean, obj.var, obj.n_points)
-    hist = combine_histograms(cand["hist"], obj.hist)
+    hist = combine_histograms(unpack_hist(cand["hist"]), obj.hist)
     size = combine_sizes(cand["size"], cand["observations"], obj.size)
     props = {
         "label": labels[0], "labels": labels, "scores": scores, "score": float(max(scores)),
         "x": float(mean[0]), "y": float(mean[1]), "z": float(mean[2]), "var": [float(v) for v in var],
         "n_points": int(n), "size": [float(v) for v in size], "volume": float(np.prod(size)),
-        "hist": [float(v) for v in hist],
+        "hist": pack_hist(hist),
         # the dominant colour follows the larger share of the combined histogram's pixels
-        "colour": obj.colour if float(np.sum(obj.hist)) > float(np.sum(cand["hist"])) else cand["colour"],
+        "colour": obj.colour if float(np.sum(obj.hist)) > float(np.sum(hist)) / 2 else cand["colour"],
         "first_frame": min(int(cand["first_frame"]), int(obj.first_frame)),
         "last_frame": max(int(cand["last_frame"]), int(obj.last_frame)),
         "observations": int(cand["observations"]) + 1,
@@ -138,12 +175,9 @@ def merge_in_tx(tx: ManagedTransaction, graph: LocalGraph, embedding: Optional[L
            up=[float(v) for v in graph.up] if graph.up is not None else None).consume()
 
     objects = graph.objects
-    cands: list[dict] = []
-    if objects:
-        cands = tx.run(cypher.load("merge_candidates"), room=rid,
-                       **_window(objects, params.window_margin())).data()
+    cands, s_pos = _fetch_candidates(tx, rid, objects, params) if objects else ([], None)
     report.candidates = len(cands)
-    matches = match_nodes(objects, cands, embedding, params)
+    matches = match_nodes(objects, cands, s_pos, embedding, params) if cands else {}
 
     updates, creates = [], []
     for i, obj in enumerate(objects):

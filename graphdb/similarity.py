@@ -38,6 +38,11 @@ class SimilarityParams:
     sigma_floor: float = SIGMA_FLOOR_M
     sigma_cap: float = SIGMA_CAP_M
 
+    def min_position_similarity(self) -> float:
+        """The s_position below which a pair cannot reach the threshold even with perfect
+        label and colour scores (both are at most 1)."""
+        return max(0.0, (self.threshold - self.w_label - self.w_color) / self.w_position)
+
     def window_margin(self) -> float:
         """How far (m, per axis) a candidate can be and still reach the threshold.
 
@@ -45,7 +50,7 @@ class SimilarityParams:
         below p_min beyond z* standard deviations, and σ is capped, so nothing farther than
         z*·σ_cap on any axis can match: the candidate query may ignore it safely.
         """
-        p_min = (self.threshold - self.w_label - self.w_color) / self.w_position
+        p_min = self.min_position_similarity()
         if p_min <= 0:
             return float("inf")
         z = _tail_inverse(p_min * _two_sided_tail(1.0))
@@ -82,6 +87,36 @@ def label_similarity(labels_o: Sequence[str], scores_o: Sequence[float],
     if common > 0:
         return score * common / max(1, min(len(set(labels_o)), len(set(labels_c))))
     return max(0.0, float(word_similarity)) * score
+
+
+def label_similarity_matrix(labels_c: Sequence[Sequence[str]], scores_c: Sequence[Sequence[float]],
+                            labels_o: Sequence[Sequence[str]], scores_o: Sequence[Sequence[float]],
+                            embedding) -> np.ndarray:
+    """Eq. 10-11 for every (new, stored) pair at once, shape (len(labels_c), len(labels_o)).
+
+    Same numbers as `label_similarity`, vectorised: shared-label counts as a product of
+    label-indicator matrices, word similarities as a product of unit label vectors.
+    """
+    n, m = len(labels_c), len(labels_o)
+    if n == 0 or m == 0:
+        return np.zeros((n, m))
+    vocab = {lbl: i for i, lbl in enumerate(sorted({l for ls in (*labels_c, *labels_o) for l in ls}))}
+
+    def indicator(sets):
+        mat = np.zeros((len(sets), len(vocab)))
+        for r, ls in enumerate(sets):
+            mat[r, [vocab[lbl] for lbl in ls]] = 1.0
+        return mat
+
+    a, b = indicator(labels_c), indicator(labels_o)
+    common = a @ b.T
+    smaller = np.minimum.outer(a.sum(1), b.sum(1))
+    score = np.maximum.outer([max(s, default=0.0) for s in scores_c], [max(s, default=0.0) for s in scores_o])
+    vecs = embedding.vectors([ls[0] for ls in (*labels_c, *labels_o)])
+    vc = np.array([vecs[ls[0]] for ls in labels_c])
+    vo = np.array([vecs[ls[0]] for ls in labels_o])
+    word = np.clip(vc @ vo.T, 0.0, None)
+    return np.where(common > 0, score * common / np.maximum(smaller, 1.0), word * score)
 
 
 def position_similarity(mean_o, var_o, mean_c, sigma_floor: float = SIGMA_FLOOR_M,

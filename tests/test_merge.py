@@ -4,7 +4,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from graphdb.merge import merge_in_tx, merge_local_graph, room_id
+from graphdb.merge import merge_in_tx, merge_local_graph, room_id, unpack_hist
 from tests.factories import graph, hist_of, obj
 
 ROOM = room_id("home", "kitchen")
@@ -49,7 +49,7 @@ def test_two_views_of_one_cup_become_one_node_with_the_papers_update(store):
     assert np.allclose([node["x"], node["y"], node["z"]], mean)
     assert np.allclose(node["var"], var)
     assert node["n_points"] == 400
-    assert np.allclose(node["hist"], h1 + h2)
+    assert np.allclose(unpack_hist(node["hist"]), h1 + h2)
     assert node["labels"][:2] == ["cup", "bowl"] and node["scores"][:2] == [0.9, 0.3]
     assert set(node["labels"]) == {"cup", "bowl", "vase"}
     assert bytes(node["thumbnail"]) == b"new"  # best label score came with the new view

@@ -68,3 +68,18 @@ def test_combine_gaussians_equals_recomputing_over_all_points():
     both = np.vstack([a, b])
     assert n == 200
     assert np.allclose(mean, both.mean(0)) and np.allclose(var, both.var(0))
+
+
+def test_label_similarity_matrix_matches_the_pairwise_equation():
+    from graphdb.similarity import label_similarity_matrix
+    from ingest.embedding import default_embedding, similarity
+
+    emb = default_embedding()
+    new = [(["cup", "bowl"], [0.8, 0.1]), (["couch"], [0.6])]
+    old = [(["cup", "vase"], [0.5, 0.2]), (["mug"], [0.9]), (["chair", "couch"], [0.7, 0.4])]
+    mat = label_similarity_matrix([l for l, _ in new], [s for _, s in new],
+                                  [l for l, _ in old], [s for _, s in old], emb)
+    for i, (lc, sc) in enumerate(new):
+        for j, (lo, so) in enumerate(old):
+            word = max(0.0, similarity(emb, lo[0], lc[0]))
+            assert math.isclose(mat[i, j], label_similarity(lo, so, lc, sc, word), rel_tol=1e-5)
