@@ -1,0 +1,3 @@
+// One Category node per class and group name (idempotent).
+UNWIND $names AS name
+MERGE (:Category {name: name})
