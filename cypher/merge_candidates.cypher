@@ -5,4 +5,4 @@ WHERE o.room = $room
   AND o.x >= $xmin AND o.x <= $xmax
   AND o.y >= $ymin AND o.y <= $ymax
   AND o.z >= $zmin AND o.z <= $zmax
-RETURN o.id AS id, o.x AS x, o.y AS y, o.z AS z, o.var AS var
+RETURN o.id AS id, o.x AS x, o.y AS y, o.z AS z, o.var AS var, o.size AS size

@@ -75,8 +75,10 @@ def _fetch_candidates(tx: ManagedTransaction, rid: str, objects: list[ObjectObse
     mean_c = np.array([o.mean for o in objects], float)
     mean_o = np.array([[c["x"], c["y"], c["z"]] for c in near], float)
     var_o = np.array([c["var"] for c in near], float)
+    extent = np.array([max(c["size"] or [0.0]) for c in near], float)
+    floor = np.maximum(params.sigma_floor, params.sigma_size_fraction * extent)[None, :, None]
     s_pos = position_similarity(mean_o[None, :, :], var_o[None, :, :], mean_c[:, None, :],
-                                params.sigma_floor, params.sigma_cap)
+                                floor, params.sigma_cap)
     keep = np.flatnonzero((s_pos >= params.min_position_similarity()).any(axis=0))
     if keep.size == 0:
         return [], np.zeros((len(objects), 0))

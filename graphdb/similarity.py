@@ -27,6 +27,10 @@ THRESHOLD = 0.7
 # keeps two views of one cup comparable. The cap keeps a huge table from matching across a room.
 SIGMA_FLOOR_M = 0.08
 SIGMA_CAP_M = 0.75
+# The centre-patch Gaussian says where the patch is, not where a large object ends: a 2 m table
+# seen from either end gives two patches a metre apart. σ is also floored at this fraction of
+# the stored object's largest extent, so one big object is recognised from any of its parts.
+SIGMA_SIZE_FRACTION = 0.5
 
 
 @dataclass(frozen=True)
@@ -37,6 +41,7 @@ class SimilarityParams:
     threshold: float = THRESHOLD
     sigma_floor: float = SIGMA_FLOOR_M
     sigma_cap: float = SIGMA_CAP_M
+    sigma_size_fraction: float = SIGMA_SIZE_FRACTION
 
     def min_position_similarity(self) -> float:
         """The s_position below which a pair cannot reach the threshold even with perfect
@@ -119,15 +124,17 @@ def label_similarity_matrix(labels_c: Sequence[Sequence[str]], scores_c: Sequenc
     return np.where(common > 0, score * common / np.maximum(smaller, 1.0), word * score)
 
 
-def position_similarity(mean_o, var_o, mean_c, sigma_floor: float = SIGMA_FLOOR_M,
+def position_similarity(mean_o, var_o, mean_c, sigma_floor=SIGMA_FLOOR_M,
                         sigma_cap: float = SIGMA_CAP_M) -> np.ndarray:
     """Eq. 12-13: product over x, y, z of I^j; 1 inside ±σ_o, else the normal tail ratio.
 
-    Broadcasts: mean_o/var_o (..., 3) against mean_c (..., 3); returns (...).
+    Broadcasts: mean_o/var_o (..., 3) against mean_c (..., 3); returns (...). `sigma_floor`
+    may be an array broadcasting like var_o (a per-object floor, see SIGMA_SIZE_FRACTION).
     """
     mean_o = np.asarray(mean_o, dtype=float)
     mean_c = np.asarray(mean_c, dtype=float)
-    sigma = np.clip(np.sqrt(np.maximum(np.asarray(var_o, dtype=float), 0.0)), sigma_floor, sigma_cap)
+    sigma = np.sqrt(np.maximum(np.asarray(var_o, dtype=float), 0.0))
+    sigma = np.minimum(np.maximum(sigma, sigma_floor), sigma_cap)
     z = np.abs(mean_c - mean_o) / sigma
     per_axis = np.where(z < 1.0, 1.0, _two_sided_tail(z) / _two_sided_tail(1.0))
     return np.prod(per_axis, axis=-1)

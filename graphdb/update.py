@@ -6,6 +6,7 @@ from typing import Sequence
 import numpy as np
 
 from ingest.model import TOP_K
+from ingest.moments import combine_gaussians  # noqa: F401  (the update rule for positions)
 
 
 def combine_labels(labels_o: Sequence[str], scores_o: Sequence[float],
@@ -18,20 +19,6 @@ def combine_labels(labels_o: Sequence[str], scores_o: Sequence[float],
             best[label] = float(score)
     ranked = sorted(best.items(), key=lambda kv: (-kv[1], kv[0]))[:k]
     return [lbl for lbl, _ in ranked], [s for _, s in ranked]
-
-
-def combine_gaussians(mean_o, var_o, n_o: int, mean_c, var_c, n_c: int):
-    """Mean and variance of the union of both point sets, from their moments (per axis).
-
-    Equivalent to recomputing over all points: E[x²] of each set is var + mean².
-    """
-    n = n_o + n_c
-    if n == 0:
-        return np.asarray(mean_o, float), np.asarray(var_o, float), 0
-    mean_o, var_o, mean_c, var_c = (np.asarray(a, dtype=float) for a in (mean_o, var_o, mean_c, var_c))
-    mean = (n_o * mean_o + n_c * mean_c) / n
-    second = (n_o * (var_o + mean_o ** 2) + n_c * (var_c + mean_c ** 2)) / n
-    return mean, np.maximum(second - mean ** 2, 0.0), n
 
 
 def combine_histograms(h_o, h_c) -> np.ndarray:

@@ -135,10 +135,15 @@ def object_mask(depth: np.ndarray, bounds: tuple[int, int, int, int]) -> np.ndar
     return labels == int(np.argmax(counts))
 
 
-def object_size(frame: Frame, box: Box, up: Optional[Sequence[float]] = None,
-                lo: float = 5.0, hi: float = 95.0) -> Optional[tuple[float, float, float]]:
-    """(width, depth, height) in metres along (e1, e2, up) of horizontal_basis(up); None without
-    depth. `up` defaults to the camera's image-up direction (-y_cam) in world coordinates."""
+def object_box(frame: Frame, box: Box, up: Optional[Sequence[float]] = None,
+               lo: float = 5.0, hi: float = 95.0) -> Optional[tuple[tuple[float, float, float], tuple[float, float, float]]]:
+    """The object's 3-D box in the gravity frame: (centre in world coordinates, (width, depth,
+    height) in metres along (e1, e2, up) of horizontal_basis(up)); None without depth.
+
+    Percentiles of the points on the depth surface connected to the box centre, so background
+    seen around the object and flying pixels at its border do not inflate it. `up` defaults to
+    the camera's image-up direction (-y_cam) in world coordinates.
+    """
     w, h = frame.size
     bounds = clip_box(box, w, h)
     mask = object_mask(frame.depth, bounds)
@@ -147,13 +152,25 @@ def object_size(frame: Frame, box: Box, up: Optional[Sequence[float]] = None,
         return None
     x1, y1 = bounds[0], bounds[1]
     d = frame.depth[v + y1, u + x1].astype(np.float64)
+    valid = d > 0
+    if valid.sum() < 3:
+        return None
+    u, v, d = u[valid], v[valid], d[valid]
     pts = world_points((u + x1).astype(np.float64), (v + y1).astype(np.float64), d, frame.K, frame.pose)
     if up is None:
         up = -frame.pose[:3, 1]
     R = np.stack(horizontal_basis(up))
     local = pts @ R.T
-    extent = np.percentile(local, hi, axis=0) - np.percentile(local, lo, axis=0)
-    return tuple(float(x) for x in extent)
+    low, high = np.percentile(local, lo, axis=0), np.percentile(local, hi, axis=0)
+    centre = R.T @ ((low + high) / 2)
+    return tuple(float(x) for x in centre), tuple(float(x) for x in high - low)
+
+
+def object_size(frame: Frame, box: Box, up: Optional[Sequence[float]] = None,
+                lo: float = 5.0, hi: float = 95.0) -> Optional[tuple[float, float, float]]:
+    """(width, depth, height) in metres along (e1, e2, up); None without depth (see object_box)."""
+    found = object_box(frame, box, up, lo, hi)
+    return None if found is None else found[1]
 
 
 def hsv_histogram(image: np.ndarray, box: Optional[Box] = None, bins: int = HIST_BINS) -> np.ndarray:
@@ -235,6 +252,7 @@ class ObjectAttributes:
     hist: np.ndarray
     colour: str
     thumbnail: bytes
+    centre: tuple[float, float, float]   # centre of the 3-D box (mean is the centre patch's)
 
 
 def measure_object(frame: Frame, box: Box, up: Optional[Sequence[float]] = None) -> Optional[ObjectAttributes]:
@@ -242,7 +260,7 @@ def measure_object(frame: Frame, box: Box, up: Optional[Sequence[float]] = None)
     pos = position_gaussian(frame, box)
     if pos is None:
         return None
-    size = object_size(frame, box, up) or (0.0, 0.0, 0.0)
+    centre, size = object_box(frame, box, up) or (pos.mean, (0.0, 0.0, 0.0))
     image = frame.color
     return ObjectAttributes(pos.mean, pos.var, pos.n_points, size, hsv_histogram(image, box),
-                            dominant_colour(image, box), thumbnail(image, box))
+                            dominant_colour(image, box), thumbnail(image, box), centre)
