@@ -1,0 +1,112 @@
+"""`sg3d eval`: a stored scene graph against hand-annotated ground truth.
+
+Report: node precision/recall with spurious, missing and duplicate nodes (eval_match), edge
+precision/recall (eval_edges), VQA accuracy (eval_vqa). GT objects a COCO detector cannot name,
+or that carry no position, are listed apart instead of as misses; recall is given both over every
+COCO object and over those the annotator counted as `sure`.
+"""
+from __future__ import annotations
+
+from typing import Callable, Optional
+
+from queries.eval_edges import edge_metrics
+from queries.eval_gt import GroundTruth
+from queries.eval_match import DEFAULT_TOLERANCE, Matching, Node, match
+from queries.eval_vqa import vqa_metrics
+
+
+def category_matcher() -> Callable[[str, str], bool]:
+    """Node label vs GT COCO class: equal, or synonyms when the taxonomy module is there."""
+    try:
+        from queries import taxonomy  # written separately; may not exist yet
+    except ImportError:
+        taxonomy = None
+
+    def norm(s: str) -> str:
+        return " ".join(s.strip().lower().split())
+
+    def same(label: str, coco: str) -> bool:
+        a, b = norm(label or ""), norm(coco)
+        if a == b:
+            return True
+        if taxonomy is None:
+            return False
+        for name in ("canonical", "canonical_name", "normalize", "normalise"):
+            fn = getattr(taxonomy, name, None)
+            if callable(fn):
+                try:
+                    return norm(str(fn(a))) == norm(str(fn(b)))
+                except Exception:  # noqa: BLE001 - a taxonomy gap means "not the same"
+                    return False
+        fn = getattr(taxonomy, "synonyms", None)
+        if callable(fn):
+            try:
+                return b in {norm(s) for s in fn(a)} or a in {norm(s) for s in fn(b)}
+            except Exception:  # noqa: BLE001
+                return False
+        return False
+
+    return same
+
+
+def read_nodes(store, room_id: str) -> list[Node]:
+    nodes = []
+    for r in store.read("eval_objects", room=room_id):
+        if r["x"] is None:
+            continue
+        size = tuple(r["size"]) if r.get("size") else None
+        nodes.append(Node(r["id"], r["label"] or "", (r["x"], r["y"], r["z"]), size, r.get("colour")))
+    return nodes
+
+
+def _ratio(a: int, b: int) -> Optional[float]:
+    return a / b if b else None
+
+
+def node_metrics(gt: GroundTruth, nodes: list[Node], m: Matching) -> dict:
+    located = [g for g in gt.objects if g.coco is not None and g.position is not None]
+    sure = [g for g in located if g.sure]
+    sure_found = sum(g.id in m.gt_to_node for g in sure)
+    unsure = [g for g in located if not g.sure]
+    label = {n.id: n.label for n in nodes}
+    return {
+        "graph_nodes": len(nodes),
+        "gt_objects": len(gt.objects),
+        "gt_detectable": len(located),
+        "matched": len(m.pairs),
+        "precision": _ratio(len(m.pairs), len(nodes)),
+        "recall": _ratio(len(m.pairs), len(located)),
+        "recall_sure": _ratio(sure_found, len(sure)),
+        "gt_sure": len(sure),
+        "gt_unsure": len(unsure),
+        "unsure_found": sum(g.id in m.gt_to_node for g in unsure),
+        "pairs": [{"node": n, "gt": g, "label": label[n], "distance": round(d, 3)} for n, g, d in m.pairs],
+        "spurious": [{"node": n, "label": label[n]} for n in m.spurious],
+        "duplicates": [{"node": n, "gt": g, "label": label[n], "distance": round(d, 3)} for n, g, d in m.duplicates],
+        "missing": [_gt_row(gt.by_id[g]) for g in m.missing],
+        "not_detectable": [_gt_row(g) for g in gt.objects if g.coco is None],
+        "unlocated": [_gt_row(g) for g in gt.objects if g.coco is not None and g.position is None],
+        "hedged_category": [g.id for g in gt.objects if g.coco_hedged],
+    }
+
+
+def _gt_row(g) -> dict:
+    return {"gt": g.id, "category": g.category, "coco": g.coco, "sure": g.sure}
+
+
+def evaluate(store, gt: GroundTruth, room_id: str, *, room: str, building: str,
+             tolerance: float = DEFAULT_TOLERANCE, answerer: Optional[Callable] = None,
+             with_vqa: bool = True) -> dict:
+    """The full report as a JSON-ready dict."""
+    nodes = read_nodes(store, room_id)
+    m = match(nodes, gt.objects, tolerance, category_matcher())
+    edges = store.read("relation_all", room=room_id)
+    report = {
+        "room": room_id,
+        "tolerance_m": tolerance,
+        "nodes": node_metrics(gt, nodes, m),
+        "edges": edge_metrics(gt.relations, edges, m),
+    }
+    if with_vqa:
+        report["vqa"] = vqa_metrics(store, gt, m, room, building, answerer)
+    return report

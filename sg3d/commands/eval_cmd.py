@@ -1,0 +1,123 @@
+"""`sg3d eval --gt FILE --room ROOM`: how good is a stored scene graph against ground truth."""
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Optional
+
+import click
+
+from sg3d.errors import UserError
+
+
+def _pct(v: Optional[float]) -> str:
+    return "-" if v is None else f"{100 * v:.1f}%"
+
+
+def _render(report: dict) -> None:
+    from rich.console import Console
+    from rich.table import Table
+
+    console = Console()
+    n, e = report["nodes"], report["edges"]
+    summary = Table(title=f"sg3d eval: {report['room']} (tolerance {report['tolerance_m']} m)")
+    summary.add_column("metric")
+    summary.add_column("value", justify="right")
+    rows = [
+        ("graph nodes", n["graph_nodes"]),
+        ("GT objects (COCO, located)", f"{n['gt_detectable']} of {n['gt_objects']}"),
+        ("matched nodes", n["matched"]),
+        ("node precision", _pct(n["precision"])),
+        ("node recall", _pct(n["recall"])),
+        ("node recall, sure objects", f"{_pct(n['recall_sure'])} of {n['gt_sure']}"),
+        ("unsure objects found", f"{n['unsure_found']} of {n['gt_unsure']}"),
+        ("spurious nodes", len(n["spurious"])),
+        ("duplicate nodes", len(n["duplicates"])),
+        ("missing nodes", len(n["missing"])),
+        ("not detectable by a COCO detector", len(n["not_detectable"])),
+        ("no GT position", len(n["unlocated"])),
+        ("GT relations checked", f"{e['checked']} of {e['gt_relations']}"),
+        ("edge precision", _pct(e["precision"])),
+        ("edge recall (checked)", _pct(e["recall"])),
+        ("edge recall (all GT)", _pct(e["recall_all"])),
+        ("spurious edges (matched nodes)", len(e["spurious"])),
+        ("missed edges", len(e["missed"])),
+    ]
+    vqa = report.get("vqa")
+    if vqa is not None:
+        unsupported = sum(q["status"] == "unsupported" for q in vqa["questions"])
+        rows += [("VQA accuracy (scored)", f"{_pct(vqa['accuracy'])} of {vqa['scored']}"),
+                 ("VQA accuracy (all sure)", f"{_pct(vqa['accuracy_all_sure'])} of {vqa['sure_questions']}"),
+                 ("VQA unsupported", unsupported)]
+    for k, v in rows:
+        summary.add_row(k, str(v))
+    console.print(summary)
+
+    detail = Table(title="nodes and objects", show_lines=False)
+    for col in ("kind", "node", "label", "GT", "distance m"):
+        detail.add_column(col)
+    for p in n["pairs"]:
+        detail.add_row("match", p["node"], p["label"], p["gt"], f"{p['distance']:.2f}")
+    for p in n["duplicates"]:
+        detail.add_row("[yellow]duplicate", p["node"], p["label"], p["gt"], f"{p['distance']:.2f}")
+    for p in n["spurious"]:
+        detail.add_row("[red]spurious", p["node"], p["label"], "", "")
+    for g in n["missing"]:
+        detail.add_row("[red]missing" + ("" if g["sure"] else " (unsure)"), "", g["coco"], g["gt"], "")
+    console.print(detail)
+    if n["not_detectable"]:
+        console.print("not detectable by a COCO detector: "
+                      + ", ".join(f"{g['gt']} {g['category']}" for g in n["not_detectable"]), style="dim")
+    if e["per_type"]:
+        types = Table(title="edges by type")
+        for col in ("type", "GT checked", "found", "graph (judged)", "correct"):
+            types.add_column(col, justify="right" if col != "type" else "left")
+        for t, c in e["per_type"].items():
+            types.add_row(t, str(c["gt"]), str(c["found"]), str(c["graph"]), str(c["correct"]))
+        console.print(types)
+    if vqa is not None and vqa["questions"]:
+        q = Table(title="VQA (sure questions)")
+        for col in ("status", "question", "expected", "got"):
+            q.add_column(col, overflow="fold")
+        style = {"right": "green", "wrong": "red", "unsupported": "dim", "not scorable": "yellow"}
+        for row in vqa["questions"]:
+            q.add_row(f"[{style[row['status']]}]{row['status']}", row["question"], str(row["expected"]),
+                      str(row.get("got", row.get("reason", ""))))
+        console.print(q)
+
+
+@click.command("eval")
+@click.option("--gt", "gt_path", required=True, type=click.Path(dir_okay=False, path_type=Path),
+              help="Ground-truth JSON (objects, relations, questions).")
+@click.option("--room", required=True, help="Room name as given to `sg3d build`.")
+@click.option("--building", default="default", show_default=True, help="Building of the room.")
+@click.option("--tolerance", type=click.FloatRange(min=0, min_open=True), default=None, metavar="M",
+              help="Greatest node-to-GT distance in metres for a match [0.5; GT positions are approximate].")
+@click.option("--no-vqa", is_flag=True, help="Skip the questions.")
+@click.option("--json", "as_json", is_flag=True, help="Machine-readable report on stdout.")
+@click.pass_obj
+def eval_command(settings, gt_path: Path, room: str, building: str, tolerance: Optional[float],
+                 no_vqa: bool, as_json: bool) -> None:
+    """Compare the scene graph of ROOM with ground truth: nodes, edges and question answers."""
+    from graphdb.merge import room_id
+    from queries.eval_gt import load_gt
+    from queries.eval_match import DEFAULT_TOLERANCE
+    from queries.evaluation import evaluate
+
+    try:
+        gt = load_gt(gt_path)
+    except ValueError as exc:
+        raise UserError(str(exc)) from None
+    store = settings.store()
+    rid = room_id(building, room)
+    if not store.read("eval_room_exists", room=rid):
+        raise UserError(f"no room {room!r} in building {building!r} (build it with `sg3d build`)")
+    report = evaluate(store, gt, rid, room=room, building=building,
+                      tolerance=DEFAULT_TOLERANCE if tolerance is None else tolerance, with_vqa=not no_vqa)
+    if as_json:
+        click.echo(json.dumps(report))
+    else:
+        _render(report)
+
+
+commands = [eval_command]

@@ -1,0 +1,191 @@
+"""`sg3d eval` on hand-made graphs in the real store, against a hand-written ground truth."""
+from __future__ import annotations
+
+import json
+
+import pytest
+from click.testing import CliRunner
+
+from graphdb.merge import merge_local_graph, room_id
+from queries.eval_gt import coco_class, parse_gt, relation_type
+from queries.eval_match import Node, match
+from queries.evaluation import evaluate
+from tests.factories import graph, hist_of, obj
+
+COCO = {"cup", "chair", "dining table", "book", "tv", "mouse", "wine glass", "remote"}
+
+# A made-up room: a table with a cup on it, a chair beside it, a book nobody detected, a shelf
+# no COCO detector can name, and a chair the annotator could not place.
+GT = {
+    "sequence": "test room",
+    "objects": [
+        {"id": "T", "category": "table", "coco_category": "dining table", "count_confidence": "sure",
+         "world_position": [0.0, 0.0, -0.5]},
+        {"id": "C", "category": "mug", "coco_category": "cup", "count_confidence": "sure",
+         "world_position": [0.0, 0.0, 0.0]},
+        {"id": "H", "category": "chair", "coco_category": "chair", "count_confidence": "sure",
+         "world_position": [3.0, 0.0, 0.0]},
+        {"id": "B", "category": "booklet", "coco_category": "(book)", "count_confidence": "unsure",
+         "world_position": [6.0, 0.0, 0.0]},
+        {"id": "S", "category": "wall shelf", "coco_category": "(none)", "count_confidence": "sure",
+         "world_position": [0.0, 3.0, 0.0]},
+        {"id": "X", "category": "chair far away", "coco_category": "chair", "count_confidence": "unsure",
+         "world_position": None},
+    ],
+    "relations": [
+        {"subject": "C", "predicate": "on", "object": "T"},        # in the graph
+        {"subject": "H", "predicate": "next to", "object": "T"},   # both ends matched, edge absent
+        {"subject": "B", "predicate": "on", "object": "T"},        # B has no node
+        {"subject": "S", "predicate": "above", "object": "C"},     # S is not a COCO object
+        {"subject": "C", "predicate": "leaning on", "object": "T"},  # no such relation type
+    ],
+    "questions": [
+        {"text": "How many cups are there?", "answer": 1, "kind": "counting", "sure": True},
+        {"text": "Is there a tv?", "answer": "yes", "kind": "existence", "sure": True},
+        {"text": "What colour is the cup?", "answer": "white", "kind": "attribute", "sure": True},
+        {"text": "Where is the chair?", "answer": "beside the table", "kind": "relation", "sure": True},
+        {"text": "How many books?", "answer": 1, "kind": "counting", "sure": False},
+    ],
+}
+
+ROOM, BUILDING = "evalroom", "home"
+
+
+def build_room(store):
+    """5 nodes: table, cup and chair match; a second chair repeats H; a tv matches nothing."""
+    merge_local_graph(store, graph([
+        obj("t", "dining table", (0.1, 0.0, -0.45), size=(1.5, 0.8, 0.7), hist=hist_of({30: 500}), colour="brown"),
+        obj("c", "cup", (0.1, 0.05, 0.0)),
+        obj("h", "chair", (3.2, 0.0, 0.0), hist=hist_of({200: 100}), colour="black"),
+        obj("h2", "chair", (2.8, 0.2, 0.0), hist=hist_of({400: 100}), colour="red"),
+        obj("tv", "tv", (10.0, 0.0, 0.0), hist=hist_of({300: 100}), colour="black"),
+    ], relations=[("c", "ON", "t", 0.9), ("h", "NEXT_TO", "c", 0.8), ("c", "BIGGER_THAN", "t", 0.7)],
+        room=ROOM, building=BUILDING))
+    nodes = {r["o"]["label"] + ("@%.1f" % r["o"]["x"]): r["o"]["id"]
+             for r in store.read("object_all", room=room_id(BUILDING, ROOM))}
+    assert len(nodes) == 5, nodes
+    return nodes
+
+
+def test_hedged_coco_categories_and_english_predicates_are_normalised():
+    assert coco_class("cup", COCO) == ("cup", False)
+    assert coco_class("(book)", COCO) == ("book", True)
+    assert coco_class("mouse?", COCO) == ("mouse", True)
+    assert coco_class("cup? (or wine glass)", COCO) == ("cup", True)
+    assert coco_class("remote (nearest COCO)", COCO) == ("remote", True)
+    assert coco_class("(none)", COCO) == (None, False)
+    assert coco_class(None, COCO) == (None, False)
+    assert [relation_type(p) for p in ("on", "next to", "In front of", "above", "leaning on")] == \
+        ["ON", "NEXT_TO", "IN_FRONT_OF", "ABOVE", None]
+
+
+def test_hungarian_matching_is_one_to_one_and_prefers_the_nearer_pair():
+    gt = parse_gt({"objects": [
+        {"id": "a", "coco_category": "chair", "world_position": [0, 0, 0]},
+        {"id": "b", "coco_category": "chair", "world_position": [0.6, 0, 0]}]}, COCO)
+    # greedy nearest-first would give n1->a and leave b unmatched (n2 is 0.7 m from a)
+    nodes = [Node("n1", "chair", (0.3, 0, 0)), Node("n2", "chair", (-0.4, 0, 0))]
+    m = match(nodes, gt.objects, tolerance=0.5)
+    assert sorted((n, g) for n, g, _ in m.pairs) == [("n1", "b"), ("n2", "a")]
+    assert m.spurious == [] and m.duplicates == [] and m.missing == []
+
+
+def test_a_big_node_matches_within_half_its_extent():
+    gt = parse_gt({"objects": [{"id": "t", "coco_category": "dining table", "world_position": [0, 0, 0]}]}, COCO)
+    far = Node("n", "dining table", (0.9, 0, 0))
+    assert match([far], gt.objects, 0.5).pairs == []
+    assert [p[:2] for p in match([Node("n", "dining table", (0.9, 0, 0), size=(2.2, 0.9, 0.7))],
+                                 gt.objects, 0.5).pairs] == [("n", "t")]
+
+
+def test_eval_report_on_a_known_graph(store):
+    nodes = build_room(store)
+    gt = parse_gt(GT, COCO)
+    answers = {"How many cups are there?": 1, "Is there a tv?": "no", "What colour is the cup?": "White",
+               "Where is the chair?": "next to the table"}
+
+    def fake_vqa(store_, question, room=None, building=None):
+        if question == "How many books?":
+            raise AssertionError("unsure questions must not be asked")
+        return {"answer": answers[question]}
+
+    report = evaluate(store, gt, room_id(BUILDING, ROOM), room=ROOM, building=BUILDING, answerer=fake_vqa)
+    n, e, v = report["nodes"], report["edges"], report["vqa"]
+
+    assert (n["graph_nodes"], n["gt_detectable"], n["matched"]) == (5, 4, 3)
+    assert n["precision"] == pytest.approx(3 / 5) and n["recall"] == pytest.approx(3 / 4)
+    assert n["recall_sure"] == pytest.approx(1.0) and (n["gt_unsure"], n["unsure_found"]) == (1, 0)
+    pairs = {p["gt"]: p["node"] for p in n["pairs"]}
+    assert pairs == {"T": nodes["dining table@0.1"], "C": nodes["cup@0.1"], "H": nodes["chair@3.2"]}
+    assert [(d["node"], d["gt"]) for d in n["duplicates"]] == [(nodes["chair@2.8"], "H")]
+    assert [s["node"] for s in n["spurious"]] == [nodes["tv@10.0"]]
+    assert [g["gt"] for g in n["missing"]] == ["B"]
+    assert [g["gt"] for g in n["not_detectable"]] == ["S"]
+    assert [g["gt"] for g in n["unlocated"]] == ["X"]
+    assert n["hedged_category"] == ["B"]
+
+    assert (e["gt_relations"], e["checked"], e["found"]) == (5, 2, 1)
+    assert e["missed"] == [["H", "next to", "T"]]
+    assert e["unmapped"]["end_not_matched"] == [["B", "on", "T"], ["S", "above", "C"]]
+    assert e["unmapped"]["unknown_predicate"] == [["C", "leaning on", "T"]]
+    assert e["recall"] == pytest.approx(0.5) and e["recall_all"] == pytest.approx(1 / 5)
+    # ON and NEXT_TO are judged; BIGGER_THAN is a type the GT never uses
+    assert (e["judged"], e["correct"]) == (2, 1) and e["precision"] == pytest.approx(0.5)
+    assert e["spurious"] == [[nodes["chair@3.2"], "NEXT_TO", nodes["cup@0.1"]]]
+
+    status = {q["question"]: q["status"] for q in v["questions"]}
+    assert status == {"How many cups are there?": "right", "Is there a tv?": "wrong",
+                      "What colour is the cup?": "right", "Where is the chair?": "not scorable"}
+    assert (v["sure_questions"], v["scored"], v["right"]) == (4, 3, 2)
+    assert v["accuracy"] == pytest.approx(2 / 3) and v["accuracy_all_sure"] == pytest.approx(2 / 4)
+
+
+def test_a_symmetric_gt_relation_is_found_in_either_direction(store):
+    nodes = build_room(store)
+    gt = parse_gt({"objects": GT["objects"], "relations": [{"subject": "C", "predicate": "next to", "object": "H"}]},
+                  COCO)
+    e = evaluate(store, gt, room_id(BUILDING, ROOM), room=ROOM, building=BUILDING, with_vqa=False)["edges"]
+    assert (e["checked"], e["found"]) == (1, 1)
+    assert nodes  # the graph stores H -NEXT_TO-> C, the GT says C next to H
+
+
+def test_without_vqa_module_every_question_is_unsupported(store, monkeypatch):
+    import queries.eval_vqa as eval_vqa
+
+    build_room(store)
+    monkeypatch.setattr(eval_vqa, "load_answerer", lambda: None)
+    v = evaluate(store, parse_gt(GT, COCO), room_id(BUILDING, ROOM), room=ROOM, building=BUILDING)["vqa"]
+    assert not v["available"] and v["scored"] == 0 and v["accuracy"] is None
+    assert {q["status"] for q in v["questions"]} == {"unsupported"}
+
+
+def test_cli_json_report(store, embedded_home, tmp_path):
+    from sg3d.cli import cli
+
+    build_room(store)
+    gt_file = tmp_path / "gt.json"
+    gt_file.write_text(json.dumps(GT))
+    result = CliRunner().invoke(cli, ["--home", str(embedded_home), "eval", "--gt", str(gt_file), "--room", ROOM,
+                                      "--building", BUILDING, "--json", "--no-vqa"])
+    assert result.exit_code == 0, result.output
+    report = json.loads(result.stdout)
+    assert report["nodes"]["matched"] == 3 and len(report["nodes"]["duplicates"]) == 1
+    assert report["edges"]["found"] == 1 and "vqa" not in report
+
+    table = CliRunner().invoke(cli, ["--home", str(embedded_home), "eval", "--gt", str(gt_file), "--room", ROOM,
+                                     "--building", BUILDING, "--no-vqa"])
+    assert table.exit_code == 0, table.output
+    assert "node precision" in table.stdout and "60.0%" in table.stdout
+
+
+def test_cli_unknown_room_and_bad_gt_are_one_line_errors(store, embedded_home, tmp_path):
+    from sg3d.cli import cli
+
+    gt_file = tmp_path / "gt.json"
+    gt_file.write_text(json.dumps(GT))
+    r = CliRunner().invoke(cli, ["--home", str(embedded_home), "eval", "--gt", str(gt_file), "--room", "nowhere"])
+    assert r.exit_code == 2 and "no room 'nowhere'" in r.output
+    bad = tmp_path / "bad.json"
+    bad.write_text("{not json")
+    r = CliRunner().invoke(cli, ["--home", str(embedded_home), "eval", "--gt", str(bad), "--room", ROOM])
+    assert r.exit_code == 2 and "not valid JSON" in r.output
