@@ -1,0 +1,4 @@
+// The objects of one room that the planner may name, with what naming and typing need.
+MATCH (:Room {id: $room})-[:CONTAINS]->(o:Object)
+RETURN o.id AS id, o.label AS label, o.x AS x, o.y AS y, o.z AS z
+ORDER BY o.x, o.y, o.z, o.id

@@ -1,0 +1,178 @@
+"""Goals: a spoken-style command matched against the rules' templates, or a PDDL goal
+expression typed by the user; both become a list of positive atoms checked against the problem."""
+from __future__ import annotations
+
+import re
+from typing import Optional
+
+from queries.planning.problem import Atom, PlanObject, Problem
+from queries.planning.rules import PlanningError, Rules, load_rules
+from queries.planning.domain import Domain
+
+
+# -- commands -------------------------------------------------------------------------------
+def goal_from_command(command: str, problem: Problem, rules: Optional[Rules] = None) -> list[Atom]:
+    rules = rules or load_rules()
+    text = " ".join(re.sub(r"[^a-z0-9_ ]+", " ", command.lower()).split())
+    for template in rules.commands:
+        m = re.match(template["pattern"], text)
+        if m is None:
+            continue
+        if template["kind"] == "clear":
+            return _clear_goal(m["source"], problem, rules)
+        if template["kind"] == "move":
+            return _move_goal(m["items"], m["prep"], m["target"], problem, rules)
+    raise PlanningError(f"cannot read the command {command!r}; try 'clean up the table', "
+                        f"'put the cups in the sink', 'bring the mug to the table' or --goal '(and (in cup_1 sink_1))'")
+
+
+def _clear_goal(source: str, problem: Problem, rules: Rules) -> list[Atom]:
+    surfaces = _one_unless_plural(source, problem, rules, role="surface to clean up")
+    target = _cleanup_target(problem, rules)
+    goal = []
+    for s in surfaces:
+        if s.type != "surface":
+            raise PlanningError(f"{s.name} is a {s.type}, not a surface to clean up")
+        goal += [("in", a[1], target.name) for a in problem.init if a[0] == "on" and a[2] == s.name]
+    if not goal:
+        raise PlanningError(f"nothing to clean up: no movable item is on {', '.join(s.name for s in surfaces)}")
+    return goal
+
+
+def _cleanup_target(problem: Problem, rules: Rules) -> PlanObject:
+    found = [o for o in problem.objects if o.label == rules.cleanup_target and o.type == "receptacle"]
+    if not found:
+        raise PlanningError(f"cannot clean up: room {problem.room} has no {rules.cleanup_target} to put things in")
+    return min(found, key=lambda o: o.name)
+
+
+def _move_goal(items_phrase: str, prep: str, target_phrase: str, problem: Problem, rules: Rules) -> list[Atom]:
+    items = _one_unless_plural(items_phrase, problem, rules, role="thing to move")
+    [target] = _one_unless_plural(target_phrase, problem, rules, role="destination", force_single=True)
+    if prep in ("in", "into", "inside"):
+        predicate = "in"
+    elif prep in ("on", "onto"):
+        predicate = "on"
+    else:  # "to": whatever the destination holds things by
+        predicate = {"surface": "on", "receptacle": "in"}.get(target.type, "")
+    wanted = {"in": "receptacle", "on": "surface"}.get(predicate)
+    if wanted is None or target.type != wanted:
+        raise PlanningError(f"unsolvable: {target.name} is a {target.type}; nothing can be put "
+                            f"{predicate or 'on or in'} it")
+    goal = []
+    for item in items:
+        if item.type != "item":
+            raise PlanningError(f"unsolvable: {item.name} is a {item.type}, not something the robot can carry")
+        goal.append((predicate, item.name, target.name))
+    return goal
+
+
+def _one_unless_plural(phrase: str, problem: Problem, rules: Rules, *, role: str,
+                       force_single: bool = False) -> list[PlanObject]:
+    found, plural = resolve_phrase(phrase, problem, rules)
+    if len(found) > 1 and (force_single or not plural):
+        noun = " ".join(w for w in phrase.split() if w not in rules.articles)
+        raise PlanningError(f"which {noun} as {role}: {', '.join(o.name for o in found)}? "
+                            f"(name one, e.g. '{found[0].name}')")
+    return found
+
+
+def resolve_phrase(phrase: str, problem: Problem, rules: Rules) -> tuple[list[PlanObject], bool]:
+    """Objects a noun phrase names, and whether it named them in the plural.
+    Order: a PDDL name, a label, a synonym, a singular form of either, a taxonomy group."""
+    words = [w for w in phrase.split() if w not in rules.articles]
+    plural = any(w in ("all", "every") for w in phrase.split())
+    noun = " ".join(words)
+    if problem.get(noun) is not None:
+        return [problem.get(noun)], False
+    if noun in problem.left_out:
+        raise PlanningError(f"{noun} is not in the planning problem: {problem.left_out[noun]}")
+    candidates = []
+    for form, is_plural in [(noun, False)] + [(s, True) for s in singulars(noun)]:
+        candidates += [(form, is_plural), (rules.synonyms.get(form, ""), is_plural)]
+    planned = [o for o in problem.objects if o.node_id]
+    for form, is_plural in candidates:
+        matches = [o for o in planned if form and o.label == form]
+        if matches:
+            return matches, plural or is_plural
+    for form, _ in candidates:
+        if form and form in rules.all_groups():
+            matches = [o for o in planned if form in rules.groups_of(o.label)]
+            if matches:
+                return matches, True
+    known = sorted({o.label for o in planned})
+    raise PlanningError(f"no {noun!r} in room {problem.room} to plan with (it has: {', '.join(known)})")
+
+
+def singulars(noun: str) -> list[str]:
+    """Possible singular forms of the last word: cups -> cup, glasses -> glass, knives -> knife."""
+    head, _, last = noun.rpartition(" ")
+    forms = []
+    if last.endswith("ves"):
+        forms += [last[:-3] + "fe", last[:-3] + "f"]
+    if last.endswith("es"):
+        forms.append(last[:-2])
+    if last.endswith("s") and not last.endswith("ss"):
+        forms.append(last[:-1])
+    return [f"{head} {f}".strip() for f in forms]
+
+
+# -- PDDL goal expressions --------------------------------------------------------------------
+def goal_from_pddl(expr: str, problem: Problem, domain: Domain) -> list[Atom]:
+    """`(and (in cup_1 sink_1) ...)` or one atom; every name and type checked against the problem."""
+    tree = _parse_sexpr(expr)
+    atoms = tree[1:] if tree and tree[0] == "and" else [tree]
+    goal = []
+    for atom in atoms:
+        if not isinstance(atom, list) or not atom or any(isinstance(t, list) for t in atom):
+            raise PlanningError(f"goal: expected atoms like (in cup_1 sink_1), got {_show(atom)}")
+        if atom[0] in ("not", "or", "imply", "forall", "exists", "when"):
+            raise PlanningError(f"goal: '{atom[0]}' is not supported (STRIPS goals: a conjunction of atoms)")
+        goal.append(tuple(atom))
+    for atom in goal:
+        check_atom(atom, problem, domain)
+    return goal
+
+
+def check_atom(atom: Atom, problem: Problem, domain: Domain) -> None:
+    predicate, args = atom[0], atom[1:]
+    types = domain.predicates.get(predicate)
+    if types is None:
+        raise PlanningError(f"goal: unknown predicate {predicate!r} (known: {', '.join(sorted(domain.predicates))})")
+    if len(args) != len(types):
+        raise PlanningError(f"goal: {predicate} takes {len(types)} argument(s), got {_show(list(atom))}")
+    for arg, wanted in zip(args, types):
+        obj = problem.get(arg)
+        if obj is None:
+            why = f" ({problem.left_out[arg]})" if arg in problem.left_out else ""
+            raise PlanningError(f"goal: unknown object {arg!r}{why}; the problem has: {', '.join(problem.names())}")
+        if not domain.is_subtype(obj.type, wanted):
+            raise PlanningError(f"unsolvable: {arg} is a {obj.type}, but {predicate} needs {_a(wanted)} there")
+
+
+def _parse_sexpr(text: str):
+    tokens = re.findall(r"\(|\)|[^\s()]+", text.lower())
+    if not tokens:
+        raise PlanningError("goal: empty expression")
+    stack: list[list] = [[]]
+    for tok in tokens:
+        if tok == "(":
+            stack.append([])
+        elif tok == ")":
+            if len(stack) == 1:
+                raise PlanningError(f"goal: unbalanced ')' in {text!r}")
+            done = stack.pop()
+            stack[-1].append(done)
+        else:
+            stack[-1].append(tok)
+    if len(stack) != 1 or len(stack[0]) != 1 or not isinstance(stack[0][0], list):
+        raise PlanningError(f"goal: expected one parenthesised expression, got {text!r}")
+    return stack[0][0]
+
+
+def _a(noun: str) -> str:
+    return ("an " if noun[:1] in "aeiou" else "a ") + noun
+
+
+def _show(x) -> str:
+    return "(" + " ".join(_show(t) for t in x) + ")" if isinstance(x, list) else str(x)
