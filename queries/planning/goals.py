@@ -32,7 +32,7 @@ def _clear_goal(source: str, problem: Problem, rules: Rules) -> list[Atom]:
     goal = []
     for s in surfaces:
         if s.type != "surface":
-            raise PlanningError(f"{s.name} is a {s.type}, not a surface to clean up")
+            raise PlanningError(f"{s.name} is {_a(s.type)}, not a surface to clean up")
         goal += [("in", a[1], target.name) for a in problem.init if a[0] == "on" and a[2] == s.name]
     if not goal:
         raise PlanningError(f"nothing to clean up: no movable item is on {', '.join(s.name for s in surfaces)}")
@@ -57,12 +57,12 @@ def _move_goal(items_phrase: str, prep: str, target_phrase: str, problem: Proble
         predicate = {"surface": "on", "receptacle": "in"}.get(target.type, "")
     wanted = {"in": "receptacle", "on": "surface"}.get(predicate)
     if wanted is None or target.type != wanted:
-        raise PlanningError(f"unsolvable: {target.name} is a {target.type}; nothing can be put "
+        raise PlanningError(f"unsolvable: {target.name} is {_a(target.type)}; nothing can be put "
                             f"{predicate or 'on or in'} it")
     goal = []
     for item in items:
         if item.type != "item":
-            raise PlanningError(f"unsolvable: {item.name} is a {item.type}, not something the robot can carry")
+            raise PlanningError(f"unsolvable: {item.name} is {_a(item.type)}, not something the robot can carry")
         goal.append((predicate, item.name, target.name))
     return goal
 
@@ -147,7 +147,7 @@ def check_atom(atom: Atom, problem: Problem, domain: Domain) -> None:
             why = f" ({problem.left_out[arg]})" if arg in problem.left_out else ""
             raise PlanningError(f"goal: unknown object {arg!r}{why}; the problem has: {', '.join(problem.names())}")
         if not domain.is_subtype(obj.type, wanted):
-            raise PlanningError(f"unsolvable: {arg} is a {obj.type}, but {predicate} needs {_a(wanted)} there")
+            raise PlanningError(f"unsolvable: {arg} is {_a(obj.type)}, but {predicate} needs {_a(wanted)} there")
 
 
 def _parse_sexpr(text: str):

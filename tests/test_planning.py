@@ -1,0 +1,145 @@
+"""Task planning against a real store: a hand-made kitchen -> PDDL -> pyperplan -> validated plan."""
+from __future__ import annotations
+
+import json
+
+import pytest
+from click.testing import CliRunner
+
+from graphdb.merge import merge_local_graph
+from queries.planning import (InvalidPlan, PlanningError, build_problem, load_domain, plan_task,
+                              simulate)
+from queries.planning.pipeline import write_files
+from tests.factories import graph, hist_of, obj
+
+ROOM = "home/kitchen"
+ITEMS_ON_TABLE = {"cup_1", "cup_2", "cup_3", "bowl_1"}
+
+
+def kitchen_objects():
+    """Three cups and a bowl on a dining table, a bottle in a microwave, a sink, a chair by the
+    table and a tv. Same-label objects get distinct colour histograms so they stay separate nodes."""
+    return [
+        obj("table", "dining table", (0.0, 0.0, 0.70), size=(1.6, 0.9, 0.7), hist=hist_of({30: 500}), colour="brown"),
+        obj("cupA", "cup", (-0.30, 0.0, 0.76), hist=hist_of({1: 100})),
+        obj("cupB", "cup", (0.00, 0.0, 0.76), hist=hist_of({200: 100}), colour="red"),
+        obj("cupC", "cup", (0.30, 0.0, 0.76), hist=hist_of({400: 100}), colour="blue"),
+        obj("bowl", "bowl", (0.10, 0.25, 0.75), hist=hist_of({60: 100})),
+        obj("sink", "sink", (2.0, 0.0, 0.90), size=(0.6, 0.5, 0.2), hist=hist_of({300: 100}), colour="gray"),
+        obj("micro", "microwave", (2.6, 0.0, 1.00), size=(0.5, 0.4, 0.3), hist=hist_of({500: 100}), colour="black"),
+        obj("bottle", "bottle", (2.6, 0.0, 1.02), hist=hist_of({120: 100}), colour="green"),
+        obj("chair", "chair", (0.0, 0.9, 0.45), size=(0.5, 0.5, 0.9), hist=hist_of({31: 100}), colour="brown"),
+        obj("tv", "tv", (4.5, 0.0, 1.20), size=(1.0, 0.1, 0.6), hist=hist_of({511: 100}), colour="black"),
+    ]
+
+
+KITCHEN_RELATIONS = [
+    ("cupA", "ON", "table", 0.9), ("cupB", "ON", "table", 0.9), ("cupC", "ON", "table", 0.8),
+    ("bowl", "ON", "table", 0.85), ("bottle", "IN", "micro", 0.8), ("chair", "NEXT_TO", "table", 0.7),
+    ("cupA", "NEAR", "bowl", 0.6),
+]
+
+
+@pytest.fixture
+def kitchen(store):
+    merge_local_graph(store, graph(kitchen_objects(), relations=KITCHEN_RELATIONS))
+    assert len(store.read("plan_objects", room=ROOM)) == 10, "fixture objects merged into each other"
+    return store
+
+
+def supports(state):
+    return {a[1]: (a[0], a[2]) for a in state if a[0] in ("on", "in")}
+
+
+def test_generated_problem_parses_and_names_objects_by_label_and_position(kitchen, tmp_path):
+    import pddl
+
+    problem = build_problem(kitchen, ROOM)
+    _, problem_file = write_files(tmp_path, load_domain(), problem)
+    parsed = pddl.parse_problem(str(problem_file))
+    assert {str(o.name) for o in parsed.objects} == {
+        "robot", "dining_table_1", "cup_1", "cup_2", "cup_3", "bowl_1", "sink_1", "microwave_1", "bottle_1", "chair_1"}
+    ids = problem.node_ids()
+    by_id = {r["id"]: r for r in kitchen.read("plan_objects", room=ROOM)}
+    assert [by_id[ids[f"cup_{i}"]]["x"] for i in (1, 2, 3)] == pytest.approx([-0.3, 0.0, 0.3])  # index follows x
+    init = set(problem.init)
+    assert ("at", "robot", "dining_table_1") in init and ("in", "bottle_1", "microwave_1") in init
+    assert {("closed", "microwave_1"), ("has-door", "microwave_1"), ("opened", "sink_1")} <= init
+    assert "tv_1" in problem.left_out   # no planning rule: stays out of the problem, with the reason
+
+
+def test_clean_up_the_table_moves_exactly_the_items_on_it_into_the_sink(kitchen, tmp_path):
+    outcome = plan_task(kitchen, "clean up the table", room="kitchen", out_dir=tmp_path)
+    assert (tmp_path / "domain.pddl").exists() and (tmp_path / "problem.pddl").exists()
+    before, after = supports(outcome.simulation.initial), supports(outcome.simulation.final)
+    assert {i for i in ITEMS_ON_TABLE if after[i] == ("in", "sink_1")} == ITEMS_ON_TABLE
+    assert {i for i in before if before[i] != after.get(i)} == ITEMS_ON_TABLE   # nothing else moved
+    assert after["bottle_1"] == ("in", "microwave_1")
+    assert set(outcome.moved) == ITEMS_ON_TABLE
+    assert sum(s[0] == "put-in" for s in outcome.steps) == 4
+
+
+def test_templates_synonyms_and_doors(kitchen, tmp_path):
+    cups = plan_task(kitchen, "put the cups in the sink", room="kitchen", out_dir=tmp_path)
+    assert set(cups.moved) == {"cup_1", "cup_2", "cup_3"}
+    micro = plan_task(kitchen, "put cup_2 in the microwave", room="kitchen", out_dir=tmp_path)
+    names = [s[0] for s in micro.steps]
+    assert "open" in names and names.index("open") < names.index("put-in")
+    with pytest.raises(PlanningError, match="which mug .*cup_1, cup_2, cup_3"):
+        plan_task(kitchen, "bring the mug to the counter", room="kitchen", out_dir=tmp_path)
+    bottle = plan_task(kitchen, "bring the bottle to the counter", room="kitchen", out_dir=tmp_path)
+    assert bottle.moved == {"bottle_1": ("microwave_1", "dining_table_1")}
+
+
+def test_a_goal_naming_an_unknown_object_is_refused(kitchen, tmp_path):
+    with pytest.raises(PlanningError, match="unknown object 'cup_9'"):
+        plan_task(kitchen, goal="(and (in cup_1 sink_1) (in cup_9 sink_1))", room="kitchen", out_dir=tmp_path)
+    with pytest.raises(PlanningError, match="no 'spatula' in room"):
+        plan_task(kitchen, "put the spatula in the sink", room="kitchen", out_dir=tmp_path)
+
+
+def test_unsolvable_goals_get_a_clear_message(kitchen, tmp_path):
+    with pytest.raises(PlanningError, match="unsolvable: dining_table_1 is a surface"):
+        plan_task(kitchen, "put the table in the sink", room="kitchen", out_dir=tmp_path)
+    with pytest.raises(PlanningError, match="unsolvable: no plan reaches"):  # one cup in two places
+        plan_task(kitchen, goal="(and (in cup_1 sink_1) (on cup_1 dining_table_1))", room="kitchen", out_dir=tmp_path)
+
+
+def test_the_validator_rejects_broken_plans(kitchen, tmp_path):
+    outcome = plan_task(kitchen, "clean up the table", room="kitchen", out_dir=tmp_path)
+    domain, problem_file, steps = load_domain(), tmp_path / "problem.pddl", outcome.steps
+    simulate(domain, problem_file, steps)
+    first_pick = next(i for i, s in enumerate(steps) if s[0] == "pick")
+    with pytest.raises(InvalidPlan, match="precondition fails") as broken:
+        simulate(domain, problem_file, steps[:first_pick] + steps[first_pick + 1:])   # put-in without pick
+    assert broken.value.step > 0
+    with pytest.raises(InvalidPlan, match="without reaching the goal"):
+        simulate(domain, problem_file, steps[:-1])
+    with pytest.raises(InvalidPlan, match="is not a"):
+        simulate(domain, problem_file, [("pick", "robot", "dining_table_1", "dining_table_1")])
+
+
+def test_rooms_unknown_empty_or_without_movable_things(store, tmp_path):
+    with pytest.raises(PlanningError, match="no rooms yet"):
+        plan_task(store, "clean up the table", out_dir=tmp_path)
+    merge_local_graph(store, graph([obj("tv", "tv", (0, 0, 1))], room="lounge"))
+    with pytest.raises(PlanningError, match="no room 'attic'"):
+        plan_task(store, "clean up the table", room="attic", out_dir=tmp_path)
+    with pytest.raises(PlanningError, match="nothing the robot can move|no surface"):
+        plan_task(store, "clean up the table", room="lounge", out_dir=tmp_path)
+
+
+def test_cli_prints_a_numbered_plan_and_json(kitchen, embedded_home, tmp_path):
+    from sg3d.cli import cli
+
+    runner = CliRunner()
+    res = runner.invoke(cli, ["--home", str(embedded_home), "plan", "clean up the table", "--room", "kitchen",
+                              "--out", str(tmp_path)])
+    assert res.exit_code == 0, res.output
+    assert "1. pick cup_" in res.output or "1. pick bowl_1" in res.output
+    assert "validated by simulation" in res.output and "put cup_2 in sink_1" in res.output
+    data = json.loads(runner.invoke(cli, ["--home", str(embedded_home), "plan", "--goal", "(in cup_1 sink_1)",
+                                          "--room", "kitchen", "--json", "--out", str(tmp_path)]).stdout)
+    assert data["valid"] and data["moved"] == {"cup_1": {"from": "dining_table_1", "to": "sink_1"}}
+    bad = runner.invoke(cli, ["--home", str(embedded_home), "plan", "--goal", "(in cup_9 sink_1)", "--room", "kitchen"])
+    assert bad.exit_code == 2 and "unknown object 'cup_9'" in bad.output
