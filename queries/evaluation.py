@@ -69,6 +69,7 @@ def node_metrics(gt: GroundTruth, nodes: list[Node], m: Matching) -> dict:
     sure_found = sum(g.id in m.gt_to_node for g in sure)
     unsure = [g for g in located if not g.sure]
     label = {n.id: n.label for n in nodes}
+    by_node = {n.id: n for n in nodes}
     return {
         "graph_nodes": len(nodes),
         "gt_objects": len(gt.objects),
@@ -81,13 +82,26 @@ def node_metrics(gt: GroundTruth, nodes: list[Node], m: Matching) -> dict:
         "gt_unsure": len(unsure),
         "unsure_found": sum(g.id in m.gt_to_node for g in unsure),
         "pairs": [{"node": n, "gt": g, "label": label[n], "distance": round(d, 3)} for n, g, d in m.pairs],
-        "spurious": [{"node": n, "label": label[n]} for n in m.spurious],
+        "spurious": [{"node": n, "label": label[n], **_nearest_same_category(by_node[n], gt)} for n in m.spurious],
         "duplicates": [{"node": n, "gt": g, "label": label[n], "distance": round(d, 3)} for n, g, d in m.duplicates],
         "missing": [_gt_row(gt.by_id[g]) for g in m.missing],
         "not_detectable": [_gt_row(g) for g in gt.objects if g.coco is None],
         "unlocated": [_gt_row(g) for g in gt.objects if g.coco is not None and g.position is None],
         "hedged_category": [g.id for g in gt.objects if g.coco_hedged],
     }
+
+
+def _nearest_same_category(node: Node, gt: GroundTruth) -> dict:
+    """Why a node is spurious: the nearest GT object of its own label, if any (a large distance
+    says "no such object", a small one says the tolerance or the annotated position is off)."""
+    best = None
+    for g in gt.objects:
+        if g.coco is None or g.position is None or g.coco != (node.label or "").strip().lower():
+            continue
+        d = sum((a - b) ** 2 for a, b in zip(node.position, g.position)) ** 0.5
+        if best is None or d < best[0]:
+            best = (d, g.id)
+    return {"nearest_gt": best[1], "nearest_distance": round(best[0], 3)} if best else {}
 
 
 def _gt_row(g) -> dict:

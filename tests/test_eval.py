@@ -119,6 +119,7 @@ def test_eval_report_on_a_known_graph(store):
     assert pairs == {"T": nodes["dining table@0.1"], "C": nodes["cup@0.1"], "H": nodes["chair@3.2"]}
     assert [(d["node"], d["gt"]) for d in n["duplicates"]] == [(nodes["chair@2.8"], "H")]
     assert [s["node"] for s in n["spurious"]] == [nodes["tv@10.0"]]
+    assert "nearest_gt" not in n["spurious"][0]    # the GT has no tv at all
     assert [g["gt"] for g in n["missing"]] == ["B"]
     assert [g["gt"] for g in n["not_detectable"]] == ["S"]
     assert [g["gt"] for g in n["unlocated"]] == ["X"]

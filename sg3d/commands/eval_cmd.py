@@ -41,7 +41,7 @@ def _render(report: dict) -> None:
         ("edge recall (checked)", _pct(e["recall"])),
         ("edge recall (all GT)", _pct(e["recall_all"])),
         ("spurious edges (matched nodes)", len(e["spurious"])),
-        ("missed edges", len(e["missed"])),
+        ("missed edges (checked)", len(e["missed"])),
     ]
     vqa = report.get("vqa")
     if vqa is not None:
@@ -61,7 +61,9 @@ def _render(report: dict) -> None:
     for p in n["duplicates"]:
         detail.add_row("[yellow]duplicate", p["node"], p["label"], p["gt"], f"{p['distance']:.2f}")
     for p in n["spurious"]:
-        detail.add_row("[red]spurious", p["node"], p["label"], "", "")
+        near = f"(nearest {p['nearest_gt']})" if "nearest_gt" in p else ""
+        detail.add_row("[red]spurious", p["node"], p["label"], near,
+                       f"{p['nearest_distance']:.2f}" if "nearest_distance" in p else "")
     for g in n["missing"]:
         detail.add_row("[red]missing" + ("" if g["sure"] else " (unsure)"), "", g["coco"], g["gt"], "")
     console.print(detail)
