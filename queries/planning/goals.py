@@ -131,7 +131,27 @@ def goal_from_pddl(expr: str, problem: Problem, domain: Domain) -> list[Atom]:
         goal.append(tuple(atom))
     for atom in goal:
         check_atom(atom, problem, domain)
+    check_consistent(goal)
     return goal
+
+
+def check_consistent(goal: list[Atom]) -> None:
+    """Refuse at once what no plan can reach, rather than letting search exhaust the state space:
+    one thing in two places, two things in the one hand."""
+    where: dict[str, Atom] = {}
+    for atom in goal:
+        if atom[0] in ("on", "in", "holding"):
+            thing = atom[2] if atom[0] == "holding" else atom[1]
+            if thing in where and where[thing] != atom:
+                raise PlanningError(f"unsolvable: {thing} cannot be both {_text(where[thing])} and {_text(atom)}")
+            where[thing] = atom
+    held = sorted({a[2] for a in goal if a[0] == "holding"})
+    if len(held) > 1:
+        raise PlanningError(f"unsolvable: the robot has one hand, it cannot hold {' and '.join(held)}")
+
+
+def _text(atom: Atom) -> str:
+    return "(" + " ".join(atom) + ")"
 
 
 def check_atom(atom: Atom, problem: Problem, domain: Domain) -> None:
