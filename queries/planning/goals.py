@@ -59,6 +59,8 @@ def _move_goal(items_phrase: str, prep: str, target_phrase: str, problem: Proble
     if wanted is None or target.type != wanted:
         raise PlanningError(f"unsolvable: {target.name} is {_a(target.type)}; nothing can be put "
                             f"{predicate or 'on or in'} it")
+    if len(items) > 1 and any(i.type == "item" for i in items):
+        items = [i for i in items if i.type == "item"]   # "the tableware", "all objects": the carriable ones
     goal = []
     for item in items:
         if item.type != "item":
@@ -89,7 +91,7 @@ def resolve_phrase(phrase: str, problem: Problem, rules: Rules) -> tuple[list[Pl
         raise PlanningError(f"{noun} is not in the planning problem: {problem.left_out[noun]}")
     candidates = []
     for form, is_plural in [(noun, False)] + [(s, True) for s in singulars(noun)]:
-        candidates += [(form, is_plural), (rules.synonyms.get(form, ""), is_plural)]
+        candidates += [(form, is_plural), (rules.synonym(form), is_plural)]
     planned = [o for o in problem.objects if o.node_id]
     for form, is_plural in candidates:
         matches = [o for o in planned if form and o.label == form]

@@ -42,6 +42,10 @@ class Rules:
             groups = [g for g, members in self.fallback_groups.items() if label in members]
         return groups
 
+    def synonym(self, word: str) -> str:
+        """What a word means: the rules' own synonyms first, then the shared VQA table."""
+        return self.synonyms.get(word) or shared_synonyms().get(word, "")
+
     def all_groups(self) -> set[str]:
         return set(self.fallback_groups) | set(_taxonomy_group_names() or ())
 
@@ -98,12 +102,18 @@ def _taxonomy_groups(label: str) -> Optional[list[str]]:
 
 
 def _taxonomy_group_names() -> Optional[list[str]]:
-    tax = _taxonomy()
-    for attr in ("group_names", "groups_all", "categories"):
-        value = getattr(tax, attr, None) if tax is not None else None
-        if callable(value):
-            try:
-                return list(value())
-            except Exception:  # noqa: BLE001
-                return None
-    return None
+    value = getattr(_taxonomy(), "groups", None)   # a set property on queries.taxonomy.Taxonomy
+    if callable(value):
+        value = value()
+    return list(value) if value else None
+
+
+@functools.cache
+def shared_synonyms() -> dict[str, str]:
+    """Single-meaning words of the VQA synonym table (queries/data/synonyms.json), if present:
+    one vocabulary for asking and for commanding. Words meaning several classes are skipped."""
+    try:
+        words = json.loads((DATA / "synonyms.json").read_text()).get("words", {})
+    except (OSError, ValueError):
+        return {}
+    return {w: m[0] for w, m in words.items() if isinstance(m, list) and len(m) == 1}
