@@ -1,0 +1,156 @@
+"""Nouns -> COCO classes: lemmas, the synonym table, the taxonomy, then the label embedding.
+
+Order matters for speed and safety: the table and the taxonomy answer known words without
+loading the sentence-transformer (cold CLI < 2 s); the embedding is only a fallback for an
+unknown noun, and it refuses rather than guess (see `EMBED_THRESHOLD`).
+"""
+from __future__ import annotations
+
+import functools
+import json
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Optional
+
+from queries.taxonomy import Taxonomy
+
+SYNONYMS = Path(__file__).resolve().parent / "data" / "synonyms.json"
+
+# Cosine threshold for the embedding fallback (all-MiniLM-L6-v2). Measured on household nouns:
+# right mappings scored 0.71-0.96 (mug->cup 0.71, armchair->chair 0.73, sofa->couch 0.86,
+# fridge->refrigerator 0.96), while the best WRONG candidates stayed at or below 0.68
+# (stool->toilet 0.67, stove->oven 0.68, spaceship->boat 0.60, freezer->refrigerator 0.64).
+# 0.70 sits above the wrong ones; the margin rule also refuses a noun that is about as close
+# to two different targets (it is then ambiguous, e.g. a hypernym like "fruit").
+EMBED_THRESHOLD = 0.70
+EMBED_MARGIN = 0.05
+
+IRREGULAR = {
+    "knives": "knife", "people": "person", "men": "man", "women": "woman", "mice": "mouse",
+    "skis": "skis", "scissors": "scissors", "glasses": "glass", "benches": "bench",
+    "couches": "couch", "sandwiches": "sandwich", "toothbrushes": "toothbrush", "dishes": "dish",
+    "buses": "bus", "shelves": "shelf", "leaves": "leaf", "sheep": "sheep", "electronics": "electronics",
+    "pieces": "piece", "series": "series", "species": "species", "furniture": "furniture",
+    "cutlery": "cutlery", "tableware": "tableware", "kitchenware": "kitchenware", "food": "food",
+    "stuff": "stuff", "tv": "tv", "tvs": "tv", "glass": "glass", "bus": "bus", "canvas": "canvas",
+}
+
+
+def lemma(word: str) -> str:
+    """Singular of one English noun (the few rules household nouns need)."""
+    w = word.lower()
+    if w in IRREGULAR:
+        return IRREGULAR[w]
+    if len(w) > 4 and w.endswith("ies"):
+        return w[:-3] + "y"
+    if w.endswith(("ches", "shes", "sses", "xes", "zes")):
+        return w[:-2]
+    if w.endswith("ves") and len(w) > 4:
+        return w[:-3] + "fe" if w[:-3].endswith("i") else w[:-3] + "f"
+    if w.endswith("s") and not w.endswith(("ss", "us", "is")) and len(w) > 3:
+        return w[:-1]
+    return w
+
+
+def lemma_phrase(phrase: str) -> str:
+    """Singular of a noun phrase: its last word ("wine glasses" -> "wine glass")."""
+    words = phrase.split()
+    return " ".join(words[:-1] + [lemma(words[-1])]) if words else phrase
+
+
+@dataclass
+class Target:
+    """What a noun phrase means: the object labels to match (None = every object)."""
+
+    phrase: str
+    labels: Optional[list[str]]
+    names: list[str] = field(default_factory=list)   # the class or group names it resolved to
+    how: str = "label"                               # label | group | synonym | embedding | any
+    similarity: Optional[float] = None
+
+    def describe(self) -> str:
+        if self.labels is None:
+            return "objects"
+        return " + ".join(self.names)
+
+
+@functools.cache
+def _synonyms() -> tuple[frozenset, dict[str, list[str]]]:
+    data = json.loads(SYNONYMS.read_text())
+    return frozenset(data["any"]), {k: list(v) for k, v in data["words"].items()}
+
+
+def _labels_of(names: list[str]) -> list[str]:
+    tax = Taxonomy.load()
+    out: set[str] = set()
+    for n in names:
+        out |= tax.labels_under(n) if n in tax.groups else {n}
+    return sorted(out)
+
+
+def known(phrase: str) -> Optional[Target]:
+    """Resolve without the embedding: the table, the class names, the group names."""
+    any_words, words = _synonyms()
+    tax = Taxonomy.load()
+    for p in dict.fromkeys([phrase, lemma_phrase(phrase)]):
+        if p in any_words:
+            return Target(phrase, None, [], "any")
+        if p in tax.leaves:
+            return Target(phrase, [p], [p], "label")
+        if p in tax.groups:
+            return Target(phrase, _labels_of([p]), [p], "group")
+        if p in words:
+            return Target(phrase, _labels_of(words[p]), list(words[p]), "synonym")
+    return None
+
+
+def _candidates() -> dict[str, tuple[str, ...]]:
+    """Every string the embedding may match, and the names it stands for."""
+    _, words = _synonyms()
+    tax = Taxonomy.load()
+    out = {n: (n,) for n in tax.names if n != tax.root}
+    for k, v in words.items():
+        # one-word synonyms only: "coffee mug" would pull "coffee machine" to cup by its modifier
+        if " " not in k:
+            out.setdefault(k, tuple(v))
+    return out
+
+
+def by_embedding(phrase: str, embedding=None) -> tuple[Optional[Target], list[tuple[str, float]]]:
+    """The nearest known name if it is close enough and unambiguous; else None (+ the top 3)."""
+    if embedding is None:
+        from ingest.embedding import default_embedding
+
+        embedding = default_embedding()
+    import numpy as np
+
+    cands = _candidates()
+    keys = sorted(cands)
+    vec = embedding.vectors(keys + [lemma_phrase(phrase)])
+    q = vec[lemma_phrase(phrase)]
+    sims = np.array([float(np.dot(vec[k], q)) for k in keys])
+    order = np.argsort(-sims)
+    best = keys[order[0]]
+    top = [(keys[i], round(float(sims[i]), 2)) for i in order[:3]]
+    runner_up = next((sims[i] for i in order[1:] if cands[keys[i]] != cands[best]
+                      and not set(_labels_of(list(cands[keys[i]]))) <= set(_labels_of(list(cands[best])))), 0.0)
+    if sims[order[0]] < EMBED_THRESHOLD or sims[order[0]] - runner_up < EMBED_MARGIN:
+        return None, top
+    names = list(cands[best])
+    return Target(phrase, _labels_of(names), names, "embedding", round(float(sims[order[0]]), 3)), top
+
+
+def resolve(phrase: str, embedding=None, use_embedding: bool = True):
+    """(Target or None, why-not text)."""
+    phrase = " ".join(phrase.split())
+    if not phrase:
+        return None, "no object named"
+    hit = known(phrase)
+    if hit is not None or not use_embedding:
+        return hit, "" if hit else f"unknown object '{phrase}'"
+    hit, top = by_embedding(phrase, embedding)
+    if hit is None:
+        near = ", ".join(f"{k} {s:.2f}" for k, s in top)
+        return None, (f"I don't know what '{phrase}' is (nearest known: {near}; "
+                      f"below the {EMBED_THRESHOLD} similarity needed or ambiguous)")
+    return hit, ""

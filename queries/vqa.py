@@ -1,0 +1,287 @@
+"""`sg3d ask`: question -> query form -> Cypher template -> answer (paper Sec. VI-A).
+
+Entry point: `answer(store, question, room=None, building=None) -> Answer`. One function per
+query form (`count`, `exists`, `list_objects`, `attribute`, `show`); each runs templates of
+`cypher/vqa_*.cypher` in READ transactions with the question's words as parameters only. The
+one write is `ensure_taxonomy` (once per store and taxonomy version). An unparsed or
+unanswerable question gives `Answer(ok=False)` with a message saying what can be asked: a
+refusal, never a guessed number.
+
+"Big"/"small" compare an object's volume (w*d*h of its box) with the MEDIAN volume of all stored
+objects of its own label (strictly above = big, strictly below = small), so "a big cup" and
+"a big table" each mean big for their kind, and a scope (--room) does not change the yardstick.
+"""
+from __future__ import annotations
+
+import statistics
+from dataclasses import dataclass, field
+from typing import Any, Optional
+
+from graphdb import cypher
+from queries.parse import HELP, ParseError, Query, parse
+
+ROW_LIMIT = 100_000   # rows fetched for listing/size filtering; counts without size use count()
+LIST_SHOWN = 12       # objects named in a one-line answer
+
+
+@dataclass
+class Answer:
+    question: str
+    ok: bool
+    text: str                                   # the one-line answer (or the refusal)
+    form: str = "refused"                       # count | exists | list | attribute | show | refused
+    value: Any = None                           # int (count), bool (exists), list / dict / str
+    objects: list[dict] = field(default_factory=list)
+    query: Optional[Query] = None
+    steps: list[dict] = field(default_factory=list)   # [{template, params}] for --explain
+    thumbnail: Optional[bytes] = None
+
+    def to_json(self) -> dict:
+        return {"question": self.question, "ok": self.ok, "form": self.form, "answer": self.text,
+                "value": self.value, "objects": self.objects,
+                "query": self.query.summary() if self.query else None, "steps": self.steps,
+                "thumbnail_bytes": len(self.thumbnail) if self.thumbnail else None}
+
+
+class Refusal(Exception):
+    pass
+
+
+# -- plumbing ------------------------------------------------------------------------------------
+class _Run:
+    """Runs templates read-only and records them for --explain."""
+
+    def __init__(self, store):
+        self.store = store
+        self.steps: list[dict] = []
+
+    def read(self, name: str, **params) -> list[dict]:
+        self.steps.append({"template": f"cypher/{name}.cypher", "params": params})
+        return self.store.read(name, **params)
+
+    def read_rel(self, name: str, rel_type: str, **params) -> list[dict]:
+        text = cypher.render(name, rel_type)   # whitelisted type only, or ValueError
+        self.steps.append({"template": f"cypher/{name}.cypher", "rel_type": rel_type, "params": params})
+        with self.store.session() as s:
+            return s.execute_read(lambda tx: tx.run(text, params).data())
+
+
+def plural(label: str, n: int = 2) -> str:
+    if n == 1:
+        return label
+    irregular = {"knife": "knives", "person": "people", "mouse": "mice", "skis": "skis",
+                 "scissors": "scissors", "sheep": "sheep", "cutlery": "cutlery", "furniture": "pieces of furniture",
+                 "electronics": "electronics", "food": "food items", "tableware": "tableware items"}
+    if label in irregular:
+        return irregular[label]
+    if label.endswith(("s", "x", "ch", "sh")):
+        return label + "es"
+    return label + "s"
+
+
+def _what(q: Query, n: int) -> str:
+    t = q.target
+    bits = [b for b in (q.size, q.colour) if b]
+    noun = "objects" if t.labels is None else (plural(t.names[0], n) if len(t.names) == 1 else
+                                               " or ".join(plural(x, n) for x in t.names))
+    if t.labels is None and n == 1:
+        noun = "object"
+    return " ".join(bits + [noun])
+
+
+def _where(q: Query, rooms_asked: bool) -> str:
+    out = ""
+    if q.relation:
+        out += f" {q.relation_word} the {' or '.join(q.anchor.names)}"
+    if q.room:
+        out += f" in the {q.room}"
+    return out
+
+
+def _understood(q: Query) -> str:
+    notes = []
+    for t in (q.target, q.anchor):
+        if t is not None and t.how == "embedding":
+            notes.append(f"'{t.phrase}' read as {' + '.join(t.names)} (similarity {t.similarity:.2f})")
+    return f" [{'; '.join(notes)}]" if notes else ""
+
+
+def _scope(run: _Run, room: Optional[str], building: Optional[str]) -> Optional[list[str]]:
+    """Room ids in scope, None = everything."""
+    if room is None and building is None:
+        return None
+    rows = run.read("vqa_rooms", room=room.lower() if room else None,
+                    building=building.lower() if building else None)
+    if not rows:
+        known = sorted({f"{r['building']}/{r['name']}" for r in run.store.read("vqa_rooms", room=None, building=None)})
+        what = " in ".join(x for x in (f"room '{room}'" if room else "", f"building '{building}'" if building else "") if x)
+        raise Refusal(f"no {what} in the store (rooms: {', '.join(known) or 'none'})")
+    return [r["id"] for r in rows]
+
+
+def _by_size(run: _Run, rows: list[dict], size: Optional[str]) -> list[dict]:
+    """Keep objects above (big) / below (small) the median volume of their own label."""
+    if size is None:
+        return rows
+    labels = sorted({r["label"] for r in rows})
+    if not labels:
+        return rows
+    volumes: dict[str, list[float]] = {}
+    for r in run.read("vqa_volumes", labels=labels):
+        if r["volume"] is not None:
+            volumes.setdefault(r["label"], []).append(float(r["volume"]))
+    median = {k: statistics.median(v) for k, v in volumes.items()}
+    keep = (lambda v, m: v > m) if size == "big" else (lambda v, m: v < m)
+    return [r for r in rows if r["volume"] is not None and keep(float(r["volume"]), median[r["label"]])]
+
+
+def _filters(q: Query, rooms) -> dict:
+    return {"labels": q.target.labels, "rooms": rooms, "colour": q.colour}
+
+
+def _candidates(run: _Run, q: Query, rooms) -> list[dict]:
+    """The objects the question is about (target, attributes, relation), one row per object."""
+    if q.relation:
+        name = "vqa_related_any" if q.symmetric else "vqa_related"
+        rows = run.read_rel(name, q.relation, anchors=q.anchor.labels, limit=ROW_LIMIT, **_filters(q, rooms))
+        seen, unique = set(), []
+        for r in rows:
+            if r["id"] not in seen:
+                seen.add(r["id"])
+                unique.append(r)
+        rows = unique
+    else:
+        rows = run.read("vqa_objects", limit=ROW_LIMIT, **_filters(q, rooms))
+    return _by_size(run, rows, q.size)
+
+
+def _brief(r: dict) -> dict:
+    out = {k: r.get(k) for k in ("id", "label", "colour", "volume", "room") if r.get(k) is not None}
+    for k in ("anchor_id", "anchor_label", "distance"):
+        if r.get(k) is not None:
+            out[k] = r[k]
+    return out
+
+
+# -- one function per query form ---------------------------------------------------------------
+def count(run: _Run, q: Query, rooms) -> Answer:
+    """Simple, hierarchical, attribute and relation counting."""
+    breakdown: dict[str, int] = {}
+    if q.relation or q.size:
+        rows = _candidates(run, q, rooms)
+        for r in rows:
+            breakdown[r["label"]] = breakdown.get(r["label"], 0) + 1
+    elif q.target.labels is None:
+        breakdown = {r["label"]: r["n"] for r in run.read("vqa_count_any", rooms=rooms, colour=q.colour)}
+    else:
+        breakdown = {r["label"]: r["n"] for r in run.read("vqa_count", **_filters(q, rooms))}
+    n = sum(breakdown.values())
+    text = f"{n} {_what(q, n)}{_where(q, rooms is not None)}"
+    if len(breakdown) > 1 or (q.target.how in ("group", "any") and breakdown):
+        text += " (" + ", ".join(f"{v} {k}" for k, v in sorted(breakdown.items(), key=lambda kv: (-kv[1], kv[0]))) + ")"
+    return Answer(q.target.phrase, True, text, "count", n, query=q, objects=[{"label": k, "n": v} for k, v in breakdown.items()])
+
+
+def exists(run: _Run, q: Query, rooms) -> Answer:
+    a = count(run, q, rooms)
+    n = a.value
+    if n == 0:
+        text = f"no, there is no {_what(q, 1)}{_where(q, rooms is not None)}"
+    else:
+        text = f"yes, {n} {_what(q, n)}{_where(q, rooms is not None)}"
+    return Answer("", True, text, "exists", n > 0, a.objects, q)
+
+
+def list_objects(run: _Run, q: Query, rooms) -> Answer:
+    rows = _candidates(run, q, rooms)
+    shown = rows[:LIST_SHOWN]
+    names = ", ".join(f"{r['label']} ({r['colour']}, {r['id']})" if r.get("colour") else f"{r['label']} ({r['id']})"
+                      for r in shown)
+    more = f", ... {len(rows) - len(shown)} more" if len(rows) > len(shown) else ""
+    head = f"{len(rows)} {_what(q, len(rows))}{_where(q, rooms is not None)}"
+    text = f"{head}: {names}{more}" if rows else f"none: no {_what(q, 1)}{_where(q, rooms is not None)}"
+    return Answer("", True, text, "list", [_brief(r) for r in rows], [_brief(r) for r in rows], q)
+
+
+def attribute(run: _Run, q: Query, rooms) -> Answer:
+    """What colour / how big is the <object>: one value per matching object."""
+    rows = _candidates(run, q, rooms)
+    if not rows:
+        return Answer("", False, f"there is no {_what(q, 1)}{_where(q, rooms is not None)} to describe", "attribute", None, query=q)
+    if q.attribute == "colour":
+        values = [r.get("colour") or "unknown" for r in rows]
+    else:
+        values = ["x".join(f"{v:.2f}" for v in r["size"]) + " m" if r.get("size") else "unknown" for r in rows]
+    noun = _what(q, len(rows))
+    if len(rows) == 1:
+        text = f"the {noun} is {values[0]}" if q.attribute == "colour" else f"the {noun} is {values[0]} (w x d x h)"
+    else:
+        text = f"{len(rows)} {noun}: " + ", ".join(f"{r['id']} {v}" for r, v in list(zip(rows, values))[:LIST_SHOWN])
+    return Answer("", True, text, "attribute", values if len(values) > 1 else values[0], [_brief(r) for r in rows], q)
+
+
+def show(run: _Run, q: Query, rooms) -> Answer:
+    """The multimodal answer: the biggest/smallest/closest object and its thumbnail."""
+    if q.superlative == "closest":
+        rows = run.read("vqa_closest", anchors=q.anchor.labels, **_filters(q, rooms))
+        how = f"closest to the {' or '.join(q.anchor.names)}"
+    else:
+        if q.size:
+            raise Refusal("'big'/'small' together with a superlative is not supported")
+        rows = run.read("vqa_biggest" if q.superlative == "max" else "vqa_smallest", **_filters(q, rooms))
+        how = "biggest" if q.superlative == "max" else "smallest"
+    if not rows:
+        return Answer("", False, f"there is no {_what(q, 1)}{' in the ' + q.room if q.room else ''}", "show", None, query=q)
+    r = rows[0]
+    thumb = run.read("vqa_thumbnail", id=r["id"])
+    data = thumb[0]["thumbnail"] if thumb else None
+    detail = f"{r.get('volume', 0) or 0:.3g} m^3" if q.superlative != "closest" else f"{r['distance']:.2f} m away"
+    text = f"the {how} {_what(q, 1)}: {r['id']} ({r.get('colour') or '?'}, {detail})"
+    return Answer("", True, text, "show", _brief(r), [_brief(r)], q, thumbnail=bytes(data) if data else None)
+
+
+FORMS = {"count": count, "exists": exists, "list": list_objects, "attribute": attribute, "show": show}
+
+
+def answer(store, question: str, room: Optional[str] = None, building: Optional[str] = None,
+           embedding=None, use_embedding: bool = True) -> Answer:
+    """Answer one question from the stored scene graph (read-only, except the taxonomy load)."""
+    run = _Run(store)
+    room_names: Optional[set[str]] = None
+
+    def is_room(name: str) -> bool:
+        nonlocal room_names
+        if room_names is None:
+            room_names = {str(r["name"]).lower() for r in store.read("vqa_rooms", room=None, building=building.lower() if building else None)}
+        return name in room_names
+
+    try:
+        q = parse(question, is_room, embedding=embedding, use_embedding=use_embedding)
+    except ParseError as exc:
+        return Answer(question, False, str(exc))
+    if q.target.how == "group" or (q.anchor is not None and q.anchor.how == "group"):
+        _expand_groups(store, q)
+    if q.room and room and q.room.lower() != room.lower():
+        return Answer(question, False, f"the question says '{q.room}' but --room is '{room}'", query=q)
+    try:
+        rooms = _scope(run, q.room or room, building)
+        result = FORMS[q.form](run, q, rooms)
+    except Refusal as exc:
+        return Answer(question, False, f"{exc}. {HELP}", query=q, steps=run.steps)
+    result.question, result.query, result.steps = question, q, run.steps
+    result.text += _understood(q)
+    return result
+
+
+def _expand_groups(store, q: Query) -> None:
+    """Hierarchical counting: a group's labels come from a graph search of the stored taxonomy
+    (IS_A*), which agrees with the offline file by construction (same source, version-marked)."""
+    from queries.taxonomy import Taxonomy, descendants
+
+    leaves = Taxonomy.load().leaves
+    for t in (q.target, q.anchor):
+        if t is not None and t.how == "group":
+            labels: set[str] = set()
+            for name in t.names:
+                labels |= descendants(store, name) & leaves
+            t.labels = sorted(labels)

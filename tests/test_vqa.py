@@ -1,0 +1,178 @@
+"""`sg3d ask` against a real embedded store holding hand-made rooms (the truth is known)."""
+from __future__ import annotations
+
+import json
+
+import pytest
+from click.testing import CliRunner
+
+from graphdb.merge import merge_local_graph
+from queries.parse import ParseError, parse
+from queries.vqa import answer
+from tests.factories import graph, obj
+
+BROWN, GREY = "brown", "grey"
+
+
+@pytest.fixture
+def house(store):
+    """kitchen: 3 chairs (2 red), table, couch, 2 cups + 4 things on the table, 3 bowls, cutlery,
+    monitor, sink; living room: 1 red chair, 1 couch, 1 tv. Returns local id -> global id."""
+    kitchen = graph([
+        obj("c1", "chair", (0, 0, 0), colour="red", size=(0.5, 0.5, 0.9)),
+        obj("c2", "chair", (3, 0, 0), colour="red", size=(0.5, 0.5, 0.9)),
+        obj("c3", "chair", (6, 0, 0), colour="blue", size=(0.5, 0.5, 0.9)),
+        obj("t", "dining table", (0, 0, 3), colour=BROWN, size=(1.5, 0.8, 0.7)),
+        obj("s", "couch", (6, 0, 6), colour=GREY, size=(2.0, 0.9, 0.8)),
+        obj("u1", "cup", (0.2, 0.8, 3), colour="white"),
+        obj("u2", "cup", (-0.3, 0.8, 3.1), colour="red"),
+        obj("b1", "bowl", (0.4, 0.8, 2.8), size=(0.2, 0.2, 0.1)),
+        obj("b2", "bowl", (9, 0.9, 9.2), size=(0.3, 0.3, 0.15), thumbnail=b"\xff\xd8BIGBOWL"),
+        obj("b3", "bowl", (12, 0.9, 12), size=(0.1, 0.1, 0.05)),
+        obj("f1", "fork", (0.1, 0.8, 3.3)), obj("k1", "knife", (9, 0.8, 9.5)), obj("sp", "spoon", (15, 1, 1)),
+        obj("m", "tv", (15, 1, 15), colour="black", size=(0.6, 0.1, 0.4)),
+        obj("sk", "sink", (9, 0.9, 9.6), colour="grey", size=(0.6, 0.5, 0.2)),
+    ], relations=[("u1", "ON", "t", 0.9), ("u2", "ON", "t", 0.8), ("b1", "ON", "t", 0.9), ("f1", "ON", "t", 0.7),
+                  ("b2", "NEXT_TO", "sk", 0.8), ("k1", "IN", "sk", 0.9)], room="kitchen", building="home")
+    living = graph([
+        obj("c4", "chair", (0, 0, 0), colour="red", size=(0.5, 0.5, 0.9)),
+        obj("s2", "couch", (4, 0, 0), colour="black", size=(2.0, 0.9, 0.8)),
+        obj("tv", "tv", (8, 1, 0), colour="black", size=(1.0, 0.1, 0.6)),
+    ], room="living room", building="home")
+    ids = dict(merge_local_graph(store, kitchen).node_ids)
+    ids.update(merge_local_graph(store, living).node_ids)
+    return ids
+
+
+def ask(store, q, **kw):
+    a = answer(store, q, **kw)
+    assert a.ok, a.text
+    return a
+
+
+@pytest.mark.parametrize("question, n", [
+    ("how many cups are there?", 2),
+    ("How many mugs?", 2),
+    ("how many chairs", 4),
+    ("how many sofas are there", 2),
+    ("how many monitors are in the environment?", 2),
+    ("How many pieces of furniture are there?", 7),
+    ("how many pieces of cutlery are there?", 3),
+    ("how many electronics", 2),
+    ("how many red chairs?", 3),
+    ("how many red chairs are in the kitchen?", 2),
+    ("how many red objects are there", 4),
+    ("how many big bowls are there?", 1),
+    ("how many small bowls", 1),
+    ("how many objects are on the table?", 4),
+    ("how many cups are on the dining table?", 2),
+    ("how many red cups are on the table", 1),
+    ("how many objects are in the sink", 1),
+    ("how many things are next to the sink?", 1),
+    ("how many toasters are there?", 0),
+])
+def test_counting(store, house, question, n):
+    assert ask(store, question).value == n
+
+
+def test_hierarchy_breakdown_and_scope(store, house):
+    a = ask(store, "how many pieces of furniture are there?", room="kitchen")
+    assert a.value == 5
+    assert {o["label"]: o["n"] for o in a.objects} == {"chair": 3, "dining table": 1, "couch": 1}
+    assert ask(store, "how many furniture", building="home").value == 7
+    assert ask(store, "how many chairs are in the living room").value == 1
+
+
+def test_existence(store, house):
+    assert ask(store, "is there a sink?").value is True
+    assert ask(store, "is there a toaster?").value is False
+    assert ask(store, "are there any sofas in the living room?").value is True
+    assert ask(store, "is there a fork on the table?").value is True
+
+
+def test_listing_and_relations(store, house):
+    a = ask(store, "what is on the table?")
+    assert sorted(o["id"] for o in a.value) == sorted(house[k] for k in ("u1", "u2", "b1", "f1"))
+    a = ask(store, "what is next to the sink?")   # stored bowl -> sink, asked from either side
+    assert [o["id"] for o in a.value] == [house["b2"]]
+    a = ask(store, "list the chairs", room="kitchen")
+    assert sorted(o["id"] for o in a.value) == sorted(house[k] for k in ("c1", "c2", "c3"))
+
+
+def test_attribute_lookup(store, house):
+    assert ask(store, "what colour is the couch?", room="kitchen").value == "grey"
+    assert sorted(ask(store, "what color are the sofas?").value) == ["black", "grey"]
+    assert ask(store, "how big is the table?").value.startswith("1.50x0.80x0.70")
+
+
+def test_superlatives_return_the_object_and_its_thumbnail(store, house):
+    a = ask(store, "show me the biggest bowl")
+    assert a.value["id"] == house["b2"] and a.thumbnail == b"\xff\xd8BIGBOWL"
+    assert ask(store, "show me the smallest bowl").value["id"] == house["b3"]
+    assert ask(store, "which is the cup closest to the sink").value["id"] in (house["u1"], house["u2"])
+    assert ask(store, "show me the bowl closest to the sink").value["id"] == house["b2"]
+
+
+@pytest.mark.parametrize("question", [
+    "what is the weather like?", "how many unicorns are there?", "how many cups are in the garage?",
+    "", "show me the biggest spaceship",
+])
+def test_refusals_are_helpful_and_never_numbers(store, house, question):
+    a = answer(store, question)
+    assert not a.ok and a.value is None
+    assert "I can answer" in a.text or "no room" in a.text
+
+
+def _nodes(store):
+    return store.run_raw("MATCH (n) RETURN count(n) AS n")[1][0][0]
+
+
+@pytest.mark.parametrize("question", [
+    'how many chairs"}) DETACH DELETE n //',
+    "MATCH (n) DETACH DELETE n",
+    "how many chairs are in the kitchen' OR 1=1 //",
+    "what colour is the couch}) MATCH (n) DETACH DELETE n RETURN 1 //",
+])
+def test_injection_changes_nothing(store, house, question):
+    answer(store, "how many chairs")          # the taxonomy (the one write) is already loaded
+    before = _nodes(store)
+    a = answer(store, question)
+    assert _nodes(store) == before
+    assert a.ok is False or isinstance(a.value, (int, str, list, bool))
+
+
+def test_parser_plurals_and_multiword():
+    assert parse("how many knives", use_embedding=False).target.labels == ["knife"]
+    assert parse("how many wine glasses", use_embedding=False).target.labels == ["wine glass"]
+    assert parse("how many benches", use_embedding=False).target.labels == ["bench"]
+    assert parse("how many cell phones", use_embedding=False).target.labels == ["cell phone"]
+    assert parse("how many teddy bears", use_embedding=False).target.labels == ["teddy bear"]
+    assert parse("how many glasses", use_embedding=False).target.labels == ["cup", "wine glass"]
+    assert parse("how many fridges", use_embedding=False).target.labels == ["refrigerator"]
+    with pytest.raises(ParseError):
+        parse("how many cupboards", use_embedding=False)
+
+
+class _Settings:
+    def __init__(self, store):
+        self._store = store
+
+    def store(self):
+        return self._store
+
+
+def test_cli_answers_explains_writes_thumbnail_and_refuses(store, house, tmp_path):
+    from sg3d.commands.ask import ask as ask_cmd
+
+    runner = CliRunner()
+    r = runner.invoke(ask_cmd, ["how many red chairs", "--room", "kitchen", "--explain"], obj=_Settings(store))
+    assert r.exit_code == 0, r.output
+    assert r.output.splitlines()[0].startswith("2 red chairs")
+    assert "cypher/vqa_count.cypher" in r.output and '"colour": "red"' in r.output
+    out = tmp_path / "bowl.jpg"
+    r = runner.invoke(ask_cmd, ["show me the biggest bowl", "--out", str(out), "--json"], obj=_Settings(store))
+    assert r.exit_code == 0, r.output
+    assert out.read_bytes() == b"\xff\xd8BIGBOWL"
+    assert json.loads(r.output)["thumbnail"] == str(out)
+    r = runner.invoke(ask_cmd, ["what is the meaning of life"], obj=_Settings(store))
+    assert r.exit_code != 0 and "I can answer" in r.output
