@@ -1,0 +1,127 @@
+"""`sg3d ask` latency on a large synthetic store: warm p50/p95 per question type, and cold CLI time.
+
+    python -m benchmarks.bench_ask --objects 100000 --rooms 1000
+
+A scratch embedded store is filled through a bulk UNWIND CREATE (cypher/vqa_bench_load.cypher;
+merge_local_graph would take ~100 s for 100k objects), then each question is asked `--repeat`
+times through `queries.vqa.answer` (store running, taxonomy loaded, embedding never needed), and
+once through `python -m sg3d ask` in a fresh process (cold: interpreter, imports, driver).
+"""
+from __future__ import annotations
+
+import argparse
+import os
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+from benchmarks.common import LABELS
+from ingest.model import COLOUR_NAMES
+
+QUESTIONS = [
+    "how many cups are there?",
+    "how many red chairs are in room 17?",
+    "how many pieces of furniture are there?",
+    "is there a sink in room 3?",
+    "how many objects are on the table in room 42?",
+    "what is on the table in room 42?",
+    "show me the biggest bowl in room 5",
+    "how many big bowls are in room 5?",
+]
+
+
+def generate(store, n_objects: int, n_rooms: int, seed: int = 0, batch_rooms: int = 20) -> float:
+    rng = np.random.default_rng(seed)
+    per_room = max(1, n_objects // n_rooms)
+    t0 = time.perf_counter()
+    for start in range(0, n_rooms, batch_rooms):
+        rooms, pairs = [], []
+        for k in range(start, min(n_rooms, start + batch_rooms)):
+            rid = f"bench/room {k}"
+            objects = []
+            for i in range(per_room):
+                label = LABELS[i % len(LABELS)]
+                size = [float(v) for v in rng.uniform(0.05, 1.5, 3)]
+                objects.append({
+                    "id": f"{rid}#{i}", "room": rid, "label": label, "labels": [label], "scores": [0.9],
+                    "score": 0.9, "x": float(rng.uniform(0, 10)), "y": float(rng.uniform(0, 3)),
+                    "z": float(rng.uniform(0, 10)), "size": size, "volume": float(np.prod(size)),
+                    "colour": COLOUR_NAMES[int(rng.integers(len(COLOUR_NAMES)))],
+                    "thumbnail": b"\xff\xd8" + bytes(2000), "n_points": 100, "observations": 1,
+                })
+            rooms.append({"id": rid, "name": f"room {k}", "building": "bench", "objects": objects})
+            table = next(o["id"] for o in objects if o["label"] == "dining table") if per_room >= 10 else None
+            if table:
+                pairs += [{"s": o["id"], "o": table, "score": 0.8} for o in objects[:per_room // 4]
+                          if o["label"] in ("cup", "bowl", "bottle", "vase")]
+        store.write("vqa_bench_load", rooms=rooms)
+        if pairs:
+            store.write("vqa_bench_relations", pairs=pairs)
+    return time.perf_counter() - t0
+
+
+def warm(store, repeat: int) -> None:
+    from queries.vqa import answer
+
+    for q in QUESTIONS:
+        first = answer(store, q)
+        if not first.ok:
+            print(f"  refused: {q}: {first.text[:100]}")
+            continue
+        times = []
+        for _ in range(repeat):
+            t = time.perf_counter()
+            answer(store, q)
+            times.append((time.perf_counter() - t) * 1000)
+        times.sort()
+        p95 = times[min(len(times) - 1, int(round(0.95 * (len(times) - 1))))]
+        print(f"  {statistics.median(times):7.1f} ms p50 {p95:7.1f} ms p95  {q!r} -> {first.text[:70]}")
+
+
+def cold(info, question: str) -> float:
+    env = dict(os.environ, SG3D_URI=info.uri, SG3D_USER=info.user, SG3D_PASSWORD=info.password,
+               SG3D_DATABASE=info.database)
+    t = time.perf_counter()
+    res = subprocess.run([sys.executable, "-m", "sg3d", "ask", question], env=env,
+                         capture_output=True, text=True, timeout=120)
+    dt = time.perf_counter() - t
+    print(f"  cold CLI {dt:5.2f} s  rc={res.returncode}  {question!r} -> {(res.stdout or res.stderr).strip()[:70]}")
+    return dt
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--objects", type=int, default=100_000)
+    ap.add_argument("--rooms", type=int, default=1000)
+    ap.add_argument("--repeat", type=int, default=30)
+    args = ap.parse_args()
+
+    from graphdb.embedded import EmbeddedServer
+    from graphdb.store import Store
+
+    with tempfile.TemporaryDirectory(prefix="sg3d-bench-ask-") as home:
+        server = EmbeddedServer(Path(home))
+        info = server.start()
+        store = Store(info.uri, (info.user, info.password), info.database)
+        try:
+            store.ensure_schema()
+            dt = generate(store, args.objects, args.rooms)
+            n = store.run_raw("MATCH (o:Object) RETURN count(o) AS n")[1][0][0]
+            print(f"generated {n} objects in {args.rooms} rooms in {dt:.1f} s ({n / dt:.0f} objects/s)")
+            print(f"warm ({args.repeat} runs each, store running, taxonomy loaded):")
+            warm(store, args.repeat)
+            print("cold (python -m sg3d ask, new process):")
+            for q in (QUESTIONS[0], QUESTIONS[1]):
+                cold(info, q)
+        finally:
+            store.close()
+            server.stop()
+
+
+if __name__ == "__main__":
+    main()
