@@ -1,0 +1,38 @@
+"""`sg3d export`: a room's or a building's graph as JSON (the paper's format) or GraphML."""
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Optional
+
+import click
+
+from sg3d.errors import UserError
+
+
+@click.command()
+@click.option("--room", default=None, help="Room name (default: every room of the building).")
+@click.option("--building", default="default", show_default=True)
+@click.option("--format", "fmt", type=click.Choice(["json", "graphml"]), default="json", show_default=True)
+@click.option("--out", type=click.Path(dir_okay=False, path_type=Path), default=None,
+              help="Write to this file (default: standard output).")
+@click.option("--thumbnails", is_flag=True, help="JSON: include thumbnails as base64 JPEG.")
+@click.option("--histograms", is_flag=True, help="JSON: include the 512-bin HSV histograms.")
+@click.pass_obj
+def export(settings, room: Optional[str], building: str, fmt: str, out: Optional[Path],
+           thumbnails: bool, histograms: bool) -> None:
+    """Export the scene graph: nodes with their attributes and the relation edges."""
+    from graphdb.export import fetch_graph, to_graphml, to_json
+
+    graph = fetch_graph(settings.store(), building, room, thumbnails, histograms)
+    if not graph["nodes"]:
+        where = f"room {room!r} of building {building!r}" if room else f"building {building!r}"
+        raise UserError(f"nothing to export: {where} holds no objects (see `sg3d cypher \"MATCH (r:Room) RETURN r.id\"`)")
+    text = to_json(graph) if fmt == "json" else to_graphml(graph)
+    if out:
+        out.write_text(text)
+        click.echo(f"wrote {len(graph['nodes'])} nodes and {len(graph['edges'])} edges to {out}", err=True)
+    else:
+        click.echo(text)
+
+
+commands = [export]
