@@ -1,0 +1,82 @@
+"""`sg3d rooms`: a building's rooms; `sg3d rooms link A B`: align two rooms and link them."""
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+from typing import Optional
+
+import click
+
+from sg3d.errors import UserError
+
+
+@click.group(invoke_without_command=True)
+@click.option("--building", default="default", show_default=True)
+@click.option("--json", "as_json", is_flag=True, help="Print the rooms as JSON.")
+@click.pass_context
+def rooms(ctx: click.Context, building: str, as_json: bool) -> None:
+    """List the building's rooms: object counts, whether each has a transform, adjacent rooms.
+
+    With a subcommand (`link`), that subcommand runs instead.
+    """
+    if ctx.invoked_subcommand is not None:
+        return
+    from graphdb.building import list_rooms
+
+    rows = list_rooms(ctx.obj.store(), building)
+    if as_json:
+        click.echo(json.dumps([{"id": r["id"], "name": r["name"], "objects": r["objects"],
+                                "to_building": None if r["to_building"] is None else r["to_building"].tolist(),
+                                "adjacent": r["adjacent"]} for r in rows], indent=2))
+        return
+    if not rows:
+        raise UserError(f"building {building!r} has no rooms (build one with `sg3d build`)")
+    width = max(len(r["name"]) for r in rows)
+    for r in rows:
+        placed = "transform" if r["to_building"] is not None else "no transform"
+        adj = f"  adjacent: {', '.join(r['adjacent'])}" if r["adjacent"] else ""
+        click.echo(f"{r['name']:<{width}}  {r['objects']:>6} objects  {placed}{adj}")
+
+
+@rooms.command("link")
+@click.argument("room_a")
+@click.argument("room_b")
+@click.option("--building", default="default", show_default=True,
+              help="Building of the rooms (a full room id 'building/room' overrides it).")
+@click.option("--transform", "transform_file", type=click.Path(dir_okay=False, path_type=Path), default=None,
+              help="4x4 rigid transform (4 lines of 4 numbers) taking ROOM_B's frame into ROOM_A's; "
+                   "skips the alignment.")
+@click.option("--tolerance", type=float, default=None,
+              help="Metres within which two objects of the rooms are one (default 0.3).")
+@click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
+@click.pass_obj
+def link(settings, room_a: str, room_b: str, building: str, transform_file: Optional[Path],
+         tolerance: Optional[float], as_json: bool) -> None:
+    """Align ROOM_B to ROOM_A from their shared objects (or a transform file), store both rooms'
+    building transforms and link the shared objects (SAME_AS) and the rooms (ADJACENT_TO)."""
+    from graphdb.align import AlignmentError
+    from graphdb.building import LINK_TOL_M, TransformError, format_matrix, link_rooms, load_transform, room_id_of
+
+    try:
+        T = load_transform(transform_file) if transform_file else None
+        report = link_rooms(settings.store(), room_id_of(building, room_a), room_id_of(building, room_b),
+                            transform=T, link_tol_m=LINK_TOL_M if tolerance is None else tolerance)
+    except (AlignmentError, TransformError) as exc:
+        raise UserError(str(exc)) from None
+    residual = None if math.isnan(report.residual_rms_m) else round(report.residual_rms_m, 4)
+    if as_json:
+        click.echo(json.dumps({"room_a": report.room_a, "room_b": report.room_b,
+                               "transform": report.T.tolist(), "to_building_a": report.to_building_a.tolist(),
+                               "to_building_b": report.to_building_b.tolist(), "residual_rms_m": residual,
+                               "pairs": report.pairs, "same_as": len(report.same_as),
+                               "from_file": report.from_file}, indent=2))
+        return
+    source = "from file" if report.from_file else "aligned"
+    click.echo(f"{report.room_b} -> {report.room_a} ({source}):")
+    click.echo(format_matrix(report.T))
+    click.echo(f"residual: {'n/a' if residual is None else f'{residual:.4f} m'}  pairs: {report.pairs}  "
+               f"SAME_AS links: {len(report.same_as)}")
+
+
+commands = [rooms]
