@@ -1,5 +1,6 @@
-// Every relation edge between objects of one room.
+// Every relation edge between objects of one room ($types: the relation whitelist,
+// so links such as SAME_AS between rooms are not counted as relations).
 MATCH (a:Object)-[e]->(b:Object)
-WHERE a.room = $room
+WHERE a.room = $room AND type(e) IN $types
 RETURN a.id AS s, type(e) AS type, b.id AS o, e.score AS score, e.count AS count
 ORDER BY s, type, o

@@ -7,6 +7,7 @@ import xml.etree.ElementTree as ET
 from typing import Optional
 
 from graphdb.merge import unpack_hist
+from ingest.model import RELATION_TYPES
 
 NODE_FIELDS = ("id", "room", "label", "labels", "scores", "x", "y", "z", "var", "n_points", "size",
                "volume", "colour", "first_frame", "last_frame", "observations", "n_frames")
@@ -24,7 +25,7 @@ def fetch_graph(store, building: str, room: Optional[str] = None, thumbnails: bo
         if thumbnails and o.get("thumbnail"):
             node["thumbnail_jpeg_base64"] = base64.b64encode(bytes(o["thumbnail"])).decode()
         nodes.append(node)
-    edges = store.read("export_relations", building=building, room=room)
+    edges = store.read("export_relations", building=building, room=room, types=list(RELATION_TYPES))
     return {"building": building, "room": room, "nodes": nodes, "edges": edges}
 
 

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 from typing import Callable, Optional
 
+from ingest.model import RELATION_TYPES
 from queries.eval_edges import edge_metrics
 from queries.eval_gt import GroundTruth
 from queries.eval_match import DEFAULT_TOLERANCE, Matching, Node, match
@@ -114,7 +115,7 @@ def evaluate(store, gt: GroundTruth, room_id: str, *, room: str, building: str,
     """The full report as a JSON-ready dict."""
     nodes = read_nodes(store, room_id)
     m = match(nodes, gt.objects, tolerance, category_matcher())
-    edges = store.read("relation_all", room=room_id)
+    edges = store.read("relation_all", room=room_id, types=list(RELATION_TYPES))
     report = {
         "room": room_id,
         "tolerance_m": tolerance,

@@ -68,6 +68,7 @@ def build(settings, sequence: Path, room: str, building: str, method: str, layou
     from ingest.detect import SsdMobilenetDetector, make_detector
     from ingest.embedding import default_embedding
     from ingest.gravity import estimate_gravity, sample_frames
+    from ingest.model import RELATION_TYPES
     from ingest.pipeline import (METHODS, PipelineStats, local_graph, make_selector, run_key,
                                  single_frame_groups)
     from ingest.readers import open_sequence
@@ -153,7 +154,7 @@ def build(settings, sequence: Path, room: str, building: str, method: str, layou
     st = selector.stats
     wall = time.perf_counter() - t_start
     room_objects = store.read("object_count", room=rid)[0]["n"]
-    room_relations = store.read("relation_count", room=rid)[0]["n"]
+    room_relations = store.read("relation_count", room=rid, types=list(RELATION_TYPES))[0]["n"]
     seconds = {
         "gravity": t_gravity,
         "read+abir+kge": max(0.0, st.seconds - consumer_seconds),
