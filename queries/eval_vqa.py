@@ -26,9 +26,12 @@ def load_answerer() -> Optional[Callable]:
 
 
 def _reply_value(reply: Any) -> Any:
-    """The answer inside whatever the VQA returns (a value, a dict or an object with .answer)."""
+    """The answer inside whatever the VQA returns: a value, a dict, an object with .answer, or
+    `queries.vqa.Answer` (its .value; a refusal, ok=False, is no answer)."""
     if isinstance(reply, dict):
         return reply.get("answer", reply.get("value"))
+    if hasattr(reply, "ok") and hasattr(reply, "value"):
+        return reply.value if reply.ok else None
     return getattr(reply, "answer", reply)
 
 

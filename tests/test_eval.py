@@ -190,3 +190,17 @@ def test_cli_unknown_room_and_bad_gt_are_one_line_errors(store, embedded_home, t
     bad.write_text("{not json")
     r = CliRunner().invoke(cli, ["--home", str(embedded_home), "eval", "--gt", str(bad), "--room", ROOM])
     assert r.exit_code == 2 and "not valid JSON" in r.output
+
+
+def test_eval_scores_the_real_vqa_answers(store):
+    """The real `queries.vqa.answer` (an Answer object): counts and yes/no are scored, refusals
+    are listed as unsupported, never as right."""
+    from queries.vqa import answer
+
+    build_room(store)
+    gt = parse_gt(GT, COCO)
+    report = evaluate(store, gt, room_id(BUILDING, ROOM), room=ROOM, building=BUILDING, answerer=answer)
+    status = {row["question"]: row["status"] for row in report["vqa"]["questions"]}
+    assert status["How many cups are there?"] == "right"
+    assert status["Is there a tv?"] == "right"          # the graph holds a (spurious) tv
+    assert status["What colour is the cup?"] == "right"  # factories' default colour is white
