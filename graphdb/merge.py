@@ -20,12 +20,13 @@ from neo4j import ManagedTransaction
 from scipy.optimize import linear_sum_assignment
 
 from graphdb import cypher
-from graphdb.similarity import (SimilarityParams, histogram_intersection, label_similarity_matrix,
-                                position_similarity, total_similarity)
-from graphdb.update import (combine_gaussians, combine_histograms, combine_labels, combine_sizes,
+from graphdb.similarity import (MAX_EXTENT_M, SimilarityParams, box_position_similarity,
+                                histogram_intersection, label_similarity_matrix,
+                                position_similarity, shared_labels, total_similarity)
+from graphdb.update import (combine_boxes, combine_gaussians, combine_histograms, combine_labels,
                             incoming_has_best_label)
 from ingest.embedding import LabelEmbedding, default_embedding
-from ingest.model import LocalGraph, ObjectObservation
+from ingest.model import RELATION_TYPES, LocalGraph, ObjectObservation
 
 
 @dataclass
@@ -35,6 +36,7 @@ class MergeReport:
     created: int = 0
     updated: int = 0
     candidates: int = 0
+    absorbed: int = 0              # stored nodes found to be one object with another, folded in
     relations: int = 0
     node_ids: dict[str, str] = field(default_factory=dict)   # local_id -> global id
     seconds: float = 0.0
@@ -62,23 +64,51 @@ def _rows(result) -> list[dict]:
     return [dict(zip(keys, values)) for values in result.values()]
 
 
+def _box_centre(obj: ObjectObservation):
+    return obj.box_centre if obj.box_centre is not None else obj.mean
+
+
+def gravity_basis(up) -> np.ndarray:
+    """Rows e1, e2, up of the room's gravity frame (world axes when the room has no up)."""
+    if up is None:
+        return np.eye(3)
+    from ingest.relations import horizontal_basis
+
+    return np.stack(horizontal_basis(up))
+
+
 def _fetch_candidates(tx: ManagedTransaction, rid: str, objects: list[ObjectObservation],
-                      params: SimilarityParams) -> tuple[list[dict], np.ndarray]:
+                      params: SimilarityParams, basis: np.ndarray) -> tuple[list[dict], np.ndarray]:
     """Candidates and the (n_local, n_cand) position similarity (Eq. 12-13) of each pair.
 
     Two passes so the store never ships a histogram that cannot matter: positions inside the
     window first, then the full attributes of the candidates some local object is close to.
     """
-    near = _rows(tx.run(cypher.load("merge_candidates"), room=rid, **_window(objects, params.window_margin())))
+    largest = max(max(o.size) for o in objects)
+    margin = params.window_margin() + (min(largest, MAX_EXTENT_M) + MAX_EXTENT_M) / 2
+    near = _rows(tx.run(cypher.load("merge_candidates"), room=rid, **_window(objects, margin)))
     if not near:
         return [], np.zeros((len(objects), 0))
     mean_c = np.array([o.mean for o in objects], float)
     mean_o = np.array([[c["x"], c["y"], c["z"]] for c in near], float)
     var_o = np.array([c["var"] for c in near], float)
-    extent = np.array([max(c["size"] or [0.0]) for c in near], float)
-    floor = np.maximum(params.sigma_floor, params.sigma_size_fraction * extent)[None, :, None]
+    size_o = np.array([c["size"] for c in near], float)
     s_pos = position_similarity(mean_o[None, :, :], var_o[None, :, :], mean_c[:, None, :],
-                                floor, params.sigma_cap)
+                                params.sigma_floor, params.sigma_cap)
+    # Partial views of one big object: its σ is floored at a fraction of its extent, and
+    # overlapping 3-D boxes count as the same place. Only between views of one kind of thing: a
+    # chair tucked under a table, or a cup on it, sits inside the table's extent and is not it.
+    same_kind = shared_labels([o.labels for o in objects], [c["labels"] for c in near]) > 0
+    if same_kind.any():
+        floor = np.maximum(params.sigma_floor, params.sigma_size_fraction * size_o.max(axis=1))[None, :, None]
+        s_wide = position_similarity(mean_o[None, :, :], var_o[None, :, :], mean_c[:, None, :],
+                                     floor, params.sigma_cap)
+        box_o = np.array([c["box_centre"] or [c["x"], c["y"], c["z"]] for c in near], float)
+        box_c = np.array([_box_centre(o) for o in objects], float)
+        size_c = np.array([o.size for o in objects], float)
+        s_box = box_position_similarity(box_o[None, :, :], size_o[None, :, :], box_c[:, None, :],
+                                        size_c[:, None, :], basis, params.sigma_floor)
+        s_pos = np.where(same_kind, np.maximum(s_pos, np.maximum(s_wide, s_box)), s_pos)
     keep = np.flatnonzero((s_pos >= params.min_position_similarity()).any(axis=0))
     if keep.size == 0:
         return [], np.zeros((len(objects), 0))
@@ -107,13 +137,37 @@ def _pair_scores(objects: list[ObjectObservation], cands: list[dict], s_pos: np.
 
 
 def match_nodes(objects: list[ObjectObservation], cands: list[dict], s_pos: np.ndarray,
-                embedding: LabelEmbedding, params: SimilarityParams = SimilarityParams()) -> dict[int, int]:
-    """Same-node detection: local index -> candidate index, one-to-one, s_total ≥ threshold."""
+                embedding: LabelEmbedding, params: SimilarityParams = SimilarityParams()
+                ) -> tuple[dict[int, int], dict[int, int]]:
+    """Same-node detection: (local index -> candidate index, one-to-one, s_total ≥ threshold;
+    candidate index -> the candidate index it is the same node as).
+
+    The second map: when a new observation passes the threshold against several stored nodes
+    that nothing else claims, those nodes were one object all along (a table first seen as two
+    ends, linked by a view of its middle), so they are folded into the matched one.
+    """
     scores = _pair_scores(objects, cands, s_pos, embedding, params)
     if scores.size == 0:
-        return {}
+        return {}, {}
     rows, cols = linear_sum_assignment(-scores)
-    return {int(i): int(j) for i, j in zip(rows, cols) if scores[i, j] >= params.threshold}
+    matches = {int(i): int(j) for i, j in zip(rows, cols) if scores[i, j] >= params.threshold}
+    claimed = set(matches.values())
+    absorbed: dict[int, int] = {}
+    for i, j in matches.items():
+        for k in np.flatnonzero(scores[i] >= params.threshold):
+            if int(k) not in claimed and int(k) not in absorbed:
+                absorbed[int(k)] = j
+    return matches, absorbed
+
+
+def _as_observation(cand: dict) -> ObjectObservation:
+    """A stored node seen as one more observation of another node (for folding it in)."""
+    return ObjectObservation(
+        local_id=cand["id"], labels=list(cand["labels"]), scores=list(cand["scores"]),
+        mean=(cand["x"], cand["y"], cand["z"]), var=tuple(cand["var"]), n_points=int(cand["n_points"]),
+        size=tuple(cand["size"]), hist=unpack_hist(cand["hist"]), colour=cand["colour"], thumbnail=None,
+        first_frame=int(cand["first_frame"]), last_frame=int(cand["last_frame"]),
+        n_frames=int(cand["n_frames"]), box_centre=cand["box_centre"])
 
 
 def _new_props(obj: ObjectObservation, rid: str, now: float) -> dict:
@@ -125,6 +179,7 @@ def _new_props(obj: ObjectObservation, rid: str, now: float) -> dict:
         "score": float(max(obj.scores)),
         "x": mean[0], "y": mean[1], "z": mean[2], "var": [float(v) for v in obj.var],
         "n_points": int(obj.n_points), "size": size, "volume": float(np.prod(size)),
+        "box_centre": [float(v) for v in _box_centre(obj)],
         "hist": pack_hist(obj.hist), "colour": obj.colour,
         "thumbnail": obj.thumbnail or b"",
         "first_frame": int(obj.first_frame), "last_frame": int(obj.last_frame),
@@ -132,17 +187,18 @@ def _new_props(obj: ObjectObservation, rid: str, now: float) -> dict:
     }
 
 
-def _updated_props(cand: dict, obj: ObjectObservation, now: float) -> dict:
+def _updated_props(cand: dict, obj: ObjectObservation, now: float, basis: np.ndarray) -> dict:
     labels, scores = combine_labels(cand["labels"], cand["scores"], obj.labels, obj.scores)
     mean, var, n = combine_gaussians([cand["x"], cand["y"], cand["z"]], cand["var"], cand["n_points"],
                                      obj.mean, obj.var, obj.n_points)
     hist = combine_histograms(unpack_hist(cand["hist"]), obj.hist)
-    size = combine_sizes(cand["size"], cand["observations"], obj.size)
+    centre, size = combine_boxes(cand["box_centre"] or [cand["x"], cand["y"], cand["z"]], cand["size"],
+                             _box_centre(obj), obj.size, basis)
     props = {
         "label": labels[0], "labels": labels, "scores": scores, "score": float(max(scores)),
         "x": float(mean[0]), "y": float(mean[1]), "z": float(mean[2]), "var": [float(v) for v in var],
         "n_points": int(n), "size": [float(v) for v in size], "volume": float(np.prod(size)),
-        "hist": pack_hist(hist),
+        "box_centre": [float(v) for v in centre], "hist": pack_hist(hist),
         # the dominant colour follows the larger share of the combined histogram's pixels
         "colour": obj.colour if float(np.sum(obj.hist)) > float(np.sum(hist)) / 2 else cand["colour"],
         "first_frame": min(int(cand["first_frame"]), int(obj.first_frame)),
@@ -162,6 +218,14 @@ def _window(objects: list[ObjectObservation], margin: float) -> dict:
     return {"xmin": lo[0], "xmax": hi[0], "ymin": lo[1], "ymax": hi[1], "zmin": lo[2], "zmax": hi[2]}
 
 
+def _fold_node(tx: ManagedTransaction, old: str, into: str) -> None:
+    """Move `old`'s relation edges to `into` (counts added, best score kept) and delete it."""
+    for rel_type in RELATION_TYPES:
+        for name in ("node_fold_out", "node_fold_in"):
+            tx.run(cypher.render(name, rel_type), old=old, into=into).consume()
+    tx.run(cypher.load("node_delete"), id=old).consume()
+
+
 def merge_in_tx(tx: ManagedTransaction, graph: LocalGraph, embedding: Optional[LabelEmbedding] = None,
                 params: SimilarityParams = SimilarityParams()) -> MergeReport:
     """The body of the merge transaction; `merge_local_graph` runs it with execute_write."""
@@ -177,16 +241,25 @@ def merge_in_tx(tx: ManagedTransaction, graph: LocalGraph, embedding: Optional[L
            up=[float(v) for v in graph.up] if graph.up is not None else None).consume()
 
     objects = graph.objects
-    cands, s_pos = _fetch_candidates(tx, rid, objects, params) if objects else ([], None)
+    basis = gravity_basis(graph.up)
+    cands, s_pos = _fetch_candidates(tx, rid, objects, params, basis) if objects else ([], None)
     report.candidates = len(cands)
-    matches = match_nodes(objects, cands, s_pos, embedding, params) if cands else {}
+    matches, absorbed = match_nodes(objects, cands, s_pos, embedding, params) if cands else ({}, {})
 
     updates, creates = [], []
     for i, obj in enumerate(objects):
         if i in matches:
             cand = cands[matches[i]]
             report.node_ids[obj.local_id] = cand["id"]
-            updates.append({"id": cand["id"], "props": _updated_props(cand, obj, now)})
+            props = _updated_props(cand, obj, now, basis)
+            for k in (k for k, j in absorbed.items() if j == matches[i]):
+                other = cands[k]
+                folded = _updated_props({**cand, **props}, _as_observation(other), now, basis)
+                folded["observations"] = props["observations"] + int(other["observations"])
+                props = folded
+                _fold_node(tx, other["id"], cand["id"])
+                report.absorbed += 1
+            updates.append({"id": cand["id"], "props": props})
         else:
             props = _new_props(obj, rid, now)
             report.node_ids[obj.local_id] = props["id"]

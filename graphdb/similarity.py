@@ -28,9 +28,11 @@ THRESHOLD = 0.7
 SIGMA_FLOOR_M = 0.08
 SIGMA_CAP_M = 0.75
 # The centre-patch Gaussian says where the patch is, not where a large object ends: a 2 m table
-# seen from either end gives two patches a metre apart. σ is also floored at this fraction of
-# the stored object's largest extent, so one big object is recognised from any of its parts.
+# seen from either end gives two patches a metre apart. Between views that share a label, σ is
+# also floored at this fraction of the stored object's largest extent (graphdb.merge).
 SIGMA_SIZE_FRACTION = 0.5
+# Extents above this are not trusted to widen the candidate window (a runaway box union).
+MAX_EXTENT_M = 3.0
 
 
 @dataclass(frozen=True)
@@ -94,6 +96,27 @@ def label_similarity(labels_o: Sequence[str], scores_o: Sequence[float],
     return max(0.0, float(word_similarity)) * score
 
 
+def _label_indicators(labels_c, labels_o) -> tuple[np.ndarray, np.ndarray]:
+    """0/1 matrices (row per object, column per label of the union vocabulary)."""
+    vocab = {lbl: i for i, lbl in enumerate(sorted({l for ls in (*labels_c, *labels_o) for l in ls}))}
+
+    def indicator(sets):
+        mat = np.zeros((len(sets), len(vocab)))
+        for r, ls in enumerate(sets):
+            mat[r, [vocab[lbl] for lbl in ls]] = 1.0
+        return mat
+
+    return indicator(labels_c), indicator(labels_o)
+
+
+def shared_labels(labels_c: Sequence[Sequence[str]], labels_o: Sequence[Sequence[str]]) -> np.ndarray:
+    """Number of top-k labels each (new, stored) pair has in common, shape (n_c, n_o)."""
+    if not labels_c or not labels_o:
+        return np.zeros((len(labels_c), len(labels_o)))
+    a, b = _label_indicators(labels_c, labels_o)
+    return a @ b.T
+
+
 def label_similarity_matrix(labels_c: Sequence[Sequence[str]], scores_c: Sequence[Sequence[float]],
                             labels_o: Sequence[Sequence[str]], scores_o: Sequence[Sequence[float]],
                             embedding) -> np.ndarray:
@@ -105,15 +128,7 @@ def label_similarity_matrix(labels_c: Sequence[Sequence[str]], scores_c: Sequenc
     n, m = len(labels_c), len(labels_o)
     if n == 0 or m == 0:
         return np.zeros((n, m))
-    vocab = {lbl: i for i, lbl in enumerate(sorted({l for ls in (*labels_c, *labels_o) for l in ls}))}
-
-    def indicator(sets):
-        mat = np.zeros((len(sets), len(vocab)))
-        for r, ls in enumerate(sets):
-            mat[r, [vocab[lbl] for lbl in ls]] = 1.0
-        return mat
-
-    a, b = indicator(labels_c), indicator(labels_o)
+    a, b = _label_indicators(labels_c, labels_o)
     common = a @ b.T
     smaller = np.minimum.outer(a.sum(1), b.sum(1))
     score = np.maximum.outer([max(s, default=0.0) for s in scores_c], [max(s, default=0.0) for s in scores_o])
@@ -136,6 +151,24 @@ def position_similarity(mean_o, var_o, mean_c, sigma_floor=SIGMA_FLOOR_M,
     sigma = np.sqrt(np.maximum(np.asarray(var_o, dtype=float), 0.0))
     sigma = np.minimum(np.maximum(sigma, sigma_floor), sigma_cap)
     z = np.abs(mean_c - mean_o) / sigma
+    per_axis = np.where(z < 1.0, 1.0, _two_sided_tail(z) / _two_sided_tail(1.0))
+    return np.prod(per_axis, axis=-1)
+
+
+def box_position_similarity(centre_o, size_o, centre_c, size_c, basis: np.ndarray,
+                            sigma: float = SIGMA_FLOOR_M) -> np.ndarray:
+    """Our extension of Eq. 12-13 for objects seen in parts: per gravity-frame axis, 1 while the
+    two 3-D boxes overlap (or their gap is under σ, the depth noise), else the same normal tail
+    ratio applied to gap/σ; product over the axes.
+
+    A 2 m table seen from either end gives two centre patches a metre apart (Eq. 13 scores them
+    as different places) but two boxes that overlap. `basis`: rows e1, e2, up (sizes are along
+    them). Broadcasts like `position_similarity`.
+    """
+    d = (np.asarray(centre_c, float) - np.asarray(centre_o, float)) @ basis.T
+    half = (np.asarray(size_o, float) + np.asarray(size_c, float)) / 2.0
+    gap = np.maximum(np.abs(d) - half, 0.0)
+    z = gap / sigma
     per_axis = np.where(z < 1.0, 1.0, _two_sided_tail(z) / _two_sided_tail(1.0))
     return np.prod(per_axis, axis=-1)
 

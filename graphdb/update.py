@@ -26,9 +26,14 @@ def combine_histograms(h_o, h_c) -> np.ndarray:
     return np.asarray(h_o, dtype=float) + np.asarray(h_c, dtype=float)
 
 
-def combine_sizes(size_o, obs_o: int, size_c) -> np.ndarray:
-    """Running mean of the 3-D extent over the observations (the paper leaves size open)."""
-    return (np.asarray(size_o, float) * obs_o + np.asarray(size_c, float)) / (obs_o + 1)
+def combine_boxes(centre_o, size_o, centre_c, size_c, basis: np.ndarray):
+    """The box covering both boxes in the gravity frame (rows of `basis`: e1, e2, up): a node's
+    extent grows as more of the object is seen (a table seen end by end) instead of averaging
+    partial views (the paper leaves size open)."""
+    co, cc = np.asarray(centre_o, float) @ basis.T, np.asarray(centre_c, float) @ basis.T
+    lo = np.minimum(co - np.asarray(size_o, float) / 2, cc - np.asarray(size_c, float) / 2)
+    hi = np.maximum(co + np.asarray(size_o, float) / 2, cc + np.asarray(size_c, float) / 2)
+    return ((lo + hi) / 2) @ basis, hi - lo
 
 
 def incoming_has_best_label(scores_o: Sequence[float], scores_c: Sequence[float]) -> bool:

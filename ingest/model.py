@@ -47,6 +47,7 @@ class ObjectObservation:
     first_frame: int = 0
     last_frame: int = 0
     n_frames: int = 1                      # frames of the keyframe group that saw it
+    box_centre: Optional[tuple[float, float, float]] = None  # centre of the 3-D box (size); None: mean
 
     @property
     def label(self) -> str:

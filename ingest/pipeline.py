@@ -103,6 +103,7 @@ def fuse_track(local_id: str, track: Track) -> ObjectObservation:
         local_id=local_id, labels=track.labels, scores=[float(s) for s in track.scores],
         mean=tuple(float(v) for v in mean), var=tuple(float(v) for v in var), n_points=int(n),
         size=tuple(float(v) for v in np.median([m.attrs.size for m in members], axis=0)),
+        box_centre=tuple(float(v) for v in np.median([m.attrs.centre for m in members], axis=0)),
         hist=np.sum([m.attrs.hist for m in members], axis=0),
         colour=colours.most_common(1)[0][0], thumbnail=best.attrs.thumbnail,
         first_frame=min(frames), last_frame=max(frames), n_frames=len(set(frames)))
@@ -132,7 +133,8 @@ def local_graph(group: KeyframeGroup, detector: Detector, up, method: Method, ro
     """The local 3-D scene graph of one keyframe group."""
     seen = [s for frame in group.frames for s in _frame_detections(frame, detector, up, method, stats)]
     t0 = time.perf_counter()
-    fds = [FrameDetection(s.frame.index, s.detection, s.attrs.mean, float(max(s.attrs.size)), s) for s in seen]
+    # the box centre, not the centre patch: a big object seen in parts keeps one track
+    fds = [FrameDetection(s.frame.index, s.detection, s.attrs.centre, float(max(s.attrs.size)), s) for s in seen]
     if method.three_d:
         tracks = associate(fds)
     else:  # a 2-D graph: every detection of every frame is its own node

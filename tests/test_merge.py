@@ -109,3 +109,41 @@ def test_cypher_error_mid_merge_rolls_back(store):
     with pytest.raises(CypherSyntaxError):
         store.execute_write(merge_then_fail)
     assert _snapshot(store) == before
+
+
+def test_a_big_object_seen_in_parts_becomes_one_node_whose_box_grows(store):
+    left = obj("l", "dining table", (-0.5, 0.0, 1.0), size=(1.0, 0.8, 0.1), hist=hist_of({30: 500}), colour="brown")
+    right = obj("r", "dining table", (0.5, 0.0, 1.0), size=(1.0, 0.8, 0.1), hist=hist_of({30: 400, 31: 100}),
+                colour="brown")
+    merge_local_graph(store, graph([left]))
+    merge_local_graph(store, graph([right]))
+    [table] = objects(store)
+    assert np.allclose(table["size"], (2.0, 0.8, 0.1))
+
+
+def test_a_brown_chair_under_a_brown_table_stays_a_chair(store):
+    table = obj("t", "dining table", (0.0, 0.0, 0.75), size=(2.0, 0.9, 0.1), hist=hist_of({30: 500}), colour="brown")
+    chair = obj("c", "chair", (0.3, 0.2, 0.5), size=(0.4, 0.4, 0.5), hist=hist_of({30: 500}), colour="brown")
+    merge_local_graph(store, graph([table]))
+    merge_local_graph(store, graph([chair]))
+    assert sorted(o["label"] for o in objects(store)) == ["chair", "dining table"]
+
+
+def test_a_view_linking_two_stored_parts_folds_them_into_one_node_with_their_edges(store):
+    hist = hist_of({30: 500})
+    left = obj("l", "dining table", (-1.0, 0.0, 1.0), size=(0.8, 0.8, 0.1), hist=hist, colour="brown")
+    right = obj("r", "dining table", (1.0, 0.0, 1.0), size=(0.8, 0.8, 0.1), hist=hist, colour="brown")
+    cup = obj("c", "cup", (1.0, 0.0, 1.1))
+    chair = obj("h", "chair", (-1.0, 0.7, 0.5), hist=hist_of({200: 100}), colour="black")
+    merge_local_graph(store, graph([left, chair], relations=[("h", "NEXT_TO", "l", 0.8)]))
+    merge_local_graph(store, graph([right, cup], relations=[("c", "ON", "r", 0.9)]))
+    assert sorted(o["label"] for o in objects(store)) == ["chair", "cup", "dining table", "dining table"]
+    whole = obj("w", "dining table", (0.0, 0.0, 1.0), size=(2.4, 0.8, 0.1), hist=hist, colour="brown")
+    report = merge_local_graph(store, graph([whole]))
+    assert report.absorbed == 1
+    nodes = objects(store)
+    assert sorted(o["label"] for o in nodes) == ["chair", "cup", "dining table"]
+    [table] = [o for o in nodes if o["label"] == "dining table"]
+    assert table["observations"] == 3
+    rels = {(r["type"], r["o"]) for r in store.read("relation_all", room=ROOM, types=list(RELATION_TYPES))}
+    assert rels == {("NEXT_TO", table["id"]), ("ON", table["id"])}

@@ -83,3 +83,25 @@ def test_label_similarity_matrix_matches_the_pairwise_equation():
         for j, (lo, so) in enumerate(old):
             word = max(0.0, similarity(emb, lo[0], lc[0]))
             assert math.isclose(mat[i, j], label_similarity(lo, so, lc, sc, word), rel_tol=1e-5)
+
+
+def test_box_similarity_is_one_for_overlapping_boxes_and_falls_off_with_the_gap():
+    from graphdb.similarity import box_position_similarity
+
+    basis = np.eye(3)
+    # two halves of a 2 m table, centres 1 m apart: overlapping boxes
+    assert box_position_similarity((0, 0, 0), (1.2, 0.8, 0.1), (1.0, 0, 0), (1.2, 0.8, 0.1), basis) == 1.0
+    # two chairs 0.9 m apart, 0.4 m wide: a 0.5 m gap is not the same place
+    assert box_position_similarity((0, 0, 0), (0.4, 0.4, 0.4), (0.9, 0, 0), (0.4, 0.4, 0.4), basis) < 1e-6
+    gap, sigma = 0.2, 0.08
+    z = gap / sigma
+    expected = (1 - phi(z) + phi(-z)) / (1 - phi(1) + phi(-1))
+    got = box_position_similarity((0, 0, 0), (0.4, 0.4, 0.4), (0.6, 0, 0), (0.4, 0.4, 0.4), basis, sigma)
+    assert math.isclose(got, expected, rel_tol=1e-9)
+
+
+def test_combine_boxes_covers_both_boxes():
+    from graphdb.update import combine_boxes
+
+    centre, size = combine_boxes((0, 0, 0), (1, 1, 1), (1.5, 0, 0), (1, 1, 1), np.eye(3))
+    assert np.allclose(centre, (0.75, 0, 0)) and np.allclose(size, (2.5, 1, 1))
