@@ -1,6 +1,7 @@
-// The objects of the asked labels (null = any), rooms and colour: what answers and lists show.
+// The objects of the asked labels, colour (null = any) and rooms (null = all), from the
+// object_label index (see vqa_count for why the label test stands alone).
 MATCH (o:Object)
-WHERE ($labels IS NULL OR o.label IN $labels)
+WHERE o.label IN $labels
   AND ($rooms IS NULL OR o.room IN $rooms)
   AND ($colour IS NULL OR o.colour = $colour)
 RETURN o.id AS id, o.label AS label, o.colour AS colour, o.volume AS volume, o.size AS size,

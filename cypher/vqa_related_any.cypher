@@ -1,9 +1,10 @@
 // Like vqa_related, for a symmetric relation (next to, near): an edge either way counts.
-MATCH (o:Object)-[e:REL_TYPE]-(b:Object)
+MATCH (b:Object)
 WHERE b.label IN $anchors
-  AND o.id <> b.id
+  AND ($rooms IS NULL OR b.room IN $rooms)
+MATCH (o:Object)-[e:REL_TYPE]-(b)
+WHERE o.id <> b.id
   AND ($labels IS NULL OR o.label IN $labels)
-  AND ($rooms IS NULL OR o.room IN $rooms)
   AND ($colour IS NULL OR o.colour = $colour)
 RETURN o.id AS id, o.label AS label, o.colour AS colour, o.volume AS volume, o.size AS size,
        o.room AS room, b.id AS anchor_id, b.label AS anchor_label, e.score AS rel_score

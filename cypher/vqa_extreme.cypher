@@ -1,0 +1,11 @@
+// The extreme-volume object among the asked labels (rooms null = all): $sign 1 = biggest,
+// -1 = smallest (one template for both; ORDER BY takes no direction parameter).
+MATCH (o:Object)
+WHERE o.label IN $labels
+  AND ($rooms IS NULL OR o.room IN $rooms)
+  AND ($colour IS NULL OR o.colour = $colour)
+  AND o.volume IS NOT NULL
+RETURN o.id AS id, o.label AS label, o.colour AS colour, o.volume AS volume, o.size AS size,
+       o.room AS room, o.x AS x, o.y AS y, o.z AS z, o.score AS score
+ORDER BY volume * $sign DESC, id
+LIMIT 1

@@ -1,0 +1,12 @@
+// The extreme-volume object in a few rooms, restricted to the rooms before ordering:
+// $sign 1 = biggest, -1 = smallest.
+MATCH (r:Room)
+WHERE r.id IN $rooms
+MATCH (r)-[:CONTAINS]->(o:Object)
+WHERE ($labels IS NULL OR o.label IN $labels)
+  AND ($colour IS NULL OR o.colour = $colour)
+  AND o.volume IS NOT NULL
+RETURN o.id AS id, o.label AS label, o.colour AS colour, o.volume AS volume, o.size AS size,
+       o.room AS room, o.x AS x, o.y AS y, o.z AS z, o.score AS score
+ORDER BY volume * $sign DESC, id
+LIMIT 1

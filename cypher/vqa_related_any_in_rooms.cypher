@@ -1,0 +1,13 @@
+// vqa_related_any in a few rooms (see vqa_related_in_rooms).
+MATCH (r:Room)
+WHERE r.id IN $rooms
+MATCH (r)-[:CONTAINS]->(b:Object)
+WHERE b.label IN $anchors
+MATCH (o:Object)-[e:REL_TYPE]-(b)
+WHERE o.id <> b.id
+  AND ($labels IS NULL OR o.label IN $labels)
+  AND ($colour IS NULL OR o.colour = $colour)
+RETURN o.id AS id, o.label AS label, o.colour AS colour, o.volume AS volume, o.size AS size,
+       o.room AS room, b.id AS anchor_id, b.label AS anchor_label, e.score AS rel_score
+ORDER BY id, anchor_id
+LIMIT $limit
