@@ -97,9 +97,11 @@ def _render(report: dict) -> None:
               help="Greatest node-to-GT distance in metres for a match [0.5; GT positions are approximate].")
 @click.option("--no-vqa", is_flag=True, help="Skip the questions.")
 @click.option("--json", "as_json", is_flag=True, help="Machine-readable report on stdout.")
+@click.option("--report", "report_dir", type=click.Path(file_okay=False, path_type=Path), default=None,
+              help="Also write DIR/report.md and DIR/report.html with the graph picture coloured by match.")
 @click.pass_obj
 def eval_command(settings, gt_path: Path, room: str, building: str, tolerance: Optional[float],
-                 no_vqa: bool, as_json: bool) -> None:
+                 no_vqa: bool, as_json: bool, report_dir: Optional[Path]) -> None:
     """Compare the scene graph of ROOM with ground truth: nodes, edges and question answers."""
     from graphdb.merge import room_id
     from queries.eval_gt import load_gt
@@ -116,6 +118,12 @@ def eval_command(settings, gt_path: Path, room: str, building: str, tolerance: O
         raise UserError(f"no room {room!r} in building {building!r} (build it with `sg3d build`)")
     report = evaluate(store, gt, rid, room=room, building=building,
                       tolerance=DEFAULT_TOLERANCE if tolerance is None else tolerance, with_vqa=not no_vqa)
+    if report_dir is not None:
+        from queries.render import load_scene
+        from queries.report import write_report
+
+        written = write_report(report_dir, report, load_scene(store, building, room), gt, room)
+        click.echo("wrote " + ", ".join(str(p) for p in written), err=True)
     if as_json:
         click.echo(json.dumps(report))
     else:

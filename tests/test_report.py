@@ -1,0 +1,37 @@
+"""`sg3d eval --report DIR` on a hand-made graph: report files, metrics, the coloured picture."""
+from __future__ import annotations
+
+import json
+
+import cv2
+import numpy as np
+from click.testing import CliRunner
+
+from sg3d.cli import cli
+from tests.test_eval import BUILDING, GT, ROOM, build_room
+
+
+def test_report_files_mention_the_metrics_and_colour_the_nodes(store, embedded_home, tmp_path):
+    build_room(store)
+    gt_file = tmp_path / "gt.json"
+    gt_file.write_text(json.dumps(GT))
+    out = tmp_path / "rep"
+    r = CliRunner().invoke(cli, ["--home", str(embedded_home), "eval", "--gt", str(gt_file), "--room", ROOM,
+                                 "--building", BUILDING, "--no-vqa", "--report", str(out)])
+    assert r.exit_code == 0, r.output
+    md = (out / "report.md").read_text()
+    page = (out / "report.html").read_text()
+    for text in (md, page):
+        for metric in ("node precision", "node recall", "edge precision", "duplicate nodes", "missing nodes"):
+            assert metric in text
+        assert "60.0%" in text and "75.0%" in text       # 3 of 5 nodes right, 3 of 4 GT objects found
+    assert "](graph.png)" in md and "data:image/png;base64," in page
+    assert "- B book (unsure)" in md                                  # the missing GT object is listed
+    img = cv2.imread(str(out / "graph.png"))
+    assert img.shape == (1200, 1600, 3)
+    bgr = img.reshape(-1, 3).astype(int)
+
+    def has(rgb, tol=30):
+        return (np.abs(bgr - np.array(rgb[::-1])).max(axis=1) < tol).sum() > 20
+
+    assert has((46, 170, 70)) and has((220, 40, 40)) and has((255, 150, 0))    # matched, spurious, duplicate
