@@ -44,7 +44,7 @@ class ParseError(ValueError):
 
 @dataclass
 class Query:
-    form: str                               # count | exists | list | attribute | show
+    form: str                               # count | exists | list | attribute | show | rooms
     target: Target
     colour: Optional[str] = None
     size: Optional[str] = None              # big | small (vs the category's median volume)
@@ -76,6 +76,9 @@ def normalise(text: str) -> str:
 
 # (regex, form, attribute) — the question frames, tried in order
 FRAMES: list[tuple[re.Pattern, str, Optional[str]]] = [
+    # which rooms hold an object (issue 7): before "what/which ... is" and "is there"
+    (re.compile(r"^(?:which|what) rooms? (?:has|have|holds?|contains?) (?P<rest>.+)$"), "rooms", None),
+    (re.compile(r"^in (?:which|what) rooms? (?:is|are) (?:there )?(?P<rest>.+)$"), "rooms", None),
     (re.compile(r"^how many (?P<rest>.+)$"), "count", None),
     (re.compile(r"^what(?: is the)? number of (?P<rest>.+)$"), "count", None),
     (re.compile(r"^count (?:the )?(?P<rest>.+)$"), "count", None),

@@ -280,7 +280,25 @@ def show(run: _Run, q: Query, rooms) -> Answer:
     return Answer("", True, text, "show", _brief(r), [_brief(r)], q, thumbnail=bytes(data) if data else None)
 
 
-FORMS = {"count": count, "exists": exists, "list": list_objects, "attribute": attribute, "show": show}
+def rooms_with(run: _Run, q: Query, rooms) -> Answer:
+    """Which rooms hold at least one matching object; the total counts each SAME_AS group once."""
+    rows = _candidates(run, q, rooms)
+    per_room: dict[str, int] = {}
+    for r in rows:
+        per_room[r["room"]] = per_room.get(r["room"], 0) + 1
+    if not per_room:
+        return Answer("", True, f"none: no room holds a {_what(q, 1)}{_where(q, False)}", "rooms", [], query=q)
+    extra = sum(_same_as_excess(run, q, rooms).values()) if len(per_room) > 1 else 0
+    n = len(rows) - extra
+    names = ", ".join(f"{rid.split('/', 1)[-1]} ({k} {_what(q, k)})" for rid, k in sorted(per_room.items()))
+    text = f"{names}; {n} {_what(q, n)} in all"
+    if extra:
+        text += f" [{extra} seen from two rooms counted once]"
+    value = [{"room": rid, "n": k} for rid, k in sorted(per_room.items())]
+    return Answer("", True, text, "rooms", value, value, q)
+
+
+FORMS = {"rooms": rooms_with, "count": count, "exists": exists, "list": list_objects, "attribute": attribute, "show": show}
 
 
 def answer(store, question: str, room: Optional[str] = None, building: Optional[str] = None,
