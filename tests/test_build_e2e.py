@@ -36,6 +36,7 @@ def _build(home, kitchen_dir, *extra):
 def test_build_twice_gives_identical_counts(home, kitchen_dir):
     first = _build(home, kitchen_dir)
     assert first["frames"]["read"] == 120
+    assert first["placement"] == {"how": "reference room of the building"}
     assert first["graph"]["merged_groups"] >= 1
     assert first["graph"]["room_objects"] > 0
     second = _build(home, kitchen_dir)
@@ -71,3 +72,16 @@ def test_bad_sequence_is_one_clear_line(home, tmp_path):
     out = sg3d(home, "build", str(tmp_path / "nope"), "--room", "x")
     assert out.returncode == 2
     assert len(out.stderr.strip().splitlines()) == 1 and "not found" in out.stderr
+
+
+def test_a_second_room_takes_the_given_transform(home, kitchen_dir, tmp_path):
+    transform = tmp_path / "t.txt"
+    transform.write_text("0 -1 0 1\n1 0 0 2\n0 0 1 0\n0 0 0 1\n")
+    out = sg3d(home, "build", str(kitchen_dir), "--room", "other", "--building", "test",
+               "--start", "0", "--stop", "40", "--transform", str(transform), "--json")
+    assert out.returncode == 0, out.stderr
+    assert json.loads(out.stdout)["placement"] == {"how": "transform file"}
+    rooms = json.loads(sg3d(home, "rooms", "--building", "test", "--json").stdout)
+    placed = {r["name"]: r for r in rooms}
+    assert placed["other"]["to_building"][0] == [0.0, -1.0, 0.0, 1.0]
+    assert placed["slice"]["to_building"][0] == [1.0, 0.0, 0.0, 0.0]

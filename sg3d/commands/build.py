@@ -27,6 +27,8 @@ def _summary_table(summary: dict):
     stages = ", ".join(f"{k} {v:.2f}" for k, v in summary["seconds"].items())
     t.add_row("seconds", stages)
     t.add_row("speed", f"{summary['input_frames_per_second']:.1f} input frames/s")
+    if summary.get("placement"):
+        t.add_row("in building", ", ".join(f"{k} {v}" for k, v in summary["placement"].items()))
     return t
 
 
@@ -48,17 +50,27 @@ def _summary_table(summary: dict):
 @click.option("--t-key", type=float, default=0.2, show_default=True, help="KGE keyframe overlap threshold.")
 @click.option("--t-anchor", type=float, default=0.9, show_default=True,
               help="KGE anchor overlap threshold (authors' code: 0.68, which keeps 2 % of the kitchen and misses its sink).")
+@click.option("--transform", "transform_file", type=click.Path(exists=True, dir_okay=False, path_type=Path),
+              default=None, help="4x4 room-to-building transform (4 lines of 4 numbers).")
+@click.option("--align-to", default=None, metavar="ROOM",
+              help="Place the room in the building by aligning its objects to ROOM's (RANSAC + Kabsch).")
+@click.option("--shared-frame", is_flag=True,
+              help="The sequence shares the building's world frame (identity transform).")
 @click.option("--json", "as_json", is_flag=True, help="Print the summary as JSON (no progress bar).")
 @click.pass_obj
 def build(settings, sequence: Path, room: str, building: str, method: str, layout: Optional[str],
           start: int, stop: Optional[int], resume: bool, detector: Optional[str], score_threshold: float,
-          abir_gain: Optional[float], t_key: float, t_anchor: float, as_json: bool) -> None:
+          abir_gain: Optional[float], t_key: float, t_anchor: float, transform_file: Optional[Path],
+          align_to: Optional[str], shared_frame: bool, as_json: bool) -> None:
     """Build (or extend) the 3-D scene graph of ROOM from the RGB-D SEQUENCE folder.
 
     Runs blur rejection (ABIR), keyframe groups (KGE), detection, 3-D attributes, spurious
     detection rejection (SDR) and relations, and merges each keyframe group's local graph into
     the store as one transaction. Re-running the same build merges nothing twice; after Ctrl-C
     or a crash, --resume continues after the last merged group.
+
+    Rooms of one building: the first room placed in a building is its reference frame; place
+    the others with --shared-frame, --transform FILE or --align-to ROOM (see `sg3d rooms`).
     """
     from rich.console import Console
     from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
@@ -75,6 +87,16 @@ def build(settings, sequence: Path, room: str, building: str, method: str, layou
 
     if not room.strip() or "/" in room or "/" in building:
         raise UserError("room and building names must be non-empty and contain no '/'")
+    if sum(map(bool, (transform_file, align_to, shared_frame))) > 1:
+        raise UserError("give at most one of --transform, --align-to and --shared-frame")
+    placement = None
+    if transform_file is not None:
+        from graphdb.building import TransformError, load_transform
+
+        try:
+            placement = load_transform(transform_file)  # read before the long build, fail early
+        except TransformError as exc:
+            raise UserError(str(exc))
     t_start = time.perf_counter()
     seq = open_sequence(sequence, layout)
     if len(seq) == 0:
@@ -151,6 +173,7 @@ def build(settings, sequence: Path, room: str, building: str, method: str, layou
             interrupted = True
         progress.update(task, completed=min(n_total, selector.stats.read + selector.stats.skipped))
 
+    placed = None if interrupted else _place_room(store, building, room, placement, align_to, shared_frame)
     st = selector.stats
     wall = time.perf_counter() - t_start
     room_objects = store.read("object_count", room=rid)[0]["n"]
@@ -170,7 +193,7 @@ def build(settings, sequence: Path, room: str, building: str, method: str, layou
         "graph": {**totals, "room_objects": room_objects, "room_relations": room_relations},
         "seconds": {k: round(v, 3) for k, v in seconds.items()},
         "input_frames_per_second": round(st.frames / wall, 2) if wall > 0 else 0.0,
-        "frames_read": st.read, "key": run,
+        "frames_read": st.read, "key": run, "placement": placed,
     }
     if as_json:
         click.echo(json.dumps(summary))
@@ -180,6 +203,31 @@ def build(settings, sequence: Path, room: str, building: str, method: str, layou
         click.echo(f"interrupted: {totals['merged_groups']} groups merged and kept; "
                    f"run the same command with --resume to continue", err=True)
         raise SystemExit(130)
+
+
+def _place_room(store, building: str, room: str, transform, align_to: Optional[str], shared_frame: bool):
+    """Give the room its room-to-building transform; a building's first room is its reference."""
+    import numpy as np
+
+    from graphdb.align import AlignmentError
+    from graphdb.building import link_rooms, list_rooms, room_id_of, set_room_transform
+
+    rid = room_id_of(building, room)
+    try:
+        if align_to:
+            report = link_rooms(store, room_id_of(building, align_to), rid)
+            return {"how": f"aligned to {align_to}", "residual_m": round(report.residual_rms_m, 4),
+                    "pairs": report.pairs, "same_as": len(report.same_as)}
+        if transform is not None:
+            set_room_transform(store, rid, transform)
+            return {"how": "transform file"}
+        placed = [r for r in list_rooms(store, building) if r["id"] != rid and r["to_building"] is not None]
+        if shared_frame or not placed:
+            set_room_transform(store, rid, np.eye(4))
+            return {"how": "shared frame" if shared_frame else "reference room of the building"}
+    except AlignmentError as exc:
+        raise UserError(f"the graph was built, but placing it in the building failed: {exc}")
+    return {"how": "not placed yet: `sg3d rooms link`, or build with --align-to/--transform/--shared-frame"}
 
 
 commands = [build]
