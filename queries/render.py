@@ -169,7 +169,8 @@ def spring_coords(ids: Sequence[str], edges: Iterable[dict], seed: int = 0, iter
         dist = np.maximum(np.linalg.norm(delta, axis=-1), 1e-3)
         force = (k * k / dist ** 2 - adj * dist / k)          # repulsion minus attraction, / dist
         np.fill_diagonal(force, 0.0)
-        disp = (delta * force[..., None]).sum(axis=1)
+        # weak pull to the centre: without it a node with no edge drifts off and squeezes the rest
+        disp = (delta * force[..., None]).sum(axis=1) - pos * (2.0 * k)
         length = np.maximum(np.linalg.norm(disp, axis=1), 1e-9)
         pos += disp / length[:, None] * np.minimum(length, temp)[:, None]
         temp = max(temp * 0.985, 0.002)
