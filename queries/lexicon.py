@@ -12,6 +12,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Optional
 
+from ingest.model import COLOUR_NAMES
 from queries.taxonomy import Taxonomy
 
 SYNONYMS = Path(__file__).resolve().parent / "data" / "synonyms.json"
@@ -33,6 +34,20 @@ IRREGULAR = {
     "pieces": "piece", "series": "series", "species": "species", "furniture": "furniture",
     "cutlery": "cutlery", "tableware": "tableware", "kitchenware": "kitchenware", "food": "food",
     "stuff": "stuff", "tv": "tv", "tvs": "tv", "glass": "glass", "bus": "bus", "canvas": "canvas",
+}
+
+
+# Words that may stand before a known head noun without changing what it is ("dining furniture",
+# "wooden chairs"): adjectives of material, state, shape, colour, size and room use. Any other
+# word beside a known noun makes the phrase doubtful, and a doubtful phrase is refused.
+MODIFIERS = frozenset(COLOUR_NAMES) | {
+    "gray", "silver", "golden", "big", "large", "huge", "small", "little", "tiny",
+    "dining", "kitchen", "living", "bathroom", "bedroom", "office", "garden", "outdoor", "indoor",
+    "wooden", "wood", "metal", "metallic", "plastic", "ceramic", "porcelain", "paper", "leather",
+    "fabric", "steel", "stainless", "empty", "full", "clean", "dirty", "used", "old", "new",
+    "open", "closed", "tall", "short", "long", "round", "square", "rectangular", "flat", "dark",
+    "light", "bright", "striped", "patterned", "other", "different", "individual", "separate",
+    "single", "visible", "main", "extra", "spare", "whole", "entire", "various",
 }
 
 
@@ -140,12 +155,39 @@ def by_embedding(phrase: str, embedding=None) -> tuple[Optional[Target], list[tu
     return Target(phrase, _labels_of(names), names, "embedding", round(float(sims[order[0]]), 3)), top
 
 
+def head_noun(phrase: str) -> tuple[Optional[Target], str]:
+    """An unknown multi-word phrase that contains a known name: (Target of the known head noun,
+    '') when every word before it is a modifier; (None, why) when other words make the reading
+    doubtful; (None, '') when it contains no known name (the embedding may then try it whole,
+    which must not happen to a phrase holding a known word: it would be pulled by its parts)."""
+    words = phrase.split()
+    for i in range(1, len(words)):
+        head = known(" ".join(words[i:]))
+        if head is not None:
+            others = [w for w in words[:i] if w not in MODIFIERS]
+            if not others:
+                return Target(phrase, head.labels, head.names, head.how), ""
+            return None, (f"I am not sure what '{phrase}' means: '{' '.join(words[i:])}' is known, "
+                          f"but not with '{' '.join(others)}'")
+    for i in range(len(words)):
+        for j in range(len(words), i, -1):
+            part = " ".join(words[i:j])
+            if (j - i) < len(words) and known(part) is not None:
+                return None, (f"I am not sure what '{phrase}' means: it holds the known '{part}' "
+                              f"with other words")
+    return None, ""
+
+
 def resolve(phrase: str, embedding=None, use_embedding: bool = True):
     """(Target or None, why-not text)."""
     phrase = " ".join(phrase.split())
     if not phrase:
         return None, "no object named"
     hit = known(phrase)
+    if hit is None and " " in phrase:
+        hit, doubt = head_noun(phrase)
+        if doubt:
+            return None, doubt
     if hit is not None or not use_embedding:
         return hit, "" if hit else f"unknown object '{phrase}'"
     hit, top = by_embedding(phrase, embedding)

@@ -44,7 +44,7 @@ class ParseError(ValueError):
 
 @dataclass
 class Query:
-    form: str                               # count | exists | list | attribute | show | rooms
+    form: str                               # count | exists | list | attribute | show | rooms | where
     target: Target
     colour: Optional[str] = None
     size: Optional[str] = None              # big | small (vs the category's median volume)
@@ -68,7 +68,19 @@ class Query:
         return out
 
 
+PARENTHETICAL = re.compile(r"\([^()]*\)|\[[^\[\]]*\]")
+
+
 def normalise(text: str) -> str:
+    # parenthetical remarks "( ... )" are asides, not part of the question (innermost first)
+    while True:
+        stripped = PARENTHETICAL.sub(" ", text)
+        if stripped == text:
+            break
+        text = stripped
+    # "A / B" and "A and/or B" name alternatives: read as "A or B"
+    text = re.sub(r"\band\s*/\s*or\b", " or ", text, flags=re.I)
+    text = re.sub(r"\s*/\s*", " or ", text)
     text = text.lower().replace("colour", "color").replace("’", "'")
     text = re.sub(r"[^a-z0-9' ]+", " ", text)
     return " ".join(text.split())
@@ -88,6 +100,7 @@ FRAMES: list[tuple[re.Pattern, str, Optional[str]]] = [
     (re.compile(r"^what is the color of (?P<rest>.+)$"), "attribute", "colour"),
     (re.compile(r"^(?:how big|what size|how large) (?:is|are) (?P<rest>.+)$"), "attribute", "size"),
     (re.compile(r"^(?:show me|show|find|give me|display|where is|where are|which is|what is) (?P<rest>(?:the |a )?(?:biggest|largest|smallest|tiniest|\w+ (?:closest|nearest)|closest|nearest)\b.*)$"), "show", None),
+    (re.compile(r"^where (?:is|are|can i find|do i find|would i find) (?P<rest>.+)$"), "where", None),
     (re.compile(r"^(?:show me|show|display|find) (?P<rest>.+)$"), "list", None),
     (re.compile(r"^(?:list|name|enumerate) (?P<rest>.+)$"), "list", None),
     (re.compile(r"^(?:what|which)(?: objects?| things?)? (?:is|are) (?P<rest>(?:" + _REL_RE.pattern[2:-2] + r")\b.+)$"), "list", None),
@@ -159,10 +172,29 @@ def _noun_phrase(words: list[str], q: Query) -> str:
 def _target(phrase: str, embedding, use_embedding: bool, implicit_any: bool) -> Target:
     if not phrase and implicit_any:
         return Target("", None, [], "any")
-    hit, why = resolve(phrase, embedding, use_embedding)
-    if hit is None:
-        raise ParseError(f"{why}. " + HELP)
-    return hit
+    parts = [p.strip() for p in re.split(r"\bor\b", phrase)] if re.search(r"\bor\b", phrase) else [phrase]
+    if len(parts) > 1 and not all(parts):
+        raise ParseError(f"'{phrase}': an 'or' needs an object on both sides. " + HELP)
+    hits = []
+    for part in parts:
+        hit, why = resolve(part, embedding, use_embedding)
+        if hit is None:
+            raise ParseError(f"{why}. " + HELP)
+        hits.append(hit)
+    if len(hits) == 1:
+        return hits[0]
+    return _either(phrase, hits)
+
+
+def _either(phrase: str, hits: list[Target]) -> Target:
+    """'A or B' ('A / B'): one category if both name it, else every category named (how='either')."""
+    if any(h.labels is None for h in hits):
+        return Target(phrase, None, [], "any")
+    if all(sorted(h.labels) == sorted(hits[0].labels) for h in hits):
+        return hits[0]
+    names = list(dict.fromkeys(n for h in hits for n in h.names))
+    labels = sorted({lab for h in hits for lab in h.labels})
+    return Target(phrase, labels, names, "either")
 
 
 def _build(form, attribute, rest, is_room, embedding, use_embedding) -> Query:

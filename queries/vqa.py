@@ -119,6 +119,8 @@ def _understood(q: Query) -> str:
     for t in (q.target, q.anchor):
         if t is not None and t.how == "embedding":
             notes.append(f"'{t.phrase}' read as {' + '.join(t.names)} (similarity {t.similarity:.2f})")
+        if t is not None and t.how == "either":
+            notes.append(f"'{t.phrase}' names {len(t.names)} categories; counted both: {' and '.join(t.names)}")
     return f" [{'; '.join(notes)}]" if notes else ""
 
 
@@ -267,16 +269,22 @@ def show(run: _Run, q: Query, rooms) -> Answer:
     else:
         if q.size:
             raise Refusal("'big'/'small' together with a superlative is not supported")
-        rows = run.read(_variant("vqa_extreme", rooms, q.target.labels), sign=1 if q.superlative == "max" else -1,
-                        **_filters(q, rooms))
+        sign = 1 if q.superlative == "max" else -1
+        if q.relation:
+            # only the objects related to the anchor compete ("the biggest cup on the table")
+            rows = sorted((r for r in _candidates(run, q, rooms) if r.get("volume") is not None),
+                          key=lambda r: (-sign * float(r["volume"]), r["id"]))[:1]
+        else:
+            rows = run.read(_variant("vqa_extreme", rooms, q.target.labels), sign=sign, **_filters(q, rooms))
         how = "biggest" if q.superlative == "max" else "smallest"
+    rel = f" {q.relation_word} the {' or '.join(q.anchor.names)}" if q.relation else ""
     if not rows:
-        return Answer("", False, f"there is no {_what(q, 1)}{' in the ' + q.room if q.room else ''}", "show", None, query=q)
+        return Answer("", False, f"there is no {_what(q, 1)}{rel}{' in the ' + q.room if q.room else ''}", "show", None, query=q)
     r = rows[0]
     thumb = run.read("vqa_thumbnail", id=r["id"])
     data = thumb[0]["thumbnail"] if thumb else None
     detail = f"{r.get('volume', 0) or 0:.3g} m^3" if q.superlative != "closest" else f"{r['distance']:.2f} m away"
-    text = f"the {how} {_what(q, 1)}: {r['id']} ({r.get('colour') or '?'}, {detail})"
+    text = f"the {how} {_what(q, 1)}{rel}: {r['id']} ({r.get('colour') or '?'}, {detail})"
     return Answer("", True, text, "show", _brief(r), [_brief(r)], q, thumbnail=bytes(data) if data else None)
 
 
@@ -298,7 +306,34 @@ def rooms_with(run: _Run, q: Query, rooms) -> Answer:
     return Answer("", True, text, "rooms", value, value, q)
 
 
-FORMS = {"rooms": rooms_with, "count": count, "exists": exists, "list": list_objects, "attribute": attribute, "show": show}
+REL_WORDS = {"ON": "on", "IN": "in", "UNDER": "under", "BELOW": "below", "ABOVE": "above",
+             "NEXT_TO": "next to", "NEAR": "near", "IN_FRONT_OF": "in front of", "BEHIND": "behind"}
+SYMMETRIC = ("NEXT_TO", "NEAR")
+
+
+def where(run: _Run, q: Query, rooms) -> Answer:
+    """Where is the <object>: per matching object, what it is on/in/next to, and its room."""
+    rows = _candidates(run, q, rooms)
+    if not rows:
+        return Answer("", False, f"there is no {_what(q, 1)}{_where(q, rooms is not None)} to locate", "where", None, query=q)
+    ids = [r["id"] for r in rows[:LIST_SHOWN]]
+    rels: dict[str, list[dict]] = {i: [] for i in ids}
+    for incoming, types in ((False, sorted(REL_WORDS)), (True, list(SYMMETRIC))):
+        for e in run.read("vqa_where", ids=ids, types=types, incoming=incoming):
+            if not any(x["other_id"] == e["other_id"] and x["rel"] == e["rel"] for x in rels[e["id"]]):
+                rels[e["id"]].append({"rel": e["rel"], "other_id": e["other_id"], "other_label": e["other_label"]})
+    value, parts = [], []
+    for r in rows[:LIST_SHOWN]:
+        found = rels[r["id"]]
+        room = (r.get("room") or "?").split("/", 1)[-1]
+        said = ", ".join(f"{REL_WORDS[x['rel']]} the {x['other_label']} ({x['other_id']})" for x in found)
+        parts.append(f"{r['label']} ({r['id']}) in the {room}" + (f": {said}" if said else ""))
+        value.append({**_brief(r), "relations": found})
+    more = f"; ... {len(rows) - LIST_SHOWN} more" if len(rows) > LIST_SHOWN else ""
+    return Answer("", True, "; ".join(parts) + more, "where", value, value, q)
+
+
+FORMS = {"where": where, "rooms": rooms_with, "count": count, "exists": exists, "list": list_objects, "attribute": attribute, "show": show}
 
 
 def answer(store, question: str, room: Optional[str] = None, building: Optional[str] = None,

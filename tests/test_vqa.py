@@ -176,3 +176,51 @@ def test_cli_answers_explains_writes_thumbnail_and_refuses(store, house, tmp_pat
     assert json.loads(r.output)["thumbnail"] == str(out)
     r = runner.invoke(ask_cmd, ["what is the meaning of life"], obj=_Settings(store))
     assert r.exit_code != 0 and "I can answer" in r.output
+
+
+def test_parenthetical_remarks_are_dropped(store, house):
+    assert ask(store, "how many cups (mugs included) are there?").value == 2
+    assert ask(store, "how many red chairs [roughly] are in the kitchen (not the hall)?").value == 2
+
+
+def test_or_and_slash_name_one_or_two_categories(store, house):
+    assert parse("how many cups or mugs", use_embedding=False).target.labels == ["cup"]
+    assert parse("how many sofas / couches", use_embedding=False).target.labels == ["couch"]
+    a = ask(store, "how many cups or bowls are there?")
+    assert a.value == 5 and "counted both" in a.text and "cup" in a.text and "bowl" in a.text
+    a = ask(store, "how many forks/knives are there?")
+    assert a.value == 2 and "counted both" in a.text
+
+
+def test_known_word_with_unknown_words_is_not_guessed(store, house):
+    # a known group after modifiers: the group
+    assert parse("how many pieces of dining furniture", use_embedding=False).target.names == ["furniture"]
+    assert parse("how many wooden chairs", use_embedding=False).target.labels == ["chair"]
+    # a known noun with words that are not modifiers: refused, never read whole by the embedding
+    for q in ("how many dining furniture tables chairs are there", "how many table lamps are there"):
+        with pytest.raises(ParseError):
+            parse(q)
+        a = answer(store, q)
+        assert not a.ok and a.value is None
+
+
+def test_superlative_with_a_relation_stays_among_the_related(store, house):
+    a = ask(store, "which is the largest object on the table?")
+    assert a.value["id"] in {house[k] for k in ("u1", "u2", "b1", "f1")}
+    assert a.value["id"] == house["b1"]            # 0.2x0.2x0.1 beats the 0.1 cubes
+    a = ask(store, "show me the biggest cup on the table")
+    assert a.value["id"] in (house["u1"], house["u2"]) and "on the dining table" in a.text
+    a = answer(store, "show me the smallest bowl next to the tv")
+    assert not a.ok and a.value is None
+
+
+def test_where_is_names_relations_and_room(store, house):
+    a = ask(store, "where is the knife?")
+    assert a.form == "where" and a.value[0]["id"] == house["k1"]
+    assert a.value[0]["relations"] == [{"rel": "IN", "other_id": house["sk"], "other_label": "sink"}]
+    assert "in the sink" in a.text and "kitchen" in a.text
+    a = ask(store, "where is the sink?")          # the bowl is stored NEXT_TO the sink: symmetric
+    assert {(x["rel"], x["other_id"]) for x in a.value[0]["relations"]} == {("NEXT_TO", house["b2"])}
+    a = ask(store, "where are the tvs?")
+    assert {o["room"] for o in a.value} == {"home/kitchen", "home/living room"}
+    assert not answer(store, "where is the toaster?").ok

@@ -1,0 +1,10 @@
+// Where objects are: their relation edges to other objects ($ids: the objects asked about;
+// $types: the whitelisted spatial relation types). $incoming false = o -rel-> b (o is ON b),
+// true = b -rel-> o (only asked for symmetric types: b is NEXT_TO o means o is next to b).
+MATCH (o:Object)
+WHERE o.id IN $ids
+MATCH (o)-[e]-(b:Object)
+WHERE type(e) IN $types
+  AND (($incoming AND (b)-[e]->(o)) OR (NOT $incoming AND (o)-[e]->(b)))
+RETURN o.id AS id, type(e) AS rel, b.id AS other_id, b.label AS other_label, e.score AS rel_score
+ORDER BY id, rel, other_id
