@@ -28,7 +28,7 @@ def main() -> None:
     args = ap.parse_args()
     summary = []
     for title, cmd, quick in STEPS:
-        full = [sys.executable, *cmd, *(quick or [] if args.quick else [])]
+        full = [sys.executable, *cmd, *((quick or []) if args.quick else [])]
         print(f"\n== {title}\n$ {' '.join(full[1:])}", flush=True)
         t0 = time.perf_counter()
         out = subprocess.run(full, capture_output=True, text=True)
