@@ -16,7 +16,7 @@ import numpy as np
 PICTURE = "graph.png"
 
 
-def _pct(v: Optional[float]) -> str:
+def pct(v: Optional[float]) -> str:
     return "-" if v is None else f"{100 * v:.1f}%"
 
 
@@ -26,24 +26,27 @@ def metric_rows(report: dict) -> list[tuple[str, str]]:
         ("graph nodes", n["graph_nodes"]),
         ("GT objects (COCO, located)", f"{n['gt_detectable']} of {n['gt_objects']}"),
         ("matched nodes", n["matched"]),
-        ("node precision", _pct(n["precision"])),
-        ("node recall", _pct(n["recall"])),
-        ("node recall, sure objects", f"{_pct(n['recall_sure'])} of {n['gt_sure']}"),
+        ("node precision", pct(n["precision"])),
+        ("node recall", pct(n["recall"])),
+        ("node recall, sure objects", f"{pct(n['recall_sure'])} of {n['gt_sure']}"),
+        ("unsure objects found", f"{n['unsure_found']} of {n['gt_unsure']}"),
         ("spurious nodes", len(n["spurious"])),
         ("duplicate nodes", len(n["duplicates"])),
         ("missing nodes", len(n["missing"])),
         ("not detectable by a COCO detector", len(n["not_detectable"])),
+        ("no GT position", len(n["unlocated"])),
         ("GT relations checked", f"{e['checked']} of {e['gt_relations']}"),
-        ("edge precision", _pct(e["precision"])),
-        ("edge recall (checked)", _pct(e["recall"])),
-        ("edge recall (all GT)", _pct(e["recall_all"])),
+        ("edge precision", pct(e["precision"])),
+        ("edge recall (checked)", pct(e["recall"])),
+        ("edge recall (all GT)", pct(e["recall_all"])),
         ("spurious edges (matched nodes)", len(e["spurious"])),
         ("missed edges (checked)", len(e["missed"])),
     ]
     vqa = report.get("vqa")
     if vqa is not None:
-        rows += [("VQA accuracy (scored)", f"{_pct(vqa['accuracy'])} of {vqa['scored']}"),
-                 ("VQA accuracy (all sure)", f"{_pct(vqa['accuracy_all_sure'])} of {vqa['sure_questions']}")]
+        rows += [("VQA accuracy (scored)", f"{pct(vqa['accuracy'])} of {vqa['scored']}"),
+                 ("VQA accuracy (all sure)", f"{pct(vqa['accuracy_all_sure'])} of {vqa['sure_questions']}"),
+                 ("VQA unsupported", sum(q["status"] == "unsupported" for q in vqa["questions"]))]
     return [(k, str(v)) for k, v in rows]
 
 

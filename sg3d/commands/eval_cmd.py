@@ -10,47 +10,19 @@ import click
 from sg3d.errors import UserError
 
 
-def _pct(v: Optional[float]) -> str:
-    return "-" if v is None else f"{100 * v:.1f}%"
-
-
 def _render(report: dict) -> None:
     from rich.console import Console
     from rich.table import Table
+
+    from queries.report import metric_rows
 
     console = Console()
     n, e = report["nodes"], report["edges"]
     summary = Table(title=f"sg3d eval: {report['room']} (tolerance {report['tolerance_m']} m)")
     summary.add_column("metric")
     summary.add_column("value", justify="right")
-    rows = [
-        ("graph nodes", n["graph_nodes"]),
-        ("GT objects (COCO, located)", f"{n['gt_detectable']} of {n['gt_objects']}"),
-        ("matched nodes", n["matched"]),
-        ("node precision", _pct(n["precision"])),
-        ("node recall", _pct(n["recall"])),
-        ("node recall, sure objects", f"{_pct(n['recall_sure'])} of {n['gt_sure']}"),
-        ("unsure objects found", f"{n['unsure_found']} of {n['gt_unsure']}"),
-        ("spurious nodes", len(n["spurious"])),
-        ("duplicate nodes", len(n["duplicates"])),
-        ("missing nodes", len(n["missing"])),
-        ("not detectable by a COCO detector", len(n["not_detectable"])),
-        ("no GT position", len(n["unlocated"])),
-        ("GT relations checked", f"{e['checked']} of {e['gt_relations']}"),
-        ("edge precision", _pct(e["precision"])),
-        ("edge recall (checked)", _pct(e["recall"])),
-        ("edge recall (all GT)", _pct(e["recall_all"])),
-        ("spurious edges (matched nodes)", len(e["spurious"])),
-        ("missed edges (checked)", len(e["missed"])),
-    ]
-    vqa = report.get("vqa")
-    if vqa is not None:
-        unsupported = sum(q["status"] == "unsupported" for q in vqa["questions"])
-        rows += [("VQA accuracy (scored)", f"{_pct(vqa['accuracy'])} of {vqa['scored']}"),
-                 ("VQA accuracy (all sure)", f"{_pct(vqa['accuracy_all_sure'])} of {vqa['sure_questions']}"),
-                 ("VQA unsupported", unsupported)]
-    for k, v in rows:
-        summary.add_row(k, str(v))
+    for k, v in metric_rows(report):
+        summary.add_row(k, v)
     console.print(summary)
 
     detail = Table(title="nodes and objects", show_lines=False)
@@ -77,6 +49,7 @@ def _render(report: dict) -> None:
         for t, c in e["per_type"].items():
             types.add_row(t, str(c["gt"]), str(c["found"]), str(c["graph"]), str(c["correct"]))
         console.print(types)
+    vqa = report.get("vqa")
     if vqa is not None and vqa["questions"]:
         q = Table(title="VQA (sure questions)")
         for col in ("status", "question", "expected", "got"):
