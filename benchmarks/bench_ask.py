@@ -111,7 +111,7 @@ def main() -> None:
         try:
             store.ensure_schema()
             dt = generate(store, args.objects, args.rooms)
-            n = store.run_raw("MATCH (o:Object) RETURN count(o) AS n")[1][0][0]
+            n = store.read("object_total")[0]["n"]
             print(f"generated {n} objects in {args.rooms} rooms in {dt:.1f} s ({n / dt:.0f} objects/s)")
             print(f"warm ({args.repeat} runs each, store running, taxonomy loaded):")
             warm(store, args.repeat)

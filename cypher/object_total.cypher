@@ -1,0 +1,3 @@
+// Number of objects in the whole store (benchmarks).
+MATCH (o:Object)
+RETURN count(o) AS n
