@@ -21,7 +21,7 @@ import numpy as np
 from ingest.abir import ABIR
 from ingest.attributes import ObjectAttributes, measure_object
 from ingest.detect import Detection, Detector
-from ingest.frames import Frame
+from ingest.frames import Frame, FrameError
 from ingest.kge import KeyframeGroup, KeyframeGrouper
 from ingest.model import LocalGraph, ObjectObservation, RelationObservation
 from ingest.moments import combine_gaussians
@@ -164,9 +164,8 @@ def local_graph(group: KeyframeGroup, detector: Detector, up, method: Method, ro
                       frames=[f.index for f in group.frames], up=tuple(float(v) for v in up))
 
 
-def single_frame_groups(seq, abir: Optional[ABIR], start: int, stop: Optional[int],
-                        selector_stats) -> Iterator[KeyframeGroup]:
-    """Without KGE every (sharp, if ABIR runs) frame is a group of its own."""
+def single_frame_groups(seq, start: int, stop: Optional[int], selector_stats) -> Iterator[KeyframeGroup]:
+    """Without ABIR and KGE (the basic presets) every readable frame is a group of its own."""
     stop = len(seq) if stop is None else min(stop, len(seq))
     selector_stats.frames += len(range(start, stop))
     t0 = time.perf_counter()
@@ -174,14 +173,10 @@ def single_frame_groups(seq, abir: Optional[ABIR], start: int, stop: Optional[in
     index = 0
     for frame in seq.frames(start, stop, lazy=True):
         try:
-            selector_stats.read += 1
-            if abir is not None and abir.update(frame).blurry:
-                selector_stats.blurry += 1
-                frame.release()
-                continue
             frame.load()
-        except Exception:  # a frame that fails to decode is counted by the reader
+        except FrameError:  # counted in seq.skipped by the reader
             continue
+        selector_stats.read += 1
         selector_stats.keyframes += 1
         selector_stats.groups += 1
         selector_stats.seconds = time.perf_counter() - t0
@@ -197,7 +192,7 @@ def run_key(seq_path: str, n_frames: int, method: Method, room: str, building: s
     return hashlib.sha1(text.encode()).hexdigest()[:12]
 
 
-def make_selector(method: Method, abir_gain: Optional[float] = None, t_key: float = 0.2,
+def make_selector(abir_gain: Optional[float] = None, t_key: float = 0.2,
                   t_anchor: float = 0.68) -> FrameSelector:
     abir = ABIR() if abir_gain is None else ABIR(gain=abir_gain)
     return FrameSelector(abir, KeyframeGrouper(t_key=t_key, t_anchor=t_anchor))

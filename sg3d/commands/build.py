@@ -129,11 +129,11 @@ def build(settings, sequence: Path, room: str, building: str, method: str, layou
     embedding = default_embedding()
     params = SimilarityParams() if m.three_d else SimilarityParams(threshold=float("inf"))
 
-    selector = make_selector(m, abir_gain, t_key, t_anchor)
+    selector = make_selector(abir_gain, t_key, t_anchor)
     if m.efficient:
         groups = selector.groups(seq, start, stop)
     else:
-        groups = single_frame_groups(seq, None, start, stop, selector.stats)
+        groups = single_frame_groups(seq, start, stop, selector.stats)
     stats = PipelineStats()
     totals = {"merged_groups": 0, "skipped_groups": 0, "objects_created": 0, "objects_updated": 0, "relations": 0}
     merge_seconds = 0.0
