@@ -39,6 +39,9 @@ THUMBNAIL_SIDE = 128
 # (absolute metres, or relative to the depth: Kinect noise grows with range).
 DEPTH_JUMP_M = 0.04
 DEPTH_JUMP_REL = 0.03
+# A box's 3-D extent is measured on a pixel grid of about this many samples: percentiles of a
+# 6,400-point sample are as good as of a 120,000-pixel table box, at a twentieth of the cost.
+MAX_BOX_SAMPLES = 6400
 
 
 def clip_box(box: Box, width: int, height: int) -> tuple[int, int, int, int]:
@@ -110,10 +113,17 @@ def position_gaussian(frame: Frame, box: Box, min_points: int = MIN_CENTRE_POINT
                             int(len(pts)), region, float(np.median(d[keep])))
 
 
-def object_mask(depth: np.ndarray, bounds: tuple[int, int, int, int]) -> np.ndarray:
-    """Pixels of the box (bool, box-sized) on the depth surface connected to its centre 3x3."""
+def sample_stride(bounds: tuple[int, int, int, int], max_samples: int = MAX_BOX_SAMPLES) -> int:
+    """Pixel step that keeps a box's sampled grid at about max_samples pixels."""
     x1, y1, x2, y2 = bounds
-    crop = depth[y1:y2, x1:x2]
+    return max(1, int(np.ceil(np.sqrt((x2 - x1) * (y2 - y1) / max_samples))))
+
+
+def object_mask(depth: np.ndarray, bounds: tuple[int, int, int, int], stride: int = 1) -> np.ndarray:
+    """Pixels of the box (bool, on the box's grid sampled every `stride` pixels) on the depth
+    surface connected to its centre 3x3."""
+    x1, y1, x2, y2 = bounds
+    crop = depth[y1:y2:stride, x1:x2:stride]
     valid = crop > 0
     tol = np.maximum(DEPTH_JUMP_M, DEPTH_JUMP_REL * crop)
     jump = np.zeros_like(valid)
@@ -127,7 +137,7 @@ def object_mask(depth: np.ndarray, bounds: tuple[int, int, int, int]) -> np.ndar
     jump[1:, :] |= dy & far_y
     jump[:-1, :] |= dy & ~far_y
     n, labels = cv2.connectedComponents((valid & ~jump).astype(np.uint8), connectivity=4)
-    cx1, cy1, cx2, cy2 = grid_cells((0, 0, x2 - x1, y2 - y1), 1, 3)
+    cx1, cy1, cx2, cy2 = grid_cells((0, 0, crop.shape[1], crop.shape[0]), 1, 3)
     centre = labels[cy1:cy2, cx1:cx2]
     counts = np.bincount(centre[centre > 0].ravel(), minlength=n)
     if n <= 1 or counts.max() == 0:
@@ -146,11 +156,13 @@ def object_box(frame: Frame, box: Box, up: Optional[Sequence[float]] = None,
     """
     w, h = frame.size
     bounds = clip_box(box, w, h)
-    mask = object_mask(frame.depth, bounds)
+    stride = sample_stride(bounds)
+    mask = object_mask(frame.depth, bounds, stride)
     v, u = np.nonzero(mask)
     if u.size < 3:
         return None
     x1, y1 = bounds[0], bounds[1]
+    u, v = u * stride, v * stride
     d = frame.depth[v + y1, u + x1].astype(np.float64)
     valid = d > 0
     if valid.sum() < 3:

@@ -338,3 +338,78 @@ def make_detector(config: Union[None, str, Mapping[str, Any]] = None) -> Detecto
         from ingest.recognize import RecognizingDetector   # optional dependency, load on demand
         detector = RecognizingDetector(detector)
     return detector
+
+
+# --------------------------------------------------------------------------- tiles
+
+# Overlapping tiles (columns x rows) for the high-recall preset: small objects grow from a few
+# pixels to a size the 300x300 SSD input resolves (measured best per frame: 3x2).
+TILE_GRID = (3, 2)
+TILE_OVERLAP = 0.2
+
+
+def tile_windows(width: int, height: int, grid: tuple[int, int] = TILE_GRID,
+                 overlap: float = TILE_OVERLAP) -> list[tuple[int, int, int, int]]:
+    """(x1, y1, x2, y2) of grid[0] x grid[1] tiles covering the image, each widened by `overlap`
+    of its size so an object on a seam is whole in at least one tile."""
+    cols, rows = grid
+    tw, th = width / cols, height / rows
+    out = []
+    for r in range(rows):
+        for c in range(cols):
+            x1 = max(0, int(round(c * tw - overlap * tw / 2)))
+            y1 = max(0, int(round(r * th - overlap * th / 2)))
+            x2 = min(width, int(round((c + 1) * tw + overlap * tw / 2)))
+            y2 = min(height, int(round((r + 1) * th + overlap * th / 2)))
+            out.append((x1, y1, x2, y2))
+    return out
+
+
+class TiledDetector:
+    """The full frame plus overlapping tiles through one OpenCV-dnn detector; the raw candidates
+    of all windows, mapped back to image pixels, go through the same NMS and top-k collapse as a
+    single image."""
+
+    def __init__(self, base: "_DnnDetector", grid: tuple[int, int] = TILE_GRID, overlap: float = TILE_OVERLAP):
+        self.base = base
+        self.grid = grid
+        self.overlap = overlap
+
+    @property
+    def score_threshold(self) -> float:
+        return self.base.score_threshold
+
+    def detect(self, image_bgr: np.ndarray) -> list[Detection]:
+        if image_bgr is None or image_bgr.ndim != 3:
+            raise ValueError("detect() needs an HxWx3 BGR image")
+        h, w = image_bgr.shape[:2]
+        boxes, ids, scores = [], [], []
+        for x1, y1, x2, y2 in [(0, 0, w, h)] + tile_windows(w, h, self.grid, self.overlap):
+            b, c, s = self.base._candidates(np.ascontiguousarray(image_bgr[y1:y2, x1:x2]))
+            boxes.append(np.asarray(b, dtype=np.float64).reshape(-1, 4) + [x1, y1, x1, y1])
+            ids.append(np.asarray(c).reshape(-1))
+            scores.append(np.asarray(s, dtype=np.float64).reshape(-1))
+        b = self.base
+        return detections_from_candidates(np.vstack(boxes), np.concatenate(ids), np.concatenate(scores),
+                                          b.label_map, score_threshold=b.score_threshold, nms_iou=b.nms_iou,
+                                          same_region_iou=b.same_region_iou, top_k=b.top_k)
+
+
+def detector_for(name: Optional[str] = None, score_threshold: float = SCORE_THRESHOLD,
+                 tiles: bool = False) -> Detector:
+    """The detector a build asks for by name: the packaged SSD ("ssd-mobilenet-v2-coco", the
+    default) or a user's "model.onnx" with its labels file beside it; `score_threshold` applies
+    to either, `tiles` adds the overlapping-tile pass (the high-recall preset)."""
+    text = str(name or DEFAULT_DETECTOR)
+    if text.lower() in _SSD_NAMES:
+        detector = SsdMobilenetDetector(score_threshold=score_threshold)
+    elif text.lower().endswith(".onnx"):
+        path = Path(text)
+        labels = next((c for c in (path.with_suffix(".labels.json"), path.with_suffix(".json"),
+                                   path.with_suffix(".txt")) if c.exists()), None)
+        if labels is None:
+            raise FileNotFoundError(f"no labels file beside {path} (.labels.json, .json or .txt)")
+        detector = OnnxDetector(path, labels, score_threshold=score_threshold)
+    else:
+        raise ValueError(f"unknown detector {text!r}: use {DEFAULT_DETECTOR!r} or a .onnx path")
+    return TiledDetector(detector) if tiles else detector

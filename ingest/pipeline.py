@@ -1,35 +1,45 @@
-"""Keyframe groups -> local 3-D scene graphs (paper Sec. III, IV-C, V-B).
+"""A posed RGB-D sequence -> local 3-D scene graphs, one per chunk of frames (paper Sec. III-V).
 
-Per keyframe group: detect objects in each of its frames, drop irrelevant classes (SDR), lift
-each box to 3-D attributes, associate the detections of the group's frames into tracks, drop
-tracks seen in too few frames (SDR), fuse each track into one object, compute the relations of
-every frame from 3-D geometry, vote them across the frames and filter them by the relation
-prior (SDR, Eq. 7). The result is one `LocalGraph` per group, ready to merge.
+Per chunk [a, b) of the sequence (a whole room is one chunk by default):
+1. frame selection: ABIR drops blurry frames, KGE (Algorithm 1) picks keyframes and anchors,
+   and `ingest.coverage` adds the sharp frames with the most new viewpoints up to a frame budget;
+2. detection on the chosen frames, irrelevant classes dropped (SDR), every box lifted to 3-D;
+3. fusion of the detections of ALL chosen frames into object hypotheses (`ingest.fusion`);
+4. existence from multi-view evidence, negative evidence included (`ingest.existence`): the
+   paper's "seen at least twice" rule, plus "seen in a fair share of the views that show it";
+5. relations of every chosen frame from 3-D geometry, voted across the frames and filtered by
+   the relation prior (SDR, Eq. 7).
+The result of a chunk is one `LocalGraph`, merged by `graphdb.merge` (Eq. 10-15). Chunks, frame
+choice and fusion depend only on the sequence and the settings, so a re-run or `--resume` skips
+exactly the chunks already merged and ends with the graph a clean build gives.
 
 The ablation presets of the paper's Table I switch modules on and off (`METHODS`).
 """
 from __future__ import annotations
 
 import hashlib
+import json
 import time
 from collections import Counter, defaultdict
-from dataclasses import dataclass, field
-from typing import Iterator, Optional
+from dataclasses import asdict, dataclass, field, fields
+from typing import Callable, Optional
 
 import numpy as np
 
+from ingest import coverage, existence, fusion
 from ingest.abir import ABIR
-from ingest.attributes import ObjectAttributes, measure_object
-from ingest.detect import Detection, Detector
-from ingest.frames import Frame, FrameError
-from ingest.kge import KeyframeGroup, KeyframeGrouper
+from ingest.attributes import measure_object
+from ingest.detect import Detector
+from ingest.frames import FrameError
+from ingest.kge import KeyframeGrouper
 from ingest.model import LocalGraph, ObjectObservation, RelationObservation
-from ingest.moments import combine_gaussians
-from ingest.relations import ObjectGeometry, spatial_relations
-from ingest.sdr import (MIN_FRAMES, filter_relations, reject_irrelevant, reject_rare_tracks,
-                        vote_relations)
+from ingest.relations import ObjectGeometry, horizontal_basis, spatial_relations
+from ingest.sdr import filter_relations, reject_irrelevant, vote_relations
 from ingest.selection import FrameSelector
-from ingest.tracks import FrameDetection, Track, associate
+
+# A room-sized sequence is fused whole; longer recordings are cut into chunks of this many
+# frames, each fused on its own and merged like the paper's local graphs.
+DEFAULT_CHUNK_FRAMES = 3000
 
 
 @dataclass(frozen=True)
@@ -37,9 +47,9 @@ class Method:
     """Which modules run (paper Table I)."""
 
     name: str
-    efficient: bool      # ABIR + KGE: only sharp, non-redundant frames are processed
-    three_d: bool        # 3-D attributes + same-node detection (else a 2-D graph per frame)
-    sdr: bool            # spurious detection rejection
+    efficient: bool      # ABIR + KGE (+ coverage): only sharp, informative frames are detected
+    three_d: bool        # 3-D fusion + same-node detection (else every detection is a node)
+    sdr: bool            # spurious detection rejection (classes, existence, relation vote + prior)
 
 
 METHODS = {
@@ -51,148 +61,206 @@ METHODS = {
 }
 
 
+@dataclass(frozen=True)
+class Settings:
+    """Everything that decides which graph a build makes (and so its merge keys)."""
+
+    method: Method = METHODS["3d-full"]
+    abir_gain: Optional[float] = None          # None: ABIR's default
+    t_key: float = 0.2
+    t_anchor: float = 0.9
+    detect_fraction: float = coverage.DEFAULT_FRACTION
+    min_detect_frames: int = coverage.MIN_FRAMES
+    chunk_frames: int = DEFAULT_CHUNK_FRAMES
+    detector: str = "ssd-mobilenet-v2-coco"
+    score_threshold: float = 0.23
+    quality: str = "default"                    # "high": full frame + tiles
+
+    def fingerprint(self) -> str:
+        d = asdict(self)
+        d["method"] = self.method.name
+        return json.dumps(d, sort_keys=True)
+
+
 @dataclass
 class PipelineStats:
-    groups: int = 0
-    frames_detected: int = 0
-    detections: int = 0
+    chunks: int = 0
+    frames: int = 0              # frames in the range asked for
+    read: int = 0                # frames that reached ABIR with a readable image
+    blurry: int = 0
+    keyframes: int = 0
+    anchors: int = 0
+    coverage: int = 0            # extra frames chosen for new viewpoints
+    detected: int = 0            # frames the detector ran on
+    detections: int = 0          # detections lifted to 3-D
+    hypotheses: int = 0
+    kept: int = 0
+    rejected: Counter = field(default_factory=Counter)   # reason -> hypotheses
     objects: int = 0
     relations: int = 0
     seconds: dict = field(default_factory=lambda: defaultdict(float))
 
-
-@dataclass
-class _Seen:
-    """One detection with its 3-D attributes in one frame."""
-
-    frame: Frame
-    detection: Detection
-    attrs: ObjectAttributes
+    def as_dict(self) -> dict:
+        d = {f.name: getattr(self, f.name) for f in fields(self) if f.name not in ("seconds", "rejected")}
+        d["rejected"] = dict(sorted(self.rejected.items()))
+        return d
 
 
-def _frame_detections(frame: Frame, detector: Detector, up, method: Method,
-                      stats: PipelineStats) -> list[_Seen]:
-    t0 = time.perf_counter()
-    dets = detector.detect(frame.color)
-    stats.seconds["detect"] += time.perf_counter() - t0
-    stats.frames_detected += 1
-    if method.sdr:
-        dets = reject_irrelevant(dets)
-    t0 = time.perf_counter()
-    seen = []
-    for det in dets:
-        attrs = measure_object(frame, det.box, up)
-        if attrs is not None:
-            seen.append(_Seen(frame, det, attrs))
-    stats.seconds["attributes"] += time.perf_counter() - t0
-    stats.detections += len(seen)
-    return seen
-
-
-def fuse_track(local_id: str, track: Track) -> ObjectObservation:
-    """One object from the frames of a track: pooled Gaussian, summed histogram, median size,
-    the best-scored view's thumbnail and the most frequent colour name."""
-    members: list[_Seen] = [m.payload for m in track.members]
-    mean, var, n = np.asarray(members[0].attrs.mean, float), np.asarray(members[0].attrs.var, float), members[0].attrs.n_points
-    for m in members[1:]:
-        mean, var, n = combine_gaussians(mean, var, n, m.attrs.mean, m.attrs.var, m.attrs.n_points)
-    best = max(members, key=lambda m: m.detection.score)
-    frames = [m.frame.index for m in members]
-    colours = Counter(m.attrs.colour for m in members)
-    return ObjectObservation(
-        local_id=local_id, labels=track.labels, scores=[float(s) for s in track.scores],
-        mean=tuple(float(v) for v in mean), var=tuple(float(v) for v in var), n_points=int(n),
-        size=tuple(float(v) for v in np.median([m.attrs.size for m in members], axis=0)),
-        box_centre=tuple(float(v) for v in np.median([m.attrs.centre for m in members], axis=0)),
-        hist=np.sum([m.attrs.hist for m in members], axis=0),
-        colour=colours.most_common(1)[0][0], thumbnail=best.attrs.thumbnail,
-        first_frame=min(frames), last_frame=max(frames), n_frames=len(set(frames)))
-
-
-def _frame_relations(tracks: dict[str, Track], frame: Frame, up) -> list[RelationObservation]:
-    geoms = []
-    for local_id, track in tracks.items():
-        for m in track.members:
-            if m.frame == frame.index:
-                seen: _Seen = m.payload
-                geoms.append(ObjectGeometry(local_id, track.label, seen.attrs.centre, seen.attrs.size))
-    return spatial_relations(geoms, up, camera_pose=frame.pose) if len(geoms) > 1 else []
-
-
-def _dedupe(relations: list[RelationObservation]) -> list[RelationObservation]:
-    best: dict[tuple, RelationObservation] = {}
-    for r in relations:
-        key = (r.subject, r.predicate, r.object)
-        if key not in best or r.score > best[key].score:
-            best[key] = r
-    return list(best.values())
-
-
-def local_graph(group: KeyframeGroup, detector: Detector, up, method: Method, room: str,
-                building: str, key: Optional[str], stats: PipelineStats) -> LocalGraph:
-    """The local 3-D scene graph of one keyframe group."""
-    seen = [s for frame in group.frames for s in _frame_detections(frame, detector, up, method, stats)]
-    t0 = time.perf_counter()
-    # the box centre, not the centre patch: a big object seen in parts keeps one track
-    fds = [FrameDetection(s.frame.index, s.detection, s.attrs.centre, float(max(s.attrs.size)), s) for s in seen]
-    if method.three_d:
-        tracks = associate(fds)
-    else:  # a 2-D graph: every detection of every frame is its own node
-        tracks = [Track(i, [fd]) for i, fd in enumerate(fds)]
-    if method.sdr:
-        # a one-frame group cannot show an object twice; ask for what the group can give
-        tracks = reject_rare_tracks(tracks, min_frames=min(MIN_FRAMES, len(group.frames)))
-    by_id = {f"t{t.track_id}": t for t in tracks}
-    objects = [fuse_track(local_id, t) for local_id, t in by_id.items()]
-    stats.seconds["tracks"] += time.perf_counter() - t0
-
-    t0 = time.perf_counter()
-    per_frame = [_frame_relations(by_id, frame, up) for frame in group.frames]
-    if method.sdr:
-        relations = vote_relations(per_frame)
-        labels = {o.local_id: o.label for o in objects}
-        centres = {o.local_id: o.mean for o in objects}
-        relations = filter_relations(relations, labels, centres)
-    else:
-        relations = [r for rels in per_frame for r in rels]
-    relations = _dedupe(relations)
-    stats.seconds["relations"] += time.perf_counter() - t0
-    stats.groups += 1
-    stats.objects += len(objects)
-    stats.relations += len(relations)
-    return LocalGraph(room=room, building=building, objects=objects, relations=relations, key=key,
-                      frames=[f.index for f in group.frames], up=tuple(float(v) for v in up))
-
-
-def single_frame_groups(seq, start: int, stop: Optional[int], selector_stats) -> Iterator[KeyframeGroup]:
-    """Without ABIR and KGE (the basic presets) every readable frame is a group of its own."""
-    stop = len(seq) if stop is None else min(stop, len(seq))
-    selector_stats.frames += len(range(start, stop))
-    t0 = time.perf_counter()
-    skipped_before = len(seq.skipped)
-    index = 0
-    for frame in seq.frames(start, stop, lazy=True):
-        try:
-            frame.load()
-        except FrameError:  # counted in seq.skipped by the reader
-            continue
-        selector_stats.read += 1
-        selector_stats.keyframes += 1
-        selector_stats.groups += 1
-        selector_stats.seconds = time.perf_counter() - t0
-        yield KeyframeGroup(index, [frame])
-        index += 1
-    selector_stats.skipped += len(seq.skipped) - skipped_before
-    selector_stats.seconds = time.perf_counter() - t0
-
-
-def run_key(seq_path: str, n_frames: int, method: Method, room: str, building: str) -> str:
-    """Identifies one build so its merges can be recognised on a re-run or --resume."""
-    text = f"{seq_path}|{n_frames}|{method.name}|{building}/{room}"
+def run_key(seq_path: str, n_frames: int, settings: Settings, room: str, building: str) -> str:
+    """Identifies one build (sequence, settings, room) so its merges are recognised on a re-run
+    or --resume; a change of any setting that changes the graph is a different build."""
+    text = f"{seq_path}|{n_frames}|{settings.fingerprint()}|{building}/{room}"
     return hashlib.sha1(text.encode()).hexdigest()[:12]
+
+
+def chunk_ranges(start: int, stop: int, chunk_frames: int) -> list[tuple[int, int]]:
+    """[start, stop) cut into consecutive ranges of chunk_frames (the last one shorter)."""
+    if stop <= start:
+        return []
+    step = max(1, int(chunk_frames))
+    return [(a, min(a + step, stop)) for a in range(start, stop, step)]
 
 
 def make_selector(abir_gain: Optional[float] = None, t_key: float = 0.2,
                   t_anchor: float = 0.68) -> FrameSelector:
     abir = ABIR() if abir_gain is None else ABIR(gain=abir_gain)
     return FrameSelector(abir, KeyframeGrouper(t_key=t_key, t_anchor=t_anchor))
+
+
+ProgressFn = Callable[[str, int, int], None]   # (phase, done, total)
+
+
+def _select(seq, a: int, b: int, settings: Settings, stats: PipelineStats,
+            progress: Optional[ProgressFn]) -> list[int]:
+    """Frame indices of [a, b) to run the detector on, in order."""
+    t0 = time.perf_counter()
+    if not settings.method.efficient:
+        chosen = []
+        for frame in seq.frames(a, b, lazy=True):
+            chosen.append(frame.index)   # decoded later; a bad image is skipped then
+        stats.read += len(chosen)
+        stats.seconds["select"] += time.perf_counter() - t0
+        return chosen
+    selector = make_selector(settings.abir_gain, settings.t_key, settings.t_anchor)
+    candidates: list[coverage.Candidate] = []
+    required: list[int] = []
+
+    def on_frame(frame, decision, role):
+        if role in ("keyframe", "anchor", "garbage"):
+            candidates.append(coverage.Candidate(frame.index, frame.pose))
+        if role in ("keyframe", "anchor"):
+            required.append(frame.index)
+        if progress is not None and frame.index % 25 == 0:
+            progress("selecting", frame.index - a + 1, b - a)
+
+    for group in selector.groups(seq, a, b, on_frame=on_frame):
+        for frame in group.frames:
+            frame.release()
+    st = selector.stats
+    stats.read += st.read
+    stats.blurry += st.blurry
+    stats.keyframes += st.keyframes
+    stats.anchors += st.anchors
+    budget = coverage.frame_budget(len(candidates), settings.detect_fraction, settings.min_detect_frames)
+    chosen = coverage.choose_frames(candidates, required, max(budget, len(set(required))))
+    stats.coverage += len(chosen) - len(set(required))
+    stats.seconds["select"] += time.perf_counter() - t0
+    return chosen
+
+
+def _detect(seq, chosen: list[int], detector: Detector, up, basis, settings: Settings,
+            stats: PipelineStats, progress: Optional[ProgressFn]):
+    """Sightings and visibility views of the chosen frames."""
+    sightings: list[fusion.Sighting] = []
+    views: list[existence.View] = []
+    for n, i in enumerate(chosen):
+        try:
+            frame = seq.frame(i)
+        except FrameError:
+            continue                      # recorded in seq.skipped
+        t0 = time.perf_counter()
+        dets = detector.detect(frame.color)
+        stats.seconds["detect"] += time.perf_counter() - t0
+        stats.detected += 1
+        if settings.method.sdr:
+            dets = reject_irrelevant(dets)
+        t0 = time.perf_counter()
+        for det in dets:
+            attrs = measure_object(frame, det.box, up)
+            if attrs is not None:
+                sightings.append(fusion.Sighting.of(i, det, attrs, basis))
+        views.append(existence.View.of(frame))
+        stats.seconds["attributes"] += time.perf_counter() - t0
+        frame.release()
+        if progress is not None:
+            progress("detecting", n + 1, len(chosen))
+    stats.detections += len(sightings)
+    return sightings, views
+
+
+def _existing(hyps: list[fusion.Hypothesis], views: list[existence.View], basis,
+              stats: PipelineStats) -> list[fusion.Hypothesis]:
+    """SDR's existence test over every hypothesis; rejections are counted by reason."""
+    kept = []
+    for h in hyps:
+        centre = basis.T @ ((h.lo + h.hi) / 2)
+        ev = existence.evidence(centre, h.extent, set(h.frames), views)
+        if ev.detected < existence.MIN_DETECTIONS:
+            stats.rejected["seen once"] += 1
+        elif not existence.exists(ev):
+            stats.rejected["rarely detected where visible"] += 1
+        else:
+            kept.append(h)
+    return kept
+
+
+def _relations(hyps: dict[str, fusion.Hypothesis], objects: list[ObjectObservation], up,
+               method: Method) -> list[RelationObservation]:
+    """Relations of every detected frame between the objects it shows, voted (SDR) across frames."""
+    per_frame: dict[int, list[ObjectGeometry]] = defaultdict(list)
+    for local_id, h in hyps.items():
+        for s in h.sightings:
+            per_frame[s.frame].append(ObjectGeometry(local_id, h.label, s.attrs.centre, s.attrs.size))
+    frames = [spatial_relations(geoms, up) for _, geoms in sorted(per_frame.items()) if len(geoms) > 1]
+    if not method.sdr:
+        best: dict[tuple, RelationObservation] = {}
+        for r in (r for rels in frames for r in rels):
+            key = (r.subject, r.predicate, r.object)
+            if key not in best or r.score > best[key].score:
+                best[key] = r
+        return list(best.values())
+    relations = vote_relations(frames)
+    labels = {o.local_id: o.label for o in objects}
+    centres = {o.local_id: o.mean for o in objects}
+    return filter_relations(relations, labels, centres)
+
+
+def chunk_graph(seq, a: int, b: int, detector: Detector, up, settings: Settings, room: str,
+                building: str, key: Optional[str], stats: PipelineStats,
+                progress: Optional[ProgressFn] = None) -> LocalGraph:
+    """The local 3-D scene graph of frames [a, b) of `seq`."""
+    method = settings.method
+    basis = np.stack(horizontal_basis(up))
+    stats.chunks += 1
+    stats.frames += b - a
+    chosen = _select(seq, a, b, settings, stats, progress)
+    sightings, views = _detect(seq, chosen, detector, up, basis, settings, stats, progress)
+    t0 = time.perf_counter()
+    if method.three_d:
+        hyps = fusion.consolidate(fusion.associate(sightings))
+    else:  # a 2-D graph: every detection of every frame is its own node
+        hyps = [fusion.Hypothesis(k, [s]) for k, s in enumerate(sightings)]
+    stats.hypotheses += len(hyps)
+    if method.sdr:
+        hyps = _existing(hyps, views, basis, stats)
+    stats.kept += len(hyps)
+    by_id = {f"h{h.hid}": h for h in hyps}
+    objects = [fusion.fuse(local_id, h, basis) for local_id, h in by_id.items()]
+    stats.seconds["fusion"] += time.perf_counter() - t0
+    t0 = time.perf_counter()
+    relations = _relations(by_id, objects, up, method) if method.three_d else []
+    stats.seconds["relations"] += time.perf_counter() - t0
+    stats.objects += len(objects)
+    stats.relations += len(relations)
+    return LocalGraph(room=room, building=building, objects=objects, relations=relations, key=key,
+                      frames=[v.index for v in views], up=tuple(float(v) for v in up))

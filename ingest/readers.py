@@ -9,6 +9,10 @@ Layouts (auto-detected by `open_sequence`):
   recordings, the published calibration chosen by the folder name.
 - ``scannet`` (SensReader export): ``color/N.jpg``, ``depth/N.png`` (mm), ``pose/N.txt``,
   ``intrinsic/intrinsic_color.txt`` (4x4) and ``intrinsic_depth.txt``.
+- ``open3d`` (Open3D reconstruction system, Redwood): ``image/NNNNN.jpg|png``, ``depth/NNNNN.png``
+  (mm, registered to colour), ``trajectory.log`` (a line ``i j n`` then the 4x4 camera-to-world
+  pose of frame i, one block per frame) and an intrinsics JSON (Open3D
+  ``PinholeCameraIntrinsic``: ``width``, ``height``, column-major ``intrinsic_matrix``).
 
 Depth is delivered as float32 metres registered to the colour image (see `ingest.registration`),
 raw 0 and 65535 read as 0 = invalid. A bad frame (missing or corrupt image, non-finite or
@@ -29,8 +33,9 @@ from ingest.frames import Frame, FrameError
 from ingest.registration import DepthRegistrar, Registration
 from sg3d.errors import UserError
 
-LAYOUTS = ("7scenes", "tum", "scannet")
-_ALIASES = {"3dmatch": "7scenes", "7-scenes": "7scenes", "tum-rgbd": "tum", "sens": "scannet"}
+LAYOUTS = ("7scenes", "tum", "scannet", "open3d")
+_ALIASES = {"3dmatch": "7scenes", "7-scenes": "7scenes", "tum-rgbd": "tum", "sens": "scannet",
+            "redwood": "open3d"}
 
 # Published calibration of the TUM RGB-D Freiburg cameras (fx, fy, cx, cy).
 TUM_FREIBURG = {
@@ -118,12 +123,14 @@ def _parse_pose(entry: _Entry) -> np.ndarray:
         if values.size != 16:
             raise FrameError(entry.name, f"{path.name} holds {values.size} numbers, a 4x4 pose needs 16")
         pose = values.reshape(4, 4)
-    source = entry.pose_file.name if entry.pose_file else "the ground-truth pose"
+    source = entry.pose_file.name if entry.pose_file else "its pose"
     if not np.all(np.isfinite(pose)):
         raise FrameError(entry.name, f"{source} is not finite (tracking lost)")
     R = pose[:3, :3]
     if np.abs(R.T @ R - np.eye(3)).max() > 1e-3 or np.abs(pose[3] - (0, 0, 0, 1)).max() > 1e-6:
         raise FrameError(entry.name, f"{source} is not a rigid transform")
+    if np.linalg.det(R) < 0:  # orthonormal but mirrored: no camera moves like that
+        raise FrameError(entry.name, f"{source} is a reflection (determinant -1), not a rotation")
     return pose
 
 
@@ -188,7 +195,12 @@ class Sequence:
     def frame(self, i: int, lazy: bool = False) -> Frame:
         """One frame by position (raises FrameError when it is bad)."""
         entry = self._entries[i]
-        frame = Frame(i, None, None, self.K, _parse_pose(entry), entry.timestamp, entry.name,
+        try:
+            pose = _parse_pose(entry)
+        except FrameError as exc:
+            self.skip(exc.name, exc.reason)
+            raise
+        frame = Frame(i, None, None, self.K, pose, entry.timestamp, entry.name,
                       size=self.image_size, source=_FileSource(entry, self), on_error=self.skip)
         return frame if lazy else frame.load()
 
@@ -373,18 +385,91 @@ class ScanNetSequence(Sequence):
         return cls(path, entries, K, registration, skipped)
 
 
+# -- Open3D reconstruction system (Redwood) ---------------------------------------------------
+
+def read_trajectory_log(path: Path) -> dict[int, np.ndarray]:
+    """Redwood/Open3D ``trajectory.log``: blocks of a metadata line ``i j n`` and four rows of a
+    4x4 camera-to-world matrix; frame i -> pose. A block that is not 16 numbers is a
+    SequenceError naming its line (the file as a whole is unusable then)."""
+    lines = [line.split() for line in path.read_text().splitlines() if line.strip()]
+    if len(lines) % 5:
+        raise SequenceError(f"{path} has {len(lines)} non-empty lines; a trajectory.log holds blocks of 5")
+    poses = {}
+    for b in range(0, len(lines), 5):
+        try:
+            index = int(lines[b][0])
+            pose = np.array([[float(v) for v in row] for row in lines[b + 1:b + 5]], dtype=np.float64)
+        except (ValueError, IndexError):
+            raise SequenceError(f"{path} line {b + 1}: expected 'i j n' and four rows of 4 numbers") from None
+        if pose.shape != (4, 4):
+            raise SequenceError(f"{path} line {b + 2}: a pose needs four rows of 4 numbers")
+        poses[index] = pose
+    return poses
+
+
+def _open3d_intrinsics(path: Path) -> np.ndarray:
+    import json
+
+    try:
+        data = json.loads(path.read_text())
+        values = np.asarray(data["intrinsic_matrix"], dtype=np.float64)
+    except (ValueError, KeyError, TypeError):
+        raise SequenceError(f"{path} is not an Open3D intrinsics JSON (needs 'intrinsic_matrix')") from None
+    if values.size != 9:
+        raise SequenceError(f"{path}: intrinsic_matrix holds {values.size} numbers, expected 9")
+    K = values.reshape(3, 3).T  # Open3D writes the matrix column-major
+    if not np.all(np.isfinite(K)) or K[0, 0] <= 0 or K[1, 1] <= 0:
+        raise SequenceError(f"{path} does not hold valid intrinsics (focal lengths must be positive)")
+    return K
+
+
+class Open3dSequence(Sequence):
+    layout = "open3d"
+    depth_scale = 1000.0
+
+    @classmethod
+    def open(cls, path: Path, registration: Optional[Registration] = None) -> "Open3dSequence":
+        intrinsics = sorted(p for p in path.glob("*.json") if "intrinsic_matrix" in p.read_text(errors="replace"))
+        if not intrinsics:
+            raise SequenceError(f"missing intrinsics JSON in {path} (Open3D PinholeCameraIntrinsic "
+                                f"with 'intrinsic_matrix', e.g. camera_primesense.json)")
+        K = _open3d_intrinsics(intrinsics[0])
+        if not (path / "trajectory.log").is_file():
+            raise SequenceError(f"missing {path / 'trajectory.log'} (Open3D/Redwood camera trajectory)")
+        poses = read_trajectory_log(path / "trajectory.log")
+        colour_dir = path / "image" if (path / "image").is_dir() else path / "color"
+        numbered = sorted((int(p.stem), p) for p in colour_dir.iterdir()
+                          if p.suffix.lower() in (".jpg", ".jpeg", ".png") and p.stem.isdigit())
+        entries, skipped = [], []
+        for number, color in numbered:
+            depth = path / "depth" / f"{color.stem}.png"
+            if not depth.is_file():
+                skipped.append((color.stem, f"missing depth/{depth.name}"))
+                continue
+            if number not in poses:
+                skipped.append((color.stem, f"no pose for frame {number} in trajectory.log"))
+                continue
+            entries.append(_Entry(color.stem, color, depth, timestamp=number / 30.0, pose=poses[number]))
+        if not entries:
+            raise SequenceError(f"no {colour_dir.name}/NNNNN.jpg with a depth/NNNNN.png and a pose in {path}")
+        return cls(path, entries, K, registration, skipped)
+
+
 # -- entry point -----------------------------------------------------------------------------
 
 def detect_layout(path: Path) -> str:
     """The layout of a sequence folder, from the files it holds."""
     if (path / "rgb.txt").is_file() and (path / "depth.txt").is_file():
         return "tum"
+    if (path / "trajectory.log").is_file() and (path / "depth").is_dir():
+        return "open3d"
     if (path / "color").is_dir() and ((path / "intrinsic").is_dir() or (path / "depth").is_dir()):
         return "scannet"
     if (path / "camera-intrinsics.txt").is_file() or any(_SEVEN.match(p.name) for p in path.iterdir()):
         return "7scenes"
     raise SequenceError(f"cannot tell the layout of {path}: expected 7-Scenes (frame-NNNNNN.color.jpg), "
-                        f"TUM RGB-D (rgb.txt, depth.txt) or ScanNet (color/, depth/, pose/, intrinsic/)")
+                        f"TUM RGB-D (rgb.txt, depth.txt), ScanNet (color/, depth/, pose/, intrinsic/) or "
+                        f"Open3D (image/, depth/, trajectory.log, intrinsics JSON)")
 
 
 def open_sequence(path: Union[str, Path], layout: Optional[str] = None,
@@ -395,7 +480,8 @@ def open_sequence(path: Union[str, Path], layout: Optional[str] = None,
     if not path.is_dir():
         raise SequenceError(f"sequence folder not found: {path}")
     name = detect_layout(path) if layout is None else _ALIASES.get(layout.lower(), layout.lower())
-    readers = {"7scenes": SevenScenesSequence, "tum": TumSequence, "scannet": ScanNetSequence}
+    readers = {"7scenes": SevenScenesSequence, "tum": TumSequence, "scannet": ScanNetSequence,
+               "open3d": Open3dSequence}
     if name not in readers:
         raise SequenceError(f"unknown layout {layout!r}; choose one of {', '.join(LAYOUTS)}")
     return readers[name].open(path, registration=registration)

@@ -1,0 +1,166 @@
+"""Build (or extend) a room's scene graph from a sequence: the one function every front end calls.
+
+ingest turns the sequence into local graphs chunk by chunk; each is merged into the store as one
+transaction under a key made of the build's identity and the chunk's frame range. A chunk whose
+key is already in the store is not read again, so re-running a build, or `--resume` after a
+crash or Ctrl-C, merges exactly what is missing and ends with the graph of one clean build.
+"""
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Callable, Optional
+
+ProgressFn = Callable[[str, int, int], None]
+
+
+class BuildError(ValueError):
+    """Bad input to a build (the front end shows it as one line)."""
+
+
+@dataclass(frozen=True)
+class BuildRequest:
+    sequence: Path
+    room: str
+    building: str = "default"
+    layout: Optional[str] = None
+    start: int = 0
+    stop: Optional[int] = None
+    transform_file: Optional[Path] = None
+    align_to: Optional[str] = None
+    shared_frame: bool = False
+
+
+def validate(req: BuildRequest) -> None:
+    if not req.room.strip() or "/" in req.room or not req.building.strip() or "/" in req.building:
+        raise BuildError("room and building names must be non-empty and contain no '/'")
+    if sum(map(bool, (req.transform_file, req.align_to, req.shared_frame))) > 1:
+        raise BuildError("give at most one of --transform, --align-to and --shared-frame")
+    if req.start < 0 or (req.stop is not None and req.stop <= req.start):
+        raise BuildError(f"empty frame range: --start {req.start} --stop {req.stop} "
+                         f"(stop must be greater than start, start at least 0)")
+
+
+def build_room(store, req: BuildRequest, settings, detector=None, embedding=None,
+               progress: Optional[ProgressFn] = None) -> dict:
+    """Run the pipeline over `req.sequence` and merge each chunk into `store`; the summary dict.
+
+    `settings`: `ingest.pipeline.Settings`. KeyboardInterrupt between chunks keeps what was
+    merged and returns a summary with "interrupted": True."""
+    from graphdb.merge import merge_local_graph, merged_keys, room_id
+    from graphdb.similarity import SimilarityParams
+    from ingest.embedding import default_embedding
+    from ingest.gravity import estimate_gravity, sample_frames
+    from ingest.model import RELATION_TYPES
+    from ingest.pipeline import PipelineStats, chunk_graph, chunk_ranges, run_key
+    from ingest.readers import open_sequence
+
+    validate(req)
+    placement = None
+    if req.transform_file is not None:
+        from graphdb.building import TransformError, load_transform
+
+        try:
+            placement = load_transform(req.transform_file)  # read before the long build, fail early
+        except TransformError as exc:
+            raise BuildError(str(exc))
+    t_start = time.perf_counter()
+    seq = open_sequence(req.sequence, req.layout)
+    if len(seq) == 0:
+        raise BuildError(f"no frames found in {req.sequence}")
+    if req.start >= len(seq):
+        raise BuildError(f"--start {req.start} is past the end of the sequence ({len(seq)} frames)")
+    stop = len(seq) if req.stop is None else min(req.stop, len(seq))
+    store.ensure_schema()
+    rid = room_id(req.building, req.room)
+    run = run_key(str(Path(req.sequence).resolve()), len(seq), settings, req.room, req.building)
+    done = merged_keys(store, run + ":")
+
+    t0 = time.perf_counter()
+    try:
+        up = estimate_gravity(sample_frames(seq, 20)).up
+    except ValueError:
+        raise BuildError(f"no frame of {req.sequence} has usable depth")
+    t_gravity = time.perf_counter() - t0
+
+    if detector is None:
+        from ingest.detect import detector_for
+
+        try:
+            detector = detector_for(settings.detector, settings.score_threshold, tiles=settings.quality == "high")
+        except (ValueError, FileNotFoundError) as exc:
+            raise BuildError(str(exc))
+    embedding = embedding or default_embedding()
+    params = SimilarityParams() if settings.method.three_d else SimilarityParams(threshold=float("inf"))
+
+    stats = PipelineStats()
+    totals = {"chunks": 0, "merged_chunks": 0, "skipped_chunks": 0, "objects_created": 0,
+              "objects_updated": 0, "relations": 0}
+    merge_seconds = 0.0
+    interrupted = False
+    try:
+        for a, b in chunk_ranges(req.start, stop, settings.chunk_frames):
+            totals["chunks"] += 1
+            key = f"{run}:{a}-{b}"
+            if key in done:
+                totals["skipped_chunks"] += 1
+                continue
+            graph = chunk_graph(seq, a, b, detector, up, settings, req.room, req.building, key, stats, progress)
+            t0 = time.perf_counter()
+            report = merge_local_graph(store, graph, embedding, params)
+            merge_seconds += time.perf_counter() - t0
+            totals["merged_chunks"] += 0 if report.skipped else 1
+            totals["skipped_chunks"] += 1 if report.skipped else 0
+            totals["objects_created"] += report.created
+            totals["objects_updated"] += report.updated
+            totals["relations"] += report.relations
+    except KeyboardInterrupt:
+        interrupted = True
+
+    placed = None if interrupted else place_room(store, req, placement)
+    wall = time.perf_counter() - t_start
+    room_objects = store.read("object_count", room=rid)[0]["n"]
+    room_relations = store.read("relation_count", room=rid, types=list(RELATION_TYPES))[0]["n"]
+    skipped = [{"frame": name, "reason": reason} for name, reason in seq.skipped]
+    counts = stats.as_dict()
+    hyp = {"formed": counts.pop("hypotheses"), "kept": counts.pop("kept"), "rejected": counts.pop("rejected")}
+    return {
+        "sequence": str(req.sequence), "layout": seq.layout, "room": req.room, "building": req.building,
+        "method": settings.method.name, "quality": settings.quality, "interrupted": interrupted,
+        "up": [round(float(v), 4) for v in up],
+        "frames": {"in_range": stop - req.start, **{k: counts[k] for k in (
+            "read", "blurry", "keyframes", "anchors", "coverage", "detected", "detections")},
+            "skipped": len(skipped), "skipped_frames": skipped},
+        "hypotheses": hyp,
+        "graph": {**totals, "room_objects": room_objects, "room_relations": room_relations},
+        "seconds": {k: round(v, 3) for k, v in {"gravity": t_gravity, **stats.seconds,
+                                                "merge": merge_seconds, "total": wall}.items()},
+        "input_frames_per_second": round(counts["frames"] / wall, 2) if wall > 0 and counts["frames"] else 0.0,
+        "key": run, "placement": placed,
+    }
+
+
+def place_room(store, req: BuildRequest, transform):
+    """Give the room its room-to-building transform; a building's first room is its reference."""
+    import numpy as np
+
+    from graphdb.align import AlignmentError
+    from graphdb.building import link_rooms, list_rooms, room_id_of, set_room_transform
+
+    rid = room_id_of(req.building, req.room)
+    try:
+        if req.align_to:
+            report = link_rooms(store, room_id_of(req.building, req.align_to), rid)
+            return {"how": f"aligned to {req.align_to}", "residual_m": round(report.residual_rms_m, 4),
+                    "pairs": report.pairs, "same_as": len(report.same_as)}
+        if transform is not None:
+            set_room_transform(store, rid, transform)
+            return {"how": "transform file"}
+        placed = [r for r in list_rooms(store, req.building) if r["id"] != rid and r["to_building"] is not None]
+        if req.shared_frame or not placed:
+            set_room_transform(store, rid, np.eye(4))
+            return {"how": "shared frame" if req.shared_frame else "reference room of the building"}
+    except AlignmentError as exc:
+        raise BuildError(f"the graph was built, but placing it in the building failed: {exc}")
+    return {"how": "not placed yet: `sg3d rooms link`, or build with --align-to/--transform/--shared-frame"}

@@ -1,0 +1,130 @@
+"""Does a hypothesis exist? Multi-view evidence, negative evidence included.
+
+A real object is detected in a fair share of the frames that show it; a misreading (a "tv" on a
+stack of magazines, a "cell phone" on a box) is detected once or twice among the many frames
+that show the same place. So for each hypothesis we count the detected frames in which it
+*should* have been seen (`expected_in_view`: it projects inside the image, large enough for the
+detector, and the depth there does not show something in front of it) and those in which it was
+detected, and weigh the two explanations (`existence_probability`).
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Optional
+
+import cv2
+import numpy as np
+
+# A frame's depth is kept at 1/DEPTH_FACTOR resolution for the visibility test (the objects are
+# tens of pixels wide; 160x120 is plenty and costs 77 KB a frame).
+DEPTH_FACTOR = 4
+# Visible: the centre projects this far inside the image border (fraction of width/height) ...
+BORDER_MARGIN = 0.05
+# ... at least this many pixels across (SSD300 sees little below ~20 px at 640x480) ...
+MIN_PIXELS = 24.0
+# ... no farther than the detector resolves household objects ...
+MAX_RANGE_M = 4.5
+# ... and nothing stands in front: the surface seen there is not nearer than the object's own
+# front (half its extent before its centre) by more than this.
+OCCLUSION_TOLERANCE_M = 0.15
+
+# The two explanations of k detections in n views: a real object is detected in a view with
+# probability P_DETECT_REAL, a misreading recurs with P_DETECT_FALSE; prior odds of a real object.
+P_DETECT_REAL = 0.25
+P_DETECT_FALSE = 0.03
+PRIOR_REAL = 0.5
+# Kept when the probability passes EXISTENCE_THRESHOLD and it was detected at least MIN_DETECTIONS
+# times (the authors' code: twice).
+EXISTENCE_THRESHOLD = 0.5
+MIN_DETECTIONS = 2
+
+
+@dataclass(frozen=True)
+class View:
+    """What the visibility test needs of a detected frame: its index, camera, and small depth."""
+
+    index: int
+    K: np.ndarray
+    pose: np.ndarray               # camera-to-world
+    size: tuple[int, int]          # full-resolution (width, height)
+    depth: np.ndarray              # metres at 1/DEPTH_FACTOR resolution, 0 = unknown
+
+    @classmethod
+    def of(cls, frame) -> "View":
+        w, h = frame.size
+        small = cv2.resize(frame.depth, (max(1, w // DEPTH_FACTOR), max(1, h // DEPTH_FACTOR)),
+                           interpolation=cv2.INTER_NEAREST)
+        return cls(frame.index, frame.K, frame.pose, (w, h), small)
+
+
+def expected_in_view(centre, extent: float, view: View) -> Optional[bool]:
+    """Should an object with box centre `centre` (world) and largest extent `extent` (m) have been
+    seen in `view`? True: it projects inside the image (BORDER_MARGIN), at least MIN_PIXELS
+    across, within MAX_RANGE_M, and the depth around its projection is not nearer than its front
+    (z - extent/2) by more than OCCLUSION_TOLERANCE_M. False: outside, too small or occluded.
+    None: no depth there to tell."""
+    world_to_cam = np.linalg.inv(view.pose)
+    p = world_to_cam[:3, :3] @ np.asarray(centre, dtype=np.float64) + world_to_cam[:3, 3]
+    z = float(p[2])
+    if z <= 0.1 or z > MAX_RANGE_M:
+        return False
+    K = view.K
+    u = K[0, 0] * p[0] / z + K[0, 2]
+    v = K[1, 1] * p[1] / z + K[1, 2]
+    w, h = view.size
+    if not (BORDER_MARGIN * w <= u < (1 - BORDER_MARGIN) * w and BORDER_MARGIN * h <= v < (1 - BORDER_MARGIN) * h):
+        return False
+    if K[0, 0] * extent / z < MIN_PIXELS:
+        return False
+    du, dv = int(u / DEPTH_FACTOR), int(v / DEPTH_FACTOR)
+    patch = view.depth[max(0, dv - 1):dv + 2, max(0, du - 1):du + 2]
+    seen = patch[patch > 0]
+    if seen.size == 0:
+        return None
+    return float(np.median(seen)) >= z - extent / 2 - OCCLUSION_TOLERANCE_M
+
+
+def existence_probability(detected: int, expected: int, p_real: float = P_DETECT_REAL,
+                          p_false: float = P_DETECT_FALSE, prior: float = PRIOR_REAL) -> float:
+    """P(real | k of n) by Bayes over two binomial explanations of k detections in n views:
+
+        L_real  = p_r^k (1 - p_r)^(n - k),   L_false = p_f^k (1 - p_f)^(n - k)
+        P = prior L_real / (prior L_real + (1 - prior) L_false)
+
+    with k = detections, n = max(expected views, k) (a detection is a view that showed it)."""
+    k = int(detected)
+    n = max(int(expected), k)
+    log_real = k * math.log(p_real) + (n - k) * math.log1p(-p_real)
+    log_false = k * math.log(p_false) + (n - k) * math.log1p(-p_false)
+    log_odds = math.log(prior) - math.log1p(-prior) + log_real - log_false
+    if log_odds > 50:
+        return 1.0
+    return 1.0 / (1.0 + math.exp(-log_odds))
+
+
+@dataclass(frozen=True)
+class Evidence:
+    detected: int          # detected frames that hold a sighting of it
+    expected: int          # detected frames that should have shown it (detections included)
+    probability: float
+
+    @property
+    def ratio(self) -> float:
+        return self.detected / self.expected if self.expected else 0.0
+
+
+def evidence(centre, extent: float, detected_frames: set[int], views: list[View], **params) -> Evidence:
+    """Count views that should have shown the object and the ones that did; a detection counts
+    as an expected view even where the visibility test cannot tell (no depth, border)."""
+    expected = 0
+    for view in views:
+        if view.index in detected_frames or expected_in_view(centre, extent, view):
+            expected += 1
+    k = len(detected_frames)
+    return Evidence(k, expected, existence_probability(k, expected, **params))
+
+
+def exists(ev: Evidence, threshold: float = EXISTENCE_THRESHOLD, min_detections: int = MIN_DETECTIONS) -> bool:
+    """The existence decision: probability >= threshold and at least min_detections detections."""
+    return ev.detected >= min_detections and ev.probability >= threshold

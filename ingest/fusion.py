@@ -1,0 +1,257 @@
+"""Whole-sequence fusion: the detections of every detected frame -> 3-D object hypotheses.
+
+A detection lifted to 3-D (`Sighting`: the box's 3-D attributes in one frame) joins the
+hypothesis it most plausibly shows, frame by frame in sequence order, so an object is not
+forgotten between keyframe groups:
+
+- feasible when the labels are compatible (either's best label among the other's candidates)
+  and the 3-D box centre lies within the gate max(ASSOC_MAX_DISTANCE, ASSOC_EXTENT_FRACTION *
+  largest extent) of the hypothesis' centre, or - for the same best label - the two 3-D boxes
+  overlap (intersection / smaller volume >= PART_OVERLAP: a big object seen in parts);
+- within one frame the detections are paired one-to-one with hypotheses (Hungarian method on
+  distance / gate + a label-mismatch cost), so two objects seen side by side never share one.
+
+After the pass, hypotheses with the same best label that were never detected in the same frame
+and whose boxes overlap or centres fall within the gate are folded together (`consolidate`):
+association is greedy in time, this undoes the splits it makes when a part view comes first.
+
+Each hypothesis accumulates label evidence over all its sightings (`ingest.tracks.fuse_labels`:
+the label the detector repeats wins over one it said once with a high score), its position
+Gaussian (pooled Eq. 8 moments), a robust union box, the summed HSV histogram, the most frequent
+colour name and the best-scored view's thumbnail.
+"""
+from __future__ import annotations
+
+from collections import Counter
+from dataclasses import dataclass, field
+from functools import cached_property
+from typing import Iterable, Optional, Sequence
+
+import numpy as np
+from scipy.optimize import linear_sum_assignment
+
+from ingest.attributes import ObjectAttributes
+from ingest.detect import Detection
+from ingest.model import ObjectObservation
+from ingest.moments import combine_gaussians
+from ingest.tracks import fuse_labels
+
+ASSOC_MAX_DISTANCE = 0.25
+ASSOC_EXTENT_FRACTION = 0.5
+LABEL_MISMATCH_COST = 0.5
+# Two boxes overlapping this much of the smaller one are parts of one object.
+PART_OVERLAP = 0.5
+# Two hypotheses seen together in at most this share of the smaller one's frames may still be
+# one object (a frame that boxed it twice, e.g. a whole table and one of its ends).
+MAX_SHARED_FRAMES = 0.1
+# A hypothesis' box: per-axis percentiles of its sightings' lower and upper bounds. A part seen
+# in a fifth of the views still widens the box; a single flying-pixel box does not.
+BOX_LOW_PERCENTILE = 20.0
+BOX_HIGH_PERCENTILE = 80.0
+_INFEASIBLE = 1e6
+
+
+@dataclass
+class Sighting:
+    """One detection with its 3-D attributes in one frame; `lo`/`hi` bound its 3-D box in
+    gravity-frame coordinates (along e1, e2, up of `horizontal_basis`)."""
+
+    frame: int
+    detection: Detection
+    attrs: ObjectAttributes
+    lo: np.ndarray
+    hi: np.ndarray
+
+    @classmethod
+    def of(cls, frame: int, detection: Detection, attrs: ObjectAttributes, basis: np.ndarray) -> "Sighting":
+        centre = basis @ np.asarray(attrs.centre, dtype=np.float64)
+        half = np.asarray(attrs.size, dtype=np.float64) / 2
+        return cls(frame, detection, attrs, centre - half, centre + half)
+
+    @property
+    def extent(self) -> float:
+        return float(max(self.attrs.size))
+
+
+def box_overlap(lo_a, hi_a, lo_b, hi_b) -> float:
+    """Intersection volume of two axis-aligned boxes over the smaller one's volume, in [0, 1]
+    (degenerate sizes get a 1 cm floor so flat objects can still overlap)."""
+    inter = np.clip(np.minimum(hi_a, hi_b) - np.maximum(lo_a, lo_b), 0.0, None)
+    va = np.prod(np.maximum(np.asarray(hi_a) - lo_a, 0.01))
+    vb = np.prod(np.maximum(np.asarray(hi_b) - lo_b, 0.01))
+    return float(np.prod(np.maximum(inter, 0.0)) / min(va, vb)) if inter.all() else 0.0
+
+
+@dataclass
+class Hypothesis:
+    """A 3-D object candidate: every sighting that was associated with it."""
+
+    hid: int
+    sightings: list[Sighting] = field(default_factory=list)
+
+    def add(self, s: Sighting) -> None:
+        self.sightings.append(s)
+        self.__dict__.pop("_summary", None)
+
+    @cached_property
+    def _summary(self) -> dict:
+        lows = np.array([s.lo for s in self.sightings])
+        highs = np.array([s.hi for s in self.sightings])
+        labels, scores = fuse_labels(self.sightings)
+        return {
+            "frames": sorted({s.frame for s in self.sightings}),
+            "centre_gravity": np.median((lows + highs) / 2, axis=0),
+            "lo": np.percentile(lows, BOX_LOW_PERCENTILE, axis=0),
+            "hi": np.percentile(highs, BOX_HIGH_PERCENTILE, axis=0),
+            "labels": labels, "scores": scores,
+            "candidates": {label for s in self.sightings for label in s.detection.labels},
+        }
+
+    @property
+    def frames(self) -> list[int]:
+        return self._summary["frames"]
+
+    @property
+    def n_frames(self) -> int:
+        return len(self.frames)
+
+    @property
+    def lo(self) -> np.ndarray:
+        return self._summary["lo"]
+
+    @property
+    def hi(self) -> np.ndarray:
+        return self._summary["hi"]
+
+    @property
+    def centre_gravity(self) -> np.ndarray:
+        return self._summary["centre_gravity"]
+
+    @property
+    def extent(self) -> float:
+        return float(np.max(self.hi - self.lo))
+
+    @property
+    def labels(self) -> list[str]:
+        return self._summary["labels"]
+
+    @property
+    def scores(self) -> list[float]:
+        return self._summary["scores"]
+
+    @property
+    def label(self) -> str:
+        return self.labels[0]
+
+    @property
+    def candidate_labels(self) -> set[str]:
+        return self._summary["candidates"]
+
+
+def labels_compatible(detection: Detection, h: Hypothesis) -> bool:
+    return detection.label in h.candidate_labels or h.label in detection.labels
+
+
+def association_cost(s: Sighting, h: Hypothesis) -> float:
+    """distance / gate + LABEL_MISMATCH_COST when the labels differ; _INFEASIBLE outside the
+    gate (unless same-label boxes overlap by PART_OVERLAP) or for incompatible labels."""
+    if not labels_compatible(s.detection, h):
+        return _INFEASIBLE
+    gate = max(ASSOC_MAX_DISTANCE, ASSOC_EXTENT_FRACTION * max(s.extent, h.extent))
+    centre = (s.lo + s.hi) / 2
+    distance = float(np.linalg.norm(centre - h.centre_gravity))
+    same_label = s.detection.label == h.label
+    if distance > gate:
+        if not (same_label and box_overlap(s.lo, s.hi, h.lo, h.hi) >= PART_OVERLAP):
+            return _INFEASIBLE
+        distance = gate
+    return distance / gate + (0.0 if same_label else LABEL_MISMATCH_COST)
+
+
+def suppress_duplicates(frame_sightings: Sequence[Sighting]) -> list[Sighting]:
+    """3-D non-maximum suppression within one frame: of two sightings with compatible labels
+    whose 3-D boxes overlap by PART_OVERLAP of the smaller one, keep the higher-scored (the
+    detector boxed one object twice: a whole table and one end, a mug and its handle)."""
+    kept: list[Sighting] = []
+    for s in sorted(frame_sightings, key=lambda s: -s.detection.score):
+        if not any((s.detection.label in k.detection.labels or k.detection.label in s.detection.labels)
+                   and box_overlap(s.lo, s.hi, k.lo, k.hi) >= PART_OVERLAP for k in kept):
+            kept.append(s)
+    return kept
+
+
+def associate(sightings: Iterable[Sighting]) -> list[Hypothesis]:
+    """Sightings (any order) -> hypotheses, frame by frame in index order, one-to-one per frame
+    (after `suppress_duplicates` within the frame)."""
+    by_frame: dict[int, list[Sighting]] = {}
+    for s in sightings:
+        by_frame.setdefault(s.frame, []).append(s)
+    by_frame = {f: suppress_duplicates(v) for f, v in by_frame.items()}
+    hyps: list[Hypothesis] = []
+    for frame in sorted(by_frame):
+        dets = by_frame[frame]
+        matched: set[int] = set()
+        if hyps:
+            cost = np.array([[association_cost(s, h) for h in hyps] for s in dets])
+            rows, cols = linear_sum_assignment(cost)
+            for r, c in zip(rows, cols):
+                if cost[r, c] < _INFEASIBLE:
+                    hyps[c].add(dets[r])
+                    matched.add(r)
+        for r, s in enumerate(dets):
+            if r not in matched:
+                hyps.append(Hypothesis(len(hyps), [s]))
+    return hyps
+
+
+def _may_fold(a: Hypothesis, b: Hypothesis) -> bool:
+    if a.label != b.label:
+        return False
+    if len(set(a.frames) & set(b.frames)) > MAX_SHARED_FRAMES * min(a.n_frames, b.n_frames):
+        return False
+    gate = max(ASSOC_MAX_DISTANCE, ASSOC_EXTENT_FRACTION * max(a.extent, b.extent))
+    if float(np.linalg.norm(a.centre_gravity - b.centre_gravity)) <= gate:
+        return True
+    return box_overlap(a.lo, a.hi, b.lo, b.hi) >= PART_OVERLAP
+
+
+def consolidate(hyps: Sequence[Hypothesis]) -> list[Hypothesis]:
+    """Fold same-label hypotheses that were never detected together and overlap or lie within
+    the association gate, the closest pairs first, until none is left; ids are renumbered."""
+    pool = [Hypothesis(h.hid, list(h.sightings)) for h in hyps]
+    while True:
+        best: Optional[tuple[float, int, int]] = None
+        for i in range(len(pool)):
+            for j in range(i + 1, len(pool)):
+                if _may_fold(pool[i], pool[j]):
+                    d = float(np.linalg.norm(pool[i].centre_gravity - pool[j].centre_gravity))
+                    if best is None or d < best[0]:
+                        best = (d, i, j)
+        if best is None:
+            break
+        _, i, j = best
+        for s in pool[j].sightings:
+            pool[i].add(s)
+        del pool[j]
+    ordered = sorted(pool, key=lambda h: (h.frames[0], h.hid))
+    return [Hypothesis(k, sorted(h.sightings, key=lambda s: s.frame)) for k, h in enumerate(ordered)]
+
+
+def fuse(local_id: str, h: Hypothesis, basis: np.ndarray) -> ObjectObservation:
+    """One object from all the sightings of a hypothesis: pooled position Gaussian (Eq. 8
+    moments), the robust union box, summed histogram (Eq. 9 counts), majority colour, accumulated
+    label evidence and the best-scored view's thumbnail."""
+    first = h.sightings[0].attrs
+    mean, var, n = np.asarray(first.mean, float), np.asarray(first.var, float), first.n_points
+    for s in h.sightings[1:]:
+        mean, var, n = combine_gaussians(mean, var, n, s.attrs.mean, s.attrs.var, s.attrs.n_points)
+    best = max(h.sightings, key=lambda s: s.detection.score)
+    colours = Counter(s.attrs.colour for s in h.sightings)
+    centre = basis.T @ ((h.lo + h.hi) / 2)
+    return ObjectObservation(
+        local_id=local_id, labels=list(h.labels), scores=[float(v) for v in h.scores],
+        mean=tuple(float(v) for v in mean), var=tuple(float(v) for v in var), n_points=int(n),
+        size=tuple(float(v) for v in (h.hi - h.lo)), box_centre=tuple(float(v) for v in centre),
+        hist=np.sum([s.attrs.hist for s in h.sightings], axis=0),
+        colour=colours.most_common(1)[0][0], thumbnail=best.attrs.thumbnail,
+        first_frame=h.frames[0], last_frame=h.frames[-1], n_frames=h.n_frames)
