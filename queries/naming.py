@@ -68,12 +68,14 @@ def object_names(objects: Iterable[dict], supports: Optional[dict[str, str]] = N
             names[group[0]["id"]] = label
             continue
         colours = [o.get("colour") for o in group]
-        placed = [(o.get("colour"), supports.get(o["id"])) for o in group]
+        # objects their colour does not single out; where they are may (among themselves)
+        ambiguous = [o for o in group if not (o.get("colour") and colours.count(o["colour"]) == 1)]
+        placed = [(o.get("colour"), supports.get(o["id"])) for o in ambiguous]
         for i, o in enumerate(group, 1):
             colour, support = o.get("colour"), supports.get(o["id"])
-            if colour and colours.count(colour) == 1:
+            if o not in ambiguous:
                 names[o["id"]] = f"{colour} {label}"
-            elif support and placed.count((colour, support)) == 1:
+            elif len(ambiguous) > 1 and support and placed.count((colour, support)) == 1:
                 names[o["id"]] = " ".join(x for x in (colour, label, support) if x)
             else:
                 names[o["id"]] = f"{label} {i}"
