@@ -109,3 +109,13 @@ def names_in_store(read, objects: Iterable[dict]) -> dict[str, str]:
     supports = supports_from_edges(edges, {e["o"]: e["o"] for e in edges})
     names = object_names(everyone.values(), supports)
     return {o["id"]: names[o["id"]] for o in objs}
+
+
+def name_graph(graph: dict) -> dict:
+    """Add each node's readable name ("name") to an exported graph {nodes, edges} in place."""
+    objs = [{**n, "room": n.get("room") or n.get("room_name") or ""} for n in graph["nodes"]]
+    labels = {n["id"]: n.get("label") or "object" for n in graph["nodes"]}
+    names = object_names(objs, supports_from_edges(graph.get("edges", ()), labels))
+    for n in graph["nodes"]:
+        n["name"] = names[n["id"]]
+    return graph
