@@ -148,6 +148,8 @@ FRAMES: list[tuple[re.Pattern, str, Optional[str]]] = [
     (re.compile(r"^(?:does|do) (?:the |this |my )?(?P<room>[a-z ]+?) (?:have|contain|hold) (?P<rest>.+)$"), "exists", None),
     # yes/no about a relation: "is the cup on the table", "are the mugs next to the sink"
     (re.compile(r"^(?:is|are) (?P<rest>.+? (?:" + _REL + r")\b.+)$"), "exists", None),
+    # yes/no about a stored attribute: "is the cup red", "are the chairs big"
+    (re.compile(r"^(?:is|are) (?P<rest>.+ (?:" + "|".join(sorted(set(COLOURS) | set(SIZES))) + r"))$"), "exists", None),
     (re.compile(r"^(?:what|which) color (?:is|are) (?P<rest>.+)$"), "attribute", "colour"),
     (re.compile(r"^what is the color of (?P<rest>.+)$"), "attribute", "colour"),
     (re.compile(r"^(?:how big|what size|how large) (?:is|are) (?P<rest>.+)$"), "attribute", "size"),

@@ -130,6 +130,11 @@ def plural(label: str, n: int = 2) -> str:
     return label + "s"
 
 
+def the(name: str) -> str:
+    """A name with its article: "the white cup", but "chair 2" (a numbered name stands alone)."""
+    return name if name[-1:].isdigit() else f"the {name}"
+
+
 def _what(q: Query, n: int) -> str:
     t = q.target
     bits = [b for b in (q.size, q.colour) if b]
@@ -328,7 +333,11 @@ def show(run: _Run, q: Query, rooms) -> Answer:
     thumb = run.read("vqa_thumbnail", id=r["id"])
     data = thumb[0]["thumbnail"] if thumb else None
     detail = f"{r.get('volume', 0) or 0:.3g} m^3" if q.superlative != "closest" else f"{r['distance']:.2f} m away"
-    text = f"the {how} {_what(q, 1)}{rel}: the {run.names([r])[r['id']]} ({detail})"
+    named = the(run.names([r])[r["id"]])
+    if q.superlative == "closest":
+        text = f"the {_what(q, 1)} {how}: {named} ({detail})"
+    else:
+        text = f"the {how} {_what(q, 1)}{rel}: {named} ({detail})"
     return Answer("", True, text, "show", _brief(r), [_brief(r)], q, thumbnail=bytes(data) if data else None)
 
 
@@ -372,8 +381,8 @@ def where(run: _Run, q: Query, rooms) -> Answer:
     for r in rows[:LIST_SHOWN]:
         found = rels[r["id"]]
         room = (r.get("room") or "?").split("/", 1)[-1]
-        said = ", ".join(f"{REL_WORDS[x['rel']]} the {named[x['other_id']]}" for x in found)
-        parts.append(f"the {named[r['id']]} in the {room}" + (f": {said}" if said else ""))
+        said = ", ".join(f"{REL_WORDS[x['rel']]} {the(named[x['other_id']])}" for x in found)
+        parts.append(f"{the(named[r['id']])} in the {room}" + (f": {said}" if said else ""))
         value.append({**_brief(r), "relations": found})
     more = f"; ... {len(rows) - LIST_SHOWN} more" if len(rows) > LIST_SHOWN else ""
     return Answer("", True, "; ".join(parts) + more, "where", value, value, q)

@@ -64,8 +64,9 @@ def test_ignored_words_and_mappings_are_reported(store, house):
     ("is the knife in the sink", True), ("is a bowl next to the sink?", True),
     ("is the bowl beside the sink", True), ("is the couch on the table?", False),
     ("is the red cup on the table", True), ("is the blue cup on the table", False),
+    ("is the cup red?", True), ("are the chairs blue", True), ("is the couch pink?", False),
 ])
-def test_yes_no_about_relations(store, house, question, expected):
+def test_yes_no_about_relations_and_attributes(store, house, question, expected):
     a = ask(store, question)
     assert a.form == "exists" and a.value is expected
     assert a.text.startswith("yes" if expected else "no")
