@@ -1,7 +1,9 @@
+// $anchor_colour: null = an anchor of any colour.
 // Objects with a REL_TYPE edge to an anchor object (o -REL_TYPE-> anchor), filtered like
 // vqa_objects. Starts from the anchors (object_label index), then their few edges.
 MATCH (b:Object)
 WHERE b.label IN $anchors
+  AND ($anchor_colour IS NULL OR b.colour = $anchor_colour)
   AND ($rooms IS NULL OR b.room IN $rooms)
 MATCH (o:Object)-[e:REL_TYPE]->(b)
 WHERE ($labels IS NULL OR o.label IN $labels)

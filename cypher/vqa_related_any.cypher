@@ -1,6 +1,7 @@
 // Like vqa_related, for a symmetric relation (next to, near): an edge either way counts.
 MATCH (b:Object)
 WHERE b.label IN $anchors
+  AND ($anchor_colour IS NULL OR b.colour = $anchor_colour)
   AND ($rooms IS NULL OR b.room IN $rooms)
 MATCH (o:Object)-[e:REL_TYPE]-(b)
 WHERE o.id <> b.id

@@ -3,6 +3,7 @@ MATCH (r:Room)
 WHERE r.id IN $rooms
 MATCH (r)-[:CONTAINS]->(b:Object)
 WHERE b.label IN $anchors
+  AND ($anchor_colour IS NULL OR b.colour = $anchor_colour)
 MATCH (o:Object)-[e:REL_TYPE]-(b)
 WHERE o.id <> b.id
   AND ($labels IS NULL OR o.label IN $labels)

@@ -35,7 +35,7 @@ def to_json(graph: dict) -> str:
 
 def to_graphml(graph: dict) -> str:
     root = ET.Element("graphml", xmlns="http://graphml.graphdrawing.org/xmlns")
-    scalar = {"label": "string", "room_name": "string", "colour": "string", "x": "double", "y": "double",
+    scalar = {"label": "string", "name": "string", "room_name": "string", "colour": "string", "x": "double", "y": "double",
               "z": "double", "volume": "double", "observations": "int"}
     for name, kind in scalar.items():
         ET.SubElement(root, "key", id=name, attrib={"for": "node", "attr.name": name, "attr.type": kind})

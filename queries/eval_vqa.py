@@ -87,10 +87,12 @@ def vqa_metrics(store, gt: GroundTruth, matching: Matching, room: str, building:
             except Exception as exc:  # noqa: BLE001 - any failure means "not supported", listed with why
                 reply, row["reason"] = None, f"{type(exc).__name__}: {exc}"
             if reply is None or _reply_value(reply) is None:
-                row.setdefault("reason", "no answer")
+                row.setdefault("reason", "no answer" + (f": {reply.text}" if isinstance(getattr(reply, "text", None), str) else ""))
                 row["status"] = "unsupported"
             else:
                 row["got"] = _jsonable(_reply_value(reply))
+                if isinstance(getattr(reply, "text", None), str):
+                    row["answer"] = reply.text       # what a person reads: objects by name, no ids
                 verdict = score(q, reply, matching, gt_ids)
                 row["status"] = {True: "right", False: "wrong", None: "not scorable"}[verdict]
         rows.append(row)

@@ -16,6 +16,10 @@ from ingest.model import COLOUR_NAMES
 from queries.taxonomy import Taxonomy
 
 SYNONYMS = Path(__file__).resolve().parent / "data" / "synonyms.json"
+# Household nouns (singular): a word here is a real object name, so when it maps to no stored
+# category the answer is "0 <word>s", not a refusal. The same list is the shipped-vector
+# vocabulary (ingest/data/label_vectors.*, scripts/make_label_vectors.py).
+VOCABULARY = Path(__file__).resolve().parent / "data" / "household_nouns.txt"
 
 # Cosine threshold for the embedding fallback (all-MiniLM-L6-v2). Measured on household nouns:
 # right mappings scored 0.71-0.96 (mug->cup 0.71, armchair->chair 0.73, sofa->couch 0.86,
@@ -39,7 +43,7 @@ IRREGULAR = {
 
 # Words that may stand before a known head noun without changing what it is ("dining furniture",
 # "wooden chairs"): adjectives of material, state, shape, colour, size and room use. Any other
-# word beside a known noun makes the phrase doubtful, and a doubtful phrase is refused.
+# word before a known head noun is ignored and reported ("plain white mugs" -> white cups).
 MODIFIERS = frozenset(COLOUR_NAMES) | {
     "gray", "silver", "golden", "big", "large", "huge", "small", "little", "tiny",
     "dining", "kitchen", "living", "bathroom", "bedroom", "office", "garden", "outdoor", "indoor",
@@ -80,13 +84,42 @@ class Target:
     phrase: str
     labels: Optional[list[str]]
     names: list[str] = field(default_factory=list)   # the class or group names it resolved to
-    how: str = "label"                               # label | group | synonym | embedding | any
+    how: str = "label"                               # label | group | synonym | embedding | any | unknown
     similarity: Optional[float] = None
+    ignored: list[str] = field(default_factory=list)  # words beside the noun that were not used
+
+    def mapping(self) -> Optional[str]:
+        """How the phrase was read, for --explain ("mugs -> cup (synonym)"); None when plain."""
+        if self.how == "label" and not self.ignored:
+            return None
+        names = " + ".join(self.names) if self.names else ("every object" if self.labels is None else "no stored category")
+        why = self.how + (f" {self.similarity:.2f}" if self.similarity is not None else "")
+        out = f"'{self.phrase}' -> {names} ({why})"
+        return out + (f", ignored: {' '.join(self.ignored)}" if self.ignored else "")
 
     def describe(self) -> str:
         if self.labels is None:
             return "objects"
         return " + ".join(self.names)
+
+
+@functools.cache
+def vocabulary() -> frozenset[str]:
+    """The shipped household nouns (singular, lower case)."""
+    if not VOCABULARY.exists():
+        return frozenset()
+    return frozenset(w.strip() for w in VOCABULARY.read_text().splitlines() if w.strip() and not w.startswith("#"))
+
+
+def real_noun(phrase: str) -> Optional[str]:
+    """The singular noun a phrase names when it is a known household word (the whole phrase, or
+    its last word), else None."""
+    vocab = vocabulary()
+    for p in (lemma_phrase(phrase), phrase):
+        if p in vocab:
+            return p
+    last = lemma(phrase.split()[-1]) if phrase.split() else ""
+    return last if last in vocab else None
 
 
 @functools.cache
@@ -165,10 +198,13 @@ def head_noun(phrase: str) -> tuple[Optional[Target], str]:
         head = known(" ".join(words[i:]))
         if head is not None:
             others = [w for w in words[:i] if w not in MODIFIERS]
-            if not others:
-                return Target(phrase, head.labels, head.names, head.how), ""
-            return None, (f"I am not sure what '{phrase}' means: '{' '.join(words[i:])}' is known, "
-                          f"but not with '{' '.join(others)}'")
+            if any(known(w) is not None for w in others):
+                return None, f"'{phrase}' names more than one kind of object"
+            if others and lemma_phrase(phrase) in vocabulary():
+                return None, ""     # a compound noun of its own ("coffee table"): not its head
+            # words before a known head noun describe it ("plain white mugs"): kept out of the
+            # query and reported, rather than refusing the question
+            return Target(phrase, head.labels, head.names, head.how, ignored=others), ""
     for i in range(len(words)):
         for j in range(len(words), i, -1):
             part = " ".join(words[i:j])
@@ -178,8 +214,15 @@ def head_noun(phrase: str) -> tuple[Optional[Target], str]:
     return None, ""
 
 
+def unknown_real(phrase: str, noun: str) -> Target:
+    """A real household object no stored category covers: it matches nothing (labels [])."""
+    return Target(phrase, [], [noun], "unknown")
+
+
 def resolve(phrase: str, embedding=None, use_embedding: bool = True):
-    """(Target or None, why-not text)."""
+    """(Target or None, why-not text): the synonym table and taxonomy, a known head noun, then
+    the label embedding; a household word that maps to no category is an `unknown_real` target
+    (it answers "0 ..."), any other word is not understood."""
     phrase = " ".join(phrase.split())
     if not phrase:
         return None, "no object named"
@@ -187,12 +230,19 @@ def resolve(phrase: str, embedding=None, use_embedding: bool = True):
     if hit is None and " " in phrase:
         hit, doubt = head_noun(phrase)
         if doubt:
+            # "cup holder": a known word inside another noun; a household noun is then its own thing
+            noun = real_noun(phrase)
+            if noun and known(noun) is None:
+                return unknown_real(phrase, noun), ""
             return None, doubt
-    if hit is not None or not use_embedding:
-        return hit, "" if hit else f"unknown object '{phrase}'"
+    if hit is not None:
+        return hit, ""
+    noun = real_noun(phrase)
+    if not use_embedding:
+        return (unknown_real(phrase, noun), "") if noun else (None, f"unknown word '{phrase}'")
     hit, top = by_embedding(phrase, embedding)
     if hit is None:
-        near = ", ".join(f"{k} {s:.2f}" for k, s in top)
-        return None, (f"I don't know what '{phrase}' is (nearest known: {near}; "
-                      f"below the {EMBED_THRESHOLD} similarity needed or ambiguous)")
+        if noun:
+            return unknown_real(phrase, noun), ""
+        return None, f"I don't know the word '{phrase}'"
     return hit, ""

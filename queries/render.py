@@ -80,16 +80,13 @@ def room_up(scene: Scene, room: str) -> np.ndarray:
     return vt[2]
 
 
-def display_names(nodes: Sequence[dict]) -> dict[str, str]:
-    """id -> "label #n (colour)", n counting nodes of one label in id order (ids are stable)."""
-    seen: dict[str, int] = {}
-    out = {}
-    for n in sorted(nodes, key=lambda n: n["id"]):
-        label = n.get("label") or "?"
-        seen[label] = seen.get(label, 0) + 1
-        colour = f" ({n['colour']})" if n.get("colour") else ""
-        out[n["id"]] = f"{label} #{seen[label]}{colour}"
-    return out
+def display_names(nodes: Sequence[dict], edges: Iterable[dict] = ()) -> dict[str, str]:
+    """id -> the readable name ask and plan use (queries/naming.py: "white cup", "chair 2",
+    "red cup on the dining table"); `edges` ({s, type, o, score}) give what each stands on."""
+    from queries.naming import name_graph
+
+    graph = name_graph({"nodes": [dict(n) for n in nodes], "edges": list(edges)})
+    return {n["id"]: n["name"] for n in graph["nodes"]}
 
 
 def category_of(label: str) -> str:
@@ -226,10 +223,11 @@ def relax(pos: np.ndarray, half: np.ndarray, offset: np.ndarray, lo: np.ndarray,
 
 
 def label_lines(name: str) -> list[str]:
-    """"label #n (colour)" on two lines ("label #n", "(colour)"): narrower boxes overlap less."""
-    if " (" in name:
-        head, tail = name.rsplit(" (", 1)
-        return [head, "(" + tail]
+    """A long name on two lines ("red cup", "on the dining table"): narrower boxes overlap less."""
+    for sep in (" on the ", " in the "):
+        if sep in name:
+            head, tail = name.split(sep, 1)
+            return [head, sep.strip() + " " + tail]
     return [name]
 
 
@@ -238,7 +236,7 @@ def make_layout(scene: Scene, width: int, height: int, layout: str = "topdown",
     """Pixel positions of every node. `extra_points`: floor coordinates (topdown) that must also
     fit the picture (missing GT objects in a report)."""
     ids = [n["id"] for n in scene.nodes]
-    names = display_names(scene.nodes)
+    names = display_names(scene.nodes, scene.edges)
     area_lo = np.array([MARGIN, MARGIN], dtype=np.float64)
     area_hi = np.array([width - LEGEND_W - MARGIN, height - MARGIN], dtype=np.float64)
     area_hi = np.maximum(area_hi, area_lo + 1)
@@ -419,7 +417,7 @@ def render_png(scene: Scene, layout: Layout, edges: list[dict], *, status: Optio
                markers: Sequence[Marker] = (), hidden: int = 0, title: str = "") -> np.ndarray:
     """The diagram as a BGR image (layout.height x layout.width)."""
     img = np.full((layout.height, layout.width, 3), BACKGROUND[::-1], np.uint8)
-    names = display_names(scene.nodes)
+    names = display_names(scene.nodes, scene.edges)
     edge_col = (110, 110, 110)
     label_jobs = []
     for e, a, b, mid in placed_edges(layout, edges):
@@ -499,7 +497,7 @@ def render_svg(scene: Scene, layout: Layout, edges: list[dict], *, status: Optio
     """The same diagram as SVG text: one <g class="node"> with one <circle> per node, one
     <text class="edge-label"> per drawn edge."""
     esc = html.escape
-    names = display_names(scene.nodes)
+    names = display_names(scene.nodes, scene.edges)
     out = [f'<svg xmlns="http://www.w3.org/2000/svg" width="{layout.width}" height="{layout.height}" '
            f'viewBox="0 0 {layout.width} {layout.height}" font-family="Helvetica, Arial, sans-serif">',
            '<defs><marker id="arrow" viewBox="0 0 10 10" refX="10" refY="5" markerWidth="7" markerHeight="7" '
@@ -591,7 +589,7 @@ def scene_3d(scene: Scene, edges: list[dict], up: Sequence[float]) -> dict:
     """Boxes and edges in the gravity frame (e1, e2, up): size (w, d, h) is measured along these
     axes, so each box is axis-aligned there and the viewer's z is up."""
     R = np.stack(horizontal_basis(up))
-    names = display_names(scene.nodes)
+    names = display_names(scene.nodes, scene.edges)
     boxes = []
     for n in scene.nodes:
         c = R @ np.array([n.get("x") or 0.0, n.get("y") or 0.0, n.get("z") or 0.0])

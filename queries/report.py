@@ -85,12 +85,15 @@ def write_report(out_dir: Path, report: dict, scene, gt, room: str, *, width: in
     (out_dir / PICTURE).write_bytes(png)
     rows = metric_rows(report)
     n = report["nodes"]
+    from queries.render import display_names
+
+    names = display_names(scene.nodes, scene.edges)     # the names the picture, ask and plan use
 
     def details() -> list[tuple[str, list[str]]]:
         return [
-            ("Duplicate nodes", [f"{p['node']} ({p['label']}) repeats {p['gt']}, {p['distance']:.2f} m"
+            ("Duplicate nodes", [f"{names.get(p['node'], p['label'])} repeats {p['gt']}, {p['distance']:.2f} m"
                                  for p in n["duplicates"]]),
-            ("Spurious nodes", [f"{p['node']} ({p['label']})"
+            ("Spurious nodes", [f"{names.get(p['node'], p['label'])}"
                                 + (f", nearest GT {p['nearest_gt']} at {p['nearest_distance']:.2f} m"
                                    if "nearest_gt" in p else "") for p in n["spurious"]]),
             ("Missing GT objects", [f"{g['gt']} {g['coco']}" + ("" if g["sure"] else " (unsure)")

@@ -28,7 +28,11 @@ from dataclasses import dataclass, field
 from typing import Any, Optional
 
 from graphdb import cypher
-from queries.parse import HELP, ParseError, Query, parse
+from queries.naming import names_in_store
+from queries.parse import ParseError, Query, parse, refusal
+
+MAX_QUESTION = 500    # characters; longer text is refused before any parsing
+PROVENANCE_MAX = 50   # objects whose provenance an answer carries (a count of more names none)
 
 ROW_LIMIT = 100_000   # rows fetched for listing/size filtering; counts without size use count()
 LIST_SHOWN = 12       # objects named in a one-line answer
@@ -48,12 +52,35 @@ class Answer:
     query: Optional[Query] = None
     steps: list[dict] = field(default_factory=list)   # [{template, params}] for --explain
     thumbnail: Optional[bytes] = None
+    # the objects the answer rests on: id, name, label, score, observations, n_frames, last seen
+    provenance: list[dict] = field(default_factory=list)
 
     def to_json(self) -> dict:
         return {"question": self.question, "ok": self.ok, "form": self.form, "answer": self.text,
                 "value": self.value, "objects": self.objects,
                 "query": self.query.summary() if self.query else None, "steps": self.steps,
+                "templates": [s["template"] for s in self.steps], "provenance": self.provenance,
                 "thumbnail_bytes": len(self.thumbnail) if self.thumbnail else None}
+
+    def explain_lines(self) -> list[str]:
+        """What --explain prints: the reading of the question, templates, parameters, and the
+        objects the answer rests on (ids only here and in --json)."""
+        import json
+
+        out = []
+        if self.query is not None:
+            out.append(f"form: {json.dumps(self.query.summary())}")
+            out += [f"read as: {m}" for m in self.query.mappings()]
+            if self.query.ignored:
+                out.append(f"ignored: {', '.join(self.query.ignored)}")
+        for step in self.steps:
+            out.append(f"template: {step['template']}" + (f" [{step['rel_type']}]" if step.get("rel_type") else "")
+                       + f" params: {json.dumps(step['params'], default=str)}")
+        for p in self.provenance:
+            out.append(f"rests on: {p['name']} = {p['id']} (score {p.get('score')}, "
+                       f"{p.get('observations')} observations, {p.get('n_frames')} frames, "
+                       f"frames {p.get('first_frame')}-{p.get('last_frame')}, last seen {p.get('last_seen')})")
+        return out
 
 
 class Refusal(Exception):
@@ -67,6 +94,14 @@ class _Run:
     def __init__(self, store):
         self.store = store
         self.steps: list[dict] = []
+        self._names: dict[str, str] = {}
+
+    def names(self, rows) -> dict[str, str]:
+        """id -> readable name (queries/naming.py) for stored objects (rows with id, label, room)."""
+        missing = [r for r in rows if r.get("id") and r["id"] not in self._names]
+        if missing:
+            self._names.update(names_in_store(self.read, missing))
+        return self._names
 
     def read(self, name: str, **params) -> list[dict]:
         self.steps.append({"template": f"cypher/{name}.cypher", "params": params})
@@ -95,6 +130,11 @@ def plural(label: str, n: int = 2) -> str:
     return label + "s"
 
 
+def the(name: str) -> str:
+    """A name with its article: "the white cup", but "chair 2" (a numbered name stands alone)."""
+    return name if name[-1:].isdigit() else f"the {name}"
+
+
 def _what(q: Query, n: int) -> str:
     t = q.target
     bits = [b for b in (q.size, q.colour) if b]
@@ -108,7 +148,8 @@ def _what(q: Query, n: int) -> str:
 def _where(q: Query, rooms_asked: bool) -> str:
     out = ""
     if q.relation:
-        out += f" {q.relation_word} the {' or '.join(q.anchor.names)}"
+        colour = f"{q.anchor_colour} " if q.anchor_colour else ""
+        out += f" {q.relation_word} the {colour}{' or '.join(q.anchor.names)}"
     if q.room:
         out += f" in the {q.room}"
     return out
@@ -117,10 +158,14 @@ def _where(q: Query, rooms_asked: bool) -> str:
 def _understood(q: Query) -> str:
     notes = []
     for t in (q.target, q.anchor):
+        if t is not None and t.how == "unknown":
+            notes.append(f"'{t.names[0]}' is not among the categories the detector stores")
         if t is not None and t.how == "embedding":
             notes.append(f"'{t.phrase}' read as {' + '.join(t.names)} (similarity {t.similarity:.2f})")
         if t is not None and t.how == "either":
-            notes.append(f"'{t.phrase}' names {len(t.names)} categories; counted both: {' and '.join(t.names)}")
+            notes.append(f"'{t.phrase}' names {len(t.names)} categories; counted together: {' and '.join(t.names)}")
+    if q.ignored:
+        notes.append("ignored: " + ", ".join(q.ignored))
     return f" [{'; '.join(notes)}]" if notes else ""
 
 
@@ -151,6 +196,8 @@ def _scope(run: _Run, room: Optional[str], building: Optional[str]) -> Optional[
         rows = run.read("vqa_rooms", room=None, building=building.lower())
     if not rows:
         known = sorted({f"{r['building']}/{r['name']}" for r in run.store.read("vqa_rooms", room=None, building=None)})
+        if not known:
+            raise Refusal("the store holds no scene graph yet: build one first (sg3d build ...)")
         what = " in ".join(x for x in (f"room '{room}'" if room else "", f"building '{building}'" if building else "") if x)
         raise Refusal(f"no {what} in the store (rooms: {', '.join(known) or 'none'})")
     return [r["id"] for r in rows]
@@ -177,7 +224,8 @@ def _candidates(run: _Run, q: Query, rooms) -> list[dict]:
     """The objects the question is about (target, attributes, relation), one row per object."""
     if q.relation:
         name = _variant("vqa_related_any" if q.symmetric else "vqa_related", rooms)
-        rows = run.read_rel(name, q.relation, anchors=q.anchor.labels, limit=ROW_LIMIT, **_filters(q, rooms))
+        rows = run.read_rel(name, q.relation, anchors=q.anchor.labels, anchor_colour=q.anchor_colour,
+                            limit=ROW_LIMIT, **_filters(q, rooms))
         seen, unique = set(), []
         for r in rows:
             if r["id"] not in seen:
@@ -236,8 +284,8 @@ def exists(run: _Run, q: Query, rooms) -> Answer:
 def list_objects(run: _Run, q: Query, rooms) -> Answer:
     rows = _candidates(run, q, rooms)
     shown = rows[:LIST_SHOWN]
-    names = ", ".join(f"{r['label']} ({r['colour']}, {r['id']})" if r.get("colour") else f"{r['label']} ({r['id']})"
-                      for r in shown)
+    named = run.names(shown)
+    names = ", ".join(named[r["id"]] for r in sorted(shown, key=lambda r: named[r["id"]]))
     more = f", ... {len(rows) - len(shown)} more" if len(rows) > len(shown) else ""
     head = f"{len(rows)} {_what(q, len(rows))}{_where(q, rooms is not None)}"
     text = f"{head}: {names}{more}" if rows else f"none: no {_what(q, 1)}{_where(q, rooms is not None)}"
@@ -248,7 +296,7 @@ def attribute(run: _Run, q: Query, rooms) -> Answer:
     """What colour / how big is the <object>: one value per matching object."""
     rows = _candidates(run, q, rooms)
     if not rows:
-        return Answer("", False, f"there is no {_what(q, 1)}{_where(q, rooms is not None)} to describe", "attribute", None, query=q)
+        return Answer("", True, f"there is no {_what(q, 1)}{_where(q, rooms is not None)}", "attribute", None, query=q)
     if q.attribute == "colour":
         values = [r.get("colour") or "unknown" for r in rows]
     else:
@@ -257,7 +305,8 @@ def attribute(run: _Run, q: Query, rooms) -> Answer:
     if len(rows) == 1:
         text = f"the {noun} is {values[0]}" if q.attribute == "colour" else f"the {noun} is {values[0]} (w x d x h)"
     else:
-        text = f"{len(rows)} {noun}: " + ", ".join(f"{r['id']} {v}" for r, v in list(zip(rows, values))[:LIST_SHOWN])
+        named = run.names(rows[:LIST_SHOWN])
+        text = f"{len(rows)} {noun}: " + ", ".join(f"{named[r['id']]}: {v}" for r, v in list(zip(rows, values))[:LIST_SHOWN])
     return Answer("", True, text, "attribute", values if len(values) > 1 else values[0], [_brief(r) for r in rows], q)
 
 
@@ -279,12 +328,16 @@ def show(run: _Run, q: Query, rooms) -> Answer:
         how = "biggest" if q.superlative == "max" else "smallest"
     rel = f" {q.relation_word} the {' or '.join(q.anchor.names)}" if q.relation else ""
     if not rows:
-        return Answer("", False, f"there is no {_what(q, 1)}{rel}{' in the ' + q.room if q.room else ''}", "show", None, query=q)
+        return Answer("", True, f"there is no {_what(q, 1)}{rel}{' in the ' + q.room if q.room else ''}", "show", None, query=q)
     r = rows[0]
     thumb = run.read("vqa_thumbnail", id=r["id"])
     data = thumb[0]["thumbnail"] if thumb else None
     detail = f"{r.get('volume', 0) or 0:.3g} m^3" if q.superlative != "closest" else f"{r['distance']:.2f} m away"
-    text = f"the {how} {_what(q, 1)}{rel}: {r['id']} ({r.get('colour') or '?'}, {detail})"
+    named = the(run.names([r])[r["id"]])
+    if q.superlative == "closest":
+        text = f"the {_what(q, 1)} {how}: {named} ({detail})"
+    else:
+        text = f"the {how} {_what(q, 1)}{rel}: {named} ({detail})"
     return Answer("", True, text, "show", _brief(r), [_brief(r)], q, thumbnail=bytes(data) if data else None)
 
 
@@ -315,7 +368,7 @@ def where(run: _Run, q: Query, rooms) -> Answer:
     """Where is the <object>: per matching object, what it is on/in/next to, and its room."""
     rows = _candidates(run, q, rooms)
     if not rows:
-        return Answer("", False, f"there is no {_what(q, 1)}{_where(q, rooms is not None)} to locate", "where", None, query=q)
+        return Answer("", True, f"there is no {_what(q, 1)}{_where(q, rooms is not None)}", "where", [], query=q)
     ids = [r["id"] for r in rows[:LIST_SHOWN]]
     rels: dict[str, list[dict]] = {i: [] for i in ids}
     for incoming, types in ((False, sorted(REL_WORDS)), (True, list(SYMMETRIC))):
@@ -323,11 +376,13 @@ def where(run: _Run, q: Query, rooms) -> Answer:
             if not any(x["other_id"] == e["other_id"] and x["rel"] == e["rel"] for x in rels[e["id"]]):
                 rels[e["id"]].append({"rel": e["rel"], "other_id": e["other_id"], "other_label": e["other_label"]})
     value, parts = [], []
+    named = run.names(rows[:LIST_SHOWN] + [{"id": x["other_id"], "label": x["other_label"], "room": r.get("room")}
+                                           for r in rows[:LIST_SHOWN] for x in rels[r["id"]]])
     for r in rows[:LIST_SHOWN]:
         found = rels[r["id"]]
         room = (r.get("room") or "?").split("/", 1)[-1]
-        said = ", ".join(f"{REL_WORDS[x['rel']]} the {x['other_label']} ({x['other_id']})" for x in found)
-        parts.append(f"{r['label']} ({r['id']}) in the {room}" + (f": {said}" if said else ""))
+        said = ", ".join(f"{REL_WORDS[x['rel']]} {the(named[x['other_id']])}" for x in found)
+        parts.append(f"{the(named[r['id']])} in the {room}" + (f": {said}" if said else ""))
         value.append({**_brief(r), "relations": found})
     more = f"; ... {len(rows) - LIST_SHOWN} more" if len(rows) > LIST_SHOWN else ""
     return Answer("", True, "; ".join(parts) + more, "where", value, value, q)
@@ -339,6 +394,9 @@ FORMS = {"where": where, "rooms": rooms_with, "count": count, "exists": exists, 
 def answer(store, question: str, room: Optional[str] = None, building: Optional[str] = None,
            embedding=None, use_embedding: bool = True) -> Answer:
     """Answer one question from the stored scene graph (read-only, except the taxonomy load)."""
+    if len(question) > MAX_QUESTION:
+        return Answer(question[:60] + "...", False,
+                      f"the question is {len(question)} characters long; ask in at most {MAX_QUESTION}")
     run = _Run(store)
     seen: dict[str, bool] = {}
 
@@ -351,7 +409,7 @@ def answer(store, question: str, room: Optional[str] = None, building: Optional[
     try:
         q = parse(question, is_room, embedding=embedding, use_embedding=use_embedding)
     except ParseError as exc:
-        return Answer(question, False, str(exc))
+        return Answer(question, False, refusal(str(exc), question))
     if q.target.how == "group" or (q.anchor is not None and q.anchor.how == "group"):
         _expand_groups(store, q)
     if q.room and room and q.room.lower() != room.lower():
@@ -360,10 +418,49 @@ def answer(store, question: str, room: Optional[str] = None, building: Optional[
         rooms = _scope(run, q.room or room, building)
         result = FORMS[q.form](run, q, rooms)
     except Refusal as exc:
-        return Answer(question, False, f"{exc}. {HELP}", query=q, steps=run.steps)
-    result.question, result.query, result.steps = question, q, run.steps
+        return Answer(question, False, str(exc), query=q, steps=run.steps)
+    if _nothing(result) and not run.read("object_total")[0]["n"]:
+        return Answer(question, False, "the store holds no scene graph yet: build one first (sg3d build ...)",
+                      query=q, steps=run.steps)
+    result.question, result.query = question, q
+    result.provenance = _provenance(run, result, q, rooms)
+    result.steps = run.steps
     result.text += _understood(q)
     return result
+
+
+def _nothing(a: Answer) -> bool:
+    return a.value in (0, False, None, [], {})
+
+
+def _provenance(run: _Run, a: Answer, q: Query, rooms) -> list[dict]:
+    """The objects an answer rests on, each with its name and how sure the store is of it:
+    score (detector), observations (merged detections), n_frames, the frames that saw it and
+    when it was last updated. A count fetches its objects only when there are few."""
+    ids = [o["id"] for o in a.objects if isinstance(o, dict) and o.get("id")]
+    if not ids and a.form in ("count", "exists") and a.value and isinstance(a.value, (int, bool)) \
+            and int(a.value) <= PROVENANCE_MAX and q.target.labels != []:
+        ids = [r["id"] for r in _candidates(run, q, rooms)]
+    ids = list(dict.fromkeys(ids))[:PROVENANCE_MAX]
+    if not ids:
+        return []
+    rows = run.read("vqa_provenance", ids=ids)
+    names = run.names(rows)
+    out = []
+    for r in rows:
+        seen = r.get("updated_at")
+        out.append({"id": r["id"], "name": names.get(r["id"], r["label"]), "label": r["label"],
+                    "room": r.get("room"), "score": r.get("score"), "observations": r.get("observations"),
+                    "n_frames": r.get("n_frames"), "first_frame": r.get("first_frame"),
+                    "last_frame": r.get("last_frame"),
+                    "last_seen": _when(seen) if seen is not None else None})
+    return out
+
+
+def _when(epoch) -> str:
+    import datetime
+
+    return datetime.datetime.fromtimestamp(float(epoch), datetime.timezone.utc).strftime("%Y-%m-%d %H:%M:%S UTC")
 
 
 def _expand_groups(store, q: Query) -> None:

@@ -76,9 +76,9 @@ def test_svg_has_one_node_group_per_node_and_a_label_per_edge(store, embedded_ho
     assert len(groups) == 4
     assert all(len(g.findall(ns + "circle")) == 1 for g in groups)
     text = " ".join("".join(t.itertext()) for g in groups for t in g.iter(ns + "text"))
-    for name in ("dining table #1 (brown)", "cup #1 (white)", "book #1 (red)", "chair #1 (black)"):
-        head, tail = name.rsplit(" (", 1)
-        assert head in text and "(" + tail in text
+    for name in ("dining table", "cup", "book", "chair"):    # the names ask prints (one of each label)
+        assert name in text
+    assert "#" not in text and "o-" not in text
     labels = [t.text for t in root.iter(ns + "text") if t.get("class") == "edge-label"]
     lines = [e for e in root.iter(ns + "line") if e.get("class") == "edge"]
     assert sorted(labels) == ["NEXT_TO", "ON", "ON"] and len(lines) == 3     # comparisons hidden
@@ -98,7 +98,7 @@ def test_html_is_self_contained_and_holds_the_labels(store, embedded_home, tmp_p
     assert "<canvas" in page and "http://" not in page and "https://" not in page and "src=" not in page
     data = json.loads(re.search(r'<script type="application/json" id="data">(.*?)</script>', page, re.S).group(1))
     assert sorted(b["name"] for b in data["boxes"]) == \
-        ["book #1 (red)", "chair #1 (black)", "cup #1 (white)", "dining table #1 (brown)"]
+        ["book", "chair", "cup", "dining table"]
     assert len(data["edges"]) == 5 and data["cmp"] is False and data["points"] == []
     # the page parses as markup (html.parser is lenient; check the elements are balanced)
     from html.parser import HTMLParser

@@ -5,7 +5,7 @@ from __future__ import annotations
 import re
 from typing import Optional
 
-from queries.planning.problem import Atom, PlanObject, Problem
+from queries.planning.problem import Atom, PlanObject, Problem, slug
 from queries.planning.rules import PlanningError, Rules, load_rules
 from queries.planning.domain import Domain
 
@@ -23,27 +23,55 @@ def goal_from_command(command: str, problem: Problem, rules: Optional[Rules] = N
         if template["kind"] == "move":
             return _move_goal(m["items"], m["prep"], m["target"], problem, rules)
     raise PlanningError(f"cannot read the command {command!r}; try 'clean up the table', "
-                        f"'put the cups in the sink', 'bring the mug to the table' or --goal '(and (in cup_1 sink_1))'")
+                        f"'put the cups in the sink', 'bring the mug to the table' or --goal '(and (in red_cup sink))'")
 
 
 def _clear_goal(source: str, problem: Problem, rules: Rules) -> list[Atom]:
+    """Clean up a surface: each item on it goes where the placement rule of its kind says
+    (tableware to the sink, books to a shelf or another table, electronics stay, ...); the
+    chosen destination and the rule are kept in `problem.placement` for the plan's text."""
     surfaces = _one_unless_plural(source, problem, rules, role="surface to clean up")
-    target = _cleanup_target(problem, rules)
     goal = []
     for s in surfaces:
         if s.type != "surface":
             raise PlanningError(f"{s.name} is {_a(s.type)}, not a surface to clean up")
-        goal += [("in", a[1], target.name) for a in problem.init if a[0] == "on" and a[2] == s.name]
+    cleared = {s.name for s in surfaces}
+    for s in surfaces:
+        for a in problem.init:
+            if a[0] != "on" or a[2] != s.name:
+                continue
+            item = problem.get(a[1])
+            rule = rules.placement_rule(item.label)
+            dest = _destination(rule["to"], problem, cleared)
+            why = rule["rule"]
+            if dest is None and rule["to"][0] != "stay":
+                why += f"; the room has no {' or '.join(t for t in rule['to'] if t != 'stay')}, so it stays"
+            problem.placement[item.name] = (dest.name if dest else None, why)
+            if dest is not None:
+                goal.append(("in" if dest.type == "receptacle" else "on", item.name, dest.name))
     if not goal:
-        raise PlanningError(f"nothing to clean up: no movable item is on {', '.join(s.name for s in surfaces)}")
+        if not problem.placement:
+            raise PlanningError(f"nothing to clean up: no movable item is on {', '.join(sorted(cleared))}")
+        why = "; ".join(f"{k}: {r}" for k, (_, r) in sorted(problem.placement.items()))
+        raise PlanningError(f"nothing to move: every item on {', '.join(sorted(cleared))} stays ({why})")
     return goal
 
 
-def _cleanup_target(problem: Problem, rules: Rules) -> PlanObject:
-    found = [o for o in problem.objects if o.label == rules.cleanup_target and o.type == "receptacle"]
-    if not found:
-        raise PlanningError(f"cannot clean up: room {problem.room} has no {rules.cleanup_target} to put things in")
-    return min(found, key=lambda o: o.name)
+def _destination(choices: list[str], problem: Problem, cleared: set[str]) -> Optional[PlanObject]:
+    """The first destination of a placement rule that the room has: a label (a receptacle or
+    surface of that label), 'another surface' (any surface but the ones being cleared), or
+    'stay' (None)."""
+    for choice in choices:
+        if choice == "stay":
+            return None
+        if choice == "another surface":
+            found = [o for o in problem.objects if o.type == "surface" and o.name not in cleared]
+        else:
+            found = [o for o in problem.objects if o.label == choice and o.type in ("receptacle", "surface")
+                     and o.name not in cleared]
+        if found:
+            return min(found, key=lambda o: o.name)
+    return None
 
 
 def _move_goal(items_phrase: str, prep: str, target_phrase: str, problem: Problem, rules: Rules) -> list[Atom]:
@@ -85,8 +113,9 @@ def resolve_phrase(phrase: str, problem: Problem, rules: Rules) -> tuple[list[Pl
     words = [w for w in phrase.split() if w not in rules.articles]
     plural = any(w in ("all", "every") for w in phrase.split())
     noun = " ".join(words)
-    if problem.get(noun) is not None:
-        return [problem.get(noun)], False
+    for name in (noun, slug(noun)):        # a PDDL name, or the readable name it spells
+        if problem.get(name) is not None:
+            return [problem.get(name)], False
     if noun in problem.left_out:
         raise PlanningError(f"{noun} is not in the planning problem: {problem.left_out[noun]}")
     candidates = []

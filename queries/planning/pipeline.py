@@ -26,8 +26,15 @@ class PlanOutcome:
     moved: dict[str, tuple[str, str]] = field(default_factory=dict)  # item -> (from, to)
 
     def describe(self, step: Atom, rules: Optional[Rules] = None) -> str:
+        """One step in words, objects by their readable names (red_cup -> red cup)."""
         phrase = (rules or load_rules()).phrases.get(step[0])
-        return phrase.format(*step[1:]) if phrase else " ".join(step)
+        args = [readable(a) for a in step[1:]]
+        return phrase.format(*args) if phrase else " ".join([step[0]] + args)
+
+    def placement_lines(self) -> list[str]:
+        """Where clean-up sends each item and the rule that decided it."""
+        return [f"{readable(item)} -> {readable(dest) if dest else 'stays'}: {rule}"
+                for item, (dest, rule) in sorted(self.problem.placement.items())]
 
     def to_json(self) -> dict:
         return {
@@ -37,8 +44,14 @@ class PlanOutcome:
             "plan": [{"action": s[0], "args": list(s[1:]), "text": self.describe(s)} for s in self.steps],
             "moved": {k: {"from": a, "to": b} for k, (a, b) in self.moved.items()},
             "objects": self.problem.node_ids(), "left_out": self.problem.left_out,
+            "placement": {k: {"to": d, "rule": r} for k, (d, r) in self.problem.placement.items()},
             "domain": str(self.out_dir / "domain.pddl"), "problem": str(self.out_dir / "problem.pddl"),
         }
+
+
+def readable(name: str) -> str:
+    """A PDDL name as the readable name it spells (queries/naming.py): white_cup -> white cup."""
+    return name.replace("_", " ")
 
 
 def resolve_room(store, room: Optional[str] = None, building: Optional[str] = None) -> str:

@@ -1,4 +1,5 @@
-"""Scene graph -> PDDL problem: objects named as a person would (cup_1), typed by the rules,
+"""Scene graph -> PDDL problem: objects named by the shared scheme (queries/naming.py: "red cup",
+"chair 2") spelled for PDDL (red_cup, chair_2), typed by the rules,
 the initial state from the support edges (ON -> on, IN -> in), the robot at a start location.
 
 Every read of the graph is a cypher/plan_*.cypher template.
@@ -33,6 +34,8 @@ class Problem:
     init: list[Atom]
     goal: list[Atom] = field(default_factory=list)
     left_out: dict[str, str] = field(default_factory=dict)   # name -> why it is not in the problem
+    # clean-up: item name -> (destination name or None = stays, the rule that decided it)
+    placement: dict[str, tuple[Optional[str], str]] = field(default_factory=dict)
     robot: str = "robot"
     domain_name: str = "household"
 
@@ -75,14 +78,19 @@ def slug(label: str) -> str:
     return s if s[0].isalpha() else "obj_" + s
 
 
-def name_objects(rows: Iterable[dict]) -> dict[str, str]:
-    """node id -> label slug + 1-based index; rows come ordered by position (x, y, z)."""
-    counters: dict[str, int] = defaultdict(int)
-    names = {}
+def name_objects(rows: Iterable[dict], edges: Iterable[dict] = ()) -> dict[str, str]:
+    """node id -> PDDL name: the shared readable name (queries/naming.py, the same ask and show
+    print) as a PDDL identifier ("white cup on the dining table" -> white_cup_on_the_dining_table)."""
+    from queries.naming import object_names, supports_from_edges
+
+    rows = list(rows)
+    labels = {r["id"]: r["label"] or "object" for r in rows}
+    readable = object_names(rows, supports_from_edges(edges, labels))
+    names, used = {}, defaultdict(int)
     for row in rows:
-        stem = slug(row["label"] or "object")
-        counters[stem] += 1
-        names[row["id"]] = f"{stem}_{counters[stem]}"
+        stem = slug(readable[row["id"]])
+        used[stem] += 1
+        names[row["id"]] = stem if used[stem] == 1 else f"{stem}_{used[stem]}"
     return names
 
 
@@ -98,7 +106,7 @@ def build_problem(store, room: str, *, start: Optional[str] = None, rules: Optio
 
 def problem_from_rows(room: str, rows: list[dict], edges: list[dict], rules: Rules,
                       *, start: Optional[str] = None) -> Problem:
-    names = name_objects(rows)
+    names = name_objects(rows, edges)
     typed: dict[str, PlanObject] = {}
     left_out: dict[str, str] = {}
     for row in rows:

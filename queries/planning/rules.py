@@ -34,6 +34,17 @@ class Rules:
     commands: list[dict] = field(default_factory=list)
     phrases: dict[str, str] = field(default_factory=dict)
     articles: tuple[str, ...] = ("the",)
+    placement: tuple[dict, ...] = ()
+    placement_default: dict = field(default_factory=lambda: {"to": ["stay"], "rule": "it stays unless named"})
+
+    def placement_rule(self, label: str) -> dict:
+        """Where clean-up sends an object of `label`: the first placement rule naming the label
+        or one of its groups ({to: [...], rule: text}), else the default (stay)."""
+        kinds = [label] + self.groups_of(label)
+        for rule in self.placement:
+            if any(k in rule["kinds"] for k in kinds):
+                return rule
+        return self.placement_default
 
     def groups_of(self, label: str) -> list[str]:
         """Taxonomy groups (categories above `label`), nearest first."""
@@ -72,7 +83,9 @@ def load_rules(path: Optional[str] = None) -> Rules:
         synonyms=dict(raw.get("synonyms", {})), cleanup_target=raw.get("cleanup_target", "sink"),
         robot_name=raw.get("robot", {}).get("name", "robot"), robot_type=raw.get("robot", {}).get("type", "agent"),
         commands=list(raw.get("commands", [])), phrases=dict(raw.get("phrases", {})),
-        articles=tuple(raw.get("articles", ("the",))))
+        articles=tuple(raw.get("articles", ("the",))),
+        placement=tuple(raw.get("placement", {}).get("rules", ())),
+        placement_default=dict(raw.get("placement", {}).get("default", {"to": ["stay"], "rule": "it stays unless named"})))
 
 
 # -- the taxonomy, when another part of `queries` provides one -------------------------------

@@ -10,24 +10,30 @@ import click
 @click.argument("question")
 @click.option("--room", default=None, help="Only this room (its name).")
 @click.option("--building", default=None, help="Only this building.")
-@click.option("--explain", is_flag=True, help="Also print the query form, templates and parameters.")
-@click.option("--json", "as_json", is_flag=True, help="The answer as JSON.")
+@click.option("--explain", is_flag=True, help="Also print how the question was read, the templates, "
+                                              "parameters and the objects the answer rests on (with ids).")
+@click.option("--json", "as_json", is_flag=True, help="The answer as JSON (templates, parameters, ids, provenance).")
 @click.option("--out", type=click.Path(dir_okay=False), default=None,
-              help="Where 'show me ...' writes the thumbnail (default: a temporary .jpg, printed).")
+              help="Where 'show me ...' writes the picture: .png or .jpg/.jpeg (default: a temporary .png).")
 @click.pass_obj
 def ask(settings, question: str, room, building, explain: bool, as_json: bool, out) -> None:
     """Answer QUESTION from the scene graph, e.g. sg3d ask "how many red chairs are there?"
 
     Counting (simple, by group: furniture/cutlery/..., by colour, big/small, in a room, on/under/
-    next to an object), existence, listing, colour/size lookup, and "show me the biggest bowl"
-    (writes its thumbnail). Unanswerable questions are refused with the forms it understands.
+    next to an object), existence, yes/no about relations, listing, colour/size lookup, where,
+    and "which cup is the biggest" (writes its picture). Objects are named, not numbered by id.
     """
+    from queries.picture import write_picture
     from queries.vqa import answer
+    from sg3d.errors import UserError
 
     result = answer(settings.store(), question, room=room, building=building)
     path = None
     if result.ok and result.thumbnail:
-        path = _write_thumbnail(result.thumbnail, out)
+        try:
+            path = write_picture(result.thumbnail, out)
+        except ValueError as exc:
+            raise UserError(str(exc)) from exc
     if as_json:
         data = result.to_json()
         data["thumbnail"] = path
@@ -35,28 +41,12 @@ def ask(settings, question: str, room, building, explain: bool, as_json: bool, o
     else:
         click.echo(result.text if result.ok else f"cannot answer: {result.text}", err=not result.ok)
         if path:
-            click.echo(f"thumbnail: {path}")
+            click.echo(f"picture: {path}")
     if explain and not as_json:
-        if result.query is not None:
-            click.echo(f"form: {json.dumps(result.query.summary())}", err=True)
-        for step in result.steps:
-            click.echo(f"template: {step['template']}"
-                       + (f" [{step['rel_type']}]" if step.get("rel_type") else "")
-                       + f" params: {json.dumps(step['params'])}", err=True)
+        for line in result.explain_lines():
+            click.echo(line, err=True)
     if not result.ok:
         raise SystemExit(2)   # a refusal is not an answer: scripts see a non-zero status
-
-
-def _write_thumbnail(data: bytes, out) -> str:
-    import os
-    import tempfile
-
-    if out is None:
-        fd, out = tempfile.mkstemp(prefix="sg3d-answer-", suffix=".jpg")
-        os.close(fd)
-    with open(out, "wb") as f:
-        f.write(data)
-    return str(out)
 
 
 commands = [ask]

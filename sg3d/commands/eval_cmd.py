@@ -57,7 +57,7 @@ def _render(report: dict) -> None:
         style = {"right": "green", "wrong": "red", "unsupported": "dim", "not scorable": "yellow"}
         for row in vqa["questions"]:
             q.add_row(f"[{style[row['status']]}]{row['status']}", row["question"], str(row["expected"]),
-                      str(row.get("got", row.get("reason", ""))))
+                      str(row.get("answer", row.get("got", row.get("reason", "")))))
         console.print(q)
 
 

@@ -13,7 +13,7 @@ PLANNER_CHOICES = ("pyperplan", "fast-downward")
 
 @click.command("plan")
 @click.argument("command", required=False)
-@click.option("--goal", metavar="EXPR", help="A PDDL goal instead of a command, e.g. '(and (in cup_1 sink_1))'.")
+@click.option("--goal", metavar="EXPR", help="A PDDL goal instead of a command, e.g. '(and (in red_cup sink))'.")
 @click.option("--room", help="Room name or id (<building>/<room>); optional when the store has one room.")
 @click.option("--building", help="Building of --room.")
 @click.option("--start", metavar="NAME", help="Where the robot starts (a surface or receptacle name). Default: the first surface.")
@@ -25,7 +25,9 @@ PLANNER_CHOICES = ("pyperplan", "fast-downward")
 @click.pass_obj
 def plan(settings, command, goal, room, building, start, out_dir, planner, as_json) -> None:
     """Plan a task in a scanned room: 'clean up the table', 'put the cups in the sink',
-    'bring cup_2 to the table', or any conjunctive PDDL goal with --goal.
+    'bring the red cup to the table', or any conjunctive PDDL goal with --goal. Clean-up sends
+    each item where the placement rule of its kind says (tableware to the sink, books to a shelf
+    or another table, electronics stay) and prints the rule.
 
     The plan is checked by simulating it against the domain before it is printed."""
     from queries.planning import PlanningError, plan_task
@@ -42,6 +44,8 @@ def plan(settings, command, goal, room, building, start, out_dir, planner, as_js
         return
     click.echo(f"room {outcome.room}; PDDL in {outcome.out_dir} (domain.pddl, problem.pddl)")
     click.echo("goal: " + " ".join("(" + " ".join(a) + ")" for a in outcome.goal))
+    for line in outcome.placement_lines():
+        click.echo(f"  {line}")
     if not outcome.steps:
         click.echo("the goal already holds: nothing to do")
     width = len(str(len(outcome.steps)))
