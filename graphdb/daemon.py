@@ -14,7 +14,51 @@ import threading
 import time
 from pathlib import Path
 
-from graphdb.embedded import DATABASE, EmbeddedServer, free_port
+from graphdb.embedded import DATABASE, READER_GROUP, WRITER_GROUP, Credentials, EmbeddedServer, free_port
+
+# sg3d never reads files or URLs through LOAD CSV: the engine is told so, whoever logs in
+CLOSED_SETTINGS = {
+    "arcadedb.opencypher.loadCsv.allowFileUrls": False,
+    "arcadedb.opencypher.loadCsv.allowRemoteUrls": False,
+}
+
+# ArcadeDB's per-database groups (server-groups.json). The reader may read records and nothing
+# else: no create/update/delete, no schema change, no security change (which LOAD CSV of a file
+# also needs). The writer may change records and the schema, but not security.
+GROUPS = {
+    READER_GROUP: {"resultSetLimit": -1, "readTimeout": -1, "access": [],
+                   "types": {"*": {"access": ["readRecord"]}}},
+    WRITER_GROUP: {"resultSetLimit": -1, "readTimeout": -1, "access": ["updateSchema"],
+                   "types": {"*": {"access": ["createRecord", "readRecord", "updateRecord", "deleteRecord"]}}},
+}
+
+
+def close_engine_settings() -> None:
+    import jpype
+
+    config = jpype.JClass("com.arcadedb.GlobalConfiguration")
+    for key, value in CLOSED_SETTINGS.items():
+        setting = config.findByKey(key)
+        if setting is not None:
+            setting.setValue(value)
+
+
+def install_users(server, creds: Credentials) -> None:
+    """(Re)create sg3d's groups and users from the credentials file, at every start: a lost or
+    regenerated users.json is recovered by restarting the store."""
+    import jpype
+
+    JSONObject = jpype.JClass("com.arcadedb.serializer.json.JSONObject")
+    security = server._java_server.getSecurity()
+    for group, spec in GROUPS.items():
+        security.saveGroup(DATABASE, group, JSONObject(json.dumps(spec)))
+    for name, password, group in ((creds.writer, creds.writer_password, WRITER_GROUP),
+                                  (creds.reader, creds.reader_password, READER_GROUP)):
+        if security.existsUser(name):
+            security.dropUser(name)
+        security.createUser(JSONObject(json.dumps({
+            "name": name, "password": str(security.encodePassword(password)),
+            "databases": {DATABASE: [group]}})))
 
 
 def _take_lock(path: Path, timeout: float = 10.0) -> int:
@@ -38,7 +82,10 @@ def main(home: str) -> None:
     os.chdir(server_home.home)  # ArcadeDB writes ./log relative to the working directory
 
     import arcadedb_embedded as arcadedb
+    from arcadedb_embedded.jvm import start_jvm
 
+    start_jvm()
+    close_engine_settings()
     bolt_port = int(os.environ.get("SG3D_BOLT_PORT") or free_port())
     http_port = int(os.environ.get("SG3D_HTTP_PORT") or free_port())
     server = arcadedb.create_server(
@@ -53,6 +100,7 @@ def main(home: str) -> None:
     server.start()
     if not (server_home.home / "databases" / DATABASE).exists():
         server.create_database(DATABASE)
+    install_users(server, server_home.credentials())
 
     stop = threading.Event()
     for sig in (signal.SIGTERM, signal.SIGINT, signal.SIGHUP):

@@ -7,7 +7,11 @@ Files under the home directory:
     start.lock    held by whoever is starting the daemon, so two sg3d commands at once
                   start one server, not two.
     server.json   pid, ports and database of the running daemon (written when it is ready).
-    password      generated root password, mode 0600.
+    password      generated root password, mode 0600 (sg3d never logs in as root).
+    users.json    sg3d's two store users, mode 0600: the writer (build, merge, --write) and the
+                  reader, whose group may only read records (every read-only path). Their names
+                  carry a random suffix: ArcadeDB locks a user name out for a while after repeated
+                  failed logins, and a process that cannot read this file cannot name them.
     server.log    the daemon's output.
     databases/    ArcadeDB's data.
 """
@@ -28,7 +32,9 @@ from pathlib import Path
 from typing import Iterator, Optional
 
 DATABASE = "sg3d"
-USER = "root"
+ROOT_USER = "root"
+WRITER_GROUP = "sg3d_writer"
+READER_GROUP = "sg3d_reader"
 START_TIMEOUT_S = float(os.environ.get("SG3D_START_TIMEOUT", "90"))
 STOP_TIMEOUT_S = 30.0
 
@@ -47,18 +53,44 @@ def default_home() -> Path:
 
 
 @dataclass(frozen=True)
+class Credentials:
+    """sg3d's two store users (users.json)."""
+
+    writer: str
+    writer_password: str
+    reader: str
+    reader_password: str
+
+
+@dataclass(frozen=True)
 class ServerInfo:
     pid: int
     bolt_port: int
     http_port: int
     database: str
-    password: str
     started_at: float
-    user: str = USER
+    credentials: Credentials
 
     @property
     def uri(self) -> str:
         return f"bolt://127.0.0.1:{self.bolt_port}"
+
+    @property
+    def user(self) -> str:
+        """The writer's name (build, merge, schema, --write)."""
+        return self.credentials.writer
+
+    @property
+    def password(self) -> str:
+        return self.credentials.writer_password
+
+    @property
+    def writer_auth(self) -> tuple[str, str]:
+        return self.credentials.writer, self.credentials.writer_password
+
+    @property
+    def reader_auth(self) -> tuple[str, str]:
+        return self.credentials.reader, self.credentials.reader_password
 
 
 @dataclass(frozen=True)
@@ -126,21 +158,48 @@ class EmbeddedServer:
     def log_path(self) -> Path:
         return self.home / "server.log"
 
-    def password(self) -> str:
-        """The root password, generated once and kept in a file only the user can read."""
-        path = self.home / "password"
+    @property
+    def users_path(self) -> Path:
+        return self.home / "users.json"
+
+    def _secret_file(self, path: Path, make) -> str:
+        """A generated secret kept in a file only the user can read (created once, race-free)."""
         if not path.exists():
-            self.home.mkdir(parents=True, exist_ok=True)
-            fd = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o600)
-            with os.fdopen(fd, "w") as f:
-                f.write(secrets.token_urlsafe(24))
+            try:
+                fd = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o600)
+            except FileExistsError:
+                pass  # another sg3d made it a moment ago
+            else:
+                with os.fdopen(fd, "w") as f:
+                    f.write(make())
         os.chmod(path, 0o600)
-        return path.read_text().strip()
+        text = path.read_text().strip()
+        if not text:  # the other writer has not finished yet
+            time.sleep(0.05)
+            text = path.read_text().strip()
+        return text
+
+    def password(self) -> str:
+        """The root password (ArcadeDB's administrator; sg3d itself logs in as its own users)."""
+        return self._secret_file(self.home / "password", lambda: secrets.token_urlsafe(24))
+
+    def credentials(self) -> Credentials:
+        """sg3d's writer and reader users, generated once (users.json, mode 0600)."""
+        def make() -> str:
+            tag = secrets.token_hex(4)
+            return json.dumps({"writer": f"sg3d_writer_{tag}", "writer_password": secrets.token_urlsafe(24),
+                               "reader": f"sg3d_reader_{tag}", "reader_password": secrets.token_urlsafe(24)})
+        try:
+            return Credentials(**json.loads(self._secret_file(self.users_path, make)))
+        except (ValueError, TypeError) as exc:
+            raise EmbeddedStoreError(
+                f"{self.users_path} is damaged ({exc}); delete it and run `sg3d db stop`: the next start "
+                f"creates new store users") from None
 
     def _read_info(self) -> Optional[ServerInfo]:
         try:
             data = json.loads(self.info_path.read_text())
-            return ServerInfo(password=self.password(), **data)
+            return ServerInfo(credentials=self.credentials(), **data)
         except (OSError, ValueError, TypeError):
             return None
 
@@ -177,6 +236,7 @@ class EmbeddedServer:
             if st.running:
                 return st.info or self._wait_ready(None)
             self.password()
+            self.credentials()
             log = open(self.log_path, "ab")
             env = dict(os.environ)
             proc = subprocess.Popen(

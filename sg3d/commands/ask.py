@@ -24,7 +24,7 @@ def ask(settings, question: str, room, building, explain: bool, as_json: bool, o
     """
     from queries.vqa import answer
 
-    result = answer(settings.store(), question, room=room, building=building)
+    result = answer(settings.reader(), question, room=room, building=building)
     path = None
     if result.ok and result.thumbnail:
         path = _write_thumbnail(result.thumbnail, out)

@@ -71,7 +71,7 @@ def cypher_command(settings, statement: str, param, write: bool, as_json: bool) 
             params[name] = json.loads(raw)
         except ValueError:
             params[name] = raw
-    keys, rows = settings.store().run_raw(statement, params, write=write)
+    keys, rows = (settings.store() if write else settings.reader()).run_raw(statement, params, write=write)
     print_result(keys, rows, as_json)
 
 
@@ -89,7 +89,7 @@ def shell(settings, write: bool) -> None:
         readline.read_history_file(history)
     except OSError:
         pass
-    store = settings.store()
+    store = settings.store() if write else settings.reader()
     click.echo(f"connected to {store.uri} database {store.database}"
                f" ({'read-write' if write else 'read-only'}); end statements with ';', :exit to quit")
     buffer: list[str] = []

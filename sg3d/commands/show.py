@@ -49,7 +49,7 @@ def show(settings, room: Optional[str], building: str, out: Path, layout: str, a
     width, height = parse_size(size_text)
     from queries.render import load_scene, render, room_up
 
-    scene = load_scene(settings.store(), building, room)
+    scene = load_scene(settings.reader(), building, room)
     if not scene.nodes:
         where = f"room {room!r} of building {building!r}" if room else f"building {building!r}"
         raise UserError(f"nothing to show: {where} holds no objects")
