@@ -39,7 +39,7 @@ def connection_options(fn):
     return fn
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)  # identity hash: each command's settings cache their own stores
 class Settings:
     uri: Optional[str] = None
     user: Optional[str] = None
