@@ -14,7 +14,8 @@ import threading
 import time
 from pathlib import Path
 
-from graphdb.embedded import DATABASE, READER_GROUP, WRITER_GROUP, Credentials, EmbeddedServer, free_port
+from graphdb.embedded import (DATABASE, READER_GROUP, WRITER_GROUP, Credentials, EmbeddedServer, daemon_pids,
+                              free_port)
 
 # sg3d never reads files or URLs through LOAD CSV: the engine is told so, whoever logs in
 CLOSED_SETTINGS = {
@@ -76,8 +77,43 @@ def _take_lock(path: Path, timeout: float = 10.0) -> int:
             time.sleep(0.05)
 
 
+class Keeper:
+    """Keeps the daemon's lifecycle files true while it runs: server.lock held by this process
+    and server.json present. Someone deleting either (a cleanup script, a user) would otherwise
+    make the next sg3d start a second daemon or wait for a file that never comes."""
+
+    def __init__(self, home: EmbeddedServer, lock_fd: int):
+        self.home, self.lock_fd, self.info_text = home, lock_fd, ""
+
+    def write_info(self, text: str) -> None:
+        self.info_text = text
+        tmp = self.home.info_path.with_suffix(".tmp")
+        tmp.write_text(text)
+        os.replace(tmp, self.home.info_path)
+
+    def heal(self) -> None:
+        try:
+            held = os.fstat(self.lock_fd).st_ino
+            if not self.home.lock_path.exists() or self.home.lock_path.stat().st_ino != held:
+                fd = os.open(self.home.lock_path, os.O_RDWR | os.O_CREAT, 0o600)
+                try:
+                    fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+                except BlockingIOError:
+                    os.close(fd)  # a status call holds it this instant: next round
+                else:
+                    os.close(self.lock_fd)
+                    self.lock_fd = fd
+            if self.info_text and not self.home.info_path.exists():
+                self.write_info(self.info_text)
+        except OSError as exc:
+            print(f"cannot restore the lifecycle files: {exc}", flush=True)
+
+
 def main(home: str) -> None:
     server_home = EmbeddedServer(home)
+    if any(pid != os.getpid() for pid in daemon_pids(server_home.home)):
+        print("another embedded store is running in this home", flush=True)
+        sys.exit(3)
     lock_fd = _take_lock(server_home.lock_path)
     os.chdir(server_home.home)  # ArcadeDB writes ./log relative to the working directory
 
@@ -106,21 +142,21 @@ def main(home: str) -> None:
     for sig in (signal.SIGTERM, signal.SIGINT, signal.SIGHUP):
         signal.signal(sig, lambda *_: stop.set())
 
-    tmp = server_home.info_path.with_suffix(".tmp")
-    tmp.write_text(json.dumps({
+    keeper = Keeper(server_home, lock_fd)
+    keeper.write_info(json.dumps({
         "pid": os.getpid(), "bolt_port": bolt_port, "http_port": http_port,
         "database": DATABASE, "started_at": time.time(),
     }))
-    os.replace(tmp, server_home.info_path)
     print(f"sg3d embedded store ready: bolt://127.0.0.1:{bolt_port} database {DATABASE}", flush=True)
 
-    stop.wait()
+    while not stop.wait(0.5):
+        keeper.heal()
     print("stopping", flush=True)
     server_home.info_path.unlink(missing_ok=True)
     try:
         server.stop()
     finally:
-        os.close(lock_fd)  # releases the lock: status now reads "not running"
+        os.close(keeper.lock_fd)  # releases the lock: status now reads "not running"
     # JPype's JVM shutdown can linger; the data is flushed by server.stop()
     os._exit(0)
 

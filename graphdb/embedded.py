@@ -106,6 +106,77 @@ def free_port() -> int:
         return s.getsockname()[1]
 
 
+PROC = Path("/proc")
+HEAL_WAIT_S = 3.0  # the daemon rewrites a deleted server.json within a second
+PRIVATE_SUBDIR = "sg3d-store"
+
+
+def store_dir(requested: Path) -> Path:
+    """Where the store's files go for SG3D_HOME=`requested`.
+
+    A directory sg3d creates (or one that is already private to this user) is used as it is. An
+    existing directory that others may enter (/tmp, a shared folder) is never chmod-ed: the store
+    goes into a private subdirectory of it instead."""
+    try:
+        st = requested.stat()
+    except OSError:
+        return requested  # sg3d will create it, private
+    if st.st_uid == os.getuid() and not st.st_mode & 0o077:
+        return requested
+    return requested / PRIVATE_SUBDIR
+
+
+def check_private(path: Path) -> None:
+    st = path.stat()
+    if st.st_uid != os.getuid() or st.st_mode & 0o077:
+        raise EmbeddedStoreError(f"{path} must be a directory of this user that only it may enter "
+                                 f"(mode 0700); it is not, so the store will not keep its passwords there")
+
+
+def _cmdline(pid: int) -> list[str]:
+    try:
+        raw = (PROC / str(pid) / "cmdline").read_bytes()
+    except OSError:
+        return []
+    return raw.decode(errors="replace").split("\0")[:-1]
+
+
+def daemon_pids(home: Path) -> list[int]:
+    """Processes running `python -m graphdb.daemon HOME` for this home (Linux /proc; elsewhere
+    empty, and the lock files alone tell). A zombie has no command line, so it never counts."""
+    if not PROC.is_dir():
+        return []
+    me, found = os.getpid(), []
+    for entry in PROC.iterdir():
+        if not entry.name.isdigit() or int(entry.name) == me:
+            continue
+        args = _cmdline(int(entry.name))
+        if len(args) >= 3 and args[-1] == str(home) and args[-3:-1] == ["-m", "graphdb.daemon"]:
+            found.append(int(entry.name))
+    return found
+
+
+def process_alive(pid: int) -> bool:
+    """True while `pid` runs. A zombie (dead, not yet reaped by its parent) counts as gone once
+    all its threads have exited: only then has it released its files and locks."""
+    try:
+        fields = dict(line.split(":", 1) for line in (PROC / str(pid) / "status").read_text().splitlines()
+                      if ":" in line)
+        state, threads = fields["State"].split()[0], int(fields["Threads"])
+        return not (state in ("Z", "X") and threads <= 1)
+    except OSError:
+        pass
+    except (KeyError, ValueError, IndexError):
+        return True
+    try:
+        os.kill(pid, 0)
+        return True
+    except ProcessLookupError:
+        return False
+    except PermissionError:
+        return True
+
+
 def port_open(port: int, timeout: float = 0.5) -> bool:
     try:
         with socket.create_connection(("127.0.0.1", port), timeout=timeout):
@@ -143,7 +214,9 @@ class EmbeddedServer:
     """Start, find, and stop the embedded store daemon of one home directory."""
 
     def __init__(self, home: Path | str):
-        self.home = Path(home).expanduser().resolve()
+        self.requested = Path(home).expanduser().resolve()
+        self.home = store_dir(self.requested)
+        self._child: Optional[subprocess.Popen] = None
 
     # -- files ---------------------------------------------------------------------------
     @property
@@ -204,47 +277,91 @@ class EmbeddedServer:
             return None
 
     # -- state ---------------------------------------------------------------------------
+    def daemon_pids(self) -> list[int]:
+        """The live daemons of this home, found by process identity (see `daemon_pids`)."""
+        if self._child is not None:
+            self._child.poll()  # reap our own child if it died: a zombie is no daemon
+        return daemon_pids(self.home)
+
     def status(self) -> Status:
-        if not self.home.exists():
+        try:
+            return self._status()
+        except OSError as exc:
+            raise EmbeddedStoreError(f"cannot use the store directory {self.home}: {exc.strerror or exc}") from None
+
+    def _status(self) -> Status:
+        """Running = a daemon process of this home exists, or someone holds server.lock.
+
+        The lock says it for a daemon that owns its files; the process scan also finds one whose
+        server.lock or server.json was deleted (it writes them again within a second)."""
+        if not self.home.is_dir():
             return Status(False)
-        with _flock(self.lock_path, blocking=False) as free:
-            if free:
-                # Nobody holds the daemon lock: whatever server.json says is left from a crash.
-                stale = self.info_path.exists()
-                if stale:
-                    self.info_path.unlink(missing_ok=True)
-                return Status(False, recovered_stale=stale)
+        pids = self.daemon_pids()
+        locked = False
+        if self.lock_path.exists():
+            with _flock(self.lock_path, blocking=False) as free:
+                locked = not free
+        if not locked and not pids:
+            # no daemon: whatever server.json says is left from a crash
+            stale = self.info_path.exists()
+            if stale:
+                self.info_path.unlink(missing_ok=True)
+            return Status(False, recovered_stale=stale)
         info = self._read_info()
-        if info is None:
-            return Status(True)  # starting: lock held, not ready yet
+        if info is not None and PROC.is_dir() and info.pid not in pids:
+            info = None  # a left-over file naming a process that is not this home's daemon
+        if info is None and pids:
+            info = self._wait_info(pids, HEAL_WAIT_S)
         return Status(True, info)
+
+    def _wait_info(self, pids: list[int], seconds: float) -> Optional[ServerInfo]:
+        deadline = time.monotonic() + seconds
+        while time.monotonic() < deadline:
+            info = self._read_info()
+            if info is not None and info.pid in pids:
+                return info
+            time.sleep(0.1)
+        return None
 
     def ensure_running(self) -> ServerInfo:
         """Return the running daemon's info, starting it first if needed."""
         st = self.status()
-        if st.running and st.info is not None:
+        if st.running and st.info is not None and port_open(st.info.bolt_port):
             return st.info
         return self.start()
 
+    def _make_home(self) -> None:
+        try:
+            self.home.parent.mkdir(parents=True, exist_ok=True)
+            self.home.mkdir(mode=0o700, exist_ok=True)
+            check_private(self.home)
+        except OSError as exc:
+            raise EmbeddedStoreError(f"cannot use the store directory {self.home}: {exc.strerror or exc}") from None
+
     def start(self) -> ServerInfo:
-        self.home.mkdir(parents=True, exist_ok=True)
-        os.chmod(self.home, 0o700)
+        self._make_home()
         with _flock(self.home / "start.lock", blocking=True, timeout=START_TIMEOUT_S) as got:
             if not got:
                 raise EmbeddedStoreError(f"another sg3d is still starting the store in {self.home}")
             st = self.status()
             if st.running:
-                return st.info or self._wait_ready(None)
+                if st.info is not None:
+                    return st.info
+                if not self.daemon_pids():
+                    raise EmbeddedStoreError(
+                        f"{self.lock_path} is held by a process that is not this home's store daemon; "
+                        f"stop it (see `fuser {self.lock_path}`) and retry")
+                return self._wait_ready(None)
             self.password()
             self.credentials()
             log = open(self.log_path, "ab")
-            env = dict(os.environ)
             proc = subprocess.Popen(
                 [sys.executable, "-m", "graphdb.daemon", str(self.home)],
                 stdin=subprocess.DEVNULL, stdout=log, stderr=subprocess.STDOUT,
-                cwd=self.home, start_new_session=True, env=env,
+                cwd=self.home, start_new_session=True, env=dict(os.environ),
             )
             log.close()
+            self._child = proc
             return self._wait_ready(proc)
 
     def _wait_ready(self, proc: Optional[subprocess.Popen]) -> ServerInfo:
@@ -254,45 +371,46 @@ class EmbeddedServer:
                 raise EmbeddedStoreError(
                     f"the embedded store exited during start-up (code {proc.returncode}); "
                     f"last log lines:\n{self._log_tail()}")
+            if proc is None and not self.daemon_pids() and PROC.is_dir():
+                raise EmbeddedStoreError(f"the embedded store in {self.home} stopped during start-up; see {self.log_path}")
             info = self._read_info()
             if info is not None and port_open(info.bolt_port):
                 return info
             time.sleep(0.1)
         if proc is not None:
             proc.kill()
+            proc.wait()
         raise EmbeddedStoreError(
             f"the embedded store did not start within {START_TIMEOUT_S:.0f} s; see {self.log_path}")
 
     def stop(self) -> bool:
-        """Stop the daemon; False if it was not running."""
+        """Stop the daemon; False if it was not running. Raises EmbeddedStoreError when a
+        daemon runs that cannot be stopped (or the lock is held by an unknown process)."""
         st = self.status()
         if not st.running:
             return False
-        pid = st.info.pid if st.info else self._pid_from_file()
-        if pid:
-            try:
-                os.kill(pid, signal.SIGTERM)
-            except ProcessLookupError:
-                pass
-        deadline = time.monotonic() + STOP_TIMEOUT_S
-        while time.monotonic() < deadline:
-            if not self.status().running:
-                return True
-            time.sleep(0.1)
-        if pid:
-            try:
-                os.kill(pid, signal.SIGKILL)
-            except ProcessLookupError:
-                pass
-        time.sleep(0.5)
-        self.status()  # clears the leftovers of the killed daemon
-        return True
-
-    def _pid_from_file(self) -> Optional[int]:
-        try:
-            return int(json.loads(self.info_path.read_text())["pid"])
-        except (OSError, ValueError, KeyError):
-            return None
+        pids = set(self.daemon_pids())
+        if st.info is not None:
+            pids.add(st.info.pid)
+        if not pids:
+            raise EmbeddedStoreError(
+                f"{self.lock_path} is held, but no store daemon of this home was found; "
+                f"see `fuser {self.lock_path}`")
+        for sig, wait_s in ((signal.SIGTERM, STOP_TIMEOUT_S), (signal.SIGKILL, 5.0)):
+            for pid in pids:
+                try:
+                    os.kill(pid, sig)
+                except ProcessLookupError:
+                    pass
+                except PermissionError:
+                    raise EmbeddedStoreError(f"not allowed to stop the store daemon pid {pid}") from None
+            deadline = time.monotonic() + wait_s
+            while time.monotonic() < deadline:
+                if not any(process_alive(pid) for pid in pids) and not self.daemon_pids():
+                    self.status()  # clears the leftovers of a killed daemon
+                    return True
+                time.sleep(0.1)
+        raise EmbeddedStoreError(f"the store daemon (pid {', '.join(map(str, sorted(pids)))}) did not stop")
 
     def _log_tail(self, n: int = 15) -> str:
         try:
