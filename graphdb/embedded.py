@@ -330,7 +330,8 @@ class EmbeddedServer:
             return st.info
         return self.start()
 
-    def _make_home(self) -> None:
+    def ensure_home(self) -> None:
+        """Create the store directory, private to this user (never chmod-ing one sg3d did not create)."""
         try:
             self.home.parent.mkdir(parents=True, exist_ok=True)
             self.home.mkdir(mode=0o700, exist_ok=True)
@@ -339,7 +340,13 @@ class EmbeddedServer:
             raise EmbeddedStoreError(f"cannot use the store directory {self.home}: {exc.strerror or exc}") from None
 
     def start(self) -> ServerInfo:
-        self._make_home()
+        try:
+            return self._start()
+        except OSError as exc:
+            raise EmbeddedStoreError(f"cannot use the store directory {self.home}: {exc.strerror or exc}") from None
+
+    def _start(self) -> ServerInfo:
+        self.ensure_home()
         with _flock(self.home / "start.lock", blocking=True, timeout=START_TIMEOUT_S) as got:
             if not got:
                 raise EmbeddedStoreError(f"another sg3d is still starting the store in {self.home}")

@@ -85,8 +85,10 @@ def build(settings, sequence: Path, room: str, building: str, method: str, layou
                                  single_frame_groups)
     from ingest.readers import open_sequence
 
-    if not room.strip() or "/" in room or "/" in building:
+    if not room.strip() or not building.strip() or "/" in room or "/" in building:
         raise UserError("room and building names must be non-empty and contain no '/'")
+    if start < 0 or (stop is not None and stop <= start):
+        raise UserError(f"--start {start} --stop {stop}: the frame range is empty (need 0 <= start < stop)")
     if sum(map(bool, (transform_file, align_to, shared_frame))) > 1:
         raise UserError("give at most one of --transform, --align-to and --shared-frame")
     placement = None
