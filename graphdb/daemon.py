@@ -53,6 +53,11 @@ def install_users(server, creds: Credentials) -> None:
     security = server._java_server.getSecurity()
     for group, spec in GROUPS.items():
         security.saveGroup(DATABASE, group, JSONObject(json.dumps(spec)))
+    current = {creds.writer, creds.reader}
+    for user in list(security.getUsers()):
+        name = str(user.getName() if hasattr(user, "getName") else user)
+        if name.startswith(("sg3d_writer_", "sg3d_reader_")) and name not in current:
+            security.dropUser(name)  # left by a users.json that was deleted or replaced
     for name, password, group in ((creds.writer, creds.writer_password, WRITER_GROUP),
                                   (creds.reader, creds.reader_password, READER_GROUP)):
         if security.existsUser(name):
@@ -162,4 +167,14 @@ def main(home: str) -> None:
 
 
 if __name__ == "__main__":
-    main(sys.argv[1])
+    try:
+        main(sys.argv[1])
+    except SystemExit as exc:
+        sys.stdout.flush()
+        os._exit(exc.code if isinstance(exc.code, int) else 1)
+    except BaseException:  # noqa: BLE001 - the JVM's threads would keep a failed daemon alive
+        import traceback
+
+        traceback.print_exc()
+        sys.stdout.flush()
+        os._exit(1)
