@@ -150,7 +150,7 @@ def main(home: str) -> None:
     keeper = Keeper(server_home, lock_fd)
     keeper.write_info(json.dumps({
         "pid": os.getpid(), "bolt_port": bolt_port, "http_port": http_port,
-        "database": DATABASE, "started_at": time.time(),
+        "database": DATABASE, "started_at": time.time(), "users": True,
     }))
     print(f"sg3d embedded store ready: bolt://127.0.0.1:{bolt_port} database {DATABASE}", flush=True)
 

@@ -70,6 +70,7 @@ class ServerInfo:
     database: str
     started_at: float
     credentials: Credentials
+    users: bool = False  # the daemon installed sg3d's writer and reader (older ones only had root)
 
     @property
     def uri(self) -> str:
@@ -272,7 +273,8 @@ class EmbeddedServer:
     def _read_info(self) -> Optional[ServerInfo]:
         try:
             data = json.loads(self.info_path.read_text())
-            return ServerInfo(credentials=self.credentials(), **data)
+            known = {"pid", "bolt_port", "http_port", "database", "started_at", "users"}
+            return ServerInfo(credentials=self.credentials(), **{k: v for k, v in data.items() if k in known})
         except (OSError, ValueError, TypeError):
             return None
 
@@ -327,6 +329,9 @@ class EmbeddedServer:
         """Return the running daemon's info, starting it first if needed."""
         st = self.status()
         if st.running and st.info is not None and port_open(st.info.bolt_port):
+            if not st.info.users:
+                raise EmbeddedStoreError(f"the store in {self.home} was started by an older sg3d without "
+                                         f"sg3d's own users; run `sg3d db stop` once and retry")
             return st.info
         return self.start()
 
