@@ -7,7 +7,11 @@ Files under the home directory:
     start.lock    held by whoever is starting the daemon, so two sg3d commands at once
                   start one server, not two.
     server.json   pid, ports and database of the running daemon (written when it is ready).
-    password      generated root password, mode 0600.
+    password      generated root password, mode 0600 (sg3d never logs in as root).
+    users.json    sg3d's two store users, mode 0600: the writer (build, merge, --write) and the
+                  reader, whose group may only read records (every read-only path). Their names
+                  carry a random suffix: ArcadeDB locks a user name out for a while after repeated
+                  failed logins, and a process that cannot read this file cannot name them.
     server.log    the daemon's output.
     databases/    ArcadeDB's data.
 """
@@ -28,7 +32,9 @@ from pathlib import Path
 from typing import Iterator, Optional
 
 DATABASE = "sg3d"
-USER = "root"
+ROOT_USER = "root"
+WRITER_GROUP = "sg3d_writer"
+READER_GROUP = "sg3d_reader"
 START_TIMEOUT_S = float(os.environ.get("SG3D_START_TIMEOUT", "90"))
 STOP_TIMEOUT_S = 30.0
 
@@ -47,18 +53,45 @@ def default_home() -> Path:
 
 
 @dataclass(frozen=True)
+class Credentials:
+    """sg3d's two store users (users.json)."""
+
+    writer: str
+    writer_password: str
+    reader: str
+    reader_password: str
+
+
+@dataclass(frozen=True)
 class ServerInfo:
     pid: int
     bolt_port: int
     http_port: int
     database: str
-    password: str
     started_at: float
-    user: str = USER
+    credentials: Credentials
+    users: bool = False  # the daemon installed sg3d's writer and reader (older ones only had root)
 
     @property
     def uri(self) -> str:
         return f"bolt://127.0.0.1:{self.bolt_port}"
+
+    @property
+    def user(self) -> str:
+        """The writer's name (build, merge, schema, --write)."""
+        return self.credentials.writer
+
+    @property
+    def password(self) -> str:
+        return self.credentials.writer_password
+
+    @property
+    def writer_auth(self) -> tuple[str, str]:
+        return self.credentials.writer, self.credentials.writer_password
+
+    @property
+    def reader_auth(self) -> tuple[str, str]:
+        return self.credentials.reader, self.credentials.reader_password
 
 
 @dataclass(frozen=True)
@@ -72,6 +105,77 @@ def free_port() -> int:
     with socket.socket(socket.AF_INET, socket.SOCK_STREAM) as s:
         s.bind(("127.0.0.1", 0))
         return s.getsockname()[1]
+
+
+PROC = Path("/proc")
+HEAL_WAIT_S = 3.0  # the daemon rewrites a deleted server.json within a second
+PRIVATE_SUBDIR = "sg3d-store"
+
+
+def store_dir(requested: Path) -> Path:
+    """Where the store's files go for SG3D_HOME=`requested`.
+
+    A directory sg3d creates (or one that is already private to this user) is used as it is. An
+    existing directory that others may enter (/tmp, a shared folder) is never chmod-ed: the store
+    goes into a private subdirectory of it instead."""
+    try:
+        st = requested.stat()
+    except OSError:
+        return requested  # sg3d will create it, private
+    if st.st_uid == os.getuid() and not st.st_mode & 0o077:
+        return requested
+    return requested / PRIVATE_SUBDIR
+
+
+def check_private(path: Path) -> None:
+    st = path.stat()
+    if st.st_uid != os.getuid() or st.st_mode & 0o077:
+        raise EmbeddedStoreError(f"{path} must be a directory of this user that only it may enter "
+                                 f"(mode 0700); it is not, so the store will not keep its passwords there")
+
+
+def _cmdline(pid: int) -> list[str]:
+    try:
+        raw = (PROC / str(pid) / "cmdline").read_bytes()
+    except OSError:
+        return []
+    return raw.decode(errors="replace").split("\0")[:-1]
+
+
+def daemon_pids(home: Path) -> list[int]:
+    """Processes running `python -m graphdb.daemon HOME` for this home (Linux /proc; elsewhere
+    empty, and the lock files alone tell). A zombie has no command line, so it never counts."""
+    if not PROC.is_dir():
+        return []
+    me, found = os.getpid(), []
+    for entry in PROC.iterdir():
+        if not entry.name.isdigit() or int(entry.name) == me:
+            continue
+        args = _cmdline(int(entry.name))
+        if len(args) >= 3 and args[-1] == str(home) and args[-3:-1] == ["-m", "graphdb.daemon"]:
+            found.append(int(entry.name))
+    return found
+
+
+def process_alive(pid: int) -> bool:
+    """True while `pid` runs. A zombie (dead, not yet reaped by its parent) counts as gone once
+    all its threads have exited: only then has it released its files and locks."""
+    try:
+        fields = dict(line.split(":", 1) for line in (PROC / str(pid) / "status").read_text().splitlines()
+                      if ":" in line)
+        state, threads = fields["State"].split()[0], int(fields["Threads"])
+        return not (state in ("Z", "X") and threads <= 1)
+    except OSError:
+        pass
+    except (KeyError, ValueError, IndexError):
+        return True
+    try:
+        os.kill(pid, 0)
+        return True
+    except ProcessLookupError:
+        return False
+    except PermissionError:
+        return True
 
 
 def port_open(port: int, timeout: float = 0.5) -> bool:
@@ -111,7 +215,9 @@ class EmbeddedServer:
     """Start, find, and stop the embedded store daemon of one home directory."""
 
     def __init__(self, home: Path | str):
-        self.home = Path(home).expanduser().resolve()
+        self.requested = Path(home).expanduser().resolve()
+        self.home = store_dir(self.requested)
+        self._child: Optional[subprocess.Popen] = None
 
     # -- files ---------------------------------------------------------------------------
     @property
@@ -126,65 +232,148 @@ class EmbeddedServer:
     def log_path(self) -> Path:
         return self.home / "server.log"
 
-    def password(self) -> str:
-        """The root password, generated once and kept in a file only the user can read."""
-        path = self.home / "password"
+    @property
+    def users_path(self) -> Path:
+        return self.home / "users.json"
+
+    def _secret_file(self, path: Path, make) -> str:
+        """A generated secret kept in a file only the user can read (created once, race-free)."""
         if not path.exists():
-            self.home.mkdir(parents=True, exist_ok=True)
-            fd = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o600)
-            with os.fdopen(fd, "w") as f:
-                f.write(secrets.token_urlsafe(24))
+            try:
+                fd = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o600)
+            except FileExistsError:
+                pass  # another sg3d made it a moment ago
+            else:
+                with os.fdopen(fd, "w") as f:
+                    f.write(make())
         os.chmod(path, 0o600)
-        return path.read_text().strip()
+        text = path.read_text().strip()
+        if not text:  # the other writer has not finished yet
+            time.sleep(0.05)
+            text = path.read_text().strip()
+        return text
+
+    def password(self) -> str:
+        """The root password (ArcadeDB's administrator; sg3d itself logs in as its own users)."""
+        return self._secret_file(self.home / "password", lambda: secrets.token_urlsafe(24))
+
+    def credentials(self) -> Credentials:
+        """sg3d's writer and reader users, generated once (users.json, mode 0600)."""
+        def make() -> str:
+            tag = secrets.token_hex(4)
+            return json.dumps({"writer": f"sg3d_writer_{tag}", "writer_password": secrets.token_urlsafe(24),
+                               "reader": f"sg3d_reader_{tag}", "reader_password": secrets.token_urlsafe(24)})
+        try:
+            return Credentials(**json.loads(self._secret_file(self.users_path, make)))
+        except (ValueError, TypeError) as exc:
+            raise EmbeddedStoreError(
+                f"{self.users_path} is damaged ({exc}); delete it and run `sg3d db stop`: the next start "
+                f"creates new store users") from None
 
     def _read_info(self) -> Optional[ServerInfo]:
         try:
             data = json.loads(self.info_path.read_text())
-            return ServerInfo(password=self.password(), **data)
+            known = {"pid", "bolt_port", "http_port", "database", "started_at", "users"}
+            return ServerInfo(credentials=self.credentials(), **{k: v for k, v in data.items() if k in known})
         except (OSError, ValueError, TypeError):
             return None
 
     # -- state ---------------------------------------------------------------------------
+    def daemon_pids(self) -> list[int]:
+        """The live daemons of this home, found by process identity (see `daemon_pids`)."""
+        if self._child is not None:
+            self._child.poll()  # reap our own child if it died: a zombie is no daemon
+        return daemon_pids(self.home)
+
     def status(self) -> Status:
-        if not self.home.exists():
+        try:
+            return self._status()
+        except OSError as exc:
+            raise EmbeddedStoreError(f"cannot use the store directory {self.home}: {exc.strerror or exc}") from None
+
+    def _status(self) -> Status:
+        """Running = a daemon process of this home exists, or someone holds server.lock.
+
+        The lock says it for a daemon that owns its files; the process scan also finds one whose
+        server.lock or server.json was deleted (it writes them again within a second)."""
+        if not self.home.is_dir():
             return Status(False)
-        with _flock(self.lock_path, blocking=False) as free:
-            if free:
-                # Nobody holds the daemon lock: whatever server.json says is left from a crash.
-                stale = self.info_path.exists()
-                if stale:
-                    self.info_path.unlink(missing_ok=True)
-                return Status(False, recovered_stale=stale)
+        pids = self.daemon_pids()
+        locked = False
+        if self.lock_path.exists():
+            with _flock(self.lock_path, blocking=False) as free:
+                locked = not free
+        if not locked and not pids:
+            # no daemon: whatever server.json says is left from a crash
+            stale = self.info_path.exists()
+            if stale:
+                self.info_path.unlink(missing_ok=True)
+            return Status(False, recovered_stale=stale)
         info = self._read_info()
-        if info is None:
-            return Status(True)  # starting: lock held, not ready yet
+        if info is not None and PROC.is_dir() and info.pid not in pids:
+            info = None  # a left-over file naming a process that is not this home's daemon
+        if info is None and pids:
+            info = self._wait_info(pids, HEAL_WAIT_S)
         return Status(True, info)
+
+    def _wait_info(self, pids: list[int], seconds: float) -> Optional[ServerInfo]:
+        deadline = time.monotonic() + seconds
+        while time.monotonic() < deadline:
+            info = self._read_info()
+            if info is not None and info.pid in pids:
+                return info
+            time.sleep(0.1)
+        return None
 
     def ensure_running(self) -> ServerInfo:
         """Return the running daemon's info, starting it first if needed."""
         st = self.status()
-        if st.running and st.info is not None:
+        if st.running and st.info is not None and port_open(st.info.bolt_port):
+            if not st.info.users:
+                raise EmbeddedStoreError(f"the store in {self.home} was started by an older sg3d without "
+                                         f"sg3d's own users; run `sg3d db stop` once and retry")
             return st.info
         return self.start()
 
+    def ensure_home(self) -> None:
+        """Create the store directory, private to this user (never chmod-ing one sg3d did not create)."""
+        try:
+            self.home.parent.mkdir(parents=True, exist_ok=True)
+            self.home.mkdir(mode=0o700, exist_ok=True)
+            check_private(self.home)
+        except OSError as exc:
+            raise EmbeddedStoreError(f"cannot use the store directory {self.home}: {exc.strerror or exc}") from None
+
     def start(self) -> ServerInfo:
-        self.home.mkdir(parents=True, exist_ok=True)
-        os.chmod(self.home, 0o700)
+        try:
+            return self._start()
+        except OSError as exc:
+            raise EmbeddedStoreError(f"cannot use the store directory {self.home}: {exc.strerror or exc}") from None
+
+    def _start(self) -> ServerInfo:
+        self.ensure_home()
         with _flock(self.home / "start.lock", blocking=True, timeout=START_TIMEOUT_S) as got:
             if not got:
                 raise EmbeddedStoreError(f"another sg3d is still starting the store in {self.home}")
             st = self.status()
             if st.running:
-                return st.info or self._wait_ready(None)
+                if st.info is not None:
+                    return st.info
+                if not self.daemon_pids():
+                    raise EmbeddedStoreError(
+                        f"{self.lock_path} is held by a process that is not this home's store daemon; "
+                        f"stop it (see `fuser {self.lock_path}`) and retry")
+                return self._wait_ready(None)
             self.password()
+            self.credentials()
             log = open(self.log_path, "ab")
-            env = dict(os.environ)
             proc = subprocess.Popen(
                 [sys.executable, "-m", "graphdb.daemon", str(self.home)],
                 stdin=subprocess.DEVNULL, stdout=log, stderr=subprocess.STDOUT,
-                cwd=self.home, start_new_session=True, env=env,
+                cwd=self.home, start_new_session=True, env=dict(os.environ),
             )
             log.close()
+            self._child = proc
             return self._wait_ready(proc)
 
     def _wait_ready(self, proc: Optional[subprocess.Popen]) -> ServerInfo:
@@ -194,45 +383,46 @@ class EmbeddedServer:
                 raise EmbeddedStoreError(
                     f"the embedded store exited during start-up (code {proc.returncode}); "
                     f"last log lines:\n{self._log_tail()}")
+            if proc is None and not self.daemon_pids() and PROC.is_dir():
+                raise EmbeddedStoreError(f"the embedded store in {self.home} stopped during start-up; see {self.log_path}")
             info = self._read_info()
             if info is not None and port_open(info.bolt_port):
                 return info
             time.sleep(0.1)
         if proc is not None:
             proc.kill()
+            proc.wait()
         raise EmbeddedStoreError(
             f"the embedded store did not start within {START_TIMEOUT_S:.0f} s; see {self.log_path}")
 
     def stop(self) -> bool:
-        """Stop the daemon; False if it was not running."""
+        """Stop the daemon; False if it was not running. Raises EmbeddedStoreError when a
+        daemon runs that cannot be stopped (or the lock is held by an unknown process)."""
         st = self.status()
         if not st.running:
             return False
-        pid = st.info.pid if st.info else self._pid_from_file()
-        if pid:
-            try:
-                os.kill(pid, signal.SIGTERM)
-            except ProcessLookupError:
-                pass
-        deadline = time.monotonic() + STOP_TIMEOUT_S
-        while time.monotonic() < deadline:
-            if not self.status().running:
-                return True
-            time.sleep(0.1)
-        if pid:
-            try:
-                os.kill(pid, signal.SIGKILL)
-            except ProcessLookupError:
-                pass
-        time.sleep(0.5)
-        self.status()  # clears the leftovers of the killed daemon
-        return True
-
-    def _pid_from_file(self) -> Optional[int]:
-        try:
-            return int(json.loads(self.info_path.read_text())["pid"])
-        except (OSError, ValueError, KeyError):
-            return None
+        pids = set(self.daemon_pids())
+        if st.info is not None:
+            pids.add(st.info.pid)
+        if not pids:
+            raise EmbeddedStoreError(
+                f"{self.lock_path} is held, but no store daemon of this home was found; "
+                f"see `fuser {self.lock_path}`")
+        for sig, wait_s in ((signal.SIGTERM, STOP_TIMEOUT_S), (signal.SIGKILL, 5.0)):
+            for pid in pids:
+                try:
+                    os.kill(pid, sig)
+                except ProcessLookupError:
+                    pass
+                except PermissionError:
+                    raise EmbeddedStoreError(f"not allowed to stop the store daemon pid {pid}") from None
+            deadline = time.monotonic() + wait_s
+            while time.monotonic() < deadline:
+                if not any(process_alive(pid) for pid in pids) and not self.daemon_pids():
+                    self.status()  # clears the leftovers of a killed daemon
+                    return True
+                time.sleep(0.1)
+        raise EmbeddedStoreError(f"the store daemon (pid {', '.join(map(str, sorted(pids)))}) did not stop")
 
     def _log_tail(self, n: int = 15) -> str:
         try:

@@ -237,6 +237,7 @@ def merge_in_tx(tx: ManagedTransaction, graph: LocalGraph, embedding: Optional[L
     embedding = embedding or default_embedding()
     rid = room_id(graph.building, graph.room)
     now = time.time()
+    # first write of the transaction: the room lock (see cypher/room_ensure.cypher)
     tx.run(cypher.load("room_ensure"), building=graph.building, room=rid, name=graph.room,
            up=[float(v) for v in graph.up] if graph.up is not None else None).consume()
 
@@ -292,7 +293,23 @@ def merge_local_graph(store, graph: LocalGraph, embedding: Optional[LabelEmbeddi
     """Merge one local graph as ONE transaction; the store is unchanged if anything fails."""
     embedding = embedding or default_embedding()
     store.ensure_schema()
+    create_room(store, graph.building, graph.room)
     return store.execute_write(lambda tx: merge_in_tx(tx, graph, embedding, params))
+
+
+def create_room(store, building: str, room: str, attempts: int = 4) -> None:
+    """Create the room before the merge, in its own transaction. Two builds creating one new room
+    at once both get here; the one whose commit hits the unique constraint retries and finds it."""
+    from neo4j.exceptions import ConstraintError
+
+    for attempt in range(attempts):
+        try:
+            store.write("room_create", building=building, room=room_id(building, room), room_name=room)
+            return
+        except ConstraintError:
+            if attempt == attempts - 1:
+                raise
+            time.sleep(0.05 * (attempt + 1))
 
 
 def merged_keys(store, prefix: str) -> set[str]:

@@ -14,10 +14,26 @@ SCHEMA_VERSION = 1
 logging.getLogger("neo4j").setLevel(logging.ERROR)
 
 
+class ReadOnlyStoreError(RuntimeError):
+    """A write was asked of a store opened for reading."""
+
+
 class Store:
-    def __init__(self, uri: str, auth: tuple[str, str], database: str):
+    """A connection to the graph store.
+
+    `read_only=True` marks a store opened with a reader's credentials (the embedded store's
+    reader user, whose group may only read; a Neo4j reader role). A user's own statement
+    (`run_raw`) on it always runs as that reader, so the SERVER refuses any write. sg3d's own
+    fixed-template writes that a read path may need (the taxonomy mirror that `ask` keeps) go to
+    `writes_via()`, the writer store, when one is given; without it they raise.
+    """
+
+    def __init__(self, uri: str, auth: tuple[str, str], database: str, *, read_only: bool = False,
+                 writes_via: Optional[Callable[[], "Store"]] = None):
         self.uri = uri
         self.database = database
+        self.read_only = read_only
+        self._writes_via = writes_via
         self.driver = GraphDatabase.driver(uri, auth=auth, connection_timeout=10,
                                            max_transaction_retry_time=30)
         self._schema_checked = False
@@ -46,18 +62,35 @@ class Store:
         with self.session() as s:
             return s.execute_read(lambda tx: tx.run(text, params).data())
 
+    def writer(self) -> "Store":
+        """The store sg3d's own writes go to: itself, or the writer behind a read-only store."""
+        if not self.read_only:
+            return self
+        if self._writes_via is None:
+            raise ReadOnlyStoreError("this store was opened read-only")
+        return self._writes_via()
+
     def write(self, name: str, **params: Any) -> list[dict]:
+        if self.read_only:
+            return self.writer().write(name, **params)
         text = cypher.load(name)
         with self.session() as s:
             return s.execute_write(lambda tx: tx.run(text, params).data())
 
     def execute_write(self, fn: Callable[[ManagedTransaction], Any]) -> Any:
         """Run `fn(tx)` as ONE write transaction (retried on transient errors)."""
+        if self.read_only:
+            return self.writer().execute_write(fn)
         with self.session() as s:
             return s.execute_write(fn)
 
     def run_raw(self, text: str, params: Optional[dict] = None, write: bool = False) -> tuple[list[str], list[list]]:
-        """A user's own statement (the `cypher` command and shell): keys and rows."""
+        """A user's own statement (the `cypher` command and shell): keys and rows.
+
+        On a read-only store it runs as the reader whatever `write` says: never via the writer."""
+        if write and self.read_only:
+            raise ReadOnlyStoreError("a write was asked of a store opened read-only (use the writer)")
+
         def work(tx: ManagedTransaction):
             result = tx.run(text, params or {})
             keys = list(result.keys())
@@ -71,6 +104,10 @@ class Store:
         """Apply cypher/schema.cypher once per store (idempotent statements)."""
         if self._schema_checked:
             return
+        if self.read_only:
+            self.writer().ensure_schema()
+            self._schema_checked = True
+            return
         rows = self.read("schema_version")
         if not rows or rows[0]["version"] != SCHEMA_VERSION:
             with self.session() as s:
@@ -81,5 +118,7 @@ class Store:
 
     def wipe(self) -> None:
         """Delete every node and edge (tests, `sg3d db reset`)."""
+        if self.read_only:
+            raise ReadOnlyStoreError("wipe needs the writer")
         self.write("wipe")
         self._schema_checked = False

@@ -15,6 +15,9 @@ class UserError(click.ClickException):
 def run_cli(group: click.Group) -> int:
     from neo4j.exceptions import AuthError, CypherSyntaxError, ClientError, ServiceUnavailable
 
+    from graphdb.embedded import EmbeddedStoreError
+    from graphdb.store import ReadOnlyStoreError
+
     try:
         group.main(standalone_mode=False, prog_name="sg3d")
         return 0
@@ -31,7 +34,10 @@ def run_cli(group: click.Group) -> int:
         click.echo(f"error: the graph store refused the credentials: {_first_line(exc)}", err=True)
         return 2
     except (CypherSyntaxError, ClientError) as exc:
-        click.echo(f"error: {exc.code}: {_first_line(exc.message or str(exc))}", err=True)
+        click.echo(f"error: {describe_store_error(exc)}", err=True)
+        return 2
+    except (EmbeddedStoreError, ReadOnlyStoreError) as exc:
+        click.echo(f"error: {exc}", err=True)
         return 2
     except KeyboardInterrupt:
         click.echo("interrupted", err=True)
@@ -41,6 +47,16 @@ def run_cli(group: click.Group) -> int:
             raise
         click.echo(f"error: {type(exc).__name__}: {_first_line(exc)} (SG3D_DEBUG=1 for the traceback)", err=True)
         return 1
+
+
+def describe_store_error(exc) -> str:
+    """One line for an error the store returned; a refused write on a read path says so."""
+    text = f"{exc.code}: {_first_line(exc.message or str(exc))}"
+    if exc.code and (exc.code.startswith("Neo.ClientError.Security.Forbidden")
+                     or "AccessMode" in exc.code or "WriteOnReadOnly" in exc.code):
+        text += (" (refused by the store's permissions: commands without --write run as a read-only user,"
+                 " and no user may read files with LOAD CSV)")
+    return text
 
 
 def _first_line(exc: object) -> str:

@@ -139,6 +139,7 @@ def test_cli_rooms_and_link(store, monkeypatch, tmp_path):
 
     _build_rooms(store)
     monkeypatch.setattr(Settings, "store", lambda self: store)
+    monkeypatch.setattr(Settings, "reader", lambda self: store)
     runner = CliRunner()
     res = runner.invoke(cli, ["rooms", "link", "kitchen", "hall", "--building", "home", "--json"])
     assert res.exit_code == 0, res.output

@@ -1,6 +1,7 @@
 """The embedded store behaves like a local daemon: status/start/stop, stale recovery, one server."""
 from __future__ import annotations
 
+import fcntl
 import json
 import os
 import signal
@@ -11,7 +12,7 @@ from concurrent.futures import ThreadPoolExecutor
 
 import pytest
 
-from graphdb.embedded import EmbeddedServer
+from graphdb.embedded import EmbeddedServer, process_alive
 
 
 def sg3d(home, *args, timeout=120):
@@ -64,19 +65,56 @@ def test_a_crashed_daemon_is_detected_and_recovered(home):
     server = EmbeddedServer(home)
     info = server.start()
     os.kill(info.pid, signal.SIGKILL)
-    deadline = time.monotonic() + 20
-    while time.monotonic() < deadline:
-        try:
-            os.kill(info.pid, 0)
-        except ProcessLookupError:
-            break
-        time.sleep(0.1)
-    time.sleep(0.3)
+    t0 = time.monotonic()
+    while process_alive(info.pid) and time.monotonic() - t0 < 20:
+        time.sleep(0.05)
+    assert time.monotonic() - t0 < 5  # a dead, unreaped child (zombie) counts as gone
     status = server.status()
     assert not status.running and status.recovered_stale
     assert not server.info_path.exists()
     again = server.ensure_running()
     assert again.pid != info.pid
+
+
+def test_a_deleted_lock_or_info_file_neither_hides_the_daemon_nor_hangs(home):
+    server = EmbeddedServer(home)
+    info = server.start()
+    server.lock_path.unlink()
+    status = server.status()
+    assert status.running and status.info.pid == info.pid
+    out = sg3d(home, "cypher", "RETURN 1 AS one", "--json", timeout=60)
+    assert out.returncode == 0, out.stderr
+    assert server.daemon_pids() == [info.pid]            # no second daemon
+    server.info_path.unlink()
+    t0 = time.monotonic()
+    out = sg3d(home, "cypher", "RETURN 2 AS two", "--json", timeout=60)
+    assert out.returncode == 0, out.stderr
+    assert time.monotonic() - t0 < 30                     # was a 90 s wait
+    assert server.daemon_pids() == [info.pid]
+    deadline = time.monotonic() + 5
+    while not (server.lock_path.exists() and server.info_path.exists()) and time.monotonic() < deadline:
+        time.sleep(0.1)
+    assert server.lock_path.exists() and server.info_path.exists()  # the daemon restored them
+    server.info_path.unlink()
+    out = sg3d(home, "db", "stop", timeout=60)
+    assert out.returncode == 0 and "stopped" in out.stdout, out.stderr
+    assert not process_alive(info.pid) and server.daemon_pids() == []
+
+
+def test_db_stop_says_when_it_cannot_stop(home):
+    home.mkdir(mode=0o700)
+    server = EmbeddedServer(home)
+    fd = os.open(server.lock_path, os.O_RDWR | os.O_CREAT, 0o600)
+    fcntl.flock(fd, fcntl.LOCK_EX)  # held by a process that is not a store daemon
+    try:
+        out = sg3d(home, "db", "stop", timeout=60)
+        assert out.returncode == 2
+        lines = out.stderr.strip().splitlines()
+        assert len(lines) == 1 and "no store daemon" in lines[0], out.stderr
+        out = sg3d(home, "cypher", "RETURN 1", timeout=60)
+        assert out.returncode == 2 and "not this home's store daemon" in out.stderr, out.stderr
+    finally:
+        os.close(fd)
 
 
 def test_refused_uri_gives_one_clear_line(home):

@@ -178,6 +178,8 @@ class _Settings:
     def store(self):
         return self._store
 
+    reader = store
+
 
 def test_cli_answers_explains_writes_thumbnail_and_refuses(store, house, tmp_path):
     from sg3d.commands.ask import ask as ask_cmd

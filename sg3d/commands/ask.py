@@ -27,7 +27,7 @@ def ask(settings, question: str, room, building, explain: bool, as_json: bool, o
     from queries.vqa import answer
     from sg3d.errors import UserError
 
-    result = answer(settings.store(), question, room=room, building=building)
+    result = answer(settings.reader(), question, room=room, building=building)
     path = None
     if result.ok and result.thumbnail:
         try:

@@ -71,52 +71,148 @@ def cypher_command(settings, statement: str, param, write: bool, as_json: bool) 
             params[name] = json.loads(raw)
         except ValueError:
             params[name] = raw
-    keys, rows = settings.store().run_raw(statement, params, write=write)
+    keys, rows = (settings.store() if write else settings.reader()).run_raw(statement, params, write=write)
     print_result(keys, rows, as_json)
+
+
+SHELL_HELP = """\
+End a statement with ';' (it may span lines). Ctrl-C cancels the statement being typed or run.
+  :param NAME => VALUE   set $NAME for the following statements (VALUE: JSON or a Python literal)
+  :params                list the parameters      :params clear   forget them
+  :help                  this text                :exit / :quit   leave (also Ctrl-D)"""
+
+
+def parse_param(text: str):
+    """`name => value` of `:param`, the value read as JSON, else as a Python literal."""
+    import ast
+
+    name, sep, raw = text.partition("=>")
+    name, raw = name.strip().lstrip("$"), raw.strip()
+    if not sep or not name.isidentifier() or not raw:
+        raise ValueError("usage: :param NAME => VALUE")
+    try:
+        return name, json.loads(raw)
+    except ValueError:
+        try:
+            return name, ast.literal_eval(raw)
+        except (ValueError, SyntaxError):
+            raise ValueError(f"cannot read the value {raw!r}: write it as JSON, e.g. 'cup' as \"cup\"") from None
+
+
+class Shell:
+    """The interactive loop, apart from the terminal: `read(prompt)` gives lines (raising EOFError
+    at the end, KeyboardInterrupt on Ctrl-C) and `run(text, params)` runs one statement."""
+
+    def __init__(self, run, read, echo=click.echo):
+        self.run, self.read, self.echo = run, read, echo
+        self.params: dict = {}
+        self.buffer: list[str] = []
+
+    def loop(self) -> None:
+        while True:
+            try:
+                line = self.read("sg3d> " if not self.buffer else "  ... ")
+            except EOFError:
+                self.echo("")
+                return
+            except KeyboardInterrupt:
+                self.buffer.clear()
+                self.echo("^C statement cancelled (:exit to quit)")
+                continue
+            if not self.feed(line):
+                return
+
+    def feed(self, line: str) -> bool:
+        """Take one line; False when the user asked to leave."""
+        from neo4j.exceptions import Neo4jError
+
+        from sg3d.errors import describe_store_error
+
+        if not self.buffer and line.strip().startswith(":"):
+            return self.command(line.strip())
+        if not self.buffer and line.strip() in ("exit", "quit"):
+            return False
+        self.buffer.append(line)
+        text = "\n".join(self.buffer).strip()
+        if not text.endswith(";"):
+            return True
+        self.buffer.clear()
+        statement = text.rstrip(";").strip()
+        if not statement:
+            return True
+        try:
+            keys, rows = self.run(statement, dict(self.params))
+            print_result(keys, rows, as_json=False)
+        except KeyboardInterrupt:
+            self.echo("^C statement cancelled")
+        except Neo4jError as exc:
+            self.echo(f"error: {describe_store_error(exc)}", err=True)
+        return True
+
+    def command(self, text: str) -> bool:
+        word, _, rest = text.partition(" ")
+        if word in (":exit", ":quit"):
+            return False
+        if word == ":help":
+            self.echo(SHELL_HELP)
+        elif word == ":param":
+            try:
+                name, value = parse_param(rest)
+            except ValueError as exc:
+                self.echo(f"error: {exc}", err=True)
+            else:
+                self.params[name] = value
+                self.echo(f"${name} = {json.dumps(value)}")
+        elif word == ":params":
+            if rest.strip() == "clear":
+                self.params.clear()
+            for name, value in sorted(self.params.items()):
+                self.echo(f"${name} = {json.dumps(value)}")
+        else:
+            self.echo(f"error: unknown command {word}; :help lists them", err=True)
+        return True
+
+
+def history_path(settings) -> Path | None:
+    """The shell history lives in the store's home (SG3D_HOME), or where SG3D_HISTORY says."""
+    if os.environ.get("SG3D_HISTORY"):
+        return Path(os.environ["SG3D_HISTORY"])
+    from graphdb.embedded import EmbeddedServer, EmbeddedStoreError
+
+    server = EmbeddedServer(settings.embedded_home())
+    try:
+        server.ensure_home()
+    except EmbeddedStoreError:
+        return None
+    return server.home / "shell_history"
 
 
 @click.command()
 @click.option("--write", is_flag=True, help="Allow writes (default: every statement runs read-only).")
 @click.pass_obj
 def shell(settings, write: bool) -> None:
-    """Interactive Cypher shell with history (end a statement with ';', quit with :exit or Ctrl-D)."""
+    """Interactive Cypher shell with history (end a statement with ';', :help for commands,
+    quit with :exit or Ctrl-D; Ctrl-C cancels the current statement)."""
     import readline
 
-    from neo4j.exceptions import Neo4jError
-
-    history = Path(os.environ.get("SG3D_HISTORY", Path.home() / ".sg3d_history"))
-    try:
-        readline.read_history_file(history)
-    except OSError:
-        pass
-    store = settings.store()
-    click.echo(f"connected to {store.uri} database {store.database}"
-               f" ({'read-write' if write else 'read-only'}); end statements with ';', :exit to quit")
-    buffer: list[str] = []
-    try:
-        while True:
-            try:
-                line = input("sg3d> " if not buffer else "  ... ")
-            except EOFError:
-                click.echo()
-                break
-            if not buffer and line.strip() in (":exit", ":quit", "exit", "quit"):
-                break
-            buffer.append(line)
-            text = "\n".join(buffer).strip()
-            if not text.endswith(";"):
-                continue
-            buffer.clear()
-            try:
-                keys, rows = store.run_raw(text.rstrip(";"), write=write)
-                print_result(keys, rows, as_json=False)
-            except Neo4jError as exc:
-                click.echo(f"error: {exc.code}: {(exc.message or str(exc)).splitlines()[0]}", err=True)
-    finally:
+    store = settings.store() if write else settings.reader()
+    history = history_path(settings)
+    if history is not None:
         try:
-            readline.write_history_file(history)
+            readline.read_history_file(history)
         except OSError:
             pass
+    click.echo(f"connected to {store.uri} database {store.database}"
+               f" ({'read-write' if write else 'read-only'}); end statements with ';', :help for help, :exit to quit")
+    try:
+        Shell(lambda text, params: store.run_raw(text, params, write=write), input).loop()
+    finally:
+        if history is not None:
+            try:
+                readline.write_history_file(history)
+                os.chmod(history, 0o600)
+            except OSError:
+                pass
 
 
 commands = [cypher_command, shell]

@@ -68,7 +68,7 @@ def start(settings) -> None:
 def stop(settings) -> None:
     """Stop the embedded store cleanly."""
     server = _server(settings)
-    click.echo("stopped" if server.stop() else "not running")
+    click.echo("stopped" if server.stop() else "not running")  # EmbeddedStoreError: says why it cannot
 
 
 @db.command()

@@ -85,7 +85,7 @@ def eval_command(settings, gt_path: Path, room: str, building: str, tolerance: O
         gt = load_gt(gt_path)
     except ValueError as exc:
         raise UserError(str(exc)) from None
-    store = settings.store()
+    store = settings.reader()
     rid = room_id(building, room)
     if not store.read("eval_room_exists", room=rid):
         raise UserError(f"no room {room!r} in building {building!r} (build it with `sg3d build`)")

@@ -24,7 +24,7 @@ def export(settings, room: Optional[str], building: str, fmt: str, out: Optional
     from graphdb.export import fetch_graph, to_graphml, to_json
     from queries.naming import name_graph
 
-    graph = fetch_graph(settings.store(), building, room, thumbnails, histograms)
+    graph = fetch_graph(settings.reader(), building, room, thumbnails, histograms)
     if not graph["nodes"]:
         where = f"room {room!r} of building {building!r}" if room else f"building {building!r}"
         raise UserError(f"nothing to export: {where} holds no objects (see `sg3d cypher \"MATCH (r:Room) RETURN r.id\"`)")

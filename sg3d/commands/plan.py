@@ -35,7 +35,7 @@ def plan(settings, command, goal, room, building, start, out_dir, planner, as_js
     if command and goal:
         raise UserError("give a command or --goal, not both")
     try:
-        outcome = plan_task(settings.store(), command, goal=goal, room=room, building=building,
+        outcome = plan_task(settings.reader(), command, goal=goal, room=room, building=building,
                             out_dir=out_dir, planner=planner, start=start)
     except PlanningError as exc:
         raise UserError(str(exc)) from exc

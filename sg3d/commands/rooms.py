@@ -24,7 +24,7 @@ def rooms(ctx: click.Context, building: str, as_json: bool) -> None:
         return
     from graphdb.building import list_rooms
 
-    rows = list_rooms(ctx.obj.store(), building)
+    rows = list_rooms(ctx.obj.reader(), building)
     if as_json:
         click.echo(json.dumps([{"id": r["id"], "name": r["name"], "objects": r["objects"],
                                 "to_building": None if r["to_building"] is None else r["to_building"].tolist(),

@@ -47,9 +47,11 @@ def show(settings, room: Optional[str], building: str, out: Path, layout: str, a
     if sequence is not None and fmt != "html":
         raise UserError("--sequence only applies to an .html view")
     width, height = parse_size(size_text)
+    if not out.resolve().parent.is_dir():
+        raise UserError(f"--out {out}: the directory {out.parent} does not exist")
     from queries.render import load_scene, render, room_up
 
-    scene = load_scene(settings.store(), building, room)
+    scene = load_scene(settings.reader(), building, room)
     if not scene.nodes:
         where = f"room {room!r} of building {building!r}" if room else f"building {building!r}"
         raise UserError(f"nothing to show: {where} holds no objects")
@@ -62,10 +64,13 @@ def show(settings, room: Optional[str], building: str, out: Path, layout: str, a
     title = f"{building}/{room}" if room else building
     data = render(scene, fmt, width=width, height=height, layout=layout, all_edges=all_edges,
                   title=title, points=points)
-    if isinstance(data, bytes):
-        out.write_bytes(data)
-    else:
-        out.write_text(data, encoding="utf-8")
+    try:
+        if isinstance(data, bytes):
+            out.write_bytes(data)
+        else:
+            out.write_text(data, encoding="utf-8")
+    except OSError as exc:
+        raise UserError(f"--out {out}: cannot write it ({exc.strerror or exc})") from None
     click.echo(f"wrote {out} ({len(scene.nodes)} nodes, {len(scene.edges)} edges)", err=True)
 
 
