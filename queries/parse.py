@@ -142,7 +142,8 @@ def _words(phrase: str) -> list[str]:
 
 def _split_room(text: str, is_room) -> tuple[str, Optional[str]]:
     """A trailing 'in (the) <room>' naming a stored room, or a non-object, is the location."""
-    m = re.search(r"\b(?:in|inside) (?:the |my |this )?(?P<room>[a-z0-9' ]+?)(?: room)?$", text)
+    # "in front of the table" is a relation, not a room
+    m = re.search(r"\b(?:in|inside) (?!front of\b)(?:the |my |this )?(?P<room>[a-z0-9' ]+?)(?: room)?$", text)
     if not m:
         return text, None
     room = m.group("room").strip()
