@@ -21,6 +21,8 @@ RELATIONS: dict[str, tuple[str, bool]] = {
     "next to": ("NEXT_TO", True), "beside": ("NEXT_TO", True), "by": ("NEXT_TO", True),
     "near": ("NEAR", True), "close to": ("NEAR", True), "around": ("NEAR", True),
     "in front of": ("IN_FRONT_OF", False), "behind": ("BEHIND", False),
+    "left of": ("LEFT_OF", False), "to the left of": ("LEFT_OF", False),
+    "right of": ("RIGHT_OF", False), "to the right of": ("RIGHT_OF", False),
     "bigger than": ("BIGGER_THAN", False), "larger than": ("BIGGER_THAN", False),
     "smaller than": ("SMALLER_THAN", False),
 }

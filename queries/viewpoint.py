@@ -29,6 +29,7 @@ import numpy as np
 
 from ingest.relation_rules import VIEWPOINT
 from ingest.relations import MIN_EXTENT, horizontal_basis
+from queries.lexicon import resolve
 
 FRONT_TOLERANCE = 0.05
 MIN_LATERAL_OVERLAP = 0.3
@@ -126,13 +127,20 @@ def related(run, q, rooms, viewpoint, seen_from: Optional[str]) -> list[dict]:
     anchors = run.read("vqa_boxes", labels=q.anchor.labels, rooms=rooms, colour=None)
     ups = {r["id"]: r["up"] for r in run.read("vqa_room_up", rooms=sorted({a["room"] for a in anchors}))}
     eyes: dict[str, np.ndarray] = {}
+    eye_ids: set[str] = set()
     if name is not None:
-        for v in run.read("vqa_boxes", labels=[name.lower()], rooms=rooms, colour=None):
-            eyes.setdefault(v["room"], np.asarray(v.get("box_centre") or [v["x"], v["y"], v["z"]], float))
+        named, _ = resolve(name, use_embedding=False)      # synonyms: "fridge" is a refrigerator
+        labels = named.labels if named is not None and named.labels else [name.lower()]
+        for v in run.read("vqa_boxes", labels=labels, rooms=rooms, colour=None):
+            if v["room"] not in eyes:
+                eyes[v["room"]] = np.asarray(v.get("box_centre") or [v["x"], v["y"], v["z"]], float)
+                eye_ids.add(v["id"])
         if not eyes:
             raise ValueError(f"no {name} in the store to look from")
     rows = []
     for t in targets:
+        if t["id"] in eye_ids:          # the observer is not in front of anything it looks at
+            continue
         for a in anchors:
             if a["id"] == t["id"] or a["room"] != t["room"]:
                 continue

@@ -69,6 +69,9 @@ def test_in_front_of_is_answered_from_a_named_object_or_a_callers_viewpoint(room
     assert a.ok and a.value is True, a.text
     a = answer(room, "is there a chair behind the table as seen from the sink?")
     assert a.ok and a.value is False, a.text
+    # the observer is not among what it sees in front of the table
+    a = answer(room, "what is in front of the dining table as seen from the sink?")
+    assert a.ok and [o["label"] for o in a.value] == ["chair"], a.text
     # a robot standing north of the table passes its pose: the chair is behind the table
     pose = np.eye(4)
     pose[:3, 3] = (0.0, 3.0, 1.2)
@@ -76,6 +79,8 @@ def test_in_front_of_is_answered_from_a_named_object_or_a_callers_viewpoint(room
     assert a.ok and a.value == 1, a.text
     a = answer(room, "how many chairs are behind the table?", viewpoint={"position": [0.0, -3.0, 1.2]})
     assert a.ok and a.value == 0, a.text
+    a = answer(room, "is there a chair to the left of the table?", viewpoint={"position": [3.0, 0.0, 1.2]})
+    assert a.ok and a.value is True, a.text       # looking west, south is on the left
     # without a viewpoint the question cannot be answered, and says how to give one
     a = answer(room, "is there a chair in front of the table?")
     assert not a.ok and "as seen from" in a.text

@@ -12,10 +12,13 @@ import click
 @click.option("--building", default=None, help="Only this building.")
 @click.option("--explain", is_flag=True, help="Also print the query form, templates and parameters.")
 @click.option("--json", "as_json", is_flag=True, help="The answer as JSON.")
+@click.option("--viewpoint", default=None, metavar="X,Y,Z|OBJECT",
+              help="Where 'in front of/behind/left of/right of' are seen from: a point in the room's "
+                   "world frame or an object name (or say 'as seen from the sink' in the question).")
 @click.option("--out", type=click.Path(dir_okay=False), default=None,
               help="Where 'show me ...' writes the thumbnail (default: a temporary .jpg, printed).")
 @click.pass_obj
-def ask(settings, question: str, room, building, explain: bool, as_json: bool, out) -> None:
+def ask(settings, question: str, room, building, explain: bool, as_json: bool, viewpoint, out) -> None:
     """Answer QUESTION from the scene graph, e.g. sg3d ask "how many red chairs are there?"
 
     Counting (simple, by group: furniture/cutlery/..., by colour, big/small, in a room, on/under/
@@ -24,7 +27,7 @@ def ask(settings, question: str, room, building, explain: bool, as_json: bool, o
     """
     from queries.vqa import answer
 
-    result = answer(settings.store(), question, room=room, building=building)
+    result = answer(settings.store(), question, room=room, building=building, viewpoint=_viewpoint(viewpoint))
     path = None
     if result.ok and result.thumbnail:
         path = _write_thumbnail(result.thumbnail, out)
@@ -45,6 +48,18 @@ def ask(settings, question: str, room, building, explain: bool, as_json: bool, o
                        + f" params: {json.dumps(step['params'])}", err=True)
     if not result.ok:
         raise SystemExit(2)   # a refusal is not an answer: scripts see a non-zero status
+
+
+def _viewpoint(text):
+    if not text:
+        return None
+    parts = text.split(",")
+    if len(parts) == 3:
+        try:
+            return {"position": [float(p) for p in parts]}
+        except ValueError:
+            pass
+    return {"object": text.strip()}
 
 
 def _write_thumbnail(data: bytes, out) -> str:
