@@ -19,7 +19,7 @@ import numpy as np
 
 from ingest.detect import Detection
 from ingest.model import RelationObservation
-from ingest.relation_rules import Statement, edges_of, statement_of
+from ingest.relation_rules import SYMMETRIC, Statement, edges_of, statement_of
 from ingest.tracks import Track
 
 RELATION_PRIOR_FILE = Path(__file__).resolve().parent / "data" / "relation_prior.json"
@@ -198,12 +198,27 @@ def filter_relations(
 ) -> list[RelationObservation]:
     """Delete relations whose Eq. 7 probability is below `threshold`.
 
+    Per statement (`ingest.relation_rules`), not per edge: a symmetric relation (stored from
+    the smaller id) is looked up both ways, and an inverse pair (ABOVE with BELOW, BIGGER_THAN
+    with SMALLER_THAN) is kept or deleted whole, at the best probability of its edges.
     `labels`: local_id -> best label; `positions`: local_id -> world centre (metres)."""
     prior = prior or default_prior()
+    relations = list(relations)
+
+    def probability(s: str, p: str, o: str) -> float:
+        distance = float(np.linalg.norm(np.asarray(positions[s], dtype=np.float64)
+                                        - np.asarray(positions[o], dtype=np.float64)))
+        ways = [(s, o), (o, s)] if p in SYMMETRIC else [(s, o)]
+        return max(prior.probability(labels[a], p, labels[b], distance) for a, b in ways)
+
+    best: dict[tuple, float] = {}          # statement (or a viewpoint edge) -> best probability
+    for r in relations:
+        st = statement_of(r.subject, r.predicate, r.object)
+        key = st if st is not None else (r.subject, r.predicate, r.object)
+        best[key] = max(best.get(key, 0.0), probability(r.subject, r.predicate, r.object))
     kept = []
     for r in relations:
-        distance = float(np.linalg.norm(np.asarray(positions[r.subject], dtype=np.float64)
-                                        - np.asarray(positions[r.object], dtype=np.float64)))
-        if prior.probability(labels[r.subject], r.predicate, labels[r.object], distance) >= threshold:
+        st = statement_of(r.subject, r.predicate, r.object)
+        if best[st if st is not None else (r.subject, r.predicate, r.object)] >= threshold:
             kept.append(r)
     return kept

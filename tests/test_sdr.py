@@ -180,3 +180,18 @@ def test_filter_relations_with_the_shipped_prior():
     # the same ON at an implausible 3 m distance is deleted by the Gaussian term
     far = dict(positions, c=(3.0, 0.0, 0.8))
     assert as_set(filter_relations([Rel("c", "ON", "t")], labels, far)) == set()
+
+
+def test_filter_reads_symmetric_relations_both_ways_and_keeps_inverse_pairs_whole():
+    prior = RelationPrior({
+        ("chair", "NEXT_TO", "dining table"): PriorEntry(0.9),
+        ("dining table", "NEXT_TO", "*"): PriorEntry(0.1),
+        ("tv", "ABOVE", "shelf"): PriorEntry(0.9),
+        ("shelf", "BELOW", "tv"): PriorEntry(0.2),
+    }, default=PriorEntry(0.6))
+    labels = {"a": "dining table", "b": "chair", "t": "tv", "s": "shelf"}
+    positions = {k: (0.0, 0.0, 0.0) for k in labels}
+    # stored from the smaller id "a" (the table): the chair->table entry still applies
+    assert as_set(filter_relations([Rel("a", "NEXT_TO", "b")], labels, positions, prior)) == {("a", "NEXT_TO", "b")}
+    pair = [Rel("t", "ABOVE", "s"), Rel("s", "BELOW", "t")]
+    assert as_set(filter_relations(pair, labels, positions, prior)) == {("t", "ABOVE", "s"), ("s", "BELOW", "t")}
