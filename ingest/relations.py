@@ -14,8 +14,8 @@ stored and which exclude each other). Per pair, at most one placement fact, test
   set into B (FITTED_LABELS: a sink in a counter), i.e. A's top is flush with B's top (within
   ON_TOLERANCE) and A's bottom lies below it.
 - ON (support): A's bottom rests on B's top surface: bottom(A) - top(B) within
-  [-max(ON_TOLERANCE, ON_PENETRATION_FRACTION·height(B)), ON_TOLERANCE], A sits higher than B
-  (its centre above B's, its bottom above B's bottom) and ≥ ON_MIN_FOOTPRINT_OVERLAP of F(A)
+  [-max(ON_TOLERANCE, ON_PENETRATION_FRACTION·height(B)), ON_TOLERANCE], A reaches B's top
+  (top(A) ≥ top(B) - ON_TOLERANCE) but not below B's bottom, and ≥ ON_MIN_FOOTPRINT_OVERLAP of F(A)
   lies over F(B). An object on a pile is ON the item it touches and ON the furniture the pile
   stands on (much larger footprint, PILE_BASE_FOOTPRINT_RATIO), not ON the pile's middle items.
 - ABOVE / BELOW: A is over B with air between, bottom(A) - top(B) in (ON_TOLERANCE,
@@ -23,7 +23,8 @@ stored and which exclude each other). Per pair, at most one placement fact, test
   and A the smaller of the two (a TV on the wall above a shelf). Stored with B BELOW A.
 - UNDER: A is beneath B and covered by it: |F(A)| < |F(B)|, ≥ VERTICAL_MIN_FOOTPRINT_OVERLAP of
   F(A) under F(B), top(A) ≤ top(B) + UNDER_TOP_TOLERANCE, and either A hangs or stands below B
-  (top(A) ≤ bottom(B) + ON_TOLERANCE, within ABOVE_MAX_GAP: a PC tower under a wall shelf) or A
+  (top(A) ≤ bottom(B) + ON_TOLERANCE with its centre below B's box, within ABOVE_MAX_GAP: a PC
+  tower under a wall shelf) or A
   is tucked under B's top while standing on the same floor (bottoms within BASE_TOLERANCE: a
   stool pushed under a table). A chair at a table whose back rises above the table top is not
   under it: it is NEXT_TO it (what people say: "the chair at the table").
@@ -231,8 +232,9 @@ def on_score(a: _Box, b: _Box) -> float:
     penetration = max(ON_TOLERANCE, ON_PENETRATION_FRACTION * b.s[2])
     if not (-penetration <= gap <= ON_TOLERANCE):
         return 0.0
-    # A sits higher than B: of two thin stacked boxes only the upper one is on the other
-    if a.c[2] <= b.c[2] or a.bottom <= b.bottom:
+    # A reaches B's top and does not reach below B's bottom: of two thin stacked boxes only the
+    # upper one is on the other, and a flat book measured a few cm into a table-top slab is on it
+    if a.top < b.top - ON_TOLERANCE or a.bottom <= b.bottom:
         return 0.0
     overlap = _footprint_intersection(a, b) / a.footprint
     if overlap < ON_MIN_FOOTPRINT_OVERLAP:
@@ -258,19 +260,22 @@ def under_score(a: _Box, b: _Box) -> float:
     overlap = _footprint_intersection(a, b) / a.footprint
     if overlap < VERTICAL_MIN_FOOTPRINT_OVERLAP:
         return 0.0
-    hangs_below = a.top <= b.bottom + ON_TOLERANCE and b.bottom - a.top <= ABOVE_MAX_GAP
+    # below B's box (its centre too: a flat thing inside a thin table-top slab is not under it)
+    hangs_below = a.top <= b.bottom + ON_TOLERANCE and a.c[2] < b.bottom and b.bottom - a.top <= ABOVE_MAX_GAP
     # tucked: the same floor, so a cup inside a table box inflated by the background is not under it
     tucked = abs(a.bottom - b.bottom) <= BASE_TOLERANCE and a.c[2] < b.top - ON_TOLERANCE
     return min(1.0, overlap) if hangs_below or tucked else 0.0
 
 
 def placement(a: _Box, b: _Box) -> Optional[tuple[_Box, str, _Box, float]]:
-    """The one vertical fact of a pair, most specific first, as (subject, type, object, score)."""
+    """The one vertical fact of a pair, most specific first, as (subject, type, object, score).
+    When a test holds both ways (two nearly identical boxes), the higher box is the subject."""
     for test, name in ((in_score, "IN"), (on_score, "ON"), (under_score, "UNDER"), (above_score, "ABOVE")):
-        for s, o in ((a, b), (b, a)):
-            score = test(s, o)
-            if score > 0:
-                return s, name, o, score
+        found = [(s, o, test(s, o)) for s, o in ((a, b), (b, a))]
+        found = [f for f in found if f[2] > 0]
+        if found:
+            s, o, score = max(found, key=lambda f: f[0].c[2] if name in ("ON", "ABOVE") else -f[0].c[2])
+            return s, name, o, score
     return None
 
 

@@ -257,3 +257,13 @@ def test_cup_sunk_into_an_inflated_table_box_is_on_not_under():
     r = rels([inflated, sunk])
     assert ("cup", "ON", "table") in r
     assert ("cup", "UNDER", "table") not in r
+
+
+def test_flat_things_measured_into_a_thin_table_top_slab_are_on_it():
+    # the kitchen's table box is often only its top slab (10 cm) and a book on it is measured a
+    # few cm inside that slab: on the table, not under it
+    slab = ObjectGeometry("table", "dining table", (0.0, 0.0, 0.72), (1.9, 0.9, 0.10))
+    book = ObjectGeometry("book", "book", (0.2, 0.0, 0.71), (0.25, 0.24, 0.02))   # centre below the slab's
+    r = rels([slab, book])
+    assert ("book", "ON", "table") in r
+    assert ("book", "UNDER", "table") not in r and ("table", "ON", "book") not in r
