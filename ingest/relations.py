@@ -28,6 +28,8 @@ stored and which exclude each other). Per pair, at most one placement fact, test
   is tucked under B's top while standing on the same floor (bottoms within BASE_TOLERANCE: a
   stool pushed under a table). A chair at a table whose back rises above the table top is not
   under it: it is NEXT_TO it (what people say: "the chair at the table").
+- A small thing at the top level of a support surface (>= SUPPORT_MIN_SIDE wide) and touching
+  its edge, but not ON it, gets no placement fact in that frame: the surface may be seen in part.
 - NEXT_TO (side by side, not stacked): no fact above holds, both stand on the same level
   (bottoms within BASE_TOLERANCE, or both ON the same object), footprints overlap by at most
   NEXT_TO_MAX_FOOTPRINT_OVERLAP of the smaller one (a chair tucked in overlaps a table), and the
@@ -87,6 +89,10 @@ FITTED_LABELS = frozenset({"sink", "oven"})
 # -- side by side ------------------------------------------------------------------------
 # A chair tucked in at a table overlaps its footprint; more than this is not "beside".
 NEXT_TO_MAX_FOOTPRINT_OVERLAP = 0.9
+# A support surface at least this wide (a table, a counter) is often seen only in part: a small
+# thing whose bottom is at its top level and that touches its visible part (gap <= NEXT_TO_MIN_GAP)
+# may be on the unseen rest, so that frame states nothing about the pair (other views decide).
+SUPPORT_MIN_SIDE = 0.5
 # Allowed horizontal gap scales with the objects: one mean footprint side, kept within bounds.
 NEXT_TO_GAP_FRACTION = 1.0
 NEXT_TO_MIN_GAP = 0.10
@@ -279,6 +285,14 @@ def placement(a: _Box, b: _Box) -> Optional[tuple[_Box, str, _Box, float]]:
     return None
 
 
+def at_support_edge(a: _Box, b: _Box) -> bool:
+    """The smaller of the two sits at the larger one's top level, touching the edge of a support
+    surface (>= SUPPORT_MIN_SIDE wide) seen perhaps only in part: on it or beside it is unknown."""
+    small, big = (a, b) if a.footprint < b.footprint else (b, a)
+    return (max(big.s[0], big.s[1]) >= SUPPORT_MIN_SIDE and abs(small.bottom - big.top) <= ON_TOLERANCE
+            and _horizontal_gap(small, big) <= NEXT_TO_MIN_GAP)
+
+
 def next_to_score(a: _Box, b: _Box, same_support: bool = False) -> float:
     """NEXT_TO: side by side on one level, within a size-scaled gap (module docstring)."""
     if abs(a.bottom - b.bottom) > BASE_TOLERANCE and not same_support:
@@ -356,7 +370,7 @@ def spatial_relations(objects: Sequence[ObjectGeometry], up: Sequence[float],
         fact = facts.get((a.id, b.id))
         if fact is not None:
             emit(*fact)
-        elif (a.id, b.id) not in stacked:
+        elif (a.id, b.id) not in stacked and not at_support_edge(a, b):
             same_support = bool(supports.get(a.id, set()) & supports.get(b.id, set()))
             score = next_to_score(a, b, same_support)
             if score > 0:

@@ -267,3 +267,15 @@ def test_flat_things_measured_into_a_thin_table_top_slab_are_on_it():
     r = rels([slab, book])
     assert ("book", "ON", "table") in r
     assert ("book", "UNDER", "table") not in r and ("table", "ON", "book") not in r
+
+
+def test_a_cup_at_the_edge_of_a_partly_seen_table_top_is_left_to_other_views():
+    # this frame sees only the right part of the table; the cup's footprint is half over it
+    part = ObjectGeometry("table", "dining table", (0.3, 0.0, 0.72), (0.9, 0.6, 0.04))
+    edge = ObjectGeometry("cup", "cup", (-0.17, 0.0, 0.78), (0.12, 0.12, 0.08))
+    r = rels([part, edge])
+    assert not any({k[0], k[2]} == {"cup", "table"} and k[1] in ("ON", "NEXT_TO", "NEAR") for k in r)
+    # a cup beside a magazine (narrow, not a support surface) at the same height stays next to it
+    magazine = ObjectGeometry("mag", "magazine", (0.0, 0.0, 0.76), (0.28, 0.21, 0.02))
+    beside = ObjectGeometry("cup", "cup", (0.20, 0.0, 0.80), (0.08, 0.08, 0.10))
+    assert ("cup", "NEXT_TO", "mag") in rels([magazine, beside])
