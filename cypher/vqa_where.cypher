@@ -6,5 +6,6 @@ WHERE o.id IN $ids
 MATCH (o)-[e]-(b:Object)
 WHERE type(e) IN $types
   AND (($incoming AND (b)-[e]->(o)) OR (NOT $incoming AND (o)-[e]->(b)))
-RETURN o.id AS id, type(e) AS rel, b.id AS other_id, b.label AS other_label, e.score AS rel_score
+RETURN o.id AS id, type(e) AS rel, b.id AS other_id, b.label AS other_label, b.colour AS other_colour,
+       e.score AS rel_score
 ORDER BY id, rel, other_id

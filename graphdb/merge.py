@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import time
 import uuid
-from collections import defaultdict
 from dataclasses import dataclass, field
 from typing import Optional
 
@@ -20,6 +19,7 @@ from neo4j import ManagedTransaction
 from scipy.optimize import linear_sum_assignment
 
 from graphdb import cypher
+from graphdb.consistency import canonical_rows, resolve_pairs
 from graphdb.similarity import (MAX_EXTENT_M, SimilarityParams, box_position_similarity,
                                 histogram_intersection, label_similarity_matrix,
                                 position_similarity, shared_labels, total_similarity)
@@ -271,14 +271,13 @@ def merge_in_tx(tx: ManagedTransaction, graph: LocalGraph, embedding: Optional[L
         tx.run(cypher.load("object_create"), room=rid, rows=creates).consume()
     report.updated, report.created = len(updates), len(creates)
 
-    by_type: dict[str, list[dict]] = defaultdict(list)
-    for rel in graph.relations:
-        s, o = report.node_ids[rel.subject], report.node_ids[rel.object]
-        if s != o:  # two local objects merged into one node relate to nothing new
-            by_type[rel.predicate].append({"s": s, "o": o, "score": float(rel.score), "at": now})
-    for rel_type, rows in sorted(by_type.items()):
-        tx.run(cypher.render("relation_merge", rel_type), rows=rows).consume()
+    # stored form between global ids (symmetric edges by the smaller GLOBAL id, no viewpoint
+    # relations); then the pairs this merge touched keep only their better-supported statement
+    for rel_type, rows in sorted(canonical_rows(graph.relations, report.node_ids).items()):
+        tx.run(cypher.render("relation_merge", rel_type), rows=[{**r, "at": now} for r in rows]).consume()
         report.relations += len(rows)
+    if graph.relations or report.absorbed:
+        resolve_pairs(tx, report.node_ids.values())
 
     if graph.key:
         tx.run(cypher.load("merge_log_create"), key=graph.key, room=rid, at=now,

@@ -1,16 +1,49 @@
-"""Spatial and comparative relations between objects, from 3-D geometry.
+"""Spatial and comparative relations between objects, from 3-D geometry in the gravity frame.
 
 The paper extracts relations with a trained network (F-Net, Sec. III); none is available
 offline, so relations are read off gravity-aligned 3-D boxes instead. Every object is an
 axis-aligned box in the frame (e1, e2, up) of `horizontal_basis(up)`: width along e1, depth
-along e2, height along up. All distances are metres.
+along e2, height along up. All distances are metres. Notation: bottom(A), top(A) along up;
+F(A) the horizontal footprint (a rectangle), |F(A)| its area; F(A)∩F(B) their overlap.
 
-Chosen to keep the graph sparse (the paper's point): a pair gets at most one "vertical" fact
-(IN, ON, UNDER, ABOVE/BELOW), NEXT_TO only between things on the same support level, NEAR only
-for close pairs with no more specific relation, IN_FRONT_OF/BEHIND only with a camera and
-lateral overlap, and BIGGER_THAN/SMALLER_THAN only for pairs that already share a spatial
-relation or carry the same label. Relations cost O(n^2) box tests but emit O(n) edges for
-typical rooms.
+Every stored relation holds whatever the viewpoint (`ingest.relation_rules` says how each is
+stored and which exclude each other). Per pair, at most one placement fact, tested in this order:
+
+- IN (containment): A is smaller than B and ≥ IN_MIN_INSIDE_FRACTION of A's box lies inside
+  B's box, and B can hold things: B is a container class (CONTAINER_LABELS), or A is a fixture
+  set into B (FITTED_LABELS: a sink in a counter), i.e. A's top is flush with B's top (within
+  ON_TOLERANCE) and A's bottom lies below it.
+- ON (support): A's bottom rests on B's top surface: bottom(A) - top(B) within
+  [-max(ON_TOLERANCE, ON_PENETRATION_FRACTION·height(B)), ON_TOLERANCE], A reaches B's top
+  (top(A) ≥ top(B) - ON_TOLERANCE) but not below B's bottom, and ≥ ON_MIN_FOOTPRINT_OVERLAP of F(A)
+  lies over F(B). An object on a pile is ON the item it touches and ON the furniture the pile
+  stands on (much larger footprint, PILE_BASE_FOOTPRINT_RATIO), not ON the pile's middle items.
+- ABOVE / BELOW: A is over B with air between, bottom(A) - top(B) in (ON_TOLERANCE,
+  ABOVE_MAX_GAP], the smaller footprint mostly over the other (≥ VERTICAL_MIN_FOOTPRINT_OVERLAP)
+  and A the smaller of the two (a TV on the wall above a shelf). Stored with B BELOW A.
+- UNDER: A is beneath B and covered by it: |F(A)| < |F(B)|, ≥ VERTICAL_MIN_FOOTPRINT_OVERLAP of
+  F(A) under F(B), top(A) ≤ top(B) + UNDER_TOP_TOLERANCE, and either A hangs or stands below B
+  (top(A) ≤ bottom(B) + ON_TOLERANCE with its centre below B's box, within ABOVE_MAX_GAP: a PC
+  tower under a wall shelf) or A
+  is tucked under B's top while standing on the same floor (bottoms within BASE_TOLERANCE: a
+  stool pushed under a table). A chair at a table whose back rises above the table top is not
+  under it: it is NEXT_TO it (what people say: "the chair at the table").
+- A small thing at the top level of a support surface (>= SUPPORT_MIN_SIDE wide) and touching
+  its edge, but not ON it, gets no placement fact in that frame: the surface may be seen in part.
+- NEXT_TO (side by side, not stacked): no fact above holds, both stand on the same level
+  (bottoms within BASE_TOLERANCE, or both ON the same object), footprints overlap by at most
+  NEXT_TO_MAX_FOOTPRINT_OVERLAP of the smaller one (a chair tucked in overlaps a table), and the
+  horizontal gap is at most NEXT_TO_GAP_FRACTION of the pair's mean footprint side, kept within
+  [NEXT_TO_MIN_GAP, NEXT_TO_MAX_GAP] (two chairs 40 cm apart are next to each other, two cups
+  40 cm apart are not). Symmetric: one edge, subject = the smaller id.
+- NEAR: no fact above holds and the 3-D surface gap is at most NEAR_SIZE_FRACTION of the larger
+  object's largest extent, kept within [NEAR_MIN_GAP, NEAR_MAX_GAP] (a table is near a wider
+  ring of things than a cup). Symmetric, stored like NEXT_TO.
+- BIGGER_THAN / SMALLER_THAN: box volumes differ by BIGGER_VOLUME_RATIO, only for pairs that
+  share a placement fact or a label (else every pair of a room would get one). Stored both ways.
+
+IN_FRONT_OF / BEHIND / LEFT_OF / RIGHT_OF depend on where the camera stood and are never
+emitted here; `camera_pose` is accepted and ignored so older callers keep working.
 """
 from __future__ import annotations
 
@@ -21,8 +54,9 @@ from typing import Optional, Sequence
 import numpy as np
 
 from ingest.model import ObjectObservation, RelationObservation
+from ingest.relation_rules import edges_of, statement_of
 
-# -- support (ON / UNDER) ----------------------------------------------------------------
+# -- support and stacking ----------------------------------------------------------------
 # Depth noise of consumer RGB-D at 1-3 m is ~1-3 cm and object boxes come from partial views,
 # so "touching" is allowed a gap or interpenetration of this much.
 ON_TOLERANCE = 0.08
@@ -32,13 +66,17 @@ ON_PENETRATION_FRACTION = 0.2
 # Most of the supported object's footprint must lie over its support: a cup hanging mostly
 # over the table's edge is not "on" it.
 ON_MIN_FOOTPRINT_OVERLAP = 0.5
-# UNDER: the lower object stands on the same floor and is mostly covered by the upper one's
-# footprint; a chair tucked under a table may rise this far above the table top with its back.
-UNDER_MIN_FOOTPRINT_OVERLAP = 0.5
-UNDER_TOP_TOLERANCE = 0.20
-# ABOVE/BELOW: stacked with air in between, within a room's height, footprints overlapping.
+# An object on a pile is ON the furniture under the pile only when that furniture's footprint
+# is this many times the pile item's it touches (a table under a stack of magazines).
+PILE_BASE_FOOTPRINT_RATIO = 4.0
+# ABOVE/BELOW and UNDER: stacked with air in between, within a room's height, the smaller
+# footprint mostly over/under the other.
 ABOVE_MAX_GAP = 2.0
-ABOVE_MIN_FOOTPRINT_OVERLAP = 0.3
+VERTICAL_MIN_FOOTPRINT_OVERLAP = 0.5
+# UNDER: the lower object may rise this far above the covering object's top (noise), no more.
+UNDER_TOP_TOLERANCE = 0.08
+# Same level: bottoms within a few cm (both on the floor, both on the table).
+BASE_TOLERANCE = 0.15
 # -- containment -------------------------------------------------------------------------
 # IN: most of the object's volume lies inside a container's box.
 IN_MIN_INSIDE_FRACTION = 0.6
@@ -46,24 +84,23 @@ CONTAINER_LABELS = frozenset({
     "bowl", "cup", "wine glass", "vase", "sink", "refrigerator", "microwave", "oven",
     "toaster", "toilet", "suitcase", "backpack", "handbag", "bed", "couch",
 })
+# Fixtures set into the furniture that holds them (their rim flush with its top surface).
+FITTED_LABELS = frozenset({"sink", "oven"})
 # -- side by side ------------------------------------------------------------------------
-# Same support level: bases within a few cm (e.g. both on the floor, both on the table).
-NEXT_TO_BASE_TOLERANCE = 0.15
-# Footprints may touch a little (boxes of neighbours often overlap by noise), not more.
-NEXT_TO_MAX_FOOTPRINT_OVERLAP = 0.2
-# Allowed horizontal gap scales with the objects: one mean footprint side (two chairs 40 cm
-# apart are next to each other, two cups 40 cm apart are not), kept within [10, 60] cm.
+# A chair tucked in at a table overlaps its footprint; more than this is not "beside".
+NEXT_TO_MAX_FOOTPRINT_OVERLAP = 0.9
+# A support surface at least this wide (a table, a counter) is often seen only in part: a small
+# thing whose bottom is at its top level and that touches its visible part (gap <= NEXT_TO_MIN_GAP)
+# may be on the unseen rest, so that frame states nothing about the pair (other views decide).
+SUPPORT_MIN_SIDE = 0.5
+# Allowed horizontal gap scales with the objects: one mean footprint side, kept within bounds.
 NEXT_TO_GAP_FRACTION = 1.0
 NEXT_TO_MIN_GAP = 0.10
 NEXT_TO_MAX_GAP = 0.60
-# NEAR: surface-to-surface distance; an arm's reach.
-NEAR_MAX_GAP = 0.50
-# -- relative to the camera --------------------------------------------------------------
-# IN_FRONT_OF: A's far face may reach this far past B's near face (noise); the two must share
-# at least this fraction of the narrower lateral extent and stand within this depth gap.
-FRONT_TOLERANCE = 0.05
-FRONT_MIN_LATERAL_OVERLAP = 0.3
-FRONT_MAX_DEPTH_GAP = 1.5
+# NEAR: surface-to-surface distance, half the larger object's largest extent, within bounds.
+NEAR_SIZE_FRACTION = 0.5
+NEAR_MIN_GAP = 0.40
+NEAR_MAX_GAP = 1.00
 # -- comparison --------------------------------------------------------------------------
 # Box volumes from partial views err by tens of percent; 1.5x is a difference people see.
 BIGGER_VOLUME_RATIO = 1.5
@@ -177,21 +214,33 @@ def _inside_fraction(a: _Box, b: _Box) -> float:
     return float(inter / a.volume)
 
 
+
 # -- per-predicate tests: each returns a score in (0, 1] or 0 when the relation does not hold
 
-def _in_score(a: _Box, b: _Box) -> float:
-    if b.label not in CONTAINER_LABELS or b.volume <= a.volume:
+def in_score(a: _Box, b: _Box) -> float:
+    """IN: A contained in B (module docstring). Score: the inside fraction."""
+    if a.volume >= b.volume:
         return 0.0
     inside = _inside_fraction(a, b)
-    return inside if inside >= IN_MIN_INSIDE_FRACTION else 0.0
+    if inside < IN_MIN_INSIDE_FRACTION:
+        return 0.0
+    if b.label in CONTAINER_LABELS:
+        return inside
+    fitted = (a.label in FITTED_LABELS and abs(a.top - b.top) <= ON_TOLERANCE
+              and a.bottom < b.top - ON_TOLERANCE)
+    return inside if fitted else 0.0
 
 
-def _on_score(a: _Box, b: _Box) -> float:
+def on_score(a: _Box, b: _Box) -> float:
+    """ON: A's bottom rests on B's top surface (module docstring). Score: footprint share over
+    B, lowered by the contact gap."""
     gap = a.bottom - b.top
     penetration = max(ON_TOLERANCE, ON_PENETRATION_FRACTION * b.s[2])
-    if not (-penetration <= gap <= ON_TOLERANCE) or a.footprint >= b.footprint:
+    if not (-penetration <= gap <= ON_TOLERANCE):
         return 0.0
-    if a.top < b.top - ON_TOLERANCE:           # A must reach B's top surface
+    # A reaches B's top and does not reach below B's bottom: of two thin stacked boxes only the
+    # upper one is on the other, and a flat book measured a few cm into a table-top slab is on it
+    if a.top < b.top - ON_TOLERANCE or a.bottom <= b.bottom:
         return 0.0
     overlap = _footprint_intersection(a, b) / a.footprint
     if overlap < ON_MIN_FOOTPRINT_OVERLAP:
@@ -200,42 +249,53 @@ def _on_score(a: _Box, b: _Box) -> float:
     return min(1.0, overlap) * (1.0 - 0.5 * abs(gap) / allowed)
 
 
-def _under_score(a: _Box, b: _Box) -> float:
-    # compared with B's top, not its centre: a table's box reaches the floor, so a chair
-    # tucked under it has its centre at the table's mid-height
-    if a.c[2] >= b.top - ON_TOLERANCE or a.top > b.top + UNDER_TOP_TOLERANCE or a.footprint >= b.footprint:
-        return 0.0
-    # tucked under furniture standing on the same floor; without this a cup inside a table
-    # box inflated by the background would be "under" the table
-    if a.bottom > b.bottom + NEXT_TO_BASE_TOLERANCE:
+def above_score(a: _Box, b: _Box) -> float:
+    """ABOVE: A over B with air between, A the smaller footprint (module docstring)."""
+    gap = a.bottom - b.top
+    if not (ON_TOLERANCE < gap <= ABOVE_MAX_GAP) or a.footprint > b.footprint:
         return 0.0
     overlap = _footprint_intersection(a, b) / a.footprint
-    return min(1.0, overlap) if overlap >= UNDER_MIN_FOOTPRINT_OVERLAP else 0.0
+    return min(1.0, overlap) if overlap >= VERTICAL_MIN_FOOTPRINT_OVERLAP else 0.0
 
 
-def _above_score(a: _Box, b: _Box) -> float:
-    gap = a.bottom - b.top
-    if not (ON_TOLERANCE < gap <= ABOVE_MAX_GAP):
+def under_score(a: _Box, b: _Box) -> float:
+    """UNDER: A beneath B and covered by it (module docstring): below B's box, or tucked under
+    B's top while standing on B's floor."""
+    if a.footprint >= b.footprint or a.top > b.top + UNDER_TOP_TOLERANCE or a.c[2] >= b.c[2]:
         return 0.0
-    overlap = _footprint_intersection(a, b) / min(a.footprint, b.footprint)
-    return min(1.0, overlap) if overlap >= ABOVE_MIN_FOOTPRINT_OVERLAP else 0.0
+    overlap = _footprint_intersection(a, b) / a.footprint
+    if overlap < VERTICAL_MIN_FOOTPRINT_OVERLAP:
+        return 0.0
+    # below B's box (its centre too: a flat thing inside a thin table-top slab is not under it)
+    hangs_below = a.top <= b.bottom + ON_TOLERANCE and a.c[2] < b.bottom and b.bottom - a.top <= ABOVE_MAX_GAP
+    # tucked: the same floor, so a cup inside a table box inflated by the background is not under it
+    tucked = abs(a.bottom - b.bottom) <= BASE_TOLERANCE and a.c[2] < b.top - ON_TOLERANCE
+    return min(1.0, overlap) if hangs_below or tucked else 0.0
 
 
-def _vertical_relation(a: _Box, b: _Box) -> Optional[tuple[str, float]]:
-    """The one vertical fact A -> B, most specific first."""
-    for predicate, test in (("IN", _in_score), ("ON", _on_score), ("UNDER", _under_score),
-                            ("ABOVE", _above_score)):
-        score = test(a, b)
-        if score > 0:
-            return predicate, score
-    score = _above_score(b, a)
-    if score > 0:
-        return "BELOW", score
+def placement(a: _Box, b: _Box) -> Optional[tuple[_Box, str, _Box, float]]:
+    """The one vertical fact of a pair, most specific first, as (subject, type, object, score).
+    When a test holds both ways (two nearly identical boxes), the higher box is the subject."""
+    for test, name in ((in_score, "IN"), (on_score, "ON"), (under_score, "UNDER"), (above_score, "ABOVE")):
+        found = [(s, o, test(s, o)) for s, o in ((a, b), (b, a))]
+        found = [f for f in found if f[2] > 0]
+        if found:
+            s, o, score = max(found, key=lambda f: f[0].c[2] if name in ("ON", "ABOVE") else -f[0].c[2])
+            return s, name, o, score
     return None
 
 
-def _next_to_score(a: _Box, b: _Box) -> float:
-    if abs(a.bottom - b.bottom) > NEXT_TO_BASE_TOLERANCE:
+def at_support_edge(a: _Box, b: _Box) -> bool:
+    """The smaller of the two sits at the larger one's top level, touching the edge of a support
+    surface (>= SUPPORT_MIN_SIDE wide) seen perhaps only in part: on it or beside it is unknown."""
+    small, big = (a, b) if a.footprint < b.footprint else (b, a)
+    return (max(big.s[0], big.s[1]) >= SUPPORT_MIN_SIDE and abs(small.bottom - big.top) <= ON_TOLERANCE
+            and _horizontal_gap(small, big) <= NEXT_TO_MIN_GAP)
+
+
+def next_to_score(a: _Box, b: _Box, same_support: bool = False) -> float:
+    """NEXT_TO: side by side on one level, within a size-scaled gap (module docstring)."""
+    if abs(a.bottom - b.bottom) > BASE_TOLERANCE and not same_support:
         return 0.0
     if _footprint_intersection(a, b) / min(a.footprint, b.footprint) > NEXT_TO_MAX_FOOTPRINT_OVERLAP:
         return 0.0
@@ -245,91 +305,85 @@ def _next_to_score(a: _Box, b: _Box) -> float:
     return 1.0 - 0.5 * gap / allowed if gap <= allowed else 0.0
 
 
-def _near_score(a: _Box, b: _Box) -> float:
+def near_score(a: _Box, b: _Box) -> float:
+    """NEAR: 3-D surface gap within a distance that grows with the larger object."""
+    allowed = float(np.clip(NEAR_SIZE_FRACTION * max(a.s.max(), b.s.max()), NEAR_MIN_GAP, NEAR_MAX_GAP))
     gap = _gap_3d(a, b)
-    return 1.0 - 0.5 * gap / NEAR_MAX_GAP if gap <= NEAR_MAX_GAP else 0.0
+    return 1.0 - 0.5 * gap / allowed if gap <= allowed else 0.0
 
 
-def _camera_axes(camera_pose: np.ndarray, R: np.ndarray) -> Optional[tuple[np.ndarray, np.ndarray]]:
-    """Horizontal viewing direction and its lateral axis, in gravity-frame coordinates.
-    Camera convention: OpenCV (x right, y down, z forward), pose = camera-to-world."""
-    forward = R @ np.asarray(camera_pose, dtype=np.float64)[:3, 2]
-    forward[2] = 0.0
-    norm = np.linalg.norm(forward)
-    if norm < 0.2:          # looking almost straight up or down: no usable "front"
-        return None
-    forward /= norm
-    lateral = np.array([-forward[1], forward[0], 0.0])
-    return forward, lateral
-
-
-def _in_front_score(a: _Box, b: _Box, forward: np.ndarray, lateral: np.ndarray) -> float:
-    a_near, a_far = a.extent_along(forward)
-    b_near, b_far = b.extent_along(forward)
-    if a_far > b_near + FRONT_TOLERANCE or b_near - a_far > FRONT_MAX_DEPTH_GAP:
-        return 0.0
-    a_lo, a_hi = a.extent_along(lateral)
-    b_lo, b_hi = b.extent_along(lateral)
-    overlap = _overlap_1d(a_lo, a_hi, b_lo, b_hi) / min(a_hi - a_lo, b_hi - b_lo)
-    return min(1.0, overlap) if overlap >= FRONT_MIN_LATERAL_OVERLAP else 0.0
-
-
-def _comparison(a: _Box, b: _Box) -> Optional[tuple[str, str, float]]:
-    """(predicate A->B, inverse, score) when the volumes differ enough."""
+def comparison(a: _Box, b: _Box) -> Optional[tuple[_Box, _Box, float]]:
+    """BIGGER_THAN: (bigger, smaller, score) when the volumes differ by BIGGER_VOLUME_RATIO."""
     if a.volume >= b.volume * BIGGER_VOLUME_RATIO:
-        return "BIGGER_THAN", "SMALLER_THAN", 1.0 - b.volume / a.volume
+        return a, b, 1.0 - b.volume / a.volume
     if b.volume >= a.volume * BIGGER_VOLUME_RATIO:
-        return "SMALLER_THAN", "BIGGER_THAN", 1.0 - a.volume / b.volume
+        return b, a, 1.0 - a.volume / b.volume
     return None
+
+
+def _drop_pile_middles(on: dict[tuple[str, str], float], boxes: dict[str, _Box]) -> None:
+    """A ON B is dropped when A is ON some C that is itself ON B and B is not much larger than
+    C (B is the pile's middle, not the furniture under the pile)."""
+    for (a, b) in list(on):
+        for (a2, c) in list(on):
+            if a2 == a and c != b and (c, b) in on \
+                    and boxes[b].footprint < PILE_BASE_FOOTPRINT_RATIO * boxes[c].footprint:
+                on.pop((a, b), None)
+                break
 
 
 def spatial_relations(objects: Sequence[ObjectGeometry], up: Sequence[float],
                       camera_pose: Optional[np.ndarray] = None) -> list[RelationObservation]:
-    """All relations between the objects of one local graph, for every ordered pair.
+    """All viewpoint-invariant relations between the objects of one frame or local graph, in
+    their stored form (`ingest.relation_rules`): at most one placement fact per pair, NEXT_TO /
+    NEAR once with the smaller id as subject, ABOVE with BELOW and BIGGER_THAN with
+    SMALLER_THAN as pairs.
 
-    `up`: the room's up direction in world coordinates; `camera_pose`: 4x4 camera-to-world of
-    the keyframe, needed only for IN_FRONT_OF / BEHIND.
+    `up`: the room's up direction in world coordinates. `camera_pose` is deprecated and ignored:
+    relations that depend on the viewpoint are never stored.
     """
+    del camera_pose
     R = np.stack(horizontal_basis(up))
     boxes = [_Box(o, R) for o in objects]
-    axes = _camera_axes(camera_pose, R) if camera_pose is not None else None
+    by_id = {b.id: b for b in boxes}
+    facts: dict[tuple[str, str], tuple[str, str, str, float]] = {}   # unordered pair -> fact
+    for a, b in combinations(boxes, 2):
+        found = placement(a, b)
+        if found is not None:
+            s, name, o, score = found
+            facts[(a.id, b.id)] = (s.id, name, o.id, score)
+    stacked = set(facts)            # a pile's middle loses its ON below, never becomes "beside"
+    on = {(s, o): sc for (s, p, o, sc) in facts.values() if p == "ON"}
+    _drop_pile_middles(on, by_id)
+    facts = {k: f for k, f in facts.items() if f[1] != "ON" or (f[0], f[2]) in on}
+    supports: dict[str, set[str]] = {}
+    for (s, o) in on:
+        supports.setdefault(s, set()).add(o)
+
     out: list[RelationObservation] = []
 
-    def emit(s: _Box, predicate: str, o: _Box, score: float) -> None:
-        out.append(RelationObservation(s.id, predicate, o.id, float(np.clip(score, 0.0, 1.0))))
+    def emit(s: str, predicate: str, o: str, score: float) -> None:
+        st = statement_of(s, predicate, o)
+        out.extend(edges_of(st, float(np.clip(score, 0.0, 1.0))))
 
     for a, b in combinations(boxes, 2):
-        related = False
-        for s, o in ((a, b), (b, a)):
-            vertical = _vertical_relation(s, o)
-            if vertical is not None:
-                emit(s, vertical[0], o, vertical[1])
-                related = True
-        stacked = related
-        if not stacked:
-            score = _next_to_score(a, b)
+        fact = facts.get((a.id, b.id))
+        if fact is not None:
+            emit(*fact)
+        elif (a.id, b.id) not in stacked and not at_support_edge(a, b):
+            same_support = bool(supports.get(a.id, set()) & supports.get(b.id, set()))
+            score = next_to_score(a, b, same_support)
             if score > 0:
-                emit(a, "NEXT_TO", b, score)
-                emit(b, "NEXT_TO", a, score)
-                related = True
-        if axes is not None and not stacked:
-            for s, o in ((a, b), (b, a)):
-                score = _in_front_score(s, o, *axes)
+                emit(a.id, "NEXT_TO", b.id, score)
+                fact = (a.id, "NEXT_TO", b.id, score)
+            else:
+                score = near_score(a, b)
                 if score > 0:
-                    emit(s, "IN_FRONT_OF", o, score)
-                    emit(o, "BEHIND", s, score)
-                    related = True
-                    break
-        if not related:
-            score = _near_score(a, b)
-            if score > 0:
-                emit(a, "NEAR", b, score)
-                emit(b, "NEAR", a, score)
-                related = True
-        if related or a.label == b.label:
-            comparison = _comparison(a, b)
-            if comparison is not None:
-                forward_pred, inverse_pred, score = comparison
-                emit(a, forward_pred, b, score)
-                emit(b, inverse_pred, a, score)
+                    emit(a.id, "NEAR", b.id, score)
+                    fact = (a.id, "NEAR", b.id, score)
+        if fact is not None or a.label == b.label:
+            compared = comparison(a, b)
+            if compared is not None:
+                big, small, score = compared
+                emit(big.id, "BIGGER_THAN", small.id, score)
     return out

@@ -2,7 +2,8 @@
 
 1. irrelevant classes: objects that cannot belong to a persistent indoor scene graph;
 2. repetition: an object must be seen in >= MIN_FRAMES frames of its keyframe group;
-3. relation voting over the frames of a keyframe group (ties keep all);
+3. relation voting over frames, contradiction-free: a pair keeps one placement and one size
+   statement, symmetric relations once, and a relation that flips between views is dropped;
 4. the relation prior of Eq. 7 from a curated dictionary (`data/relation_prior.json`).
 """
 from __future__ import annotations
@@ -18,6 +19,7 @@ import numpy as np
 
 from ingest.detect import Detection
 from ingest.model import RelationObservation
+from ingest.relation_rules import SYMMETRIC, Statement, edges_of, statement_of
 from ingest.tracks import Track
 
 RELATION_PRIOR_FILE = Path(__file__).resolve().parent / "data" / "relation_prior.json"
@@ -38,15 +40,14 @@ IRRELEVANT_CLASSES = frozenset({
     "skis", "snowboard", "kite", "surfboard", "frisbee",
 })
 
-# Predicates that answer the same question about a pair compete in the vote; predicates of
-# different families (ON and SMALLER_THAN) both hold for a cup on a table and must not.
-PREDICATE_GROUPS = (
-    ("IN", "CONTAINS_OBJ", "ON", "UNDER", "ABOVE", "BELOW"),
-    ("NEXT_TO", "NEAR"),
-    ("IN_FRONT_OF", "BEHIND", "LEFT_OF", "RIGHT_OF"),
-    ("BIGGER_THAN", "SMALLER_THAN"),
-)
-
+# Relation voting (Sec. IV-C, made contradiction-free; `ingest.relation_rules`): per pair and
+# family, the side of the winning statement (lo over/in hi, hi over/in lo, side by side; lo
+# bigger, hi bigger) must hold in at least this share of the frames that stated any of them,
+# else the relation flips between views and is not stored.
+VOTE_MAJORITY = 0.6
+# With the number of frames in which a pair was co-observed (`co_observed`), the winner must
+# also hold in at least this share of them: a relation seen once in twenty shared views is noise.
+VOTE_MIN_SUPPORT = 0.25
 
 # --------------------------------------------------------------------------- objects
 
@@ -71,36 +72,49 @@ def reject_rare_tracks(tracks: Iterable[Track], min_frames: int = MIN_FRAMES) ->
 
 # --------------------------------------------------------------------------- relation voting
 
-def _group_of(predicate: str, groups: Optional[Sequence[Sequence[str]]]) -> int:
-    if groups is None:
-        return 0
-    for i, group in enumerate(groups):
-        if predicate in group:
-            return i
-    return len(groups)       # an ungrouped predicate competes with the other ungrouped ones
-
-
 def vote_relations(per_frame_relations: Sequence[Sequence[RelationObservation]],
-                   groups: Optional[Sequence[Sequence[str]]] = PREDICATE_GROUPS) -> list[RelationObservation]:
-    """Sec. IV-C: per ordered pair, keep the predicates found in the most frames; a tie keeps
-    all the top-ranked ones. Votes are counted within each predicate family of `groups`
-    (`groups=None`: one vote over all predicates of a pair, the paper's literal rule).
-    A predicate counts once per frame; the kept relation's score is its mean over the frames
-    that found it."""
-    votes: dict[tuple, dict[str, list[float]]] = defaultdict(lambda: defaultdict(list))
-    for frame_relations in per_frame_relations:
-        seen: dict[tuple[str, str, str], float] = {}
+                   co_observed: Optional[Mapping[tuple[str, str], int]] = None,
+                   majority: float = VOTE_MAJORITY,
+                   min_support: float = VOTE_MIN_SUPPORT) -> list[RelationObservation]:
+    """Sec. IV-C relation voting over the frames of one observation, contradiction-free.
+
+    Every edge is read as the statement it makes about its unordered pair
+    (`ingest.relation_rules.statement_of`; viewpoint relations are dropped). A statement counts
+    once per frame. Per pair and family: the side with the most frames wins if it holds in
+    >= `majority` of the frames that stated anything of that family about the pair (else the
+    relation flips between views: nothing is stored); inside the side, the form with the most
+    frames (ties: the more specific, IN > ON > UNDER > ABOVE, NEXT_TO > NEAR). `co_observed`
+    ((lo, hi) sorted id pair -> frames in which both were seen), when given, also requires the
+    winner in >= `min_support` of those frames. The result is in stored form: one placement and
+    one size statement per pair at most, symmetric relations once (subject = smaller id),
+    ABOVE with BELOW and BIGGER_THAN with SMALLER_THAN. Score: the winner's mean over its frames.
+    """
+    # (family, lo, hi) -> form -> {frame index: score}
+    votes: dict[tuple[str, str, str], dict[str, dict[int, float]]] = defaultdict(lambda: defaultdict(dict))
+    for i, frame_relations in enumerate(per_frame_relations):
         for r in frame_relations:
-            key = (r.subject, r.predicate, r.object)
-            seen[key] = max(seen.get(key, 0.0), float(r.score))
-        for (s, p, o), score in seen.items():
-            votes[(s, o, _group_of(p, groups))][p].append(score)
+            st = statement_of(r.subject, r.predicate, r.object)
+            if st is not None:
+                frames = votes[(st.family, st.lo, st.hi)][st.form]
+                frames[i] = max(frames.get(i, 0.0), float(r.score))
     kept = []
-    for (s, o, _), by_predicate in votes.items():
-        top = max(len(v) for v in by_predicate.values())
-        for p, scores in by_predicate.items():
-            if len(scores) == top:
-                kept.append(RelationObservation(s, p, o, sum(scores) / len(scores)))
+    for (family, lo, hi), by_form in votes.items():
+        forms = [Statement(family, lo, hi, f) for f in by_form]
+        stated = set().union(*(by_form[st.form] for st in forms))
+        side_frames: dict[int, set[int]] = defaultdict(set)
+        for st in forms:
+            side_frames[st.side] |= set(by_form[st.form])
+        ranked = sorted(side_frames.values(), key=len, reverse=True)
+        if len(ranked) > 1 and len(ranked[0]) == len(ranked[1]):
+            continue                                     # a tie between sides: it flips
+        side = next(k for k, v in side_frames.items() if v is ranked[0])
+        if len(ranked[0]) < majority * len(stated):
+            continue
+        best = max((st for st in forms if st.side == side), key=lambda st: (len(by_form[st.form]), -st.rank))
+        scores = by_form[best.form]
+        if co_observed is not None and len(scores) < min_support * co_observed.get((lo, hi), len(stated)):
+            continue
+        kept.extend(edges_of(best, sum(scores.values()) / len(scores)))
     return kept
 
 
@@ -184,12 +198,27 @@ def filter_relations(
 ) -> list[RelationObservation]:
     """Delete relations whose Eq. 7 probability is below `threshold`.
 
+    Per statement (`ingest.relation_rules`), not per edge: a symmetric relation (stored from
+    the smaller id) is looked up both ways, and an inverse pair (ABOVE with BELOW, BIGGER_THAN
+    with SMALLER_THAN) is kept or deleted whole, at the best probability of its edges.
     `labels`: local_id -> best label; `positions`: local_id -> world centre (metres)."""
     prior = prior or default_prior()
+    relations = list(relations)
+
+    def probability(s: str, p: str, o: str) -> float:
+        distance = float(np.linalg.norm(np.asarray(positions[s], dtype=np.float64)
+                                        - np.asarray(positions[o], dtype=np.float64)))
+        ways = [(s, o), (o, s)] if p in SYMMETRIC else [(s, o)]
+        return max(prior.probability(labels[a], p, labels[b], distance) for a, b in ways)
+
+    best: dict[tuple, float] = {}          # statement (or a viewpoint edge) -> best probability
+    for r in relations:
+        st = statement_of(r.subject, r.predicate, r.object)
+        key = st if st is not None else (r.subject, r.predicate, r.object)
+        best[key] = max(best.get(key, 0.0), probability(r.subject, r.predicate, r.object))
     kept = []
     for r in relations:
-        distance = float(np.linalg.norm(np.asarray(positions[r.subject], dtype=np.float64)
-                                        - np.asarray(positions[r.object], dtype=np.float64)))
-        if prior.probability(labels[r.subject], r.predicate, labels[r.object], distance) >= threshold:
+        st = statement_of(r.subject, r.predicate, r.object)
+        if best[st if st is not None else (r.subject, r.predicate, r.object)] >= threshold:
             kept.append(r)
     return kept

@@ -22,6 +22,8 @@ RELATIONS: dict[str, tuple[str, bool]] = {
     "near": ("NEAR", True), "close to": ("NEAR", True), "around": ("NEAR", True),
     "nearby": ("NEAR", True), "alongside": ("NEXT_TO", True), "adjacent to": ("NEXT_TO", True),
     "in front of": ("IN_FRONT_OF", False), "behind": ("BEHIND", False),
+    "left of": ("LEFT_OF", False), "to the left of": ("LEFT_OF", False),
+    "right of": ("RIGHT_OF", False), "to the right of": ("RIGHT_OF", False),
     "bigger than": ("BIGGER_THAN", False), "larger than": ("BIGGER_THAN", False),
     "smaller than": ("SMALLER_THAN", False),
 }
@@ -228,7 +230,8 @@ def _words(phrase: str) -> list[str]:
 
 def _split_room(text: str, is_room) -> tuple[str, Optional[str]]:
     """A trailing 'in (the) <room>' naming a stored room, or a non-object, is the location."""
-    m = re.search(r"\b(?:in|inside) (?:the |my |this )?(?P<room>[a-z0-9' ]+?)(?: room)?$", text)
+    # "in front of the table" is a relation, not a room
+    m = re.search(r"\b(?:in|inside) (?!front of\b)(?:the |my |this )?(?P<room>[a-z0-9' ]+?)(?: room)?$", text)
     if not m:
         return text, None
     room = m.group("room").strip()

@@ -28,8 +28,11 @@ from dataclasses import dataclass, field
 from typing import Any, Optional
 
 from graphdb import cypher
+from ingest.relation_rules import VIEWPOINT
+from queries import viewpoint as views
 from queries.naming import names_in_store
 from queries.parse import ParseError, Query, parse, refusal
+from queries.viewpoint import split_viewpoint
 
 MAX_QUESTION = 500    # characters; longer text is refused before any parsing
 PROVENANCE_MAX = 50   # objects whose provenance an answer carries (a count of more names none)
@@ -91,9 +94,10 @@ class Refusal(Exception):
 class _Run:
     """Runs templates read-only and records them for --explain."""
 
-    def __init__(self, store):
+    def __init__(self, store, viewpoint=None, seen_from: Optional[str] = None):
         self.store = store
         self.steps: list[dict] = []
+        self.viewpoint, self.seen_from = viewpoint, seen_from     # see queries/viewpoint.py
         self._names: dict[str, str] = {}
 
     def names(self, rows) -> dict[str, str]:
@@ -222,6 +226,11 @@ def _filters(q: Query, rooms) -> dict:
 
 def _candidates(run: _Run, q: Query, rooms) -> list[dict]:
     """The objects the question is about (target, attributes, relation), one row per object."""
+    if q.relation in VIEWPOINT:      # never stored: computed from a viewpoint (queries/viewpoint.py)
+        try:
+            return _by_size(run, views.related(run, q, rooms, run.viewpoint, run.seen_from), q.size)
+        except ValueError as exc:
+            raise Refusal(str(exc)) from None
     if q.relation:
         name = _variant("vqa_related_any" if q.symmetric else "vqa_related", rooms)
         rows = run.read_rel(name, q.relation, anchors=q.anchor.labels, anchor_colour=q.anchor_colour,
@@ -360,7 +369,7 @@ def rooms_with(run: _Run, q: Query, rooms) -> Answer:
 
 
 REL_WORDS = {"ON": "on", "IN": "in", "UNDER": "under", "BELOW": "below", "ABOVE": "above",
-             "NEXT_TO": "next to", "NEAR": "near", "IN_FRONT_OF": "in front of", "BEHIND": "behind"}
+             "NEXT_TO": "next to", "NEAR": "near"}
 SYMMETRIC = ("NEXT_TO", "NEAR")
 
 
@@ -371,18 +380,20 @@ def where(run: _Run, q: Query, rooms) -> Answer:
         return Answer("", True, f"there is no {_what(q, 1)}{_where(q, rooms is not None)}", "where", [], query=q)
     ids = [r["id"] for r in rows[:LIST_SHOWN]]
     rels: dict[str, list[dict]] = {i: [] for i in ids}
+    placed: dict[str, list[dict]] = {i: [] for i in ids}    # with colour and score, for the sentence
     for incoming, types in ((False, sorted(REL_WORDS)), (True, list(SYMMETRIC))):
         for e in run.read("vqa_where", ids=ids, types=types, incoming=incoming):
             if not any(x["other_id"] == e["other_id"] and x["rel"] == e["rel"] for x in rels[e["id"]]):
                 rels[e["id"]].append({"rel": e["rel"], "other_id": e["other_id"], "other_label": e["other_label"]})
+                placed[e["id"]].append(dict(e))
     value, parts = [], []
     named = run.names(rows[:LIST_SHOWN] + [{"id": x["other_id"], "label": x["other_label"], "room": r.get("room")}
                                            for r in rows[:LIST_SHOWN] for x in rels[r["id"]]])
     for r in rows[:LIST_SHOWN]:
         found = rels[r["id"]]
         room = (r.get("room") or "?").split("/", 1)[-1]
-        said = ", ".join(f"{REL_WORDS[x['rel']]} {the(named[x['other_id']])}" for x in found)
-        parts.append(f"{the(named[r['id']])} in the {room}" + (f": {said}" if said else ""))
+        said = views.describe_place(placed[r["id"]], {k: the(v) for k, v in named.items()})
+        parts.append(f"{the(named[r['id']])} is " + (f"{said}, in the {room}" if said else f"in the {room}"))
         value.append({**_brief(r), "relations": found})
     more = f"; ... {len(rows) - LIST_SHOWN} more" if len(rows) > LIST_SHOWN else ""
     return Answer("", True, "; ".join(parts) + more, "where", value, value, q)
@@ -392,12 +403,15 @@ FORMS = {"where": where, "rooms": rooms_with, "count": count, "exists": exists, 
 
 
 def answer(store, question: str, room: Optional[str] = None, building: Optional[str] = None,
-           embedding=None, use_embedding: bool = True) -> Answer:
-    """Answer one question from the stored scene graph (read-only, except the taxonomy load)."""
+           embedding=None, use_embedding: bool = True, viewpoint=None) -> Answer:
+    """Answer one question from the stored scene graph (read-only, except the taxonomy load).
+    `viewpoint`: where "in front of / behind / left of / right of" are seen from (a camera pose,
+    a point or an object; queries/viewpoint.py), unless the question says "as seen from the X"."""
     if len(question) > MAX_QUESTION:
         return Answer(question[:60] + "...", False,
                       f"the question is {len(question)} characters long; ask in at most {MAX_QUESTION}")
-    run = _Run(store)
+    text, seen_from = split_viewpoint(question)
+    run = _Run(store, viewpoint, seen_from)
     seen: dict[str, bool] = {}
 
     def is_room(name: str) -> bool:
@@ -407,7 +421,7 @@ def answer(store, question: str, room: Optional[str] = None, building: Optional[
         return seen[name]
 
     try:
-        q = parse(question, is_room, embedding=embedding, use_embedding=use_embedding)
+        q = parse(text, is_room, embedding=embedding, use_embedding=use_embedding)
     except ParseError as exc:
         return Answer(question, False, refusal(str(exc), question))
     if q.target.how == "group" or (q.anchor is not None and q.anchor.how == "group"):

@@ -79,6 +79,22 @@ def test_hedged_coco_categories_and_english_predicates_are_normalised():
         ["ON", "NEXT_TO", "IN_FRONT_OF", "ABOVE", None]
 
 
+def test_edges_read_symmetric_relations_both_ways_and_skip_viewpoint_gt():
+    from queries.eval_edges import edge_metrics
+    from queries.eval_gt import GTRelation
+    from queries.eval_match import Matching
+
+    m = Matching(pairs=[("n1", "A", 0.0), ("n2", "B", 0.0), ("n3", "C", 0.0)], spurious=[], duplicates=[], missing=[])
+    gt = [GTRelation("B", "next to", "A", "NEXT_TO"), GTRelation("C", "on", "A", "ON"),
+          GTRelation("C", "in front of", "B", "IN_FRONT_OF")]
+    # the graph stores NEXT_TO once, the other way round from the GT's wording
+    e = edge_metrics(gt, [{"s": "n1", "type": "NEXT_TO", "o": "n2"}, {"s": "n3", "type": "ON", "o": "n1"}], m)
+    assert (e["checked"], e["found"], e["precision"]) == (2, 2, 1.0)
+    assert e["unmapped"]["viewpoint"] == [["C", "in front of", "B"]]
+    e2 = edge_metrics(gt, [{"s": "n3", "type": "ON", "o": "n1"}], m)
+    assert (e2["checked"], e2["found"]) == (2, 1)
+
+
 def test_hungarian_matching_is_one_to_one_and_prefers_the_nearer_pair():
     gt = parse_gt({"objects": [
         {"id": "a", "coco_category": "chair", "world_position": [0, 0, 0]},
@@ -132,7 +148,9 @@ def test_eval_report_on_a_known_graph(store):
     assert e["recall"] == pytest.approx(0.5) and e["recall_all"] == pytest.approx(1 / 5)
     # ON and NEXT_TO are judged; BIGGER_THAN is a type the GT never uses
     assert (e["judged"], e["correct"]) == (2, 1) and e["precision"] == pytest.approx(0.5)
-    assert e["spurious"] == [[nodes["chair@3.2"], "NEXT_TO", nodes["cup@0.1"]]]
+    # NEXT_TO is stored once, subject = the smaller id
+    assert e["spurious"] == [sorted([nodes["chair@3.2"], nodes["cup@0.1"]])[:1] + ["NEXT_TO"]
+                             + sorted([nodes["chair@3.2"], nodes["cup@0.1"]])[1:]]
 
     status = {q["question"]: q["status"] for q in v["questions"]}
     assert status == {"How many cups are there?": "right", "Is there a tv?": "wrong",

@@ -84,11 +84,12 @@ def test_table_bigger_than_cup():
     assert r[("table", "BIGGER_THAN", "cup")] > 0.9
 
 
-def test_two_chairs_side_by_side_are_next_to():
+def test_two_chairs_side_by_side_are_next_to_stored_once():
     a = ObjectGeometry("c1", "chair", (0.0, 0.0, 0.45), (0.45, 0.5, 0.9))
     b = ObjectGeometry("c2", "chair", (0.65, 0.0, 0.45), (0.45, 0.5, 0.9))
-    r = rels([a, b])
-    assert ("c1", "NEXT_TO", "c2") in r and ("c2", "NEXT_TO", "c1") in r
+    r = rels([b, a])
+    # symmetric: one edge, subject = the smaller id, whatever order the objects come in
+    assert ("c1", "NEXT_TO", "c2") in r and ("c2", "NEXT_TO", "c1") not in r
     assert ("c1", "ON", "c2") not in r
     # same size: no comparison edge
     assert not any(p in ("BIGGER_THAN", "SMALLER_THAN") for _, p, _ in r)
@@ -96,24 +97,15 @@ def test_two_chairs_side_by_side_are_next_to():
     assert ("c1", "NEXT_TO", "c2") not in far and ("c1", "NEAR", "c2") not in far
 
 
-def test_box_in_front_of_another_relative_to_camera():
+def test_viewpoint_relations_are_never_emitted():
+    # (was: IN_FRONT_OF/BEHIND from the keyframe camera; they flip with the viewpoint, so the
+    # same cup was stored both in front of and behind one table: issue 12)
     front = ObjectGeometry("front", "chair", (0.0, -0.8, 0.45), (0.5, 0.5, 0.9))
     back = ObjectGeometry("back", "refrigerator", (0.1, 0.5, 0.9), (0.7, 0.7, 1.8))
-    r = rels([front, back], camera_pose=camera_looking_along_y())
-    assert ("front", "IN_FRONT_OF", "back") in r
-    assert ("back", "BEHIND", "front") in r
-    assert ("back", "IN_FRONT_OF", "front") not in r
-    # seen from the other side the order flips
-    flipped = camera_looking_along_y(position=(0.0, 3.0, 1.2))
-    flipped[:3, 2] *= -1
-    flipped[:3, 0] *= -1
-    r2 = rels([front, back], camera_pose=flipped)
-    assert ("back", "IN_FRONT_OF", "front") in r2
-    # no camera: no view-dependent relation
-    assert not any(p in ("IN_FRONT_OF", "BEHIND") for _, p, _ in rels([front, back]))
-    # laterally apart: not in front
-    aside = ObjectGeometry("front", "chair", (2.0, -0.8, 0.45), (0.5, 0.5, 0.9))
-    assert ("front", "IN_FRONT_OF", "back") not in rels([aside, back], camera_pose=camera_looking_along_y())
+    for pose in (None, camera_looking_along_y(), camera_looking_along_y(position=(0.0, 3.0, 1.2))):
+        r = rels([front, back], camera_pose=pose)
+        assert not any(p in ("IN_FRONT_OF", "BEHIND", "LEFT_OF", "RIGHT_OF") for _, p, _ in r)
+        assert ("back", "NEAR", "front") in r          # what holds from everywhere
 
 
 def test_spoon_in_bowl_is_in():
@@ -127,20 +119,108 @@ def test_spoon_in_bowl_is_in():
     assert ("spoon", "IN", "bowl") not in rels([book, spoon])
 
 
-def test_chair_tucked_under_table_is_under():
-    chair = ObjectGeometry("chair", "chair", (0.0, 0.1, 0.4), (0.45, 0.45, 0.8))
-    r = rels([table(), chair])
-    assert ("chair", "UNDER", "table") in r
-    assert ("table", "UNDER", "chair") not in r
+def test_cup_on_table_vs_chair_tucked_under_it():
+    # the chair's seat is under the table top, its back rises above it: "the chair at the table"
+    chair = ObjectGeometry("chair", "chair", (0.0, 0.35, 0.45), (0.45, 0.45, 0.9))
+    r = rels([table(), cup(), chair])
+    assert ("cup", "ON", "table") in r
+    assert ("chair", "NEXT_TO", "table") in r
+    assert not any(k[1] in ("UNDER", "ON", "ABOVE", "BELOW", "IN") and {k[0], k[2]} == {"chair", "table"} for k in r)
+    # the cup on the table is not next to the chair on the floor, and is above it? no: the
+    # chair is not covered by the cup; nothing vertical between them
+    assert not any({k[0], k[2]} == {"cup", "chair"} and k[1] in ("ON", "UNDER", "IN") for k in r)
+    # a stool pushed right under the top is UNDER the table
+    stool = ObjectGeometry("stool", "chair", (0.0, 0.1, 0.3), (0.35, 0.35, 0.6))
+    r2 = rels([table(), stool])
+    assert ("stool", "UNDER", "table") in r2
+    assert ("table", "UNDER", "stool") not in r2 and ("stool", "NEXT_TO", "table") not in r2
+
+
+def test_book_on_a_stack_of_magazines():
+    low = ObjectGeometry("m1", "magazine", (0.0, 0.0, 0.76), (0.28, 0.21, 0.02))
+    high = ObjectGeometry("m2", "magazine", (0.01, 0.0, 0.78), (0.28, 0.21, 0.02))
+    book = ObjectGeometry("book", "book", (0.0, 0.01, 0.81), (0.24, 0.17, 0.04))
+    r = rels([table(), low, high, book])
+    assert ("book", "ON", "m2") in r
+    assert ("m2", "ON", "m1") in r and ("m1", "ON", "m2") not in r
+    assert ("m1", "ON", "table") in r and ("m2", "ON", "table") in r and ("book", "ON", "table") in r
+    # not on the middle of the pile, and not "next to" it either
+    assert ("book", "ON", "m1") not in r
+    assert not any({k[0], k[2]} == {"book", "m1"} and k[1] in ("NEXT_TO", "NEAR") for k in r)
+
+
+def test_tv_on_the_wall_above_a_shelf_and_a_tower_under_it():
+    # wall at y = 0.3; the shelf sticks out 30 cm, the TV hangs flat 40 cm above it
+    shelf = ObjectGeometry("shelf", "shelf", (0.0, 0.15, 0.95), (1.5, 0.3, 0.04))
+    tv = ObjectGeometry("tv", "tv", (0.0, 0.26, 1.6), (1.0, 0.06, 0.6))
+    tower = ObjectGeometry("tower", "computer", (-0.5, 0.1, 0.22), (0.2, 0.25, 0.44))
+    r = rels([shelf, tv, tower])
+    assert ("tv", "ABOVE", "shelf") in r and ("shelf", "BELOW", "tv") in r
+    assert ("tv", "ON", "shelf") not in r and ("shelf", "ABOVE", "tv") not in r
+    assert ("tower", "UNDER", "shelf") in r
+    assert ("tower", "BELOW", "shelf") not in r and ("shelf", "ON", "tower") not in r
+
+
+def test_sink_set_into_the_counter_is_in_it():
+    # the basin's rim is flush with the counter top, its bottom 20 cm lower: it is held by the
+    # counter, not standing on it (a sink "in the counter", as people and the kitchen GT say)
+    counter = ObjectGeometry("counter", "counter", (0.0, 0.0, 0.45), (2.0, 0.6, 0.9))
+    sink = ObjectGeometry("sink", "sink", (0.2, 0.0, 0.8), (0.5, 0.4, 0.2))
+    r = rels([counter, sink])
+    assert ("sink", "IN", "counter") in r
+    assert ("sink", "ON", "counter") not in r and ("counter", "IN", "sink") not in r
+    # a free-standing basin on the counter top is ON it
+    basin = ObjectGeometry("sink", "sink", (0.2, 0.0, 1.0), (0.5, 0.4, 0.2))
+    assert ("sink", "ON", "counter") in rels([counter, basin])
+
+
+def test_cup_next_to_a_magazine_on_the_same_table():
+    magazine = ObjectGeometry("mag", "magazine", (0.0, 0.0, 0.76), (0.28, 0.21, 0.02))
+    beside = ObjectGeometry("cup", "cup", (0.20, 0.0, 0.80), (0.08, 0.08, 0.10))   # 6 cm gap
+    r = rels([table(), magazine, beside])
+    assert ("cup", "NEXT_TO", "mag") in r
+    assert ("cup", "ON", "table") in r and ("mag", "ON", "table") in r
+    # 40 cm away on the same table: near, not next to
+    away = ObjectGeometry("cup", "cup", (0.54, 0.0, 0.80), (0.08, 0.08, 0.10))
+    r2 = rels([table(), magazine, away])
+    assert ("cup", "NEXT_TO", "mag") not in r2 and ("cup", "NEAR", "mag") in r2
+
+
+def test_near_grows_with_object_size():
+    # 70 cm gap: near for a table (1.6 m), not for two cups
+    chair = ObjectGeometry("chair", "chair", (1.55, 0.0, 0.45), (0.45, 0.45, 0.9))
+    assert ("chair", "NEAR", "table") in rels([table(), chair]) or ("chair", "NEXT_TO", "table") in rels([table(), chair])
+    c1 = ObjectGeometry("c1", "cup", (0.0, 0.0, 0.8), (0.08, 0.08, 0.1))
+    c2 = ObjectGeometry("c2", "cup", (0.78, 0.0, 0.8), (0.08, 0.08, 0.1))
+    assert not rels([c1, c2])
+    chair_far = ObjectGeometry("chair", "chair", (1.78, 0.0, 0.45), (0.45, 0.45, 0.9))
+    r = rels([table(), chair_far])
+    assert ("chair", "NEAR", "table") in r and ("chair", "NEXT_TO", "table") not in r
 
 
 def test_near_only_without_a_more_specific_relation():
     bottle = ObjectGeometry("bottle", "bottle", (0.0, 0.0, 0.9), (0.08, 0.08, 0.3))
     vase = ObjectGeometry("vase", "vase", (0.4, 0.0, 1.2), (0.1, 0.1, 0.25))   # on a higher shelf
     r = rels([bottle, vase])
-    assert ("bottle", "NEAR", "vase") in r and ("vase", "NEAR", "bottle") in r
+    assert ("bottle", "NEAR", "vase") in r and ("vase", "NEAR", "bottle") not in r
     r_on = rels([table(), cup()])
-    assert ("cup", "NEAR", "table") not in r_on
+    assert not any(k[1] == "NEAR" for k in r_on)
+
+
+def test_random_scenes_hold_no_contradiction():
+    from ingest.relation_rules import statement_of
+    rng = np.random.default_rng(3)
+    for _ in range(200):
+        objs = [ObjectGeometry(f"o{i}", str(rng.choice(["cup", "bowl", "chair", "book", "sink"])),
+                               tuple(rng.uniform([-1, -1, 0], [1, 1, 1.5])), tuple(rng.uniform(0.05, 0.8, 3)))
+                for i in range(5)]
+        per_pair = {}
+        for r in spatial_relations(objs, UP):
+            st = statement_of(r.subject, r.predicate, r.object)
+            per_pair.setdefault((st.family, st.lo, st.hi), set()).add(st.form)
+            if r.predicate in ("NEXT_TO", "NEAR"):
+                assert r.subject < r.object
+        assert all(len(forms) == 1 for forms in per_pair.values()), per_pair
 
 
 def test_comparisons_are_limited_to_related_pairs_or_same_label():
@@ -166,7 +246,7 @@ def test_from_points_and_from_observation():
 
 def test_scores_in_unit_interval():
     objs = [table(), cup(), ObjectGeometry("c1", "chair", (0.0, -0.8, 0.45), (0.45, 0.5, 0.9))]
-    for r in spatial_relations(objs, UP, camera_looking_along_y()):
+    for r in spatial_relations(objs, UP):
         assert 0.0 < r.score <= 1.0
 
 
@@ -177,3 +257,25 @@ def test_cup_sunk_into_an_inflated_table_box_is_on_not_under():
     r = rels([inflated, sunk])
     assert ("cup", "ON", "table") in r
     assert ("cup", "UNDER", "table") not in r
+
+
+def test_flat_things_measured_into_a_thin_table_top_slab_are_on_it():
+    # the kitchen's table box is often only its top slab (10 cm) and a book on it is measured a
+    # few cm inside that slab: on the table, not under it
+    slab = ObjectGeometry("table", "dining table", (0.0, 0.0, 0.72), (1.9, 0.9, 0.10))
+    book = ObjectGeometry("book", "book", (0.2, 0.0, 0.71), (0.25, 0.24, 0.02))   # centre below the slab's
+    r = rels([slab, book])
+    assert ("book", "ON", "table") in r
+    assert ("book", "UNDER", "table") not in r and ("table", "ON", "book") not in r
+
+
+def test_a_cup_at_the_edge_of_a_partly_seen_table_top_is_left_to_other_views():
+    # this frame sees only the right part of the table; the cup's footprint is half over it
+    part = ObjectGeometry("table", "dining table", (0.3, 0.0, 0.72), (0.9, 0.6, 0.04))
+    edge = ObjectGeometry("cup", "cup", (-0.17, 0.0, 0.78), (0.12, 0.12, 0.08))
+    r = rels([part, edge])
+    assert not any({k[0], k[2]} == {"cup", "table"} and k[1] in ("ON", "NEXT_TO", "NEAR") for k in r)
+    # a cup beside a magazine (narrow, not a support surface) at the same height stays next to it
+    magazine = ObjectGeometry("mag", "magazine", (0.0, 0.0, 0.76), (0.28, 0.21, 0.02))
+    beside = ObjectGeometry("cup", "cup", (0.20, 0.0, 0.80), (0.08, 0.08, 0.10))
+    assert ("cup", "NEXT_TO", "mag") in rels([magazine, beside])

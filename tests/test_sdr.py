@@ -15,6 +15,7 @@ from ingest.sdr import (
     filter_relations,
     reject_irrelevant,
     reject_rare_tracks,
+    VOTE_MAJORITY,
     relation_prior_probability,
     vote_relations,
 )
@@ -56,33 +57,72 @@ def as_set(relations):
     return {(r.subject, r.predicate, r.object) for r in relations}
 
 
-def test_vote_keeps_most_occurred_predicate_per_pair():
+def test_vote_keeps_the_majority_statement_in_stored_form():
     frames = [
         [Rel("cup", "ON", "table", 0.9), Rel("cup", "SMALLER_THAN", "table", 0.8)],
         [Rel("cup", "ON", "table", 0.7), Rel("cup", "SMALLER_THAN", "table", 0.8)],
-        [Rel("cup", "ABOVE", "table", 0.5), Rel("cup", "SMALLER_THAN", "table", 0.8)],
+        [Rel("cup", "ABOVE", "table", 0.5), Rel("table", "BELOW", "cup", 0.5),
+         Rel("table", "BIGGER_THAN", "cup", 0.8)],
     ]
     kept = vote_relations(frames)
-    assert as_set(kept) == {("cup", "ON", "table"), ("cup", "SMALLER_THAN", "table")}
+    # ON and ABOVE say the same side (the cup over the table): the more voted one is kept, alone;
+    # the size statement is stored as its two edges
+    assert as_set(kept) == {("cup", "ON", "table"), ("cup", "SMALLER_THAN", "table"),
+                            ("table", "BIGGER_THAN", "cup")}
     on = next(r for r in kept if r.predicate == "ON")
     assert on.score == pytest.approx(0.8)
-    # the paper's literal rule (one vote over all predicates of a pair): SMALLER_THAN (3) wins
-    assert as_set(vote_relations(frames, groups=None)) == {("cup", "SMALLER_THAN", "table")}
 
 
-def test_vote_tie_keeps_all_top_ranked():
+def test_vote_resolves_contradictions():
+    frames = [[Rel("a", "ON", "b")]] * 4 + [[Rel("b", "ON", "a")]]
+    assert as_set(vote_relations(frames)) == {("a", "ON", "b")}
+    frames = [[Rel("a", "ABOVE", "b"), Rel("b", "BELOW", "a")]] * 3 + [[Rel("a", "BELOW", "b")]]
+    assert as_set(vote_relations(frames)) == {("a", "ABOVE", "b"), ("b", "BELOW", "a")}
+    # ON the wrong way round vs UNDER: "b UNDER a" says a is over b, as does "a ON b"
+    frames = [[Rel("a", "ON", "b")]] * 2 + [[Rel("b", "UNDER", "a")]] + [[Rel("a", "UNDER", "b")]]
+    assert as_set(vote_relations(frames)) == {("a", "ON", "b")}
+    # next to in most frames, stacked in one: side by side
+    frames = [[Rel("a", "NEXT_TO", "b")]] * 3 + [[Rel("a", "ON", "b")]]
+    assert as_set(vote_relations(frames)) == {("a", "NEXT_TO", "b")}
+    # bigger one way in most frames
+    frames = [[Rel("a", "BIGGER_THAN", "b")]] * 3 + [[Rel("b", "BIGGER_THAN", "a")]]
+    assert as_set(vote_relations(frames)) == {("a", "BIGGER_THAN", "b"), ("b", "SMALLER_THAN", "a")}
+
+
+def test_vote_drops_relations_that_flip_between_views():
+    assert vote_relations([[Rel("a", "ON", "b")]] * 3 + [[Rel("b", "ON", "a")]] * 3) == []
+    # 5 of 9 frames (56 %) is below the majority share
+    assert VOTE_MAJORITY > 5 / 9
+    assert vote_relations([[Rel("a", "ON", "b")]] * 5 + [[Rel("a", "UNDER", "b")]] * 4) == []
+    # a relation seen in 2 of the 12 frames where the pair was co-observed is not kept ...
+    frames = [[Rel("a", "ON", "b")]] * 2
+    assert vote_relations(frames, co_observed={("a", "b"): 12}) == []
+    # ... but is when those were the only shared views
+    assert as_set(vote_relations(frames, co_observed={("a", "b"): 2})) == {("a", "ON", "b")}
+
+
+def test_vote_stores_symmetric_relations_once_without_clutter():
     frames = [
-        [Rel("a", "NEXT_TO", "b", 0.6)],
+        [Rel("b", "NEXT_TO", "a", 0.6)],
+        [Rel("a", "NEXT_TO", "b", 0.8), Rel("b", "NEXT_TO", "a", 0.8)],
         [Rel("a", "NEAR", "b", 0.7)],
-        [Rel("a", "NEXT_TO", "b", 0.8), Rel("a", "NEAR", "b", 0.5), Rel("b", "NEAR", "a", 0.5)],
         [Rel("a", "ON", "c", 0.9)],
     ]
     kept = vote_relations(frames)
-    assert as_set(kept) == {("a", "NEXT_TO", "b"), ("a", "NEAR", "b"), ("b", "NEAR", "a"), ("a", "ON", "c")}
+    assert as_set(kept) == {("a", "NEXT_TO", "b"), ("a", "ON", "c")}
+    # a tie between NEXT_TO and NEAR keeps the more specific NEXT_TO, never both
+    tie = [[Rel("a", "NEXT_TO", "b")], [Rel("b", "NEAR", "a")]]
+    assert as_set(vote_relations(tie)) == {("a", "NEXT_TO", "b")}
+
+
+def test_vote_never_keeps_viewpoint_relations():
+    frames = [[Rel("a", "IN_FRONT_OF", "b"), Rel("b", "BEHIND", "a"), Rel("a", "LEFT_OF", "b")]] * 3
+    assert vote_relations(frames) == []
 
 
 def test_vote_counts_a_predicate_once_per_frame():
-    frames = [[Rel("a", "NEAR", "b"), Rel("a", "NEAR", "b")], [Rel("a", "NEXT_TO", "b")], [Rel("a", "NEXT_TO", "b")]]
+    frames = [[Rel("a", "NEAR", "b"), Rel("a", "NEAR", "b"), Rel("b", "NEAR", "a")],
+              [Rel("a", "NEXT_TO", "b")], [Rel("a", "NEXT_TO", "b")]]
     assert as_set(vote_relations(frames)) == {("a", "NEXT_TO", "b")}
 
 
@@ -140,3 +180,18 @@ def test_filter_relations_with_the_shipped_prior():
     # the same ON at an implausible 3 m distance is deleted by the Gaussian term
     far = dict(positions, c=(3.0, 0.0, 0.8))
     assert as_set(filter_relations([Rel("c", "ON", "t")], labels, far)) == set()
+
+
+def test_filter_reads_symmetric_relations_both_ways_and_keeps_inverse_pairs_whole():
+    prior = RelationPrior({
+        ("chair", "NEXT_TO", "dining table"): PriorEntry(0.9),
+        ("dining table", "NEXT_TO", "*"): PriorEntry(0.1),
+        ("tv", "ABOVE", "shelf"): PriorEntry(0.9),
+        ("shelf", "BELOW", "tv"): PriorEntry(0.2),
+    }, default=PriorEntry(0.6))
+    labels = {"a": "dining table", "b": "chair", "t": "tv", "s": "shelf"}
+    positions = {k: (0.0, 0.0, 0.0) for k in labels}
+    # stored from the smaller id "a" (the table): the chair->table entry still applies
+    assert as_set(filter_relations([Rel("a", "NEXT_TO", "b")], labels, positions, prior)) == {("a", "NEXT_TO", "b")}
+    pair = [Rel("t", "ABOVE", "s"), Rel("s", "BELOW", "t")]
+    assert as_set(filter_relations(pair, labels, positions, prior)) == {("t", "ABOVE", "s"), ("s", "BELOW", "t")}

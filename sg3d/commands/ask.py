@@ -13,10 +13,13 @@ import click
 @click.option("--explain", is_flag=True, help="Also print how the question was read, the templates, "
                                               "parameters and the objects the answer rests on (with ids).")
 @click.option("--json", "as_json", is_flag=True, help="The answer as JSON (templates, parameters, ids, provenance).")
+@click.option("--viewpoint", default=None, metavar="X,Y,Z|OBJECT",
+              help="Where 'in front of/behind/left of/right of' are seen from: a point in the room's "
+                   "world frame or an object name (or say 'as seen from the sink' in the question).")
 @click.option("--out", type=click.Path(dir_okay=False), default=None,
               help="Where 'show me ...' writes the picture: .png or .jpg/.jpeg (default: a temporary .png).")
 @click.pass_obj
-def ask(settings, question: str, room, building, explain: bool, as_json: bool, out) -> None:
+def ask(settings, question: str, room, building, explain: bool, as_json: bool, viewpoint, out) -> None:
     """Answer QUESTION from the scene graph, e.g. sg3d ask "how many red chairs are there?"
 
     Counting (simple, by group: furniture/cutlery/..., by colour, big/small, in a room, on/under/
@@ -27,7 +30,7 @@ def ask(settings, question: str, room, building, explain: bool, as_json: bool, o
     from queries.vqa import answer
     from sg3d.errors import UserError
 
-    result = answer(settings.reader(), question, room=room, building=building)
+    result = answer(settings.reader(), question, room=room, building=building, viewpoint=_viewpoint(viewpoint))
     path = None
     if result.ok and result.thumbnail:
         try:
@@ -47,6 +50,18 @@ def ask(settings, question: str, room, building, explain: bool, as_json: bool, o
             click.echo(line, err=True)
     if not result.ok:
         raise SystemExit(2)   # a refusal is not an answer: scripts see a non-zero status
+
+
+def _viewpoint(text):
+    if not text:
+        return None
+    parts = text.split(",")
+    if len(parts) == 3:
+        try:
+            return {"position": [float(p) for p in parts]}
+        except ValueError:
+            pass
+    return {"object": text.strip()}
 
 
 commands = [ask]
