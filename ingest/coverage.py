@@ -20,7 +20,7 @@ import numpy as np
 # sequence at >= 60 input frames/s on 2 cores at ~60 ms per detection), and a floor so a short
 # walk through a room still sees every object from several views.
 DEFAULT_FRACTION = 0.15
-MIN_FRAMES = 12
+MIN_FRAMES = 40
 # Viewpoint space scales: moving this far, or turning the optical axis by this chord length
 # (0.25 ~ 14 degrees), counts as one unit of new view.
 POSITION_SCALE_M = 0.30

@@ -9,9 +9,12 @@ detected, and weigh the two explanations (`existence_probability`).
 """
 from __future__ import annotations
 
+import json
 import math
 from dataclasses import dataclass
-from typing import Optional
+from functools import lru_cache
+from pathlib import Path
+from typing import Optional, Sequence
 
 import cv2
 import numpy as np
@@ -25,6 +28,9 @@ BORDER_MARGIN = 0.05
 MIN_PIXELS = 24.0
 # ... no farther than the detector resolves household objects ...
 MAX_RANGE_M = 4.5
+# A view counts fully once the object spans this many pixels; smaller views count in proportion
+# (the detector's hit rate falls with apparent size: 640x480 is shrunk to 300x300).
+FULL_VIEW_PIXELS = 120.0
 # ... and nothing stands in front: the surface seen there is not nearer than the object's own
 # front (half its extent before its centre) by more than this.
 OCCLUSION_TOLERANCE_M = 0.15
@@ -32,12 +38,35 @@ OCCLUSION_TOLERANCE_M = 0.15
 # The two explanations of k detections in n views: a real object is detected in a view with
 # probability P_DETECT_REAL, a misreading recurs with P_DETECT_FALSE; prior odds of a real object.
 P_DETECT_REAL = 0.25
-P_DETECT_FALSE = 0.03
+P_DETECT_FALSE = 0.10
 PRIOR_REAL = 0.5
 # Kept when the probability passes EXISTENCE_THRESHOLD and it was detected at least MIN_DETECTIONS
 # times (the authors' code: twice).
 EXISTENCE_THRESHOLD = 0.5
 MIN_DETECTIONS = 2
+
+
+CLASS_SIZES_FILE = Path(__file__).resolve().parent / "data" / "class_sizes.json"
+
+
+@lru_cache(maxsize=1)
+def class_sizes() -> dict[str, tuple[float, float]]:
+    data = json.loads(CLASS_SIZES_FILE.read_text(encoding="utf-8"))
+    return {k: (float(v[0]), float(v[1])) for k, v in data["sizes"].items()}
+
+
+def size_plausible(label: str, size: Sequence[float]) -> bool:
+    """Size prior: the object's largest extent lies in its class's plausible range
+    (`data/class_sizes.json`, world knowledge); classes without a range always pass."""
+    bounds = class_sizes().get(label)
+    return bounds is None or bounds[0] <= float(max(size)) <= bounds[1]
+
+
+def plausible_labels(labels: Sequence[str], scores: Sequence[float], size: Sequence[float]) -> tuple[list[str], list[float]]:
+    """The top-k labels without those the size prior rules out, order kept: a 45 cm box called
+    "cell phone" first and "book" second becomes a book; empty when no label fits."""
+    kept = [(l, s) for l, s in zip(labels, scores) if size_plausible(l, size)]
+    return [l for l, _ in kept], [s for _, s in kept]
 
 
 @dataclass(frozen=True)
@@ -58,43 +87,47 @@ class View:
         return cls(frame.index, frame.K, frame.pose, (w, h), small)
 
 
-def expected_in_view(centre, extent: float, view: View) -> Optional[bool]:
-    """Should an object with box centre `centre` (world) and largest extent `extent` (m) have been
-    seen in `view`? True: it projects inside the image (BORDER_MARGIN), at least MIN_PIXELS
-    across, within MAX_RANGE_M, and the depth around its projection is not nearer than its front
-    (z - extent/2) by more than OCCLUSION_TOLERANCE_M. False: outside, too small or occluded.
-    None: no depth there to tell."""
+def expected_in_view(centre, extent: float, view: View) -> Optional[float]:
+    """How much should an object with box centre `centre` (world) and largest extent `extent` (m)
+    have been seen in `view`? A weight in (0, 1] when it projects inside the image
+    (BORDER_MARGIN), at least MIN_PIXELS across, within MAX_RANGE_M, and the depth around its
+    projection is not nearer than its front (z - extent/2) by more than OCCLUSION_TOLERANCE_M:
+    min(1, pixels / FULL_VIEW_PIXELS). 0.0: outside, too small or occluded. None: no depth there."""
     world_to_cam = np.linalg.inv(view.pose)
     p = world_to_cam[:3, :3] @ np.asarray(centre, dtype=np.float64) + world_to_cam[:3, 3]
     z = float(p[2])
     if z <= 0.1 or z > MAX_RANGE_M:
-        return False
+        return 0.0
     K = view.K
     u = K[0, 0] * p[0] / z + K[0, 2]
     v = K[1, 1] * p[1] / z + K[1, 2]
     w, h = view.size
     if not (BORDER_MARGIN * w <= u < (1 - BORDER_MARGIN) * w and BORDER_MARGIN * h <= v < (1 - BORDER_MARGIN) * h):
-        return False
-    if K[0, 0] * extent / z < MIN_PIXELS:
-        return False
+        return 0.0
+    pixels = K[0, 0] * extent / z
+    if pixels < MIN_PIXELS:
+        return 0.0
     du, dv = int(u / DEPTH_FACTOR), int(v / DEPTH_FACTOR)
     patch = view.depth[max(0, dv - 1):dv + 2, max(0, du - 1):du + 2]
     seen = patch[patch > 0]
     if seen.size == 0:
         return None
-    return float(np.median(seen)) >= z - extent / 2 - OCCLUSION_TOLERANCE_M
+    if float(np.median(seen)) < z - extent / 2 - OCCLUSION_TOLERANCE_M:
+        return 0.0
+    return min(1.0, pixels / FULL_VIEW_PIXELS)
 
 
-def existence_probability(detected: int, expected: int, p_real: float = P_DETECT_REAL,
+def existence_probability(detected: int, expected: float, p_real: float = P_DETECT_REAL,
                           p_false: float = P_DETECT_FALSE, prior: float = PRIOR_REAL) -> float:
     """P(real | k of n) by Bayes over two binomial explanations of k detections in n views:
 
         L_real  = p_r^k (1 - p_r)^(n - k),   L_false = p_f^k (1 - p_f)^(n - k)
         P = prior L_real / (prior L_real + (1 - prior) L_false)
 
-    with k = detections, n = max(expected views, k) (a detection is a view that showed it)."""
+    with k = detections, n = max(expected views, k) (a detection is a view that showed it; n may
+    be fractional: views weighted by apparent size)."""
     k = int(detected)
-    n = max(int(expected), k)
+    n = max(float(expected), k)
     log_real = k * math.log(p_real) + (n - k) * math.log1p(-p_real)
     log_false = k * math.log(p_false) + (n - k) * math.log1p(-p_false)
     log_odds = math.log(prior) - math.log1p(-prior) + log_real - log_false
@@ -106,7 +139,7 @@ def existence_probability(detected: int, expected: int, p_real: float = P_DETECT
 @dataclass(frozen=True)
 class Evidence:
     detected: int          # detected frames that hold a sighting of it
-    expected: int          # detected frames that should have shown it (detections included)
+    expected: float        # detected frames that should have shown it, weighted by apparent size
     probability: float
 
     @property
@@ -115,12 +148,11 @@ class Evidence:
 
 
 def evidence(centre, extent: float, detected_frames: set[int], views: list[View], **params) -> Evidence:
-    """Count views that should have shown the object and the ones that did; a detection counts
-    as an expected view even where the visibility test cannot tell (no depth, border)."""
-    expected = 0
+    """Count views that should have shown the object (weighted by apparent size) and the ones that
+    did; a detection counts as a full view even where the visibility test cannot tell."""
+    expected = 0.0
     for view in views:
-        if view.index in detected_frames or expected_in_view(centre, extent, view):
-            expected += 1
+        expected += 1.0 if view.index in detected_frames else (expected_in_view(centre, extent, view) or 0.0)
     k = len(detected_frames)
     return Evidence(k, expected, existence_probability(k, expected, **params))
 

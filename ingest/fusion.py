@@ -4,9 +4,9 @@ A detection lifted to 3-D (`Sighting`: the box's 3-D attributes in one frame) jo
 hypothesis it most plausibly shows, frame by frame in sequence order, so an object is not
 forgotten between keyframe groups:
 
-- feasible when the labels are compatible (either's best label among the other's candidates)
-  and the 3-D box centre lies within the gate max(ASSOC_MAX_DISTANCE, ASSOC_EXTENT_FRACTION *
-  largest extent) of the hypothesis' centre, or - for the same best label - the two 3-D boxes
+- feasible when the labels are compatible (`labels_compatible`) and the 3-D box centre lies
+  within the gate max(ASSOC_MAX_DISTANCE, ASSOC_EXTENT_FRACTION * extent) of the hypothesis'
+  centre (the larger extent of the two for the same best label, else the smaller), or - for the same best label - the two 3-D boxes
   overlap (intersection / smaller volume >= PART_OVERLAP: a big object seen in parts);
 - within one frame the detections are paired one-to-one with hypotheses (Hungarian method on
   distance / gate + a label-mismatch cost), so two objects seen side by side never share one.
@@ -149,7 +149,9 @@ class Hypothesis:
 
 
 def labels_compatible(detection: Detection, h: Hypothesis) -> bool:
-    return detection.label in h.candidate_labels or h.label in detection.labels
+    """The same best label, or each side's best label among the other's candidates (a chair
+    the detector once calls "bench" still joins; a vase beside it does not become the chair)."""
+    return detection.label == h.label or (detection.label in h.candidate_labels and h.label in detection.labels)
 
 
 def association_cost(s: Sighting, h: Hypothesis) -> float:
@@ -157,10 +159,12 @@ def association_cost(s: Sighting, h: Hypothesis) -> float:
     gate (unless same-label boxes overlap by PART_OVERLAP) or for incompatible labels."""
     if not labels_compatible(s.detection, h):
         return _INFEASIBLE
-    gate = max(ASSOC_MAX_DISTANCE, ASSOC_EXTENT_FRACTION * max(s.extent, h.extent))
+    same_label = s.detection.label == h.label
+    # a big object's parts lie far apart; a differently named thing must be close to join
+    extent = max(s.extent, h.extent) if same_label else min(s.extent, h.extent)
+    gate = max(ASSOC_MAX_DISTANCE, ASSOC_EXTENT_FRACTION * extent)
     centre = (s.lo + s.hi) / 2
     distance = float(np.linalg.norm(centre - h.centre_gravity))
-    same_label = s.detection.label == h.label
     if distance > gate:
         if not (same_label and box_overlap(s.lo, s.hi, h.lo, h.hi) >= PART_OVERLAP):
             return _INFEASIBLE
@@ -237,10 +241,11 @@ def consolidate(hyps: Sequence[Hypothesis]) -> list[Hypothesis]:
     return [Hypothesis(k, sorted(h.sightings, key=lambda s: s.frame)) for k, h in enumerate(ordered)]
 
 
-def fuse(local_id: str, h: Hypothesis, basis: np.ndarray) -> ObjectObservation:
+def fuse(local_id: str, h: Hypothesis, basis: np.ndarray, labels: Optional[Sequence[str]] = None,
+         scores: Optional[Sequence[float]] = None) -> ObjectObservation:
     """One object from all the sightings of a hypothesis: pooled position Gaussian (Eq. 8
     moments), the robust union box, summed histogram (Eq. 9 counts), majority colour, accumulated
-    label evidence and the best-scored view's thumbnail."""
+    label evidence (or the given `labels`/`scores`) and the best-scored view's thumbnail."""
     first = h.sightings[0].attrs
     mean, var, n = np.asarray(first.mean, float), np.asarray(first.var, float), first.n_points
     for s in h.sightings[1:]:
@@ -249,7 +254,8 @@ def fuse(local_id: str, h: Hypothesis, basis: np.ndarray) -> ObjectObservation:
     colours = Counter(s.attrs.colour for s in h.sightings)
     centre = basis.T @ ((h.lo + h.hi) / 2)
     return ObjectObservation(
-        local_id=local_id, labels=list(h.labels), scores=[float(v) for v in h.scores],
+        local_id=local_id, labels=list(labels if labels is not None else h.labels),
+        scores=[float(v) for v in (scores if scores is not None else h.scores)],
         mean=tuple(float(v) for v in mean), var=tuple(float(v) for v in var), n_points=int(n),
         size=tuple(float(v) for v in (h.hi - h.lo)), box_centre=tuple(float(v) for v in centre),
         hist=np.sum([s.attrs.hist for s in h.sightings], axis=0),

@@ -199,10 +199,15 @@ def _detect(seq, chosen: list[int], detector: Detector, up, basis, settings: Set
 
 
 def _existing(hyps: list[fusion.Hypothesis], views: list[existence.View], basis,
-              stats: PipelineStats) -> list[fusion.Hypothesis]:
-    """SDR's existence test over every hypothesis; rejections are counted by reason."""
+              stats: PipelineStats) -> list[tuple[fusion.Hypothesis, list[str], list[float]]]:
+    """SDR's existence test and the size prior over every hypothesis: the kept ones with their
+    labels (those the size prior allows); rejections are counted by reason."""
     kept = []
     for h in hyps:
+        labels, scores = existence.plausible_labels(h.labels, h.scores, h.hi - h.lo)
+        if not labels:
+            stats.rejected["implausible size for its label"] += 1
+            continue
         centre = basis.T @ ((h.lo + h.hi) / 2)
         ev = existence.evidence(centre, h.extent, set(h.frames), views)
         if ev.detected < existence.MIN_DETECTIONS:
@@ -210,7 +215,7 @@ def _existing(hyps: list[fusion.Hypothesis], views: list[existence.View], basis,
         elif not existence.exists(ev):
             stats.rejected["rarely detected where visible"] += 1
         else:
-            kept.append(h)
+            kept.append((h, labels, scores))
     return kept
 
 
@@ -218,9 +223,14 @@ def _relations(hyps: dict[str, fusion.Hypothesis], objects: list[ObjectObservati
                method: Method) -> list[RelationObservation]:
     """Relations of every detected frame between the objects it shows, voted (SDR) across frames."""
     per_frame: dict[int, list[ObjectGeometry]] = defaultdict(list)
+    label_of = {o.local_id: o.label for o in objects}
     for local_id, h in hyps.items():
-        for s in h.sightings:
-            per_frame[s.frame].append(ObjectGeometry(local_id, h.label, s.attrs.centre, s.attrs.size))
+        best: dict[int, fusion.Sighting] = {}
+        for s in h.sightings:   # a folded hypothesis may hold two sightings of one frame
+            if s.frame not in best or s.detection.score > best[s.frame].detection.score:
+                best[s.frame] = s
+        for frame, s in best.items():
+            per_frame[frame].append(ObjectGeometry(local_id, label_of[local_id], s.attrs.centre, s.attrs.size))
     frames = [spatial_relations(geoms, up) for _, geoms in sorted(per_frame.items()) if len(geoms) > 1]
     if not method.sdr:
         best: dict[tuple, RelationObservation] = {}
@@ -229,7 +239,11 @@ def _relations(hyps: dict[str, fusion.Hypothesis], objects: list[ObjectObservati
             if key not in best or r.score > best[key].score:
                 best[key] = r
         return list(best.values())
-    relations = vote_relations(frames)
+    co_observed: Counter = Counter()
+    for geoms in per_frame.values():
+        ids = sorted(g.local_id for g in geoms)
+        co_observed.update((a, b) for k, a in enumerate(ids) for b in ids[k + 1:])
+    relations = vote_relations(frames, co_observed=dict(co_observed))
     labels = {o.local_id: o.label for o in objects}
     centres = {o.local_id: o.mean for o in objects}
     return filter_relations(relations, labels, centres)
@@ -252,10 +266,12 @@ def chunk_graph(seq, a: int, b: int, detector: Detector, up, settings: Settings,
         hyps = [fusion.Hypothesis(k, [s]) for k, s in enumerate(sightings)]
     stats.hypotheses += len(hyps)
     if method.sdr:
-        hyps = _existing(hyps, views, basis, stats)
-    stats.kept += len(hyps)
-    by_id = {f"h{h.hid}": h for h in hyps}
-    objects = [fusion.fuse(local_id, h, basis) for local_id, h in by_id.items()]
+        kept = _existing(hyps, views, basis, stats)
+    else:
+        kept = [(h, h.labels, h.scores) for h in hyps]
+    stats.kept += len(kept)
+    by_id = {f"h{h.hid}": h for h, _, _ in kept}
+    objects = [fusion.fuse(f"h{h.hid}", h, basis, labels, scores) for h, labels, scores in kept]
     stats.seconds["fusion"] += time.perf_counter() - t0
     t0 = time.perf_counter()
     relations = _relations(by_id, objects, up, method) if method.three_d else []

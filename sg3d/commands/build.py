@@ -59,7 +59,7 @@ def _summary_table(summary: dict):
               help="Detection score threshold (any detector).")
 @click.option("--detect-fraction", type=click.FloatRange(0.0, 1.0, min_open=True), default=None,
               help="Share of the sharp frames the detector runs on (KGE frames first, then new viewpoints) "
-                   "[0.15]; at least 12 frames are detected in any sequence.")
+                   "[0.15]; at least 40 frames (or all) are detected in any sequence.")
 @click.option("--chunk-frames", type=click.IntRange(min=10), default=None,
               help="Fuse and merge the sequence in chunks of this many frames [3000].")
 @click.option("--abir-gain", type=float, default=None, help="ABIR gain g of Eq. 4 (default 10, the authors' code).")
