@@ -26,21 +26,19 @@ def ask(settings, question: str, room, building, explain: bool, as_json: bool, v
     next to an object), existence, yes/no about relations, listing, colour/size lookup, where,
     and "which cup is the biggest" (writes its picture). Objects are named, not numbered by id.
     """
-    from queries.picture import write_picture
-    from queries.vqa import answer
+    from app.ask import ask as ask_question, parse_viewpoint
+    from app.errors import AppError
+    from app.stores import reader
     from sg3d.errors import UserError
 
-    result = answer(settings.reader(), question, room=room, building=building, viewpoint=_viewpoint(viewpoint))
-    path = None
-    if result.ok and result.thumbnail:
-        try:
-            path = write_picture(result.thumbnail, out)
-        except ValueError as exc:
-            raise UserError(str(exc)) from exc
+    try:
+        asked = ask_question(reader(settings), question, room=room, building=building, picture=True, out=out,
+                             viewpoint=parse_viewpoint(viewpoint))
+    except AppError as exc:
+        raise UserError(str(exc)) from exc
+    result, path = asked.answer, asked.picture
     if as_json:
-        data = result.to_json()
-        data["thumbnail"] = path
-        click.echo(json.dumps(data, default=str))
+        click.echo(json.dumps(asked.to_json(), default=str))
     else:
         click.echo(result.text if result.ok else f"cannot answer: {result.text}", err=not result.ok)
         if path:
@@ -50,18 +48,6 @@ def ask(settings, question: str, room, building, explain: bool, as_json: bool, v
             click.echo(line, err=True)
     if not result.ok:
         raise SystemExit(2)   # a refusal is not an answer: scripts see a non-zero status
-
-
-def _viewpoint(text):
-    if not text:
-        return None
-    parts = text.split(",")
-    if len(parts) == 3:
-        try:
-            return {"position": [float(p) for p in parts]}
-        except ValueError:
-            pass
-    return {"object": text.strip()}
 
 
 commands = [ask]

@@ -26,21 +26,11 @@ def _short(value) -> str:
     return str(value)
 
 
-def _jsonable(value):
-    if isinstance(value, (bytes, bytearray)):
-        return f"<{len(value)} bytes>"
-    if isinstance(value, list):
-        return [_jsonable(v) for v in value]
-    if isinstance(value, dict):
-        return {k: _jsonable(v) for k, v in value.items()}
-    if hasattr(value, "items"):
-        return {k: _jsonable(v) for k, v in value.items()}
-    return value
-
-
 def print_result(keys, rows, as_json: bool) -> None:
+    from app.graph import jsonable
+
     if as_json:
-        click.echo(json.dumps([dict(zip(keys, map(_jsonable, r))) for r in rows]))
+        click.echo(json.dumps([dict(zip(keys, map(jsonable, r))) for r in rows]))
         return
     from rich.console import Console
     from rich.table import Table
@@ -71,7 +61,9 @@ def cypher_command(settings, statement: str, param, write: bool, as_json: bool) 
             params[name] = json.loads(raw)
         except ValueError:
             params[name] = raw
-    keys, rows = (settings.store() if write else settings.reader()).run_raw(statement, params, write=write)
+    from app.stores import reader
+
+    keys, rows = (settings.store() if write else reader(settings)).run_raw(statement, params, write=write)
     print_result(keys, rows, as_json)
 
 

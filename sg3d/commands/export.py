@@ -21,15 +21,15 @@ from sg3d.errors import UserError
 def export(settings, room: Optional[str], building: str, fmt: str, out: Optional[Path],
            thumbnails: bool, histograms: bool) -> None:
     """Export the scene graph: nodes with their attributes and the relation edges."""
-    from graphdb.export import fetch_graph, to_graphml, to_json
-    from queries.naming import name_graph
+    from app.errors import AppError
+    from app.graph import fetch_named_graph, render_graph
+    from app.stores import reader
 
-    graph = fetch_graph(settings.reader(), building, room, thumbnails, histograms)
-    if not graph["nodes"]:
-        where = f"room {room!r} of building {building!r}" if room else f"building {building!r}"
-        raise UserError(f"nothing to export: {where} holds no objects (see `sg3d cypher \"MATCH (r:Room) RETURN r.id\"`)")
-    name_graph(graph)     # each node's readable name, as ask, plan and show print it
-    text = to_json(graph) if fmt == "json" else to_graphml(graph)
+    try:
+        graph = fetch_named_graph(reader(settings), building, room, thumbnails, histograms)
+    except AppError as exc:
+        raise UserError(str(exc)) from exc
+    text = render_graph(graph, fmt)
     if out:
         out.write_text(text)
         click.echo(f"wrote {len(graph['nodes'])} nodes and {len(graph['edges'])} edges to {out}", err=True)

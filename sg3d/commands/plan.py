@@ -30,14 +30,14 @@ def plan(settings, command, goal, room, building, start, out_dir, planner, as_js
     or another table, electronics stay) and prints the rule.
 
     The plan is checked by simulating it against the domain before it is printed."""
-    from queries.planning import PlanningError, plan_task
+    from app.errors import AppError
+    from app.plan import plan as plan_task
+    from app.stores import reader
 
-    if command and goal:
-        raise UserError("give a command or --goal, not both")
     try:
-        outcome = plan_task(settings.reader(), command, goal=goal, room=room, building=building,
+        outcome = plan_task(reader(settings), command, goal=goal, room=room, building=building,
                             out_dir=out_dir, planner=planner, start=start)
-    except PlanningError as exc:
+    except AppError as exc:
         raise UserError(str(exc)) from exc
     if as_json:
         click.echo(json.dumps(outcome.to_json()))

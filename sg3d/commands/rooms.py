@@ -22,13 +22,12 @@ def rooms(ctx: click.Context, building: str, as_json: bool) -> None:
     """
     if ctx.invoked_subcommand is not None:
         return
-    from graphdb.building import list_rooms
+    from app.rooms import building_rooms, rooms_json
+    from app.stores import reader
 
-    rows = list_rooms(ctx.obj.reader(), building)
+    rows = building_rooms(reader(ctx.obj), building)
     if as_json:
-        click.echo(json.dumps([{"id": r["id"], "name": r["name"], "objects": r["objects"],
-                                "to_building": None if r["to_building"] is None else r["to_building"].tolist(),
-                                "adjacent": r["adjacent"]} for r in rows], indent=2))
+        click.echo(json.dumps(rooms_json(rows), indent=2))
         return
     if not rows:
         raise UserError(f"building {building!r} has no rooms (build one with `sg3d build`)")

@@ -1,0 +1,177 @@
+"""The graph as a whole: export (`sg3d export`, `GET /graph`), its schema (the MCP `graph_schema`
+tool) and the read-only Cypher path (the MCP `cypher` tool)."""
+from __future__ import annotations
+
+import re
+from typing import Any, Optional
+
+from app.errors import AppError, NotFound, Refused
+
+FORMATS = ("json", "graphml")
+CYPHER_ROW_LIMIT = 1000
+CYPHER_TIMEOUT_S = 10.0
+
+
+# -- export -----------------------------------------------------------------------------------
+def fetch_named_graph(store, building: str, room: Optional[str] = None, thumbnails: bool = False,
+                      histograms: bool = False) -> dict:
+    """The room's (or building's) graph {building, room, nodes, edges}, each node with its readable
+    name; NotFound when it holds no objects."""
+    from graphdb.export import fetch_graph
+    from queries.naming import name_graph
+
+    graph = fetch_graph(store, building, room, thumbnails, histograms)
+    if not graph["nodes"]:
+        where = f"room {room!r} of building {building!r}" if room else f"building {building!r}"
+        raise NotFound(f"nothing to export: {where} holds no objects "
+                       f"(see `sg3d cypher \"MATCH (r:Room) RETURN r.id\"`)")
+    return name_graph(graph)     # each node's readable name, as ask, plan and show print it
+
+
+def render_graph(graph: dict, fmt: str) -> str:
+    """The graph as text: the paper's JSON form or GraphML."""
+    from graphdb.export import to_graphml, to_json
+
+    if fmt not in FORMATS:
+        raise AppError(f"unknown format {fmt!r} (choose from {', '.join(FORMATS)})")
+    return to_json(graph) if fmt == "json" else to_graphml(graph)
+
+
+# -- schema ------------------------------------------------------------------------------------
+def graph_schema(store) -> dict:
+    """What a Cypher author needs: node labels with their properties, relationship types (the
+    whitelist) and how many of each the store holds now."""
+    from graphdb.export import NODE_FIELDS
+    from ingest.model import COLOUR_NAMES, RELATION_TYPES
+
+    nodes = {
+        "Building": ["id"],
+        "Room": ["id ('building/room')", "name", "building", "up", "to_building (16 floats, row-major 4x4)"],
+        "Object": list(NODE_FIELDS) + ["box_centre", "hist (512 float32 bytes)", "thumbnail (JPEG bytes)",
+                                       "score", "updated_at"],
+        "Category": ["name"],
+        "MergeLog": ["key", "room", "frames", "created", "updated", "at"],
+    }
+    edges = {
+        "HAS_ROOM": "(:Building)->(:Room)", "CONTAINS": "(:Room)->(:Object)",
+        "ADJACENT_TO": "(:Room)->(:Room) {shared_objects, residual_m}",
+        "SAME_AS": "(:Object)->(:Object) {distance}: one physical object seen from two rooms",
+        "IS_A": "(:Category)->(:Category): taxonomy",
+        **{t: "(:Object)->(:Object) {score, count}: spatial/size relation" for t in RELATION_TYPES},
+    }
+    counts_nodes = {":".join(r["labels"] or []) or "(none)": r["n"] for r in store.read("schema_node_counts")}
+    counts_edges = {r["type"]: r["n"] for r in store.read("schema_edge_counts")}
+    return {"nodes": nodes, "relationships": edges, "colours": list(COLOUR_NAMES),
+            "node_counts": counts_nodes, "relationship_counts": counts_edges,
+            "notes": ["positions are metres in the room's frame (x, y, z); size is width, depth, height",
+                      "object names as people read them come from the list_objects tool, not from Cypher"]}
+
+
+# -- read-only Cypher ----------------------------------------------------------------------------
+# A reading statement starts with one of these; anything else (schema and admin commands, USE,
+# EXPLAIN/PROFILE, which on ArcadeDB runs a schema command it explains: measured) is refused.
+READ_STARTS = frozenset({"MATCH", "OPTIONAL", "WITH", "UNWIND", "RETURN"})
+# Clauses that change data or run procedures (which may), anywhere in the statement.
+WRITE_WORDS = frozenset({"CREATE", "MERGE", "DELETE", "DETACH", "SET", "REMOVE", "DROP", "LOAD", "FOREACH",
+                         "CALL", "PROFILE", "EXPLAIN", "USE"})
+# Steps of ArcadeDB's EXPLAIN text ("+ CREATE", "+ SET (1 items)") that write.
+_PLAN_WRITE = re.compile(r"^\s*\+\s*(CREATE|MERGE|SET|DELETE|DETACH|REMOVE|FOREACH|CALL)\b", re.M | re.I)
+_STRINGS = re.compile(r"'(?:\\.|[^'\\])*'|\"(?:\\.|[^\"\\])*\"|`[^`]*`|//[^\n]*|/\*.*?\*/", re.S)
+_WORD = re.compile(r"(?<![.$\w])([A-Za-z_]\w*)")
+
+
+def write_words(statement: str) -> list[str]:
+    """The writing keywords of a statement, outside strings, comments, `quoted` names, property
+    keys (o.set) and parameters ($set)."""
+    bare = _STRINGS.sub(" ", statement)
+    return sorted({w.upper() for w in _WORD.findall(bare) if w.upper() in WRITE_WORDS})
+
+
+def check_read_only(store, statement: str) -> None:
+    """Refuse (Refused) a statement that writes: first by its keywords, then by the server's
+    EXPLAIN plan (Neo4j: the summary's query type must be 'r'; ArcadeDB, whose query type is
+    always 'w', by the write steps of its plan text)."""
+    text = statement.strip().rstrip(";").strip()
+    if not text:
+        raise AppError("empty statement")
+    if ";" in _STRINGS.sub(" ", text):
+        raise Refused("one statement at a time")
+    first = _WORD.search(_STRINGS.sub(" ", text))
+    if first is None or first.group(1).upper() not in READ_STARTS:
+        raise Refused(f"read-only: a statement here starts with {', '.join(sorted(READ_STARTS))}")
+    words = write_words(text)
+    if words:
+        raise Refused(f"read-only: {', '.join(words)} is not allowed here (this path only reads)")
+    steps = explain_writes(store, text)
+    if steps:
+        raise Refused(f"read-only: the plan writes ({', '.join(steps)})")
+
+
+def explain_writes(store, statement: str) -> list[str]:
+    """The writing steps of the server's EXPLAIN plan of a statement ([] for a read). Neo4j: the
+    summary's query type must be 'r'. ArcadeDB reports 'w' for every statement, so there the
+    steps of its plan text ("+ CREATE", "+ SET (1 items)") decide; a statement with no plan
+    (a schema command) counts as writing. Only for statements `write_words` let through:
+    EXPLAIN of a schema command runs it on ArcadeDB."""
+    with store.session(default_access_mode="READ") as s:
+        summary = s.run("EXPLAIN " + statement).consume()
+    plan = summary.plan or {}
+    if str(plan.get("operatorType", "")).startswith("ArcadeDB"):
+        text = str((plan.get("args") or {}).get("string-representation", ""))
+        return sorted({m.upper() for m in _PLAN_WRITE.findall(text)})
+    if not plan:
+        return ["no plan"]
+    return [] if summary.query_type == "r" else [f"query type {summary.query_type!r}"]
+
+
+def jsonable(value: Any) -> Any:
+    """A driver value as JSON: bytes as '<n bytes>', nodes and relationships as their properties."""
+    if isinstance(value, (bytes, bytearray)):
+        return f"<{len(value)} bytes>"
+    if isinstance(value, (list, tuple)):
+        return [jsonable(v) for v in value]
+    if isinstance(value, dict):
+        return {k: jsonable(v) for k, v in value.items()}
+    if hasattr(value, "items"):
+        return {k: jsonable(v) for k, v in value.items()}
+    if hasattr(value, "iso_format"):          # neo4j temporal types
+        return value.iso_format()
+    return value
+
+
+def read_only_cypher(store, statement: str, params: Optional[dict] = None, limit: int = CYPHER_ROW_LIMIT,
+                     timeout_s: float = CYPHER_TIMEOUT_S) -> dict:
+    """Run one reading statement: {keys, rows (dicts), truncated}.
+
+    Three guards, any one enough for what it covers: `check_read_only` refuses writing
+    statements; the statement then runs in an explicit READ transaction that is always rolled
+    back, never committed; and the store's read-only user (`app.stores.reader`) where it exists.
+    AppError for a Cypher error (its code and first line)."""
+    from neo4j.exceptions import ClientError
+
+    if params is not None and not isinstance(params, dict):
+        raise AppError("params must be an object of parameter names to values")
+    try:
+        check_read_only(store, statement)
+        return run_rolled_back(store, statement.strip().rstrip(";"), params or {}, limit, timeout_s)
+    except ClientError as exc:
+        raise AppError(f"{exc.code}: {(exc.message or str(exc)).strip().splitlines()[0]}") from exc
+
+
+def run_rolled_back(store, statement: str, params: dict, limit: int = CYPHER_ROW_LIMIT,
+                    timeout_s: float = CYPHER_TIMEOUT_S) -> dict:
+    """Run a statement in an explicit READ transaction that is rolled back, never committed:
+    {keys, rows (at most `limit`), truncated}."""
+    with store.session(default_access_mode="READ") as s:
+        tx = s.begin_transaction(timeout=timeout_s)
+        try:
+            result = tx.run(statement, params)
+            keys = list(result.keys())
+            rows = []
+            for record in result:
+                if len(rows) == limit:
+                    return {"keys": keys, "rows": rows, "truncated": True}
+                rows.append({k: jsonable(v) for k, v in zip(keys, record.values())})
+            return {"keys": keys, "rows": rows, "truncated": False}
+        finally:
+            tx.rollback()

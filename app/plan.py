@@ -1,0 +1,45 @@
+"""Plan a task in a scanned room: the one call `sg3d plan`, `POST /plan` and the MCP `plan` tool
+make."""
+from __future__ import annotations
+
+import shutil
+import tempfile
+from pathlib import Path
+from typing import Optional
+
+from app.errors import AppError
+
+PLANNERS = ("pyperplan", "fast-downward")
+
+
+def plan(store, command: Optional[str] = None, *, goal: Optional[str] = None, room: Optional[str] = None,
+         building: Optional[str] = None, start: Optional[str] = None, out_dir: Optional[Path] = None,
+         planner: str = "pyperplan"):
+    """The validated plan (`queries.planning.PlanOutcome`); AppError with a one-line reason when
+    there is none. PDDL files are written to `out_dir` (default: a new temporary directory)."""
+    from queries.planning import PlanningError, plan_task
+
+    if command and goal:
+        raise AppError("give a command or --goal, not both")
+    if planner not in PLANNERS:
+        raise AppError(f"unknown planner {planner!r} (choose from {', '.join(PLANNERS)})")
+    try:
+        return plan_task(store, command, goal=goal, room=room, building=building,
+                         out_dir=out_dir, planner=planner, start=start)
+    except PlanningError as exc:
+        raise AppError(str(exc)) from exc
+
+
+def plan_json(store, command: Optional[str] = None, **kw) -> dict:
+    """A plan as self-contained JSON for remote callers: `PlanOutcome.to_json()` plus the PDDL
+    texts (`domain_pddl`, `problem_pddl`); the server's temporary files are removed."""
+    tmp = Path(tempfile.mkdtemp(prefix="sg3d-plan-"))
+    try:
+        outcome = plan(store, command, out_dir=tmp, **kw)
+        data = outcome.to_json()
+        data["domain_pddl"] = (tmp / "domain.pddl").read_text()
+        data["problem_pddl"] = (tmp / "problem.pddl").read_text()
+        data["domain"] = data["problem"] = None     # no path on the server's disk is useful to a caller
+        return data
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)

@@ -1,0 +1,44 @@
+"""`sg3d serve` (HTTP API) and `sg3d mcp` (MCP server over stdio) for robots and agents."""
+from __future__ import annotations
+
+import click
+
+
+@click.command()
+@click.option("--host", default="127.0.0.1", show_default=True,
+              help="Address to bind. Anything but loopback exposes the API to the network (a warning is printed).")
+@click.option("--port", type=click.IntRange(1, 65535), default=8765, show_default=True)
+@click.option("--access-log", is_flag=True, help="Log every request.")
+@click.pass_obj
+def serve(settings, host: str, port: int, access_log: bool) -> None:
+    """Serve the scene graph over HTTP: /ask, /plan, /rooms, /graph, /ingest (OpenAPI at /docs).
+
+    Callers send `Authorization: Bearer <token>`; the token is generated into
+    $SG3D_HOME/api-token (mode 0600) on first start."""
+    import uvicorn
+
+    from sg3d.server.auth import ensure_token, token_path
+    from sg3d.server.http import create_app, is_loopback
+
+    home = settings.embedded_home()
+    token = ensure_token(home)
+    if not is_loopback(host):
+        click.echo(f"warning: binding {host}: the API is reachable from other machines; anyone with the "
+                   f"token can read and ingest (put TLS in front of it on an untrusted network)", err=True)
+    api = create_app(settings, token)
+    api.state.stores.get()          # start or find the store now, not on the first request
+    click.echo(f"sg3d serving http://{host}:{port} (docs at /docs); token in {token_path(home)}", err=True)
+    uvicorn.run(api, host=host, port=port, log_level="warning", access_log=access_log)
+
+
+@click.command()
+@click.pass_obj
+def mcp(settings) -> None:
+    """Run the MCP server on stdio for LLM agents (tools: ask, plan, list_rooms, list_objects,
+    cypher (read-only), graph_schema). Configure your agent to start `sg3d mcp`."""
+    from sg3d.server.mcp import build_server
+
+    build_server(settings).run("stdio")
+
+
+commands = [serve, mcp]

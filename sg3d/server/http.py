@@ -1,0 +1,163 @@
+"""`sg3d serve`: the HTTP API (FastAPI) over the application layer. Routes only translate:
+request -> `app` call -> JSON. OpenAPI at /openapi.json, docs at /docs.
+
+Every route but /health needs `Authorization: Bearer <token>` (see `sg3d.server.auth`). Routes
+are plain functions, so FastAPI runs them in its thread pool: requests run concurrently over one
+Store per process (a driver with a connection pool), through `app.stores.StoreHandle`, which
+also survives a restart of the embedded store.
+"""
+from __future__ import annotations
+
+from typing import Literal, Optional
+
+from fastapi import Depends, FastAPI, HTTPException, Query, Request
+from fastapi.responses import JSONResponse, Response
+from pydantic import BaseModel, ConfigDict, Field
+
+from app import ask as app_ask
+from app import graph as app_graph
+from app import ingest as app_ingest
+from app import plan as app_plan
+from app import rooms as app_rooms
+from app.errors import AppError, NotFound, Refused
+from app.stores import StoreHandle
+from sg3d import __version__
+from sg3d.server.auth import token_matches
+
+
+class Viewpoint(BaseModel):
+    """One of: a 4x4 camera-to-world pose, a point, or an object's name (the room's world frame)."""
+    model_config = ConfigDict(extra="forbid")
+    pose: Optional[list[list[float]]] = Field(None, min_length=4, max_length=4)
+    position: Optional[list[float]] = Field(None, min_length=3, max_length=3)
+    object: Optional[str] = Field(None, min_length=1, max_length=200)
+
+
+class AskBody(BaseModel):
+    model_config = ConfigDict(extra="forbid")
+    question: str = Field(min_length=1, max_length=2000, examples=["how many cups are on the table?"])
+    room: Optional[str] = Field(None, description="only this room (its name)")
+    building: Optional[str] = Field(None, description="only this building")
+    viewpoint: Optional[Viewpoint] = Field(None, description="where 'in front of / behind / left of / right "
+                                                          "of' are seen from (e.g. the robot's pose)")
+
+
+class PlanBody(BaseModel):
+    model_config = ConfigDict(extra="forbid")
+    command: Optional[str] = Field(None, max_length=2000, examples=["clean up the table"])
+    goal: Optional[str] = Field(None, max_length=2000, description="a PDDL goal instead of a command")
+    room: str = Field(min_length=1, description="room name or id (building/room)")
+    building: Optional[str] = None
+    start: Optional[str] = Field(None, description="where the robot starts (a surface or receptacle name)")
+
+
+def _status(exc: AppError) -> int:
+    return 404 if isinstance(exc, NotFound) else 403 if isinstance(exc, Refused) else 400
+
+
+def _near(text: Optional[str]):
+    if text is None:
+        return None
+    try:
+        return [float(v) for v in text.split(",")]
+    except ValueError:
+        raise AppError("near must be x,y,z (three numbers, metres)") from None
+
+
+def create_app(settings, token: str, handle: Optional[StoreHandle] = None) -> FastAPI:
+    """The FastAPI application for `settings`' store; `token` is the bearer token callers send."""
+    stores = handle or StoreHandle(settings)
+    api = FastAPI(title="sg3d", version=__version__,
+                  description="3-D scene graphs of rooms: ask, plan, list rooms and objects, export, ingest.")
+
+    def authorised(request: Request) -> None:
+        if not token_matches(token, request.headers.get("authorization")):
+            raise HTTPException(401, "missing or wrong token: send Authorization: Bearer <token> "
+                                     "(the token is in $SG3D_HOME/api-token)",
+                                headers={"WWW-Authenticate": "Bearer"})
+
+    @api.exception_handler(AppError)
+    def _app_error(request: Request, exc: AppError):
+        return JSONResponse({"detail": str(exc)}, status_code=_status(exc))
+
+    @api.exception_handler(Exception)
+    def _store_error(request: Request, exc: Exception):
+        from neo4j.exceptions import ServiceUnavailable, SessionExpired
+
+        if isinstance(exc, (ServiceUnavailable, SessionExpired)):
+            return JSONResponse({"detail": "the graph store is unreachable"}, status_code=503)
+        return JSONResponse({"detail": f"internal error: {type(exc).__name__}"}, status_code=500)
+
+    read = stores.call
+
+    @api.get("/health", tags=["service"])
+    def health():
+        """Whether the store is reachable, and the version. No token needed."""
+        try:
+            read(lambda s: s.driver.verify_connectivity())
+            ok = True
+        except Exception:  # noqa: BLE001 - any failure means not reachable; the detail is in the server log
+            ok = False
+        return JSONResponse({"status": "ok" if ok else "store unreachable", "store": ok, "version": __version__},
+                            status_code=200 if ok else 503)
+
+    auth = [Depends(authorised)]
+
+    @api.post("/ask", dependencies=auth, tags=["read"])
+    def ask(body: AskBody):
+        """The JSON of `sg3d ask --json`, plus the answer's picture as base64 JPEG when it has one.
+        A question it cannot answer gives ok: false and the reason in answer (still 200)."""
+        viewpoint = body.viewpoint.model_dump(exclude_none=True) if body.viewpoint else None
+        if viewpoint is not None and len(viewpoint) != 1:
+            raise AppError("viewpoint takes exactly one of pose, position and object")
+        return read(lambda s: app_ask.ask(s, body.question, room=body.room, building=body.building,
+                                          viewpoint=viewpoint).to_json(inline_thumbnail=True))
+
+    @api.post("/plan", dependencies=auth, tags=["read"])
+    def plan(body: PlanBody):
+        """A validated plan: steps in words and as PDDL actions, the goal, domain and problem PDDL."""
+        return read(lambda s: app_plan.plan_json(s, body.command, goal=body.goal, room=body.room,
+                                                 building=body.building, start=body.start))
+
+    @api.get("/rooms", dependencies=auth, tags=["read"])
+    def rooms(building: Optional[str] = None):
+        """Rooms (of one building, or all) with object counts, transforms and adjacent rooms."""
+        return read(lambda s: app_rooms.list_rooms(s, building))
+
+    @api.get("/rooms/{building}/{room}/objects", dependencies=auth, tags=["read"])
+    def objects(building: str, room: str, label: Optional[str] = None, colour: Optional[str] = None,
+                near: Optional[str] = Query(None, description="x,y,z in the room's frame: sort by distance"),
+                radius: Optional[float] = Query(None, description="metres from `near`")):
+        """A room's objects with readable names, filtered by label, colour and distance to a point."""
+        point = _near(near)
+        return read(lambda s: app_rooms.room_objects(s, building, room, label=label, colour=colour,
+                                                     near=point, radius=radius))
+
+    @api.get("/graph", dependencies=auth, tags=["read"])
+    def graph(building: str = "default", room: Optional[str] = None,
+              format: Literal["json", "graphml"] = "json", thumbnails: bool = False, histograms: bool = False):
+        """The graph of a room or a building: the paper's JSON form or GraphML."""
+        g = read(lambda s: app_graph.fetch_named_graph(s, building, room, thumbnails, histograms))
+        if format == "json":
+            return g
+        return Response(app_graph.render_graph(g, format), media_type="application/graphml+xml")
+
+    @api.post("/ingest", dependencies=auth, tags=["write"])
+    def ingest(body: app_ingest.IngestRequest):
+        """Merge a robot's local scene graph (same-node detection, one transaction); the same
+        observation_id is merged once. A body that does not validate is a 422 naming the field."""
+        return stores.call(lambda s: app_ingest.ingest_graph(s, body), write=True)
+
+    api.state.stores = stores
+    return api
+
+
+def is_loopback(host: str) -> bool:
+    import ipaddress
+
+    if host == "localhost":
+        return True
+    try:
+        return ipaddress.ip_address(host).is_loopback
+    except ValueError:
+        return False

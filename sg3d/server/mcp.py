@@ -1,0 +1,80 @@
+"""`sg3d mcp`: an MCP server (stdio, the official `mcp` SDK) giving LLM agents the application
+layer as tools: ask, plan, list rooms, list objects, read-only Cypher, graph schema.
+
+Nothing here writes: every tool reads through `app.stores.reader`, and the Cypher tool refuses
+writing statements and runs the rest in a transaction that is rolled back (`app.graph`)."""
+from __future__ import annotations
+
+from typing import Any, Optional
+
+from app import ask as app_ask
+from app import graph as app_graph
+from app import plan as app_plan
+from app import rooms as app_rooms
+from app.errors import AppError
+from app.stores import StoreHandle
+
+INSTRUCTIONS = (
+    "sg3d holds 3-D scene graphs of scanned rooms: Object nodes (label, colour, position in metres, "
+    "size) in Rooms of Buildings, with spatial relations (ON, NEXT_TO, IN, ...). Start with list_rooms; "
+    "ask answers questions in English; list_objects gives readable names; graph_schema before cypher "
+    "(read-only).")
+
+
+def build_server(settings, handle: Optional[StoreHandle] = None):
+    """The MCP server for `settings`' store (run it with `.run("stdio")`)."""
+    from mcp.server.mcpserver import MCPServer
+    from mcp.server.mcpserver.exceptions import ToolError
+
+    from sg3d import __version__
+
+    stores = handle or StoreHandle(settings)
+    server = MCPServer("sg3d", version=__version__, instructions=INSTRUCTIONS, log_level="WARNING")
+
+    def read(fn):
+        try:
+            return stores.call(fn)
+        except AppError as exc:
+            raise ToolError(str(exc)) from exc
+
+    @server.tool()
+    def ask(question: str, room: Optional[str] = None, building: Optional[str] = None) -> dict[str, Any]:
+        """Answer a question about the scanned rooms, e.g. "how many cups are on the table?",
+        "what is on the table?", "where is the kettle?". room/building narrow the scope. The
+        reply has `answer` (one line), `ok` (false: not understood, the reason is in answer),
+        `value` and the objects it rests on."""
+        return read(lambda s: app_ask.ask(s, question, room=room, building=building).to_json())
+
+    @server.tool()
+    def plan(command: str, room: str, building: Optional[str] = None) -> dict[str, Any]:
+        """Plan a household task in a room ("clean up the table", "put the cups in the sink"): a
+        validated sequence of steps with the PDDL domain and problem."""
+        return read(lambda s: app_plan.plan_json(s, command, room=room, building=building))
+
+    @server.tool()
+    def list_rooms(building: Optional[str] = None) -> list[dict[str, Any]]:
+        """The rooms in the store (of one building, or all): id, name, object count, adjacent rooms."""
+        return read(lambda s: app_rooms.list_rooms(s, building))
+
+    @server.tool()
+    def list_objects(room: str, building: str = "default", label: Optional[str] = None,
+                     colour: Optional[str] = None, near: Optional[list[float]] = None,
+                     radius: Optional[float] = None) -> list[dict[str, Any]]:
+        """The objects of a room with readable names, label, colour, position [x, y, z] (m) and size;
+        filter by label ("cup"), colour ("red") or distance from a point `near` [x, y, z]."""
+        return read(lambda s: app_rooms.room_objects(s, building, room, label=label, colour=colour,
+                                                     near=near, radius=radius))
+
+    @server.tool()
+    def cypher(statement: str, params: Optional[dict[str, Any]] = None) -> dict[str, Any]:
+        """Run ONE read-only Cypher statement (MATCH/OPTIONAL MATCH/WITH/UNWIND/RETURN; writes,
+        CALL and schema commands are refused) with $parameters; at most 1000 rows. Read
+        graph_schema first."""
+        return read(lambda s: app_graph.read_only_cypher(s, statement, params))
+
+    @server.tool()
+    def graph_schema() -> dict[str, Any]:
+        """Node labels and their properties, relationship types and how many of each are stored."""
+        return read(app_graph.graph_schema)
+
+    return server
