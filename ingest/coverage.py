@@ -71,7 +71,7 @@ def choose_frames(candidates: Sequence[Candidate], required: Sequence[int], budg
     while len(chosen) < min(budget, len(candidates)):
         k = int(np.argmax(dist))  # argmax returns the first maximum: the earliest frame
         i = int(index[k])
-        if i in picked:  # every remaining frame repeats a chosen view exactly
+        if i in picked or dist[k] <= 0:  # every remaining frame repeats a chosen view exactly
             break
         chosen.append(i)
         picked.add(i)

@@ -365,10 +365,27 @@ def tile_windows(width: int, height: int, grid: tuple[int, int] = TILE_GRID,
     return out
 
 
+# A box within this many pixels of a tile's inner edge is cut by the tile: its object is seen
+# whole by the full frame or by the overlapping neighbour tile.
+TILE_EDGE_PX = 2.0
+
+
+def cut_by_tile(boxes: np.ndarray, size: tuple[int, int], inner: tuple[bool, bool, bool, bool],
+                edge: float = TILE_EDGE_PX) -> np.ndarray:
+    """Which boxes (tile pixels, x1 y1 x2 y2) touch an inner edge of their tile (left, top, right,
+    bottom flags in `inner`: edges that are not the image's own)."""
+    w, h = size
+    left, top, right, bottom = inner
+    b = np.asarray(boxes, dtype=np.float64).reshape(-1, 4)
+    return ((left & (b[:, 0] <= edge)) | (top & (b[:, 1] <= edge))
+            | (right & (b[:, 2] >= w - edge)) | (bottom & (b[:, 3] >= h - edge)))
+
+
 class TiledDetector:
     """The full frame plus overlapping tiles through one OpenCV-dnn detector; the raw candidates
     of all windows, mapped back to image pixels, go through the same NMS and top-k collapse as a
-    single image."""
+    single image. Candidates cut by a tile's inner edge are dropped (`cut_by_tile`): half a chair
+    at a seam would otherwise become a second object."""
 
     def __init__(self, base: "_DnnDetector", grid: tuple[int, int] = TILE_GRID, overlap: float = TILE_OVERLAP):
         self.base = base
@@ -386,9 +403,11 @@ class TiledDetector:
         boxes, ids, scores = [], [], []
         for x1, y1, x2, y2 in [(0, 0, w, h)] + tile_windows(w, h, self.grid, self.overlap):
             b, c, s = self.base._candidates(np.ascontiguousarray(image_bgr[y1:y2, x1:x2]))
-            boxes.append(np.asarray(b, dtype=np.float64).reshape(-1, 4) + [x1, y1, x1, y1])
-            ids.append(np.asarray(c).reshape(-1))
-            scores.append(np.asarray(s, dtype=np.float64).reshape(-1))
+            b = np.asarray(b, dtype=np.float64).reshape(-1, 4)
+            keep = ~cut_by_tile(b, (x2 - x1, y2 - y1), (x1 > 0, y1 > 0, x2 < w, y2 < h))
+            boxes.append(b[keep] + [x1, y1, x1, y1])
+            ids.append(np.asarray(c).reshape(-1)[keep])
+            scores.append(np.asarray(s, dtype=np.float64).reshape(-1)[keep])
         b = self.base
         return detections_from_candidates(np.vstack(boxes), np.concatenate(ids), np.concatenate(scores),
                                           b.label_map, score_threshold=b.score_threshold, nms_iou=b.nms_iou,

@@ -44,6 +44,8 @@ PART_OVERLAP = 0.5
 # Two hypotheses seen together in at most this share of the smaller one's frames may still be
 # one object (a frame that boxed it twice, e.g. a whole table and one of its ends).
 MAX_SHARED_FRAMES = 0.1
+# Same-label hypotheses whose boxes nest this deeply are one object even when seen together.
+NESTED_OVERLAP = 0.7
 # A hypothesis' box: per-axis percentiles of its sightings' lower and upper bounds. A part seen
 # in a fifth of the views still widens the box; a single flying-pixel box does not.
 BOX_LOW_PERCENTILE = 20.0
@@ -211,6 +213,8 @@ def associate(sightings: Iterable[Sighting]) -> list[Hypothesis]:
 def _may_fold(a: Hypothesis, b: Hypothesis) -> bool:
     if a.label != b.label:
         return False
+    if box_overlap(a.lo, a.hi, b.lo, b.hi) >= NESTED_OVERLAP:
+        return True            # one inside the other: a part boxed on its own (a chair's seat)
     if len(set(a.frames) & set(b.frames)) > MAX_SHARED_FRAMES * min(a.n_frames, b.n_frames):
         return False
     gate = max(ASSOC_MAX_DISTANCE, ASSOC_EXTENT_FRACTION * max(a.extent, b.extent))

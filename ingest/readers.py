@@ -59,6 +59,22 @@ class _Entry:
     pose_file: Optional[Path] = None       # parsed when the frame is reached (7-Scenes, ScanNet)
 
 
+# OpenCV reports undecodable files itself on stderr; a bad frame is named in Sequence.skipped
+cv2.utils.logging.setLogLevel(cv2.utils.logging.LOG_LEVEL_ERROR)
+
+
+def _jpeg_complete(path: Path, tail: int = 64) -> bool:
+    """A JPEG file ends with the EOI marker FF D9 (a few padding bytes after it are tolerated)."""
+    try:
+        with open(path, "rb") as f:
+            f.seek(0, 2)
+            size = f.tell()
+            f.seek(max(0, size - tail))
+            return b"\xff\xd9" in f.read()
+    except OSError:
+        return False
+
+
 class _FileSource:
     """Decodes one frame's files; every failure names the file."""
 
@@ -71,6 +87,9 @@ class _FileSource:
     def _read(self, path: Path, flags: int) -> np.ndarray:
         if not path.is_file():
             raise FrameError(self.entry.name, f"missing {path.name}")
+        if path.suffix.lower() in (".jpg", ".jpeg") and not _jpeg_complete(path):
+            # libjpeg would decode the missing rest as grey and print a warning on stderr
+            raise FrameError(self.entry.name, f"{path.name} is truncated (no JPEG end marker)")
         img = cv2.imread(str(path), flags)
         if img is None:
             raise FrameError(self.entry.name, f"cannot decode {path.name} (corrupt or not an image)")
@@ -164,12 +183,23 @@ class Sequence:
     def skip(self, name: str, reason: str) -> None:
         self._skipped.setdefault(name, reason)
 
-    def _probe_size(self) -> tuple[int, int]:
+    def _probe_size(self, probes: int = 5) -> tuple[int, int]:
+        """The colour image size most of the first readable frames agree on (one odd image at the
+        start must not make every other frame the wrong size)."""
+        from collections import Counter
+
+        sizes: Counter = Counter()
         for entry in self._entries[:50]:
-            img = cv2.imread(str(entry.color), cv2.IMREAD_GRAYSCALE) if entry.color.is_file() else None
+            ok = entry.color.is_file() and (entry.color.suffix.lower() not in (".jpg", ".jpeg")
+                                            or _jpeg_complete(entry.color))
+            img = cv2.imread(str(entry.color), cv2.IMREAD_GRAYSCALE) if ok else None
             if img is not None:
-                return img.shape[1], img.shape[0]
-        raise SequenceError(f"no readable colour image among the first frames of {self.path}")
+                sizes[(img.shape[1], img.shape[0])] += 1
+                if sum(sizes.values()) >= probes:
+                    break
+        if not sizes:
+            raise SequenceError(f"no readable colour image among the first frames of {self.path}")
+        return sizes.most_common(1)[0][0]
 
     def frames(self, start: int = 0, stop: Optional[int] = None, step: int = 1,
                lazy: bool = False) -> Iterator[Frame]:

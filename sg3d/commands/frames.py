@@ -17,7 +17,7 @@ SHEET_FACTOR = 4   # thumbnails at 1/4 of the colour size (160x120 for 640x480)
 @click.command("frames")
 @click.argument("sequence", type=click.Path(path_type=Path))
 @click.option("--layout", default=None, metavar="NAME",
-              help="7scenes (also 3DMatch), tum or scannet. Default: detected from the files.")
+              help="7scenes (also 3DMatch), tum, scannet or open3d. Default: detected from the files.")
 @click.option("--abir-gain", type=float, default=None, show_default=False,
               help="ABIR gain g of Eq. 4 [10, the authors' code; the paper prints 30].")
 @click.option("--abir-offset", type=float, default=None, help="ABIR offset b of Eq. 4 [25].")
@@ -35,6 +35,7 @@ def frames_command(sequence: Path, layout: Optional[str], abir_gain, abir_offset
     from rich.console import Console
     from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeRemainingColumn
 
+    from ingest import coverage
     from ingest.abir import ABIR, DEFAULT_ALPHA, DEFAULT_GAIN, DEFAULT_OFFSET
     from ingest.kge import DEFAULT_T_ANCHOR, DEFAULT_T_KEY, KeyframeGrouper
     from ingest.readers import open_sequence
@@ -57,8 +58,14 @@ def frames_command(sequence: Path, layout: Optional[str], abir_gain, abir_offset
     last_sharp: list = [None, None]
     groups: list[list[int]] = []
 
+    candidates, required = [], []
+
     def on_frame(frame, decision, role):
         progress.advance(task)
+        if role in ("keyframe", "anchor", "garbage"):   # what `sg3d build` chooses its frames from
+            candidates.append(coverage.Candidate(frame.index, frame.pose))
+        if role in ("keyframe", "anchor"):
+            required.append(frame.index)
         if sheet is None or decision is None:
             return
         if role == "blurry":
@@ -74,6 +81,8 @@ def frames_command(sequence: Path, layout: Optional[str], abir_gain, abir_offset
         for group in selector.groups(seq, 0, stop, step, on_frame=on_frame):
             groups.append([f.index for f in group.frames])
     stats = selector.stats
+    budget = coverage.frame_budget(len(candidates))
+    detected = coverage.choose_frames(candidates, required, max(budget, len(required)))
 
     if sheet is not None:
         _write_sheet(seq, pairs, sheet)
@@ -83,7 +92,8 @@ def frames_command(sequence: Path, layout: Optional[str], abir_gain, abir_offset
         click.echo(json.dumps({"sequence": str(sequence), "layout": seq.layout, "frames_in_sequence": len(seq),
                                **stats.as_dict(), "params": params,
                                "skipped_frames": [{"frame": n, "reason": r} for n, r in skipped],
-                               "groups_frames": groups, "sheet": str(sheet) if sheet else None}))
+                               "groups_frames": groups, "detected_frames": detected,
+                               "sheet": str(sheet) if sheet else None}))
         return
     out = Console()
     out.print(f"[bold]{sequence}[/] ({seq.layout}, {len(seq)} frames, {seq.image_size[0]}x{seq.image_size[1]})")
@@ -96,7 +106,10 @@ def frames_command(sequence: Path, layout: Optional[str], abir_gain, abir_offset
         ("anchors", f"{stats.anchors}", f"t_anchor {params['t_anchor']}"),
         ("groups", f"{stats.groups}", "frames per group: " + " ".join(str(len(g)) for g in groups[:20])
          + (" ..." if len(groups) > 20 else "")),
-        ("processed further", f"{100 * stats.fraction_kept:.1f} %", f"{stats.kept} of {stats.read} frames read"),
+        ("keyframes+anchors", f"{100 * stats.fraction_kept:.1f} %", f"{stats.kept} of {stats.read} frames read"),
+        ("detected by build", f"{len(detected)}", f"keyframes and anchors + {len(detected) - len(set(required))} "
+                                                   f"frames with new viewpoints ({coverage.DEFAULT_FRACTION:.0%} "
+                                                   f"of the sharp frames, at least {coverage.MIN_FRAMES})"),
         ("time", f"{stats.seconds:.2f} s", f"{stats.frames_per_second:.0f} frames/s"),
     ]
     for label, value, note in rows:

@@ -1,0 +1,171 @@
+"""Whole-sequence fusion, frame coverage and the existence test.
+
+Hand-made sightings and poses check the rules exactly; real kitchen frames (real depth, real
+poses, the real detector) check that the existence test keeps what the detector keeps finding
+and rejects a detection that one frame made up.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from ingest import coverage, existence, fusion
+from ingest.attributes import ObjectAttributes
+from ingest.detect import Detection
+from ingest.model import HIST_SIZE
+
+
+def _sighting(frame: int, label: str, centre, size, score: float = 0.8, labels=None) -> fusion.Sighting:
+    attrs = ObjectAttributes(mean=tuple(centre), var=(1e-4,) * 3, n_points=50, size=tuple(size),
+                             hist=np.ones(HIST_SIZE), colour="white", thumbnail=b"jpg", centre=tuple(centre))
+    names = labels or [label]
+    det = Detection((0, 0, 10, 10), names, [score / (k + 1) for k in range(len(names))])
+    return fusion.Sighting.of(frame, det, attrs, np.eye(3))
+
+
+# --------------------------------------------------------------------------- coverage
+
+def _pose(x: float, yaw_deg: float = 0.0) -> np.ndarray:
+    a = math.radians(yaw_deg)
+    pose = np.eye(4)
+    pose[:3, :3] = [[math.cos(a), 0, math.sin(a)], [0, 1, 0], [-math.sin(a), 0, math.cos(a)]]
+    pose[0, 3] = x
+    return pose
+
+
+def test_budget_has_a_floor_and_never_exceeds_the_frames():
+    assert coverage.frame_budget(1000, 0.15, 40) == 150
+    assert coverage.frame_budget(100, 0.15, 40) == 40
+    assert coverage.frame_budget(25, 0.15, 40) == 25
+
+
+def test_coverage_keeps_required_frames_then_takes_the_newest_views_first():
+    # frames 0-9 stand still at x=0; frame 10 stands 2 m away; frame 11 turns 90 degrees
+    cands = [coverage.Candidate(i, _pose(0.0)) for i in range(10)]
+    cands += [coverage.Candidate(10, _pose(2.0)), coverage.Candidate(11, _pose(0.0, 90.0))]
+    chosen = coverage.choose_frames(cands, required=[3], budget=3)
+    assert chosen == [3, 10, 11]
+    # repeating the same view adds nothing: the choice stops rather than pick duplicates
+    assert coverage.choose_frames(cands, required=[3], budget=12) == [3, 10, 11]
+    assert coverage.choose_frames(cands, [3], 3) == coverage.choose_frames(list(cands), [3], 3)
+
+
+def test_viewpoint_distance_follows_its_formula():
+    f = coverage.viewpoint_features([_pose(0.0), _pose(0.3, 0.0)])
+    assert np.linalg.norm(f[1] - f[0]) == pytest.approx(0.3 / coverage.POSITION_SCALE_M)
+
+
+# --------------------------------------------------------------------------- association
+
+def test_two_cups_side_by_side_stay_two_objects_and_later_views_join_them():
+    s = [_sighting(0, "cup", (0.0, 0, 0), (0.1, 0.1, 0.1)), _sighting(0, "cup", (0.2, 0, 0), (0.1, 0.1, 0.1)),
+         _sighting(5, "cup", (0.02, 0, 0), (0.1, 0.1, 0.1)), _sighting(9, "cup", (0.21, 0, 0), (0.1, 0.1, 0.1))]
+    hyps = fusion.consolidate(fusion.associate(s))
+    assert sorted(h.frames for h in hyps) == [[0, 5], [0, 9]]
+
+
+def test_a_table_seen_in_two_parts_is_one_object():
+    left = _sighting(0, "dining table", (-0.45, 0, 0), (1.1, 0.8, 0.05))
+    right = _sighting(7, "dining table", (0.35, 0, 0), (1.7, 0.8, 0.05))    # centres 0.8 m apart
+    hyps = fusion.consolidate(fusion.associate([left, right]))
+    assert len(hyps) == 1 and hyps[0].frames == [0, 7]
+    assert hyps[0].hi[0] - hyps[0].lo[0] > 1.3      # the box spans both parts
+
+
+def test_a_differently_named_neighbour_does_not_join():
+    chair = [_sighting(i, "chair", (0, 0, 0), (0.5, 0.5, 0.9)) for i in range(3)]
+    vase = _sighting(3, "vase", (0.2, 0, 0.5), (0.1, 0.1, 0.2), labels=["vase", "cup"])
+    hyps = fusion.associate(chair + [vase])
+    assert sorted(h.label for h in hyps) == ["chair", "vase"]
+
+
+def test_a_double_box_in_one_frame_is_suppressed():
+    whole = _sighting(0, "chair", (0, 0, 0), (0.5, 0.5, 0.9), score=0.9)
+    seat = _sighting(0, "chair", (0, 0, -0.1), (0.4, 0.4, 0.3), score=0.4)
+    assert fusion.suppress_duplicates([seat, whole]) == [whole]
+
+
+def test_label_evidence_accumulates_so_the_repeated_label_wins():
+    s = [_sighting(0, "tv", (0, 0, 0), (0.3, 0.2, 0.05), score=0.9, labels=["tv", "book"])]
+    s += [_sighting(i, "book", (0, 0, 0), (0.3, 0.2, 0.05), score=0.5, labels=["book", "tv"]) for i in range(1, 5)]
+    hyp = fusion.consolidate(fusion.associate(s))
+    assert len(hyp) == 1 and hyp[0].label == "book"
+
+
+# --------------------------------------------------------------------------- existence
+
+def test_existence_probability_is_bayes_over_two_binomials():
+    k, n, pr, pf = 2, 10, 0.25, 0.10
+    real, false = pr ** k * (1 - pr) ** (n - k), pf ** k * (1 - pf) ** (n - k)
+    expected = real / (real + false)
+    assert existence.existence_probability(k, n, pr, pf, 0.5) == pytest.approx(expected)
+    # more detections among the same views, more belief; more silent views, less
+    assert existence.existence_probability(5, 10) > existence.existence_probability(2, 10)
+    assert existence.existence_probability(2, 40) < existence.existence_probability(2, 10)
+
+
+def test_size_prior_relabels_or_rejects():
+    assert existence.plausible_labels(["cell phone", "book"], [0.4, 0.2], (0.45, 0.36, 0.1)) == (["book"], [0.2])
+    assert existence.plausible_labels(["cup"], [0.5], (1.5, 0.9, 0.8)) == ([], [])
+    assert existence.size_plausible("chair", (0.5, 0.5, 0.9))
+
+
+@pytest.fixture(scope="module")
+def kitchen_views(kitchen_dir):
+    """Twelve real frames of the kitchen's first second (the table and chairs in view)."""
+    from ingest.readers import open_sequence
+
+    seq = open_sequence(kitchen_dir)
+    return [seq.frame(i) for i in range(0, 120, 10)]
+
+
+def _centre_point(frame, u: int, v: int):
+    d = float(frame.depth[v, u])
+    K = frame.K
+    cam = np.array([(u - K[0, 2]) / K[0, 0] * d, (v - K[1, 2]) / K[1, 1] * d, d])
+    return frame.pose[:3, :3] @ cam + frame.pose[:3, 3], d
+
+
+def test_visibility_on_real_frames_sees_inside_and_knows_occlusion(kitchen_views):
+    frame = kitchen_views[0]
+    view = existence.View.of(frame)
+    v, u = np.argwhere(frame.depth[200:280, 280:360] > 0)[0] + (200, 280)
+    point, d = _centre_point(frame, int(u), int(v))
+    assert existence.expected_in_view(point, 0.3, view) > 0
+    behind = point + (point - frame.pose[:3, 3]) / d * 1.5   # 1.5 m further along the same ray
+    assert existence.expected_in_view(behind, 0.3, view) == 0.0
+    assert existence.expected_in_view(frame.pose[:3, 3] - 2 * frame.pose[:3, 2], 0.3, view) == 0.0  # behind the camera
+
+
+def test_existence_keeps_what_the_detector_keeps_finding_and_rejects_a_made_up_detection(kitchen_views):
+    from ingest.attributes import measure_object
+    from ingest.detect import SsdMobilenetDetector
+    from ingest.gravity import estimate_gravity
+
+    up = estimate_gravity(kitchen_views).up
+    detector = SsdMobilenetDetector()
+    sightings, views = [], []
+    for frame in kitchen_views:
+        for det in detector.detect(frame.color):
+            attrs = measure_object(frame, det.box, up)
+            if attrs is not None:
+                sightings.append(fusion.Sighting.of(frame.index, det, attrs, np.eye(3)))
+        views.append(existence.View.of(frame))
+    # a "tv" the detector never said, in one frame, on the middle of the table
+    fake_frame = kitchen_views[4]
+    fake = Detection((300, 260, 360, 300), ["tv"], [0.9])
+    made_up = fusion.Sighting.of(fake_frame.index, fake, measure_object(fake_frame, fake.box, up), np.eye(3))
+    sightings.append(made_up)
+
+    hyps = fusion.consolidate(fusion.associate(sightings))
+    verdict = {}
+    for h in hyps:
+        ev = existence.evidence((h.lo + h.hi) / 2, h.extent, set(h.frames), views)
+        verdict.setdefault(h.label, []).append((existence.exists(ev), ev))
+        if any(s is made_up for s in h.sightings):
+            assert h.sightings == [made_up] and not existence.exists(ev) and ev.expected > 1
+    kept = [(label, ev) for label, v in verdict.items() for ok, ev in v if ok]
+    assert {"dining table", "chair"} <= {label for label, _ in kept}
+    assert all(ev.detected >= 0.5 * ev.expected for label, ev in kept if label == "dining table")
