@@ -64,8 +64,8 @@ def _summary_table(summary: dict):
               help="Fuse and merge the sequence in chunks of this many frames [3000].")
 @click.option("--abir-gain", type=float, default=None, help="ABIR gain g of Eq. 4 (default 10, the authors' code).")
 @click.option("--t-key", type=float, default=0.2, show_default=True, help="KGE keyframe overlap threshold.")
-@click.option("--t-anchor", type=float, default=0.68, show_default=True,
-              help="KGE anchor overlap threshold (the authors' code).")
+@click.option("--t-anchor", type=float, default=0.9, show_default=True,
+              help="KGE anchor overlap threshold (the authors' code: 0.68; see ingest/pipeline.py).")
 @click.option("--transform", "transform_file", type=click.Path(exists=True, dir_okay=False, path_type=Path),
               default=None, help="4x4 room-to-building transform (4 lines of 4 numbers).")
 @click.option("--align-to", default=None, metavar="ROOM",

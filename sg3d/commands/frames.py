@@ -23,7 +23,8 @@ SHEET_FACTOR = 4   # thumbnails at 1/4 of the colour size (160x120 for 640x480)
 @click.option("--abir-offset", type=float, default=None, help="ABIR offset b of Eq. 4 [25].")
 @click.option("--abir-alpha", type=float, default=None, help="ABIR smoothing factor alpha of Eq. 2 [0.9].")
 @click.option("--t-key", type=float, default=None, help="KGE keyframe overlap threshold [0.2].")
-@click.option("--t-anchor", type=float, default=None, help="KGE anchor overlap threshold [0.68].")
+@click.option("--t-anchor", type=float, default=None,
+              help="KGE anchor overlap threshold [0.9, as `sg3d build` uses; the authors' code: 0.68].")
 @click.option("--limit", type=click.IntRange(min=1), default=None, metavar="N", help="Read at most N frames.")
 @click.option("--step", type=click.IntRange(min=1), default=1, show_default=True, help="Read every STEP-th frame.")
 @click.option("--json", "as_json", is_flag=True, help="Machine-readable output on stdout.")
@@ -37,7 +38,8 @@ def frames_command(sequence: Path, layout: Optional[str], abir_gain, abir_offset
 
     from ingest import coverage
     from ingest.abir import ABIR, DEFAULT_ALPHA, DEFAULT_GAIN, DEFAULT_OFFSET
-    from ingest.kge import DEFAULT_T_ANCHOR, DEFAULT_T_KEY, KeyframeGrouper
+    from ingest.kge import DEFAULT_T_KEY, KeyframeGrouper
+    from ingest.pipeline import BUILD_T_ANCHOR
     from ingest.readers import open_sequence
     from ingest.selection import FrameSelector
 
@@ -45,7 +47,7 @@ def frames_command(sequence: Path, layout: Optional[str], abir_gain, abir_offset
                   abir_gain=DEFAULT_GAIN if abir_gain is None else abir_gain,
                   abir_offset=DEFAULT_OFFSET if abir_offset is None else abir_offset,
                   t_key=DEFAULT_T_KEY if t_key is None else t_key,
-                  t_anchor=DEFAULT_T_ANCHOR if t_anchor is None else t_anchor)
+                  t_anchor=BUILD_T_ANCHOR if t_anchor is None else t_anchor)
     try:
         abir = ABIR(params["abir_alpha"], params["abir_gain"], params["abir_offset"])
         grouper = KeyframeGrouper(params["t_key"], params["t_anchor"])

@@ -1,0 +1,118 @@
+"""Quality floors on real data: a fresh default build of the real kitchen scored against its
+ground truth, and of the second room (the Open3D living room, no ground-truth file: its three
+objects are asserted by name).
+
+The floors sit just under what the pipeline reaches (README, Table II), so a regression in
+frame choice, fusion, existence, relations or answers fails here. Each room is built once.
+"""
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+
+import pytest
+
+from tests.conftest import SHARED
+
+GT = SHARED / "eval" / "kitchen_gt.json"
+LIVING = SHARED / "data" / "open3d-livingroom1-micro"
+
+# what a fresh default kitchen build must keep reaching (measured: README, Table II)
+MIN_NODE_PRECISION = 0.65
+MIN_NODE_RECALL = 0.32
+MAX_DUPLICATES = 1
+MIN_EDGE_PRECISION = 0.55
+MIN_VQA_RIGHT = 4
+
+
+def sg3d(home, *args, timeout=900):
+    env = dict(os.environ, SG3D_HOME=str(home))
+    env.pop("SG3D_URI", None)
+    out = subprocess.run([sys.executable, "-m", "sg3d", *args], capture_output=True, text=True, env=env,
+                         timeout=timeout)
+    return out
+
+
+@pytest.fixture(scope="module")
+def home(tmp_path_factory):
+    from graphdb.embedded import EmbeddedServer
+
+    home = tmp_path_factory.mktemp("quality-home")
+    yield home
+    EmbeddedServer(home).stop()
+
+
+@pytest.fixture(scope="module")
+def kitchen(home, kitchen_dir):
+    if not GT.exists():
+        pytest.skip("ground truth ../shared/eval/kitchen_gt.json not found")
+    out = sg3d(home, "build", str(kitchen_dir), "--room", "kitchen", "--json")
+    assert out.returncode == 0, out.stderr
+    report = sg3d(home, "eval", "--gt", str(GT), "--room", "kitchen", "--json")
+    assert report.returncode == 0, report.stderr
+    return json.loads(out.stdout), json.loads(report.stdout)
+
+
+def test_kitchen_nodes_keep_their_quality(kitchen):
+    build, report = kitchen
+    nodes = report["nodes"]
+    assert nodes["precision"] >= MIN_NODE_PRECISION, nodes["spurious"]
+    assert nodes["recall"] >= MIN_NODE_RECALL, nodes["missing"]
+    assert len(nodes["duplicates"]) <= MAX_DUPLICATES, nodes["duplicates"]
+    # the existence test did its job: candidates were formed and some were rejected
+    assert build["hypotheses"]["formed"] > build["hypotheses"]["kept"] > 0
+
+
+def test_kitchen_edges_and_answers_keep_their_quality(kitchen):
+    _, report = kitchen
+    assert report["edges"]["precision"] >= MIN_EDGE_PRECISION, report["edges"].get("spurious")
+    assert report["vqa"]["right"] >= MIN_VQA_RIGHT
+
+
+def test_kitchen_relations_are_consistent(home, kitchen):
+    from graphdb.checks import relation_contradictions
+    from graphdb.embedded import EmbeddedServer
+    from graphdb.store import Store
+
+    info = EmbeddedServer(home).ensure_running()
+    with Store(info.uri, (info.user, info.password), info.database) as store:
+        check = relation_contradictions(store, "default/kitchen")
+    assert check["pairs"] > 0
+    assert check["contradictory_pairs"] == 0 and check["viewpoint_edges"] == 0, check["examples"]
+    assert check["non_canonical_symmetric"] == 0
+
+
+def test_kitchen_cleanup_plan_puts_no_book_or_phone_in_the_sink(home, kitchen):
+    out = sg3d(home, "plan", "clean up the table", "--room", "kitchen", "--json")
+    assert out.returncode == 0, out.stderr
+    placement = json.loads(out.stdout)["placement"]
+    for item, where in placement.items():
+        if any(word in item for word in ("book", "phone", "laptop", "remote")):
+            assert "sink" not in (where["to"] or ""), (item, where)
+
+
+def test_where_is_the_cup_names_its_support_without_ids(home, kitchen):
+    out = sg3d(home, "ask", "where is the cup?", "--room", "kitchen")
+    assert out.returncode == 0, out.stderr
+    assert "on the" in out.stdout and "o-" not in out.stdout
+
+
+@pytest.fixture(scope="module")
+def living(home):
+    if not (LIVING / "trajectory.log").exists():
+        pytest.skip("the second room ../shared/data/open3d-livingroom1-micro is not there")
+    out = sg3d(home, "build", str(LIVING), "--room", "living", "--building", "flat", "--json")
+    assert out.returncode == 0, out.stderr
+    labels = json.loads(sg3d(home, "cypher", "MATCH (o:Object) WHERE o.room = 'flat/living' "
+                                            "RETURN o.label AS label", "--json").stdout)
+    return json.loads(out.stdout), [r["label"] for r in labels]
+
+
+def test_the_living_room_builds_from_its_own_layout_with_one_chair_and_one_tv(living):
+    build, labels = living
+    assert build["layout"] == "open3d" and build["frames"]["detected"] >= 40
+    assert labels.count("chair") == 1 and labels.count("tv") == 1
+    # one object more at most: the low wooden cabinet, which the COCO detector calls a dining table
+    assert len(labels) <= 3, labels
