@@ -207,23 +207,14 @@ class Sequence:
         image skips the frame); `lazy=True` yields frames that decode on first access, so a
         caller that only needs `frame.gray` or the pose never pays for the rest."""
         for i in range(start, len(self) if stop is None else min(stop, len(self)), step):
-            entry = self._entries[i]
             try:
-                pose = _parse_pose(entry)
-            except FrameError as exc:
-                self.skip(exc.name, exc.reason)
-                continue
-            frame = Frame(i, None, None, self.K, pose, entry.timestamp, entry.name,
-                          size=self.image_size, source=_FileSource(entry, self), on_error=self.skip)
-            if not lazy:
-                try:
-                    frame.load()
-                except FrameError:
-                    continue  # already recorded through on_error
-            yield frame
+                yield self.frame(i, lazy=lazy)
+            except FrameError:
+                continue  # recorded in skipped
 
     def frame(self, i: int, lazy: bool = False) -> Frame:
-        """One frame by position (raises FrameError when it is bad)."""
+        """One frame by position (raises FrameError when it is bad, after recording it in
+        `skipped`)."""
         entry = self._entries[i]
         try:
             pose = _parse_pose(entry)

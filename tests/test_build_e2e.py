@@ -60,17 +60,17 @@ def test_build_twice_gives_identical_counts(home, kitchen_dir):
     assert len(ET.fromstring(graphml).findall(".//g:node", ns)) == first["graph"]["room_objects"]
 
 
-def _room_state(home, room):
+def _room_state(home, room, building="test"):
     """What a build leaves in a room: objects (label, rounded position, observations, frames)
     and relations (subject label, type, object label), as sorted lists."""
     objects = json.loads(sg3d(home, "cypher",
                               "MATCH (o:Object) WHERE o.room = $room RETURN o.label AS label, o.x AS x, "
                               "o.y AS y, o.z AS z, o.observations AS obs, o.n_frames AS frames",
-                              "-p", f"room={json.dumps('test/' + room)}", "--json").stdout)
+                              "-p", f"room={json.dumps(building + '/' + room)}", "--json").stdout)
     relations = json.loads(sg3d(home, "cypher",
                                 "MATCH (a:Object)-[r]->(b:Object) WHERE a.room = $room AND b.room = $room "
                                 "RETURN a.label AS a, type(r) AS t, b.label AS b",
-                                "-p", f"room={json.dumps('test/' + room)}", "--json").stdout)
+                                "-p", f"room={json.dumps(building + '/' + room)}", "--json").stdout)
     return (sorted((o["label"], round(o["x"], 3), round(o["y"], 3), round(o["z"], 3), o["obs"], o["frames"])
                    for o in objects),
             # NEXT_TO/NEAR are stored once, from the smaller (random) id: compare them unordered
@@ -143,3 +143,21 @@ def test_a_second_room_takes_the_given_transform(home, kitchen_dir, tmp_path):
     placed = {r["name"]: r for r in rooms}
     assert placed["other"]["to_building"][0] == [0.0, -1.0, 0.0, 1.0]
     assert placed["slice"]["to_building"][0] == [1.0, 0.0, 0.0, 0.0]
+
+
+def test_two_concurrent_builds_of_one_new_room_equal_one_build(home, kitchen_dir):
+    """Two `sg3d build` processes racing on the same new room: both succeed, and the room holds
+    what one build gives (the second finds the chunk merged inside its own transaction)."""
+    args = [str(kitchen_dir), "--building", "race", "--start", "0", "--stop", "60", "--json"]
+    env = dict(os.environ, SG3D_HOME=str(home))
+    env.pop("SG3D_URI", None)
+    procs = [subprocess.Popen([sys.executable, "-m", "sg3d", "build", *args[:1], "--room", "twice", *args[1:]],
+                              stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env)
+             for _ in range(2)]
+    outs = [p.communicate(timeout=600) for p in procs]
+    assert [p.returncode for p in procs] == [0, 0], [err for _, err in outs]
+    merged = sorted(json.loads(out)["graph"]["merged_chunks"] for out, _ in outs)
+    assert merged == [0, 1]
+    once = sg3d(home, "build", *args[:1], "--room", "once", *args[1:])
+    assert once.returncode == 0, once.stderr
+    assert _room_state(home, "twice", "race") == _room_state(home, "once", "race")
