@@ -373,6 +373,16 @@ REL_WORDS = {"ON": "on", "IN": "in", "UNDER": "under", "BELOW": "below", "ABOVE"
 SYMMETRIC = ("NEXT_TO", "NEAR")
 
 
+def _without_place(name: str, said: str) -> str:
+    """"brown cup on the dining table" -> "brown cup" when the sentence goes on to say "on the
+    dining table": a name that tells objects apart by their support need not say it twice."""
+    for word in (" on the ", " in the ", " under the ", " next to the "):
+        i = name.find(word)
+        if i > 0 and said.startswith(name[i + 1:]):
+            return name[:i]
+    return name
+
+
 def where(run: _Run, q: Query, rooms) -> Answer:
     """Where is the <object>: per matching object, what it is on/in/next to, and its room."""
     rows = _candidates(run, q, rooms)
@@ -393,7 +403,8 @@ def where(run: _Run, q: Query, rooms) -> Answer:
         found = rels[r["id"]]
         room = (r.get("room") or "?").split("/", 1)[-1]
         said = views.describe_place(placed[r["id"]], {k: the(v) for k, v in named.items()})
-        parts.append(f"{the(named[r['id']])} is " + (f"{said}, in the {room}" if said else f"in the {room}"))
+        parts.append(f"{the(_without_place(named[r['id']], said))} is "
+                     + (f"{said}, in the {room}" if said else f"in the {room}"))
         value.append({**_brief(r), "relations": found})
     more = f"; ... {len(rows) - LIST_SHOWN} more" if len(rows) > LIST_SHOWN else ""
     return Answer("", True, "; ".join(parts) + more, "where", value, value, q)
