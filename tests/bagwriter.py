@@ -62,10 +62,10 @@ def _pose_msgs(ts, T: np.ndarray):
 
 def write_bag(path: Path, frames: list[BagFrame], *, kind: str = "ros1", colour: str = "raw",
               poses: str = "topic", encoding: str = "rgb8", drop_tf: Optional[set] = None,
-              depth_offset: float = 0.003, extra_colour_topic: bool = False) -> Path:
+              depth_offset: float = 0.003, extra_colour_topic: bool = False, depth: bool = True) -> Path:
     """kind: ros1 | sqlite3 | mcap | bare-mcap; colour: raw (Image `encoding`) | jpeg
     (CompressedImage); poses: topic (PoseStamped) | tf (/tf world->base_link, /tf_static
-    base_link->camera_optical); drop_tf: frame indices whose /tf message is left out."""
+    base_link->camera_optical) | none; depth: False leaves the depth topic out; drop_tf: frame indices whose /tf message is left out."""
     ros1 = kind == "ros1"
     ts = _typestore(ros1)
     serialize = ts.serialize_ros1 if ros1 else ts.serialize_cdr
@@ -90,11 +90,11 @@ def write_bag(path: Path, frames: list[BagFrame], *, kind: str = "ros1", colour:
         c_extra = writer.add_connection("/camera/ir/image_raw", "sensor_msgs/msg/Image", typestore=ts) \
             if extra_colour_topic else None
         c_depth = writer.add_connection("/camera/aligned_depth_to_color/image_raw", "sensor_msgs/msg/Image",
-                                        typestore=ts)
+                                        typestore=ts) if depth else None
         c_info = writer.add_connection("/camera/color/camera_info", "sensor_msgs/msg/CameraInfo", typestore=ts)
         if poses == "topic":
             c_pose = writer.add_connection("/camera/pose", "geometry_msgs/msg/PoseStamped", typestore=ts)
-        else:
+        elif poses == "tf":
             c_tf = writer.add_connection("/tf", "tf2_msgs/msg/TFMessage", typestore=ts)
             c_static = writer.add_connection("/tf_static", "tf2_msgs/msg/TFMessage", typestore=ts)
 
@@ -136,7 +136,8 @@ def write_bag(path: Path, frames: list[BagFrame], *, kind: str = "ros1", colour:
             dmsg = _make(ts, "sensor_msgs/msg/Image", header=_header(ts, td, cam), height=h, width=w,
                          encoding="16UC1", is_bigendian=0, step=w * 2,
                          data=np.ascontiguousarray(f.depth_mm).view(np.uint8).reshape(-1))
-            writer.write(c_depth, td, serialize(dmsg, "sensor_msgs/msg/Image"))
+            if c_depth is not None:
+                writer.write(c_depth, td, serialize(dmsg, "sensor_msgs/msg/Image"))
             if k == 0:
                 K = f.K
                 info = _make(ts, "sensor_msgs/msg/CameraInfo", header=_header(ts, t, cam), height=h, width=w,
@@ -154,7 +155,7 @@ def write_bag(path: Path, frames: list[BagFrame], *, kind: str = "ros1", colour:
                                         position=_make(ts, "geometry_msgs/msg/Point", x=p[0], y=p[1], z=p[2]),
                                         orientation=q))
                 writer.write(c_pose, t, serialize(pmsg, "geometry_msgs/msg/PoseStamped"))
-            elif not drop_tf or k not in drop_tf:
+            elif poses == "tf" and (not drop_tf or k not in drop_tf):
                 base = f.pose @ np.linalg.inv(mount)
                 writer.write(c_tf, t, serialize(tf_msg(t, "world", "base_link", base), "tf2_msgs/msg/TFMessage"))
     if kind == "bare-mcap":

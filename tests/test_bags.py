@@ -112,6 +112,10 @@ def test_bad_bags_are_one_line_and_exit_2(tmp_path, frames):
     assert r.returncode == 2 and "no transform chain from camera_color_optical_frame to map" in r.stderr
     r = _cli("frames", good, "--pose-topic", "/nothing")
     assert r.returncode == 2 and "--pose-topic /nothing: no such topic" in r.stderr
+    r = _cli("frames", write_bag(tmp_path / "nodepth.bag", frames[:3], kind="ros1", depth=False))
+    assert r.returncode == 2 and "no depth image topic in" in r.stderr and "/camera/color/image_raw" in r.stderr
+    r = _cli("frames", write_bag(tmp_path / "nopose", frames[:3], kind="sqlite3", poses="none"))
+    assert r.returncode == 2 and "no pose source in" in r.stderr
     r = _cli("frames", tmp_path / "absent.mcap")
     assert r.returncode == 2 and "ROS bag not found" in r.stderr
 
