@@ -7,7 +7,7 @@ from typing import Any, Optional
 
 from app.errors import AppError, NotFound, Refused
 
-FORMATS = ("json", "graphml", "spark-dsg")
+FORMATS = ("json", "graphml", "spark-dsg", "3dssg")
 CYPHER_ROW_LIMIT = 1000
 CYPHER_TIMEOUT_S = 10.0
 
@@ -44,7 +44,31 @@ def render_graph(graph: dict, fmt: str) -> str:
         from graphdb.spark import to_spark_json
 
         return to_spark_json(graph, graph.get("room_transforms"))
+    if fmt == "3dssg":  # both files in one document; `sg3d export --out DIR` writes them apart
+        import json
+
+        from graphdb.threedssg import to_3dssg
+
+        objects, relationships = to_3dssg(graph)
+        return json.dumps({"objects": objects, "relationships": relationships}, indent=1)
     return to_json(graph) if fmt == "json" else to_graphml(graph)
+
+
+def write_3dssg(graph: dict, folder) -> tuple[int, int]:
+    """objects.json and relationships.json (3DSSG/3RScan form) into `folder`; (objects, relationships)."""
+    import json
+    from pathlib import Path
+
+    from graphdb.threedssg import to_3dssg
+
+    folder = Path(folder)
+    if folder.exists() and not folder.is_dir():
+        raise Refused(f"{folder}: 3dssg writes objects.json and relationships.json into a folder, not a file")
+    folder.mkdir(parents=True, exist_ok=True)
+    objects, relationships = to_3dssg(graph)
+    (folder / "objects.json").write_text(json.dumps(objects, indent=1))
+    (folder / "relationships.json").write_text(json.dumps(relationships, indent=1))
+    return len(graph["nodes"]), sum(len(s["relationships"]) for s in relationships["scans"])
 
 
 # -- schema ------------------------------------------------------------------------------------

@@ -122,3 +122,24 @@ def test_import_of_a_hydra_style_graph(home, tmp_path):
     bad.write_text('{"nodes": 3}')
     r = sg3d(home, "import", bad)
     assert r.returncode == 2 and len(r.stderr.strip().splitlines()) == 1 and "spark_dsg" in r.stderr
+
+
+def test_3dssg_export(home, tmp_path):
+    from graphdb.threedssg import PREDICATE, RELATIONSHIPS
+
+    ours = _objects(home, "lab")
+    r = sg3d(home, "export", "--building", "lab", "--format", "3dssg", "--out", tmp_path / "ssg")
+    assert r.returncode == 0, r.stderr
+    objects = json.loads((tmp_path / "ssg" / "objects.json").read_text())
+    rels = json.loads((tmp_path / "ssg" / "relationships.json").read_text())
+    assert [s["scan"] for s in objects["scans"]] == ["lab/kitchen"] == [s["scan"] for s in rels["scans"]]
+    objs = objects["scans"][0]["objects"]
+    assert sorted(o["label"] for o in objs) == sorted(n["label"] for n in ours["nodes"])
+    number = {o["sg3d_id"]: int(o["id"]) for o in objs}
+    assert rels["scans"][0]["objects"] == {o["id"]: o["label"] for o in objs}
+    got = {tuple(x) for x in rels["scans"][0]["relationships"]}
+    want = {(number[e["s"]], number[e["o"]], RELATIONSHIPS.index(PREDICATE[e["type"]]), PREDICATE[e["type"]])
+            for e in ours["edges"] if e["type"] in PREDICATE}
+    assert got == want and want, "every mappable relation is exported once"
+    on = [x for x in got if x[3] == "standing on"]
+    assert len(on) == sum(e["type"] == "ON" for e in ours["edges"]) and all(x[2] == 15 for x in on)
