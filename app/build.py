@@ -30,6 +30,7 @@ class BuildRequest:
     transform_file: Optional[Path] = None
     align_to: Optional[str] = None
     shared_frame: bool = False
+    bag_options: Optional[dict] = None  # ROS bags: `ingest.bags.BagOptions` fields
 
 
 def validate(req: BuildRequest) -> None:
@@ -66,7 +67,7 @@ def build_room(store, req: BuildRequest, settings, detector=None, embedding=None
         except TransformError as exc:
             raise BuildError(str(exc))
     t_start = time.perf_counter()
-    seq = open_sequence(req.sequence, req.layout)
+    seq = open_sequence(req.sequence, req.layout, **(req.bag_options or {}))
     if len(seq) == 0:
         raise BuildError(f"no frames found in {req.sequence}")
     if req.start >= len(seq):

@@ -7,16 +7,17 @@ from typing import Any, Optional
 
 from app.errors import AppError, NotFound, Refused
 
-FORMATS = ("json", "graphml")
+FORMATS = ("json", "graphml", "spark-dsg", "3dssg")
 CYPHER_ROW_LIMIT = 1000
 CYPHER_TIMEOUT_S = 10.0
 
 
 # -- export -----------------------------------------------------------------------------------
 def fetch_named_graph(store, building: str, room: Optional[str] = None, thumbnails: bool = False,
-                      histograms: bool = False) -> dict:
+                      histograms: bool = False, room_transforms: bool = False) -> dict:
     """The room's (or building's) graph {building, room, nodes, edges}, each node with its readable
-    name; NotFound when it holds no objects."""
+    name (and with `room_transforms`, {room name: 4x4 room-to-building or None}, which the
+    spark-dsg form needs); NotFound when it holds no objects."""
     from graphdb.export import fetch_graph
     from queries.naming import name_graph
 
@@ -25,16 +26,49 @@ def fetch_named_graph(store, building: str, room: Optional[str] = None, thumbnai
         where = f"room {room!r} of building {building!r}" if room else f"building {building!r}"
         raise NotFound(f"nothing to export: {where} holds no objects "
                        f"(see `sg3d cypher \"MATCH (r:Room) RETURN r.id\"`)")
+    if room_transforms:
+        from graphdb.building import list_rooms
+
+        graph["room_transforms"] = {r["name"]: r["to_building"] for r in list_rooms(store, building)}
     return name_graph(graph)     # each node's readable name, as ask, plan and show print it
 
 
 def render_graph(graph: dict, fmt: str) -> str:
-    """The graph as text: the paper's JSON form or GraphML."""
+    """The graph as text: the paper's JSON form, GraphML or spark_dsg's JSON (Hydra's format,
+    `graphdb.spark`; positions in the building frame when `graph` has "room_transforms")."""
     from graphdb.export import to_graphml, to_json
 
     if fmt not in FORMATS:
         raise AppError(f"unknown format {fmt!r} (choose from {', '.join(FORMATS)})")
+    if fmt == "spark-dsg":
+        from graphdb.spark import to_spark_json
+
+        return to_spark_json(graph, graph.get("room_transforms"))
+    if fmt == "3dssg":  # both files in one document; `sg3d export --out DIR` writes them apart
+        import json
+
+        from graphdb.threedssg import to_3dssg
+
+        objects, relationships = to_3dssg(graph)
+        return json.dumps({"objects": objects, "relationships": relationships}, indent=1)
     return to_json(graph) if fmt == "json" else to_graphml(graph)
+
+
+def write_3dssg(graph: dict, folder) -> tuple[int, int]:
+    """objects.json and relationships.json (3DSSG/3RScan form) into `folder`; (objects, relationships)."""
+    import json
+    from pathlib import Path
+
+    from graphdb.threedssg import to_3dssg
+
+    folder = Path(folder)
+    if folder.exists() and not folder.is_dir():
+        raise Refused(f"{folder}: 3dssg writes objects.json and relationships.json into a folder, not a file")
+    folder.mkdir(parents=True, exist_ok=True)
+    objects, relationships = to_3dssg(graph)
+    (folder / "objects.json").write_text(json.dumps(objects, indent=1))
+    (folder / "relationships.json").write_text(json.dumps(relationships, indent=1))
+    return len(graph["nodes"]), sum(len(s["relationships"]) for s in relationships["scans"])
 
 
 # -- schema ------------------------------------------------------------------------------------
@@ -175,3 +209,49 @@ def run_rolled_back(store, statement: str, params: dict, limit: int = CYPHER_ROW
             return {"keys": keys, "rows": rows, "truncated": False}
         finally:
             tx.rollback()
+
+
+# -- import ------------------------------------------------------------------------------------
+def import_spark_dsg(store, path, building: Optional[str] = None, room: Optional[str] = None,
+                     embedding=None) -> dict:
+    """Merge a spark_dsg scene graph file (Hydra's, or our own export) into the store, through the
+    merge every observation takes (same-node detection, one transaction per room). Each room of
+    the file becomes a room (`room`: all objects into that one room); the building is `building`,
+    else the file's building node's name, else "default". The observation key is the file's
+    content hash, so importing the same file again merges nothing."""
+    import hashlib
+    from pathlib import Path
+
+    from pydantic import ValidationError
+
+    from app.ingest import IngestRequest, ingest_graph
+    from graphdb.spark import SparkError, read_spark
+
+    try:
+        data = read_spark(path)
+    except SparkError as exc:
+        raise Refused(str(exc)) from None
+    digest = hashlib.sha256(Path(path).read_bytes()).hexdigest()[:16]
+    building = building or data["building"] or "default"
+    groups: dict[str, dict] = {}
+    for source, g in data["rooms"].items():
+        target = room or source or "unassigned"
+        merged = groups.setdefault(target, {"objects": [], "relations": [], "sources": []})
+        merged["objects"] += g["objects"]
+        merged["relations"] += g["relations"]
+        merged["sources"].append(source)
+    reports = []
+    for target, g in sorted(groups.items()):
+        for o in g["objects"]:
+            n = min(len(o["labels"]), len(o["scores"]), 20)
+            o["labels"], o["scores"] = o["labels"][:n], o["scores"][:n]
+        body = {"building": building, "room": target,
+                "observation_id": f"spark-dsg:{digest}:{'+'.join(sorted(g['sources']))}",
+                "graph": {"objects": g["objects"], "relations": g["relations"]}}
+        try:
+            req = IngestRequest.model_validate(body)
+        except ValidationError as exc:
+            first = exc.errors()[0]
+            raise Refused(f"{path}: room {target!r}: {'.'.join(map(str, first['loc']))}: {first['msg']}") from None
+        reports.append({"from_rooms": g["sources"], **ingest_graph(store, req, embedding)})
+    return {"file": str(path), "building": building, "layers": data["layers"], "rooms": reports}

@@ -183,6 +183,10 @@ class Sequence:
     def skip(self, name: str, reason: str) -> None:
         self._skipped.setdefault(name, reason)
 
+    def _source(self, entry) -> "_FileSource":
+        """What decodes one entry's pixels (a bag reader decodes messages instead of files)."""
+        return _FileSource(entry, self)
+
     def _probe_size(self, probes: int = 5) -> tuple[int, int]:
         """The colour image size most of the first readable frames agree on (one odd image at the
         start must not make every other frame the wrong size)."""
@@ -222,7 +226,7 @@ class Sequence:
             self.skip(exc.name, exc.reason)
             raise
         frame = Frame(i, None, None, self.K, pose, entry.timestamp, entry.name,
-                      size=self.image_size, source=_FileSource(entry, self), on_error=self.skip)
+                      size=self.image_size, source=self._source(entry), on_error=self.skip)
         return frame if lazy else frame.load()
 
 
@@ -494,10 +498,19 @@ def detect_layout(path: Path) -> str:
 
 
 def open_sequence(path: Union[str, Path], layout: Optional[str] = None,
-                  registration: Optional[Registration] = None) -> Sequence:
-    """Open a posed RGB-D sequence folder. `layout`: one of LAYOUTS (auto-detected when None);
-    `registration`: depth-to-colour registration (None: the layout's default)."""
+                  registration: Optional[Registration] = None, **bag_options) -> Sequence:
+    """Open a posed RGB-D sequence folder, or a ROS bag (`ingest.bags`: a ROS1 .bag, a ROS2 bag
+    folder, a bare .mcap or .db3). `layout`: one of LAYOUTS or "rosbag" (auto-detected when None);
+    `registration`: depth-to-colour registration (None: the layout's default); `bag_options`:
+    `ingest.bags.BagOptions` fields (topics, camera/world frame, max_dt), only for bags."""
+    from ingest import bags
+
     path = Path(path).expanduser()
+    if (layout or "").lower() in bags.LAYOUT_NAMES or (layout is None and bags.is_bag(path)):
+        return bags.open_bag(path, registration=registration, **bag_options)
+    if any(v is not None for v in bag_options.values()):
+        raise SequenceError(f"{', '.join(k for k, v in bag_options.items() if v is not None)}: "
+                            f"only for ROS bags, and {path} is not one")
     if not path.is_dir():
         raise SequenceError(f"sequence folder not found: {path}")
     name = detect_layout(path) if layout is None else _ALIASES.get(layout.lower(), layout.lower())

@@ -7,6 +7,7 @@ from typing import Optional
 
 import click
 
+from sg3d.commands.bag_options import bag_options
 from sg3d.errors import UserError
 
 
@@ -73,13 +74,15 @@ def _summary_table(summary: dict):
 @click.option("--shared-frame", is_flag=True,
               help="The sequence shares the building's world frame (identity transform).")
 @click.option("--json", "as_json", is_flag=True, help="Print the summary as JSON (no progress bar).")
+@bag_options
 @click.pass_obj
 def build(settings, sequence: Path, room: str, building: str, method: str, quality: str, layout: Optional[str],
           start: int, stop: Optional[int], resume: bool, detector: Optional[str], score_threshold: float,
           detect_fraction: Optional[float], chunk_frames: Optional[int], abir_gain: Optional[float],
           t_key: float, t_anchor: float, transform_file: Optional[Path], align_to: Optional[str],
-          shared_frame: bool, as_json: bool) -> None:
-    """Build (or extend) the 3-D scene graph of ROOM from the RGB-D SEQUENCE folder.
+          shared_frame: bool, as_json: bool, bag: dict) -> None:
+    """Build (or extend) the 3-D scene graph of ROOM from the RGB-D SEQUENCE folder or ROS bag
+    (ROS1 .bag, ROS2 bag folder, .mcap; topics are picked when unambiguous, see the --*-topic options).
 
     Runs blur rejection (ABIR), keyframe groups (KGE) plus frames with new viewpoints, detection,
     3-D attributes, fusion over the whole sequence, multi-view existence tests and relation votes
@@ -97,7 +100,8 @@ def build(settings, sequence: Path, room: str, building: str, method: str, quali
     from ingest import coverage
     from ingest.pipeline import DEFAULT_CHUNK_FRAMES, METHODS, Settings
 
-    request = BuildRequest(sequence, room, building, layout, start, stop, transform_file, align_to, shared_frame)
+    request = BuildRequest(sequence, room, building, layout, start, stop, transform_file, align_to, shared_frame,
+                           bag_options=bag)
     options = Settings(method=METHODS[method], abir_gain=abir_gain, t_key=t_key, t_anchor=t_anchor,
                        detect_fraction=detect_fraction or coverage.DEFAULT_FRACTION,
                        chunk_frames=chunk_frames or DEFAULT_CHUNK_FRAMES,

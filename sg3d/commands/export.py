@@ -12,23 +12,38 @@ from sg3d.errors import UserError
 @click.command()
 @click.option("--room", default=None, help="Room name (default: every room of the building).")
 @click.option("--building", default="default", show_default=True)
-@click.option("--format", "fmt", type=click.Choice(["json", "graphml"]), default="json", show_default=True)
-@click.option("--out", type=click.Path(dir_okay=False, path_type=Path), default=None,
-              help="Write to this file (default: standard output).")
+@click.option("--format", "fmt", type=click.Choice(["json", "graphml", "spark-dsg", "3dssg"]), default="json", show_default=True)
+@click.option("--out", type=click.Path(path_type=Path), default=None,
+              help="Write to this file (default: standard output); 3dssg: a folder for objects.json and "
+                   "relationships.json.")
 @click.option("--thumbnails", is_flag=True, help="JSON: include thumbnails as base64 JPEG.")
-@click.option("--histograms", is_flag=True, help="JSON: include the 512-bin HSV histograms.")
+@click.option("--histograms", is_flag=True, help="JSON: include the 512-bin HSV histograms (spark-dsg: always).")
 @click.pass_obj
 def export(settings, room: Optional[str], building: str, fmt: str, out: Optional[Path],
            thumbnails: bool, histograms: bool) -> None:
-    """Export the scene graph: nodes with their attributes and the relation edges."""
+    """Export the scene graph: nodes with their attributes and the relation edges (json, graphml,
+    spark-dsg: the JSON of Hydra's spark_dsg.DynamicSceneGraph, or 3dssg: the 3DSSG benchmark's
+    objects.json + relationships.json; see the README for the mappings)."""
     from app.errors import AppError
-    from app.graph import fetch_named_graph, render_graph
+    from app.graph import fetch_named_graph, render_graph, write_3dssg
     from app.stores import reader
 
     try:
-        graph = fetch_named_graph(reader(settings), building, room, thumbnails, histograms)
+        spark = fmt == "spark-dsg"  # loads in spark_dsg.DynamicSceneGraph.load(); re-imports losslessly
+        graph = fetch_named_graph(reader(settings), building, room, thumbnails, histograms or spark,
+                                  room_transforms=spark)
     except AppError as exc:
         raise UserError(str(exc)) from exc
+    if fmt == "3dssg" and out:
+        try:
+            n_obj, n_rel = write_3dssg(graph, out)
+        except AppError as exc:
+            raise UserError(str(exc)) from exc
+        click.echo(f"wrote {n_obj} objects and {n_rel} relationships to {out}/objects.json, relationships.json",
+                   err=True)
+        return
+    if out and out.is_dir():
+        raise UserError(f"--out {out} is a folder; give a file name")
     text = render_graph(graph, fmt)
     if out:
         out.write_text(text)

@@ -8,6 +8,7 @@ from typing import Optional
 
 import click
 
+from sg3d.commands.bag_options import bag_options
 from sg3d.errors import UserError
 
 SHEET_PAIRS = 24
@@ -30,9 +31,10 @@ SHEET_FACTOR = 4   # thumbnails at 1/4 of the colour size (160x120 for 640x480)
 @click.option("--json", "as_json", is_flag=True, help="Machine-readable output on stdout.")
 @click.option("--sheet", type=click.Path(dir_okay=False, path_type=Path), default=None, metavar="PNG",
               help="Write a contact sheet: frames rejected as blurry beside the last sharp frame before each.")
+@bag_options
 def frames_command(sequence: Path, layout: Optional[str], abir_gain, abir_offset, abir_alpha, t_key, t_anchor,
-                   limit: Optional[int], step: int, as_json: bool, sheet: Optional[Path]) -> None:
-    """Blur rejection and keyframe groups over SEQUENCE (a sequence folder)."""
+                   limit: Optional[int], step: int, as_json: bool, sheet: Optional[Path], bag: dict) -> None:
+    """Blur rejection and keyframe groups over SEQUENCE (a sequence folder or a ROS bag)."""
     from rich.console import Console
     from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeRemainingColumn
 
@@ -53,7 +55,8 @@ def frames_command(sequence: Path, layout: Optional[str], abir_gain, abir_offset
         grouper = KeyframeGrouper(params["t_key"], params["t_anchor"])
     except ValueError as exc:
         raise UserError(str(exc)) from None
-    seq = open_sequence(sequence, layout=layout)
+    seq = open_sequence(sequence, layout=layout, **bag)
+    sources = getattr(seq, "sources", None)  # what a ROS bag reader picked
     stop = len(seq) if limit is None else min(len(seq), limit * step)
     selector = FrameSelector(abir, grouper)
     pairs: list[tuple[int, object, int, object]] = []   # (blurry index, decision, sharp index, decision)
@@ -92,7 +95,7 @@ def frames_command(sequence: Path, layout: Optional[str], abir_gain, abir_offset
     skipped = seq.skipped
     if as_json:
         click.echo(json.dumps({"sequence": str(sequence), "layout": seq.layout, "frames_in_sequence": len(seq),
-                               **stats.as_dict(), "params": params,
+                               **stats.as_dict(), "params": params, "sources": sources,
                                "skipped_frames": [{"frame": n, "reason": r} for n, r in skipped],
                                "groups_frames": groups, "detected_frames": detected,
                                "sheet": str(sheet) if sheet else None}))
@@ -114,6 +117,8 @@ def frames_command(sequence: Path, layout: Optional[str], abir_gain, abir_offset
                                                    f"of the sharp frames, at least {coverage.MIN_FRAMES})"),
         ("time", f"{stats.seconds:.2f} s", f"{stats.frames_per_second:.0f} frames/s"),
     ]
+    for role, what in (sources or {}).items():
+        out.print(f"  {role:<18} {what}", soft_wrap=True, highlight=False, markup=False)
     for label, value, note in rows:
         out.print(f"  {label:<18} {value:>9}   [dim]{note}[/]")
     for name, reason in skipped[:10]:

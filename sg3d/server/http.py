@@ -135,12 +135,17 @@ def create_app(settings, token: str, handle: Optional[StoreHandle] = None) -> Fa
 
     @api.get("/graph", dependencies=auth, tags=["read"])
     def graph(building: str = "default", room: Optional[str] = None,
-              format: Literal["json", "graphml"] = "json", thumbnails: bool = False, histograms: bool = False):
-        """The graph of a room or a building: the paper's JSON form or GraphML."""
-        g = read(lambda s: app_graph.fetch_named_graph(s, building, room, thumbnails, histograms))
+              format: Literal["json", "graphml", "spark-dsg", "3dssg"] = "json", thumbnails: bool = False,
+              histograms: bool = False):
+        """The graph of a room or a building: the paper's JSON form, GraphML, spark_dsg JSON or 3DSSG
+        ({objects, relationships})."""
+        spark = format == "spark-dsg"
+        g = read(lambda s: app_graph.fetch_named_graph(s, building, room, thumbnails, histograms or spark,
+                                                       room_transforms=spark))
         if format == "json":
             return g
-        return Response(app_graph.render_graph(g, format), media_type="application/graphml+xml")
+        return Response(app_graph.render_graph(g, format),
+                        media_type="application/graphml+xml" if format == "graphml" else "application/json")
 
     @api.post("/ingest", dependencies=auth, tags=["write"])
     def ingest(body: app_ingest.IngestRequest):
