@@ -182,12 +182,16 @@ _default: Optional[LabelEmbedding] = None
 
 
 def default_embedding() -> LabelEmbedding:
-    """The process-wide embedding: SG3D_WORD2VEC=<file> selects word2vec, else MiniLM."""
+    """The process-wide embedding: SG3D_WORD2VEC=<file> selects word2vec, else MiniLM. Its label
+    cache lives in SG3D_CACHE, else SG3D_HOME/sg3d-cache, else the user cache directory."""
     global _default
     if _default is None:
         from platformdirs import user_cache_dir
 
-        cache = Path(os.environ.get("SG3D_CACHE") or user_cache_dir("sg3d", appauthor=False))
+        # SG3D_HOME keeps everything of one sg3d installation together (store, history, this cache)
+        home = os.environ.get("SG3D_HOME")
+        cache = Path(os.environ.get("SG3D_CACHE") or (Path(home).expanduser() / "sg3d-cache" if home
+                                                      else user_cache_dir("sg3d", appauthor=False)))
         w2v = os.environ.get("SG3D_WORD2VEC")
         _default = Word2VecEmbedding(w2v, cache) if w2v else MiniLMEmbedding(cache)
     return _default

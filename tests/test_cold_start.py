@@ -50,3 +50,16 @@ def test_the_label_cache_survives_labels_named_like_savez_arguments(tmp_path):
     again = Fixed(tmp_path)
     again._encode = None                                              # must come from disk now
     assert set(again.vectors(["file", "cup"])) == {"file", "cup"}
+
+
+def test_the_label_cache_lives_in_sg3d_home(tmp_path):
+    import subprocess
+    import sys
+
+    env = {k: v for k, v in os.environ.items() if k not in ("SG3D_CACHE",)}
+    env["SG3D_HOME"] = str(tmp_path)
+    out = subprocess.run([sys.executable, "-c", "from ingest.embedding import default_embedding as d; "
+                                                "print(d()._cache_file)"],
+                         capture_output=True, text=True, env=env, cwd=str(Path(__file__).resolve().parents[1]))
+    assert out.returncode == 0, out.stderr
+    assert out.stdout.strip().startswith(str(tmp_path / "sg3d-cache"))
