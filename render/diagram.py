@@ -57,9 +57,13 @@ class Diagram:
     scale_px: float = 0.0
 
     def save(self, fmt: str) -> bytes:
+        import matplotlib
+
         buf = io.BytesIO()
         meta = {"png": {"Software": None}, "svg": {"Date": None}, "pdf": {"CreationDate": None}}[fmt]
-        self.figure.savefig(buf, format=fmt, dpi=DPI, metadata=meta)
+        # SVG text as <text>, not glyph outlines: searchable, selectable, smaller; fixed ids: same bytes
+        with matplotlib.rc_context({"svg.fonttype": "none", "svg.hashsalt": "sg3d"}):
+            self.figure.savefig(buf, format=fmt, dpi=DPI, metadata=meta)
         return buf.getvalue()
 
 

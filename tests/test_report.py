@@ -26,7 +26,7 @@ def test_report_files_mention_the_metrics_and_colour_the_nodes(store, embedded_h
             assert metric in text
         assert "60.0%" in text and "75.0%" in text       # 3 of 5 nodes right, 3 of 4 GT objects found
     assert "](graph.png)" in md and "data:image/png;base64," in page
-    assert "- B book (unsure)" in md                                  # the missing GT object is listed
+    assert "| B | book | no |" in md                                  # the missing GT object is listed
     img = cv2.imread(str(out / "graph.png"))
     assert img.shape == (1200, 1600, 3)
     bgr = img.reshape(-1, 3).astype(int)
