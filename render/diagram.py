@@ -176,6 +176,8 @@ def draw(scene: dict, *, layout: str = "topdown", all_edges: bool = False, size=
     if topdown:
         ax.xaxis.set_major_locator(MultipleLocator(1.0))
         ax.yaxis.set_major_locator(MultipleLocator(1.0))
+        ax.xaxis.set_major_formatter("{x:g} m")
+        ax.yaxis.set_major_formatter("{x:g} m")
         ax.grid(True, color="#e4e4e4", linewidth=0.8, zorder=0)
         ax.tick_params(labelsize=7, colors="#888888", length=0)
         ax.set_axisbelow(True)
@@ -213,6 +215,8 @@ def draw(scene: dict, *, layout: str = "topdown", all_edges: bool = False, size=
                                    arrowstyle="-|>" if arrows else "-", arrowsize=9, width=0.9,
                                    edge_color=colour, style=style, node_size=NODE_SIZE,
                                    min_source_margin=2, min_target_margin=2)
+    if topdown:     # networkx's edge drawing switches tick labels off; the metre grid keeps them
+        ax.tick_params(labelbottom=True, labelleft=True)
     # nodes: one scatter per node (an SVG group with the node's id), at the object's position
     node_px = {}
     for n in nodes:
@@ -346,7 +350,7 @@ def draw(scene: dict, *, layout: str = "topdown", all_edges: bool = False, size=
     scale_m = scale_px = 0.0
     if topdown:
         px_per_m = float(to_px((1.0, 0.0))[0] - to_px((0.0, 0.0))[0])
-        scale_m = scale_length(px_per_m, (0.98 - PANEL_X) * width - 10)
+        scale_m = scale_length(px_per_m, 0.6 * (0.98 - PANEL_X) * width)
         scale_px = scale_m * px_per_m
         yb = 0.035
         fig.add_artist(Line2D([PANEL_X, PANEL_X + scale_px / width], [yb, yb], color="black", linewidth=3,

@@ -70,9 +70,14 @@ def missing_markers(report: dict, gt, room: str):
     return out
 
 
-def tables(report: dict, names: dict[str, str]) -> list[tuple[str, list[str], list[list[str]]]]:
-    """(title, header, rows) of every table of the report, objects by their readable names."""
+def tables(report: dict, names: dict[str, str], gt=None) -> list[tuple[str, list[str], list[list[str]]]]:
+    """(title, header, rows) of every table of the report: graph objects by their readable names,
+    GT objects by id and the annotator's name ("K14 mug")."""
     n, e = report["nodes"], report["edges"]
+
+    def gt_name(gid: str) -> str:
+        obj = gt.by_id.get(gid) if gt is not None else None
+        return f"{gid} {obj.category}" if obj is not None else gid
 
     def nm(node_id: str, fallback: str = "") -> str:
         return names.get(node_id, fallback or node_id)
@@ -92,7 +97,7 @@ def tables(report: dict, names: dict[str, str]) -> list[tuple[str, list[str], li
         ("Spurious edges (between matched nodes)", ["subject", "relation", "object"],
          [[nm(s), t, nm(o)] for s, t, o in e["spurious"]]),
         ("Missed GT relations (checked)", ["subject", "relation", "object"],
-         [[s, t, o] for s, t, o in e["missed"]]),
+         [[gt_name(s), t, gt_name(o)] for s, t, o in e["missed"]]),
     ]
     vqa = report.get("vqa")
     if vqa is not None:
@@ -118,7 +123,7 @@ def write_report(out_dir: Path, report: dict, scene: dict, gt, room: str, *, wid
     (out_dir / PICTURE).write_bytes(png)
     rows = metric_rows(report)
     names = {n["id"]: n["name"] for n in scene["nodes"]}     # the names ask, plan and the picture use
-    parts = tables(report, names)
+    parts = tables(report, names, gt)
 
     md = [f"# sg3d eval: {report['room']}", "",
           f"Match tolerance {report['tolerance_m']} m.", "",

@@ -25,6 +25,7 @@ _TRIS = np.array([[0, 1, 3], [0, 3, 2], [4, 5, 7], [4, 7, 6], [0, 1, 5], [0, 5, 
 _EDGES = [(0, 1), (2, 3), (4, 5), (6, 7), (0, 2), (1, 3), (4, 6), (5, 7), (0, 4), (1, 5), (2, 6), (3, 7)]
 CLOUD_QUANTILES = (0.01, 0.99)      # the first view frames the bulk of the cloud, not its outliers
 FRAME_PAD_M = 0.3
+LARGE_M = 0.6             # footprint diagonal above which a name goes to a corner, not the middle
 
 
 def _hex_rgb(c: str) -> tuple[int, int, int]:
@@ -88,8 +89,15 @@ def figure(scene: dict, cloud: Optional[tuple] = None, all_edges: bool = False, 
                                 flatshading=True))
         traces.append(go.Scatter3d(x=lx, y=ly, z=lz, mode="lines", line=dict(color=colour, width=3),
                                    legendgroup=cat, showlegend=False, hoverinfo="skip", name=cat))
-    # names on top of the boxes (one trace, toggled as "names")
-    tops = np.array([[*corners[n["id"]][:, :2].mean(axis=0), corners[n["id"]][:, 2].max() + 0.04] for n in nodes])
+    # names on top of the boxes (one trace, toggled as "names"); a large object's name at the top
+    # corner facing the first view, so the name of a cup standing in its middle stays readable
+    def name_spot(c: np.ndarray) -> list[float]:
+        lo, hi = c.min(axis=0), c.max(axis=0)
+        if np.hypot(*(hi - lo)[:2]) > LARGE_M:
+            return [lo[0], lo[1], hi[2] + 0.04]
+        return [(lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2, hi[2] + 0.04]
+
+    tops = np.array([name_spot(corners[n["id"]]) for n in nodes])
     traces.append(go.Scatter3d(x=tops[:, 0], y=tops[:, 1], z=tops[:, 2], mode="text", name="names",
                                text=[names[n["id"]] for n in nodes], textfont=dict(size=12, color="#111111"),
                                hoverinfo="skip"))

@@ -331,3 +331,44 @@ def test_bad_out_suffix_is_one_line_exit_2(embedded_home, tmp_path, name):
 def test_empty_room_is_an_error(store, embedded_home, tmp_path):
     r = show(embedded_home, "--out", str(tmp_path / "x.png"))
     assert r.exit_code == 2 and "nothing to show" in r.output
+
+
+def test_real_kitchen_png_has_scale_bar_legend_and_labels_that_never_overlap(store, embedded_home, kitchen_dir,
+                                                                            tmp_path):
+    """The first half of the real kitchen, built by `sg3d build`, drawn as `sg3d show` draws it."""
+    from app.scene import fetch_scene
+    from queries.taxonomy import Taxonomy
+    from render.diagram import draw
+
+    r = CliRunner().invoke(cli, ["--home", str(embedded_home), "build", str(kitchen_dir), "--room", "kitchen",
+                                 "--building", BUILDING, "--stop", "500", "--json"])
+    assert r.exit_code == 0, r.output
+    out, svg = tmp_path / "k.png", tmp_path / "k.svg"
+    for f in (out, svg):
+        r = show(embedded_home, "--out", str(f), room="kitchen")
+        assert r.exit_code == 0, r.output
+    scene = fetch_scene(store, BUILDING, "kitchen")
+    assert len(scene["nodes"]) >= 4
+    img = cv2.imread(str(out))
+    assert img.shape == (1200, 1600, 3)
+    # the scale bar: a black bar at least 50 px long in the right-hand column, labelled in the SVG
+    panel = img[:, 1150:]
+    runs = [(row < 60).all(axis=-1).sum() for row in panel]
+    assert max(runs) >= 50
+    root = ET.parse(svg).getroot()
+    metres, units = svg_scale(root)
+    assert metres > 0 and units / 0.72 >= 50
+    # the legend names each object's category
+    texts = {"".join(t.itertext()) for t in root.iter(NS + "text")}
+    tax = Taxonomy.load()
+    for n in scene["nodes"]:
+        assert (tax.parent(n["label"]) or n["label"]) in texts, n["label"]
+    # labels: every node named (or numbered) on the map, no two texts overlapping
+    d = draw(scene, title="default/kitchen")
+    renderer = d.figure.canvas.get_renderer()
+    on_map = [t for t in d.ax.texts if t.get_text()]
+    boxes = [t.get_window_extent(renderer) for t in on_map]
+    assert not [(on_map[i].get_text(), on_map[j].get_text())
+                for (i, a), (j, b) in itertools.combinations(enumerate(boxes), 2) if a.overlaps(b)]
+    assert {t.get_gid()[6:] for t in on_map if (t.get_gid() or "").startswith("label-")} == \
+        {n["id"] for n in scene["nodes"]}
