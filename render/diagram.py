@@ -356,7 +356,7 @@ def draw(scene: dict, *, layout: str = "topdown", all_edges: bool = False, size=
         fig.add_artist(Line2D([PANEL_X, PANEL_X + scale_px / width], [yb, yb], color="black", linewidth=3,
                               solid_capstyle="butt", gid="scalebar"))
         fig.text(PANEL_X, yb + 0.008, f"{scale_m:g} m" if scale_m >= 1 else f"{scale_m * 100:g} cm",
-                 fontsize=9, va="bottom")
+                 fontsize=9, va="bottom", gid="scalebar-label")
     rows = listed_nodes + ([""] + ["relations without room on their line:"] + listed_edges if listed_edges else [])
     line_h = 11.5 / height
     room_for = max(0, int((y - 0.08) / line_h))

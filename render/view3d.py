@@ -142,7 +142,7 @@ def figure(scene: dict, cloud: Optional[tuple] = None, all_edges: bool = False, 
             traces.append(go.Scatter3d(x=poly[:, 0], y=poly[:, 1], z=np.full(len(poly), floor), mode="lines",
                                        line=dict(color="#555555", width=3, dash="dash"), name=f"room {r}",
                                        legendgroup=f"room-{r}", hoverinfo="skip"))
-            c = poly[:-1].mean(axis=0)
+            c = poly[np.argmax(poly[:, 1])]      # on the outline's far side: the middle holds objects
             traces.append(go.Scatter3d(x=[c[0]], y=[c[1]], z=[floor], mode="text", text=[f"<b>{htmlmod.escape(r)}</b>"],
                                        textfont=dict(size=16, color="#333333"), legendgroup=f"room-{r}",
                                        showlegend=False, hoverinfo="skip"))

@@ -73,8 +73,9 @@ def svg_scale(root) -> tuple[float, float]:
     """(metres, SVG units) of the scale bar: its path and its text."""
     bar = next(g for g in root.iter(NS + "g") if g.get("id") == "scalebar")
     xs = [float(v) for v in re.findall(r"([-\d.]+) [-\d.]+", next(bar.iter(NS + "path")).get("d"))]
-    texts = ["".join(t.itertext()) for t in root.iter(NS + "text")]
-    label = next(t for t in texts if re.fullmatch(r"[\d.]+ (m|cm)", t))
+    group = next(g for g in root.iter(NS + "g") if g.get("id") == "scalebar-label")
+    label = "".join(next(group.iter(NS + "text")).itertext())
+    assert re.fullmatch(r"[\d.]+ (m|cm)", label), label
     value = float(label.split()[0]) / (100 if label.endswith("cm") else 1)
     return value, max(xs) - min(xs)
 
