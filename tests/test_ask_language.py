@@ -172,13 +172,12 @@ def test_printed_answers_contain_no_ids(store, house, question, tmp_path):
 
 def test_ask_plan_show_and_export_use_the_same_names(store, house, embedded_home):
     from sg3d.cli import cli
-    from queries.render import display_names, load_scene
+    from app.scene import fetch_scene
 
     asked = {p["id"]: p["name"] for p in ask(store, "what is on the table?", room="kitchen").provenance}
     r = CliRunner().invoke(cli, ["--home", str(embedded_home), "export", "--building", "home", "--room", "kitchen"])
     assert r.exit_code == 0, r.output
     exported = {n["id"]: n["name"] for n in json.loads(r.output)["nodes"]}
-    scene = load_scene(store, "home", "kitchen")
-    shown = display_names(scene.nodes, scene.edges)
+    shown = {n["id"]: n["name"] for n in fetch_scene(store, "home", "kitchen")["nodes"]}   # what show draws
     assert asked and all(exported[i] == shown[i] == name for i, name in asked.items())
     assert len(set(exported.values())) == len(exported)          # one name per object in a room

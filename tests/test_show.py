@@ -1,9 +1,12 @@
-"""`sg3d show` on hand-made graphs in the real store: PNG, SVG and HTML pictures."""
+"""`sg3d show` on hand-made graphs in the real store: the top-down diagram (PNG, SVG, PDF) and the
+plotly 3-D page. Expected positions come from the objects we made, not from the renderer."""
 from __future__ import annotations
 
+import itertools
 import json
 import re
 import xml.etree.ElementTree as ET
+from html.parser import HTMLParser
 
 import cv2
 import numpy as np
@@ -11,139 +14,310 @@ import pytest
 from click.testing import CliRunner
 
 from graphdb.merge import merge_local_graph
-from queries.render import drawn_edges, load_scene, make_layout
 from sg3d.cli import cli
 from tests.factories import graph, obj
 
 ROOM, BUILDING = "showroom", "home"
+NS = "{http://www.w3.org/2000/svg}"
+UP = np.array([0.0058, -0.9052, -0.4249])       # tilted, like the real kitchen's world frame
+UP = UP / np.linalg.norm(UP)
 
 
-def build(store):
-    """A table with a cup and a book on it, a chair beside it: 4 nodes, 2 ON + 1 NEXT_TO edges and
-    comparison edges that the default picture hides."""
-    merge_local_graph(store, graph([
-        obj("t", "dining table", (0.0, 0.0, 0.0), size=(1.5, 0.8, 0.7), colour="brown"),
-        obj("c", "cup", (0.2, 0.1, 0.4), colour="white"),
-        obj("b", "book", (-0.4, -0.2, 0.4), colour="red"),
-        obj("h", "chair", (1.4, 0.0, 0.0), colour="black"),
+def floor_basis(up):
+    """Two horizontal unit vectors, made here independently of the renderer (any pair works:
+    the checks below only use distances)."""
+    a = np.cross(up, [0.0, 0.0, 1.0])
+    a /= np.linalg.norm(a)
+    return a, np.cross(up, a)
+
+
+A, B = floor_basis(UP)
+# (floor a, floor b, height) of each object: the table, a cup and a book on it, a chair beside it
+PLACES = {"t": (0.0, 0.0, 0.4), "c": (0.2, 0.1, 0.8), "b": (-0.4, -0.2, 0.8), "h": (1.4, 0.0, 0.45)}
+
+
+def world(a, b, h):
+    return tuple(a * A + b * B + h * UP)
+
+
+def build(store, room=ROOM, up=UP, places=PLACES):
+    g = graph([
+        obj("t", "dining table", world(*places["t"]), size=(1.5, 0.8, 0.7), colour="brown"),
+        obj("c", "cup", world(*places["c"]), colour="white"),
+        obj("b", "book", world(*places["b"]), colour="red"),
+        obj("h", "chair", world(*places["h"]), colour="black"),
     ], relations=[("c", "ON", "t", 0.9), ("b", "ON", "t", 0.9), ("h", "NEXT_TO", "t", 0.8),
                   ("t", "BIGGER_THAN", "c", 0.9), ("t", "BIGGER_THAN", "h", 0.9)],
-        room=ROOM, building=BUILDING))
+        room=room, building=BUILDING)
+    g.up = tuple(up)
+    merge_local_graph(store, g)
 
 
-def show(home, *args):
-    return CliRunner().invoke(cli, ["--home", str(home), "show", "--room", ROOM, "--building", BUILDING, *args])
+def show(home, *args, room=ROOM):
+    room_args = ["--room", room] if room else []
+    return CliRunner().invoke(cli, ["--home", str(home), "show", *room_args, "--building", BUILDING, *args])
 
 
-def test_png_is_an_image_of_the_requested_size_with_nodes_drawn(store, embedded_home, tmp_path):
+def svg_nodes(root) -> dict[str, np.ndarray]:
+    """Node id -> marker centre (SVG units) from the diagram's node groups."""
+    out = {}
+    for g in root.iter(NS + "g"):
+        gid = g.get("id") or ""
+        if gid.startswith("node-"):
+            use = next(g.iter(NS + "use"))
+            out[gid[5:]] = np.array([float(use.get("x")), float(use.get("y"))])
+    return out
+
+
+def svg_scale(root) -> tuple[float, float]:
+    """(metres, SVG units) of the scale bar: its path and its text."""
+    bar = next(g for g in root.iter(NS + "g") if g.get("id") == "scalebar")
+    xs = [float(v) for v in re.findall(r"([-\d.]+) [-\d.]+", next(bar.iter(NS + "path")).get("d"))]
+    group = next(g for g in root.iter(NS + "g") if g.get("id") == "scalebar-label")
+    label = "".join(next(group.iter(NS + "text")).itertext())
+    assert re.fullmatch(r"[\d.]+ (m|cm)", label), label
+    value = float(label.split()[0]) / (100 if label.endswith("cm") else 1)
+    return value, max(xs) - min(xs)
+
+
+def ids_by_label(store, room=ROOM):
+    from app.scene import fetch_scene
+
+    return {n["label"]: n["id"] for n in fetch_scene(store, BUILDING, room)["nodes"]}
+
+
+def test_topdown_positions_are_the_objects_floor_positions(store, embedded_home, tmp_path):
+    """Every distance between two nodes, in metres by the picture's own scale bar, is the floor
+    distance between the objects as made (heights differ and the room's up is tilted)."""
     build(store)
-    out = tmp_path / "g.png"
-    r = show(embedded_home, "--out", str(out), "--size", "900x700")
+    out = tmp_path / "g.svg"
+    r = show(embedded_home, "--out", str(out))
     assert r.exit_code == 0, r.output
+    root = ET.parse(out).getroot()
+    pos = svg_nodes(root)
+    metres, units = svg_scale(root)
+    per_m = units / metres
+    ids = ids_by_label(store)
+    local = {"t": "dining table", "c": "cup", "b": "book", "h": "chair"}
+    assert set(pos) == set(ids.values())
+    for p, q in itertools.combinations(local, 2):
+        drawn = np.linalg.norm(pos[ids[local[p]]] - pos[ids[local[q]]]) / per_m
+        truth = np.hypot(PLACES[p][0] - PLACES[q][0], PLACES[p][1] - PLACES[q][1])
+        assert drawn == pytest.approx(truth, abs=0.01), (p, q)
+
+
+def test_png_size_painted_nodes_and_determinism(store, embedded_home, tmp_path):
+    build(store)
+    out, svg = tmp_path / "g.png", tmp_path / "g.svg"
+    assert show(embedded_home, "--out", str(out), "--size", "900x700").exit_code == 0
+    assert show(embedded_home, "--out", str(svg), "--size", "900x700").exit_code == 0
     img = cv2.imread(str(out))
     assert img is not None and img.shape == (700, 900, 3)
-    # every node's centre, recomputed with the same deterministic layout, is painted (not white)
-    scene = load_scene(store, BUILDING, ROOM)
-    lay = make_layout(scene, 900, 700, "topdown", scene.edges)
-    assert len(lay.pos) == 4
-    for p in lay.pos.values():
-        x, y = (int(round(v)) for v in p)
-        assert (img[y, x] < 200).any(), (x, y, img[y, x])
-    # topdown keeps the floor arrangement: the chair (x = 1.4) is right of the book (x = -0.4)
-    by_label = {n["label"]: n["id"] for n in scene.nodes}
-    assert lay.pos[by_label["chair"]][0] > lay.pos[by_label["book"]][0]
-    # deterministic: the same store draws the same picture
+    # the SVG is the same figure in points (72 per inch, the PNG has 100 pixels per inch)
+    for xy in svg_nodes(ET.parse(svg).getroot()).values():
+        x, y = (int(round(v / 0.72)) for v in xy)
+        assert (img[y - 1:y + 2, x - 1:x + 2] < 200).any(), (x, y)
     again = tmp_path / "g2.png"
     assert show(embedded_home, "--out", str(again), "--size", "900x700").exit_code == 0
     assert again.read_bytes() == out.read_bytes()
+    pdf = tmp_path / "g.pdf"
+    assert show(embedded_home, "--out", str(pdf)).exit_code == 0
+    assert pdf.read_bytes().startswith(b"%PDF")
 
 
-def test_spring_layout_png(store, embedded_home, tmp_path):
-    build(store)
-    out = tmp_path / "s.png"
-    r = show(embedded_home, "--out", str(out), "--layout", "spring")
-    assert r.exit_code == 0, r.output
-    assert cv2.imread(str(out)).shape == (1200, 1600, 3)
-
-
-def test_svg_has_one_node_group_per_node_and_a_label_per_edge(store, embedded_home, tmp_path):
+def test_labels_are_names_and_edges_one_merged_label_per_pair(store, embedded_home, tmp_path):
     build(store)
     out = tmp_path / "g.svg"
     assert show(embedded_home, "--out", str(out)).exit_code == 0
     root = ET.parse(out).getroot()
-    ns = "{http://www.w3.org/2000/svg}"
-    groups = [g for g in root.iter(ns + "g") if g.get("class") == "node"]
-    assert len(groups) == 4
-    assert all(len(g.findall(ns + "circle")) == 1 for g in groups)
-    text = " ".join("".join(t.itertext()) for g in groups for t in g.iter(ns + "text"))
-    for name in ("dining table", "cup", "book", "chair"):    # the names ask prints (one of each label)
-        assert name in text
-    assert "#" not in text and "o-" not in text
-    labels = [t.text for t in root.iter(ns + "text") if t.get("class") == "edge-label"]
-    lines = [e for e in root.iter(ns + "line") if e.get("class") == "edge"]
-    assert sorted(labels) == ["NEXT_TO", "ON", "ON"] and len(lines) == 3     # comparisons hidden
-    # a size statement is stored as BIGGER_THAN with its SMALLER_THAN (ingest.relation_rules)
-    assert "4 comparison edges hidden" in ET.tostring(root, encoding="unicode")
+
+    def texts(prefix):
+        return sorted("".join(t.itertext()).replace("\n", " ") for g in root.iter(NS + "g")
+                      if (g.get("id") or "").startswith(prefix) for t in g.iter(NS + "text"))
+
+    assert texts("label-") == ["book", "chair", "cup", "dining table"]     # the names ask prints
+    assert texts("edge-label-") == ["next to", "on", "on"]                 # size statements hidden
+    page = ET.tostring(root, encoding="unicode")
+    assert "o-" not in "".join(texts("label-")) and "4 size statements hidden" in page
 
     every = tmp_path / "all.svg"
     assert show(embedded_home, "--out", str(every), "--all-edges").exit_code == 0
-    labels = [t.text for t in ET.parse(every).getroot().iter(ns + "text") if t.get("class") == "edge-label"]
-    # NEXT_TO is stored from the smaller id, so it may share one line with table BIGGER_THAN chair
-    assert sorted(t for label in labels for t in label.split(", ")) == ["BIGGER_THAN", "BIGGER_THAN", "NEXT_TO", "ON", "ON"]
+    root = ET.parse(every).getroot()
+    # each pair once: "cup on table" and "table bigger than cup" read from the cup's side
+    assert texts("edge-label-") == ["next to / bigger than", "on", "on / smaller than"]
 
 
-def test_html_is_self_contained_and_holds_the_labels(store, embedded_home, tmp_path):
+def test_many_crowded_objects_get_labels_that_never_overlap(store):
+    """50 objects in 2 x 1.5 m: every node is named on the picture or numbered and listed, and
+    no two texts on the map overlap (measured from the drawn figure's text extents)."""
+    from app.scene import fetch_scene
+    from render.diagram import draw
+
+    rng = np.random.default_rng(3)
+    labels = ["cup", "bowl", "bottle", "book", "chair", "vase", "laptop", "remote", "clock", "potted plant"]
+    objs = [obj(f"o{i}", labels[i % len(labels)], world(rng.uniform(0, 2), rng.uniform(0, 1.5), 0.8),
+                colour=["white", "red", "blue", "green", "black"][i % 5], frame=i) for i in range(50)]
+    rels = [(f"o{i}", "NEXT_TO", f"o{i + 1}", 0.8) for i in range(0, 48, 3)]
+    g = graph(objs, relations=rels, room="crowd", building=BUILDING)
+    g.up = tuple(UP)
+    merge_local_graph(store, g)
+    scene = fetch_scene(store, BUILDING, "crowd")
+    assert len(scene["nodes"]) == 50
+    d = draw(scene, size=(1600, 1200))
+    renderer = d.figure.canvas.get_renderer()
+    ax_box = d.ax.get_window_extent(renderer)
+    on_map = [t for t in d.ax.texts if t.get_text()]
+    boxes = [t.get_window_extent(renderer) for t in on_map]
+    for (i, a), (j, b) in itertools.combinations(enumerate(boxes), 2):
+        assert not a.overlaps(b), (on_map[i].get_text(), on_map[j].get_text())
+    for b in boxes:      # inside the map
+        assert ax_box.x0 - 1 <= b.x0 and b.x1 <= ax_box.x1 + 1 and ax_box.y0 - 1 <= b.y0 and b.y1 <= ax_box.y1 + 1
+    named = {t.get_gid()[6:] for t in on_map if (t.get_gid() or "").startswith("label-")}
+    assert named == {n["id"] for n in scene["nodes"]}            # every node labelled (a name or a number)
+    numbered = [t for t in on_map if (t.get_gid() or "").startswith("label-") and t.get_text().isdigit()]
+    assert len(d.listed_nodes) >= len(numbered)
+    assert sum(t.get_text().replace("\n", " ") in {n["name"] for n in scene["nodes"]} for t in on_map) >= 25
+
+
+def test_building_outlines_and_names_its_rooms_in_the_building_frame(store, embedded_home, tmp_path):
+    """Two rooms; the second's frame is the first's turned 90 degrees and moved 3 m. A chair made
+    at one building position in both rooms is drawn at one point."""
+    from graphdb.building import set_room_transform
+    from graphdb.merge import room_id
+
+    build(store, room="kitchen")
+    T = np.eye(4)
+    T[:3, :3] = [[0, -1, 0], [1, 0, 0], [0, 0, 1]]
+    T[:3, 3] = [3.0, 0.5, 0.0]
+    # the hall's objects, made in the hall's frame: p_hall = T^-1 p_building
+    inv = np.linalg.inv(T)
+    chair_building = np.array(world(*PLACES["h"]))
+    chair_hall = inv[:3, :3] @ chair_building + inv[:3, 3]
+    g = graph([obj("x", "chair", tuple(chair_hall), colour="black"),
+               obj("y", "couch", tuple(inv[:3, :3] @ np.array(world(1.0, 3.0, 0.4)) + inv[:3, 3]),
+                   size=(2.0, 0.9, 0.8), colour="grey")], room="hall", building=BUILDING)
+    g.up = tuple(inv[:3, :3] @ UP)
+    merge_local_graph(store, g)
+    set_room_transform(store, room_id(BUILDING, "kitchen"), np.eye(4))
+    set_room_transform(store, room_id(BUILDING, "hall"), T)
+    out = tmp_path / "b.svg"
+    r = show(embedded_home, "--out", str(out), room=None)
+    assert r.exit_code == 0, r.output
+    root = ET.parse(out).getroot()
+    texts = ["".join(t.itertext()) for t in root.iter(NS + "text")]
+    assert "kitchen" in texts and "hall" in texts
+    pos = svg_nodes(root)
+    metres, units = svg_scale(root)
+    from app.scene import fetch_scene
+
+    nodes = fetch_scene(store, BUILDING)["nodes"]
+    chairs = [n["id"] for n in nodes if n["label"] == "chair"]
+    assert len(chairs) == 2
+    assert np.linalg.norm(pos[chairs[0]] - pos[chairs[1]]) / (units / metres) < 0.01
+    couch = next(n["id"] for n in nodes if n["label"] == "couch")
+    table = next(n["id"] for n in nodes if n["label"] == "dining table")
+    assert np.linalg.norm(pos[couch] - pos[table]) / (units / metres) == pytest.approx(np.hypot(1.0, 3.0), abs=0.01)
+
+
+def test_spring_layout_with_all_edges_is_readable(store, embedded_home, tmp_path):
+    from app.scene import fetch_scene
+    from render.diagram import draw
+
+    build(store)
+    out = tmp_path / "s.png"
+    r = show(embedded_home, "--out", str(out), "--layout", "spring", "--all-edges")
+    assert r.exit_code == 0, r.output
+    assert cv2.imread(str(out)).shape == (1200, 1600, 3)
+    d = draw(fetch_scene(store, BUILDING, ROOM), layout="spring", all_edges=True)
+    renderer = d.figure.canvas.get_renderer()
+    boxes = [t.get_window_extent(renderer) for t in d.ax.texts if t.get_text()]
+    assert len(boxes) >= 4
+    assert not any(a.overlaps(b) for a, b in itertools.combinations(boxes, 2))
+    # nodes spread over the map: no two closer than a marker's width
+    px = np.array(list(d.node_px.values()))
+    assert min(np.linalg.norm(p - q) for p, q in itertools.combinations(px, 2)) > 20
+
+
+class Tags(HTMLParser):
+    """Every tag's attributes, and whether open tags close (html.parser is lenient)."""
+
+    def __init__(self):
+        super().__init__()
+        self.stack, self.attrs = [], []
+
+    def handle_starttag(self, tag, attrs):
+        self.attrs.append((tag, dict(attrs)))
+        if tag not in ("meta", "input", "br", "link"):
+            self.stack.append(tag)
+
+    def handle_endtag(self, tag):
+        assert self.stack.pop() == tag
+
+
+def test_html_is_self_contained_plotly_with_names_and_toggled_relations(store, embedded_home, tmp_path):
     build(store)
     out = tmp_path / "g.html"
     assert show(embedded_home, "--out", str(out)).exit_code == 0
     page = out.read_text()
-    assert "<canvas" in page and "http://" not in page and "https://" not in page and "src=" not in page
-    data = json.loads(re.search(r'<script type="application/json" id="data">(.*?)</script>', page, re.S).group(1))
-    assert sorted(b["name"] for b in data["boxes"]) == \
-        ["book", "chair", "cup", "dining table"]
-    # 2 ON + 1 NEXT_TO + 2 size statements, each stored as BIGGER_THAN with its SMALLER_THAN
-    assert len(data["edges"]) == 7 and data["cmp"] is False and data["points"] == []
-    # the page parses as markup (html.parser is lenient; check the elements are balanced)
-    from html.parser import HTMLParser
-
-    class Tags(HTMLParser):
-        def __init__(self):
-            super().__init__()
-            self.stack = []
-
-        def handle_starttag(self, tag, attrs):
-            if tag not in ("meta", "input", "br"):
-                self.stack.append(tag)
-
-        def handle_endtag(self, tag):
-            assert self.stack.pop() == tag
-
     p = Tags()
     p.feed(page)
     assert p.stack == []
+    # nothing is loaded from elsewhere: no src/href to another host, plotly.js inline
+    for tag, attrs in p.attrs:
+        for k in ("src", "href"):
+            assert not re.match(r"(https?:)?//", attrs.get(k) or ""), (tag, attrs)
+    assert "Plotly.newPlot" in page and len(page) > 1_000_000
+    spec = json.loads(re.search(r'Plotly\.newPlot\(\s*"sg3d-view",\s*(\[.*?\]),\s*\{"template"', page, re.S).group(1))
+    names = next(t for t in spec if t.get("name") == "names")
+    assert sorted(names["text"]) == ["book", "chair", "cup", "dining table"]
+    rel = {t["name"]: t.get("visible", True) for t in spec if t.get("mode") == "lines" and "(" in t["name"]}
+    assert rel["on (2)"] is True and rel["next to (1)"] is True
+    assert rel["bigger than (2)"] == "legendonly" and rel["smaller than (2)"] == "legendonly"
 
 
-def test_html_point_cloud_from_the_real_kitchen(store, embedded_home, tmp_path, kitchen_dir):
+def test_html_boxes_are_the_objects_boxes(store):
+    """The drawn box of each object spans its size (w, d, h) and the boxes' centres are as far
+    apart on the floor and in height as the objects made."""
+    from app.scene import fetch_scene
+    from render.view3d import figure
+
     build(store)
-    out = tmp_path / "cloud.html"
-    r = show(embedded_home, "--out", str(out), "--sequence", str(kitchen_dir), "--frames", "2",
-             "--max-points", "3000")
-    assert r.exit_code == 0, r.output
-    data = json.loads(re.search(r'id="data">(.*?)</script>', out.read_text(), re.S).group(1))
-    pts = np.array(data["points"])
-    assert 1000 <= len(pts) <= 3000 and pts.shape[1] == 6
-    assert np.isfinite(pts).all() and ((pts[:, 3:] >= 0) & (pts[:, 3:] <= 255)).all()
+    scene = fetch_scene(store, BUILDING, ROOM)
+    fig = figure(scene)
+    made = {"dining table": (1.5, 0.8, 0.7), "cup": (0.1, 0.1, 0.1), "book": (0.1, 0.1, 0.1), "chair": (0.1, 0.1, 0.1)}
+    centres = {}
+    for t in fig.data:
+        if t.type != "mesh3d":
+            continue
+        xyz = np.stack([np.asarray(t.x), np.asarray(t.y), np.asarray(t.z)], axis=1).reshape(-1, 8, 3)
+        for box, text in zip(xyz, np.asarray(t.hovertext).reshape(-1, 8)[:, 0]):
+            name = re.search(r"<b>(.*?)</b>", text).group(1)
+            ext = box.max(axis=0) - box.min(axis=0)
+            assert ext[2] == pytest.approx(made[name][2], abs=1e-6), name       # height along up
+            assert sorted(ext[:2]) == pytest.approx(sorted(made[name][:2]), abs=1e-6), name
+            centres[name] = box.mean(axis=0)
+    assert set(centres) == set(made)
+    local = {"dining table": "t", "cup": "c", "book": "b", "chair": "h"}
+    for p, q in itertools.combinations(centres, 2):
+        P, Q = np.array(PLACES[local[p]]), np.array(PLACES[local[q]])
+        assert np.hypot(*(centres[p] - centres[q])[:2]) == pytest.approx(np.hypot(*(P - Q)[:2]), abs=1e-6)
+        assert (centres[p] - centres[q])[2] == pytest.approx((P - Q)[2], abs=1e-6)
 
 
-def test_inverse_edges_are_drawn_once():
-    edges = [{"s": "a", "type": "IN_FRONT_OF", "o": "b"}, {"s": "b", "type": "BEHIND", "o": "a"},
-             {"s": "a", "type": "NEAR", "o": "b"}, {"s": "b", "type": "NEAR", "o": "a"},
-             {"s": "c", "type": "UNDER", "o": "a"}]
-    got = [(e.s, e.o, e.types, e.both) for e in drawn_edges(edges)]
-    assert got == [("a", "b", ["NEAR"], True), ("a", "b", ["IN_FRONT_OF"], False), ("c", "a", ["UNDER"], False)]
+def test_point_cloud_from_the_real_kitchen(kitchen_dir):
+    from app.scene import VOXEL_M, sequence_cloud
+
+    P, C = sequence_cloud(kitchen_dir, frames=2, max_points=3000)
+    assert 1000 <= len(P) <= 3000 and P.shape == (len(P), 3) and C.shape == (len(P), 3)
+    assert np.isfinite(P).all() and C.dtype == np.uint8 and C.std() > 10      # real colours, not one grey
+    # one point per centimetre cube: the overlapping frames' repeats are gone
+    cells = np.floor(P / VOXEL_M).astype(np.int64)
+    assert len(np.unique(cells, axis=0)) == len(P)
+    # the room, not a speck: the kitchen's depth spans metres
+    assert (P.max(axis=0) - P.min(axis=0)).max() > 1.5
 
 
-@pytest.mark.parametrize("name", ["g.jpg", "g", "g.pdf"])
+@pytest.mark.parametrize("name", ["g.jpg", "g", "g.gif"])
 def test_bad_out_suffix_is_one_line_exit_2(embedded_home, tmp_path, name):
     import subprocess
     import sys
@@ -158,3 +332,44 @@ def test_bad_out_suffix_is_one_line_exit_2(embedded_home, tmp_path, name):
 def test_empty_room_is_an_error(store, embedded_home, tmp_path):
     r = show(embedded_home, "--out", str(tmp_path / "x.png"))
     assert r.exit_code == 2 and "nothing to show" in r.output
+
+
+def test_real_kitchen_png_has_scale_bar_legend_and_labels_that_never_overlap(store, embedded_home, kitchen_dir,
+                                                                            tmp_path):
+    """The first half of the real kitchen, built by `sg3d build`, drawn as `sg3d show` draws it."""
+    from app.scene import fetch_scene
+    from queries.taxonomy import Taxonomy
+    from render.diagram import draw
+
+    r = CliRunner().invoke(cli, ["--home", str(embedded_home), "build", str(kitchen_dir), "--room", "kitchen",
+                                 "--building", BUILDING, "--stop", "500", "--json"])
+    assert r.exit_code == 0, r.output
+    out, svg = tmp_path / "k.png", tmp_path / "k.svg"
+    for f in (out, svg):
+        r = show(embedded_home, "--out", str(f), room="kitchen")
+        assert r.exit_code == 0, r.output
+    scene = fetch_scene(store, BUILDING, "kitchen")
+    assert len(scene["nodes"]) >= 4
+    img = cv2.imread(str(out))
+    assert img.shape == (1200, 1600, 3)
+    # the scale bar: a black bar at least 50 px long in the right-hand column, labelled in the SVG
+    panel = img[:, 1150:]
+    runs = [(row < 60).all(axis=-1).sum() for row in panel]
+    assert max(runs) >= 50
+    root = ET.parse(svg).getroot()
+    metres, units = svg_scale(root)
+    assert metres > 0 and units / 0.72 >= 50
+    # the legend names each object's category
+    texts = {"".join(t.itertext()) for t in root.iter(NS + "text")}
+    tax = Taxonomy.load()
+    for n in scene["nodes"]:
+        assert (tax.parent(n["label"]) or n["label"]) in texts, n["label"]
+    # labels: every node named (or numbered) on the map, no two texts overlapping
+    d = draw(scene, title="default/kitchen")
+    renderer = d.figure.canvas.get_renderer()
+    on_map = [t for t in d.ax.texts if t.get_text()]
+    boxes = [t.get_window_extent(renderer) for t in on_map]
+    assert not [(on_map[i].get_text(), on_map[j].get_text())
+                for (i, a), (j, b) in itertools.combinations(enumerate(boxes), 2) if a.overlaps(b)]
+    assert {t.get_gid()[6:] for t in on_map if (t.get_gid() or "").startswith("label-")} == \
+        {n["id"] for n in scene["nodes"]}

@@ -14,7 +14,7 @@ def _render(report: dict) -> None:
     from rich.console import Console
     from rich.table import Table
 
-    from queries.report import metric_rows
+    from render.report import metric_rows
 
     console = Console()
     n, e = report["nodes"], report["edges"]
@@ -71,7 +71,7 @@ def _render(report: dict) -> None:
 @click.option("--no-vqa", is_flag=True, help="Skip the questions.")
 @click.option("--json", "as_json", is_flag=True, help="Machine-readable report on stdout.")
 @click.option("--report", "report_dir", type=click.Path(file_okay=False, path_type=Path), default=None,
-              help="Also write DIR/report.md and DIR/report.html with the graph picture coloured by match.")
+              help="Also write DIR/report.md and DIR/report.html: metrics, node, edge and VQA tables, and the graph picture coloured by match.")
 @click.pass_obj
 def eval_command(settings, gt_path: Path, room: str, building: str, tolerance: Optional[float],
                  no_vqa: bool, as_json: bool, report_dir: Optional[Path]) -> None:
@@ -92,10 +92,10 @@ def eval_command(settings, gt_path: Path, room: str, building: str, tolerance: O
     report = evaluate(store, gt, rid, room=room, building=building,
                       tolerance=DEFAULT_TOLERANCE if tolerance is None else tolerance, with_vqa=not no_vqa)
     if report_dir is not None:
-        from queries.render import load_scene
-        from queries.report import write_report
+        from app.scene import fetch_scene
+        from render.report import write_report
 
-        written = write_report(report_dir, report, load_scene(store, building, room), gt, room)
+        written = write_report(report_dir, report, fetch_scene(store, building, room), gt, room)
         click.echo("wrote " + ", ".join(str(p) for p in written), err=True)
     if as_json:
         click.echo(json.dumps(report))

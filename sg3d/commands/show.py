@@ -1,4 +1,4 @@
-"""`sg3d show --out FILE.png|FILE.svg|FILE.html`: a picture of the stored scene graph."""
+"""`sg3d show --out FILE.png|.svg|.pdf|.html`: a picture of the stored scene graph."""
 from __future__ import annotations
 
 from pathlib import Path
@@ -8,7 +8,7 @@ import click
 
 from sg3d.errors import UserError
 
-FORMATS = {".png": "png", ".svg": "svg", ".html": "html", ".htm": "html"}
+FORMATS = {".png": "png", ".svg": "svg", ".pdf": "pdf", ".html": "html", ".htm": "html"}
 
 
 def parse_size(text: str) -> tuple[int, int]:
@@ -25,45 +25,47 @@ def parse_size(text: str) -> tuple[int, int]:
 @click.option("--room", default=None, help="Room name (default: every room of the building).")
 @click.option("--building", default="default", show_default=True)
 @click.option("--out", required=True, type=click.Path(dir_okay=False, path_type=Path),
-              help="Output file: .png or .svg (node-link diagram) or .html (interactive 3-D view).")
+              help="Output file: .png, .svg or .pdf (top-down node-link diagram) or .html (interactive 3-D view).")
 @click.option("--layout", type=click.Choice(["topdown", "spring"]), default="topdown", show_default=True,
-              help="topdown: nodes at their floor position (overlaps relaxed); spring: force layout.")
+              help="topdown: nodes at their floor position on a metre grid; spring: force layout of the relations.")
 @click.option("--all-edges", is_flag=True, help="Also draw comparison edges (BIGGER_THAN, SMALLER_THAN).")
 @click.option("--size", "size_text", default="1600x1200", show_default=True, metavar="WxH",
-              help="PNG/SVG picture size in pixels.")
+              help="PNG/SVG/PDF picture size in pixels.")
 @click.option("--sequence", type=click.Path(file_okay=False, path_type=Path), default=None,
               help="HTML: add a point cloud back-projected from a few frames of this sequence.")
 @click.option("--frames", type=click.IntRange(1, 100), default=8, show_default=True,
               help="HTML: frames of --sequence to back-project.")
 @click.option("--max-points", type=click.IntRange(100, 200000), default=20000, show_default=True,
-              help="HTML: at most this many cloud points (subsampled).")
+              help="HTML: at most this many cloud points (one per cm cube, then subsampled).")
 @click.pass_obj
 def show(settings, room: Optional[str], building: str, out: Path, layout: str, all_edges: bool,
          size_text: str, sequence: Optional[Path], frames: int, max_points: int) -> None:
     """Draw the scene graph: a 2-D diagram (PNG/SVG) or a 3-D view (HTML)."""
     fmt = FORMATS.get(out.suffix.lower())
     if fmt is None:
-        raise UserError(f"--out {out.name}: unknown picture type {out.suffix or '(none)'!r}; use .png, .svg or .html")
+        raise UserError(f"--out {out.name}: unknown picture type {out.suffix or '(none)'!r}; use .png, .svg, .pdf or .html")
     if sequence is not None and fmt != "html":
         raise UserError("--sequence only applies to an .html view")
     width, height = parse_size(size_text)
     if not out.resolve().parent.is_dir():
         raise UserError(f"--out {out}: the directory {out.parent} does not exist")
-    from queries.render import load_scene, render, room_up
+    from app.errors import AppError
+    from app.scene import fetch_scene, sequence_cloud
 
-    scene = load_scene(settings.reader(), building, room)
-    if not scene.nodes:
-        where = f"room {room!r} of building {building!r}" if room else f"building {building!r}"
-        raise UserError(f"nothing to show: {where} holds no objects")
-    points = None
-    if sequence is not None:
-        from queries.render import point_cloud
-
-        rooms = sorted({n.get("room_name") or "" for n in scene.nodes})
-        points = point_cloud(sequence, room_up(scene, rooms[0]), frames=frames, max_points=max_points)
+    try:
+        scene = fetch_scene(settings.reader(), building, room)
+    except AppError as exc:
+        raise UserError(str(exc)) from None
     title = f"{building}/{room}" if room else building
-    data = render(scene, fmt, width=width, height=height, layout=layout, all_edges=all_edges,
-                  title=title, points=points)
+    if fmt == "html":
+        from render.view3d import render_html
+
+        cloud = sequence_cloud(sequence, frames=frames, max_points=max_points) if sequence is not None else None
+        data = render_html(scene, cloud=cloud, all_edges=all_edges, title=title)
+    else:
+        from render.diagram import render_diagram
+
+        data = render_diagram(scene, fmt, layout=layout, all_edges=all_edges, size=(width, height), title=title)
     try:
         if isinstance(data, bytes):
             out.write_bytes(data)
@@ -71,7 +73,7 @@ def show(settings, room: Optional[str], building: str, out: Path, layout: str, a
             out.write_text(data, encoding="utf-8")
     except OSError as exc:
         raise UserError(f"--out {out}: cannot write it ({exc.strerror or exc})") from None
-    click.echo(f"wrote {out} ({len(scene.nodes)} nodes, {len(scene.edges)} edges)", err=True)
+    click.echo(f"wrote {out} ({len(scene['nodes'])} nodes, {len(scene['edges'])} edges)", err=True)
 
 
 commands = [show]
