@@ -33,7 +33,8 @@ from ingest.detect import Detector
 from ingest.frames import FrameError
 from ingest.kge import KeyframeGrouper
 from ingest.model import LocalGraph, ObjectObservation, RelationObservation
-from ingest.relations import ObjectGeometry, horizontal_basis, spatial_relations
+from ingest.relations import (ObjectGeometry, horizontal_basis, side_by_side_on_one_support,
+                              spatial_relations)
 from ingest.sdr import filter_relations, reject_irrelevant, vote_relations
 from ingest.selection import FrameSelector
 
@@ -251,7 +252,7 @@ def _relations(hyps: dict[str, fusion.Hypothesis], objects: list[ObjectObservati
     relations = vote_relations(frames, co_observed=dict(co_observed))
     labels = {o.local_id: o.label for o in objects}
     centres = {o.local_id: o.mean for o in objects}
-    return filter_relations(relations, labels, centres)
+    return side_by_side_on_one_support(filter_relations(relations, labels, centres))
 
 
 def chunk_graph(seq, a: int, b: int, detector: Detector, up, settings: Settings, room: str,

@@ -387,3 +387,17 @@ def spatial_relations(objects: Sequence[ObjectGeometry], up: Sequence[float],
                 big, small, score = compared
                 emit(big.id, "BIGGER_THAN", small.id, score)
     return out
+
+
+def side_by_side_on_one_support(relations: Sequence[RelationObservation]) -> list[RelationObservation]:
+    """NEXT_TO across the whole sequence: two objects are side by side only when they stand on
+    the same support. After voting, a NEXT_TO whose two ends are ON different things (a cup ON
+    the table, a chair on the floor: supports {table} vs {}) is dropped. A single frame cannot
+    decide this: it often sees only the top of a chair behind a table, as if it stood at the
+    table's height; the voted ON edges of the whole sequence say where each object stands."""
+    supports: dict[str, set[str]] = {}
+    for r in relations:
+        if r.predicate == "ON":
+            supports.setdefault(r.subject, set()).add(r.object)
+    return [r for r in relations if r.predicate != "NEXT_TO"
+            or supports.get(r.subject, set()) == supports.get(r.object, set())]

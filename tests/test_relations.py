@@ -279,3 +279,15 @@ def test_a_cup_at_the_edge_of_a_partly_seen_table_top_is_left_to_other_views():
     magazine = ObjectGeometry("mag", "magazine", (0.0, 0.0, 0.76), (0.28, 0.21, 0.02))
     beside = ObjectGeometry("cup", "cup", (0.20, 0.0, 0.80), (0.08, 0.08, 0.10))
     assert ("cup", "NEXT_TO", "mag") in rels([magazine, beside])
+
+
+def test_next_to_needs_one_support_across_the_sequence():
+    from ingest.model import RelationObservation as R
+    from ingest.relations import side_by_side_on_one_support
+
+    rels = [R("cup", "ON", "table"), R("book", "ON", "table"), R("cup", "NEXT_TO", "book"),
+            R("chair", "NEXT_TO", "cup"), R("chair", "NEXT_TO", "table"), R("chair", "NEAR", "book")]
+    kept = {(r.subject, r.predicate, r.object) for r in side_by_side_on_one_support(rels)}
+    assert ("cup", "NEXT_TO", "book") in kept and ("chair", "NEXT_TO", "table") in kept
+    assert ("chair", "NEXT_TO", "cup") not in kept
+    assert ("chair", "NEAR", "book") in kept and len(kept) == 5
