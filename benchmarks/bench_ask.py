@@ -47,17 +47,18 @@ def generate(store, n_objects: int, n_rooms: int, seed: int = 0, batch_rooms: in
             for i in range(per_room):
                 label = LABELS[i % len(LABELS)]
                 size = [float(v) for v in rng.uniform(0.05, 1.5, 3)]
-                objects.append({
+                objects.append({"props": {
                     "id": f"{rid}#{i}", "room": rid, "label": label, "labels": [label], "scores": [0.9],
                     "score": 0.9, "x": float(rng.uniform(0, 10)), "y": float(rng.uniform(0, 3)),
                     "z": float(rng.uniform(0, 10)), "size": size, "volume": float(np.prod(size)),
                     "colour": COLOUR_NAMES[int(rng.integers(len(COLOUR_NAMES)))],
-                    "thumbnail": b"\xff\xd8" + bytes(2000), "n_points": 100, "observations": 1,
-                })
+                    "n_points": 100, "observations": 1,
+                }, "thumbnail": b"\xff\xd8" + bytes(2000)})
             rooms.append({"id": rid, "name": f"room {k}", "building": "bench", "objects": objects})
-            table = next(o["id"] for o in objects if o["label"] == "dining table") if per_room >= 10 else None
+            props = [o["props"] for o in objects]
+            table = next(o["id"] for o in props if o["label"] == "dining table") if per_room >= 10 else None
             if table:
-                pairs += [{"s": o["id"], "o": table, "score": 0.8} for o in objects[:per_room // 4]
+                pairs += [{"s": o["id"], "o": table, "score": 0.8} for o in props[:per_room // 4]
                           if o["label"] in ("cup", "bowl", "bottle", "vase")]
         store.write("vqa_bench_load", rooms=rooms)
         if pairs:

@@ -1,9 +1,12 @@
 // Constraints and indexes of the scene-graph model. Idempotent: run at every schema upgrade.
 // (:Building)-[:HAS_ROOM]->(:Room)-[:CONTAINS]->(:Object)-[:<RELATION>]->(:Object)
 // (:Object)-[:INSTANCE_OF]->(:Category)-[:IS_A]->(:Category)
+// (:Appearance {id, hist, thumbnail}) holds an Object's colour histogram and thumbnail under the
+// Object's id (schema 2): the bulky bytes stay off the Object record that merges and counts read.
 CREATE CONSTRAINT building_id IF NOT EXISTS FOR (b:Building) REQUIRE b.id IS UNIQUE;
 CREATE CONSTRAINT room_id IF NOT EXISTS FOR (r:Room) REQUIRE r.id IS UNIQUE;
 CREATE CONSTRAINT object_id IF NOT EXISTS FOR (o:Object) REQUIRE o.id IS UNIQUE;
+CREATE CONSTRAINT appearance_id IF NOT EXISTS FOR (a:Appearance) REQUIRE a.id IS UNIQUE;
 CREATE CONSTRAINT category_name IF NOT EXISTS FOR (c:Category) REQUIRE c.name IS UNIQUE;
 CREATE CONSTRAINT merge_key IF NOT EXISTS FOR (m:MergeLog) REQUIRE m.key IS UNIQUE;
 CREATE INDEX object_room IF NOT EXISTS FOR (o:Object) ON (o.room);

@@ -26,7 +26,7 @@ from graphdb.similarity import (MAX_EXTENT_M, SimilarityParams, box_position_sim
 from graphdb.update import (combine_boxes, combine_gaussians, combine_histograms, combine_labels,
                             incoming_has_best_label)
 from ingest.embedding import LabelEmbedding, default_embedding
-from ingest.model import RELATION_TYPES, LocalGraph, ObjectObservation
+from ingest.model import HIST_SIZE, RELATION_TYPES, LocalGraph, ObjectObservation
 
 
 @dataclass
@@ -53,6 +53,8 @@ def pack_hist(hist) -> bytes:
 
 
 def unpack_hist(value) -> np.ndarray:
+    if value is None:       # a node without an Appearance (not written by sg3d): no colour seen
+        return np.zeros(HIST_SIZE)
     if isinstance(value, (bytes, bytearray)):
         return np.frombuffer(value, dtype="<f4").astype(float)
     return np.asarray(value, dtype=float)  # stores written as lists stay readable
@@ -81,8 +83,8 @@ def _fetch_candidates(tx: ManagedTransaction, rid: str, objects: list[ObjectObse
                       params: SimilarityParams, basis: np.ndarray) -> tuple[list[dict], np.ndarray]:
     """Candidates and the (n_local, n_cand) position similarity (Eq. 12-13) of each pair.
 
-    Two passes so the store never ships a histogram that cannot matter: positions inside the
-    window first, then the full attributes of the candidates some local object is close to.
+    One query for the candidates inside the window (small Object records, no bytes); the
+    histograms of the ones some local object is close to come from their Appearance nodes.
     """
     largest = max(max(o.size) for o in objects)
     margin = params.window_margin() + (min(largest, MAX_EXTENT_M) + MAX_EXTENT_M) / 2
@@ -112,9 +114,11 @@ def _fetch_candidates(tx: ManagedTransaction, rid: str, objects: list[ObjectObse
     keep = np.flatnonzero((s_pos >= params.min_position_similarity()).any(axis=0))
     if keep.size == 0:
         return [], np.zeros((len(objects), 0))
-    details = {c["id"]: c for c in _rows(tx.run(cypher.load("merge_candidate_details"),
-                                                ids=[near[j]["id"] for j in keep]))}
-    cands = [{**near[j], **details[near[j]["id"]]} for j in keep]
+    cands = [near[j] for j in keep]
+    hists = {r["id"]: r["hist"] for r in _rows(tx.run(cypher.load("merge_candidate_hists"),
+                                                      ids=[c["id"] for c in cands]))}
+    for c in cands:
+        c["hist"] = hists.get(c["id"])
     return cands, s_pos[:, keep]
 
 
@@ -211,6 +215,13 @@ def _updated_props(cand: dict, obj: ObjectObservation, now: float, basis: np.nda
     return props
 
 
+def _appearance_split(props: dict) -> dict:
+    """A write row: the Object's own properties, and the histogram and thumbnail (None = keep
+    the stored one) that go to its Appearance node (schema 2)."""
+    own = dict(props)
+    return {"props": own, "hist": own.pop("hist"), "thumbnail": own.pop("thumbnail", None)}
+
+
 def _window(objects: list[ObjectObservation], margin: float) -> dict:
     means = np.array([o.mean for o in objects], float)
     lo = means.min(axis=0) - margin
@@ -260,11 +271,11 @@ def merge_in_tx(tx: ManagedTransaction, graph: LocalGraph, embedding: Optional[L
                 props = folded
                 _fold_node(tx, other["id"], cand["id"])
                 report.absorbed += 1
-            updates.append({"id": cand["id"], "props": props})
+            updates.append({"id": cand["id"], **_appearance_split(props)})
         else:
             props = _new_props(obj, rid, now)
             report.node_ids[obj.local_id] = props["id"]
-            creates.append({"props": props})
+            creates.append(_appearance_split(props))
     if updates:
         tx.run(cypher.load("object_update"), rows=updates).consume()
     if creates:
@@ -292,7 +303,10 @@ def merge_local_graph(store, graph: LocalGraph, embedding: Optional[LabelEmbeddi
     """Merge one local graph as ONE transaction; the store is unchanged if anything fails."""
     embedding = embedding or default_embedding()
     store.ensure_schema()
-    create_room(store, graph.building, graph.room)
+    rid = room_id(graph.building, graph.room)
+    if rid not in store.rooms_known:     # a room is created once: later merges skip the round trip
+        create_room(store, graph.building, graph.room)
+        store.rooms_known.add(rid)
     return store.execute_write(lambda tx: merge_in_tx(tx, graph, embedding, params))
 
 
