@@ -20,9 +20,10 @@ from scipy.optimize import linear_sum_assignment
 
 from graphdb import cypher
 from graphdb.consistency import canonical_rows, resolve_pairs
-from graphdb.similarity import (MAX_EXTENT_M, SimilarityParams, box_position_similarity,
-                                histogram_intersection, label_similarity_matrix,
-                                position_similarity, shared_labels, total_similarity)
+from graphdb.similarity import (MAX_EXTENT_M, SimilarityParams, box_may_pass,
+                                box_position_similarity, histogram_intersection,
+                                label_similarity_matrix, position_may_pass, position_similarity,
+                                shared_labels, total_similarity)
 from graphdb.update import (combine_boxes, combine_gaussians, combine_histograms, combine_labels,
                             incoming_has_best_label)
 from ingest.embedding import LabelEmbedding, default_embedding
@@ -91,26 +92,12 @@ def _fetch_candidates(tx: ManagedTransaction, rid: str, objects: list[ObjectObse
     near = _rows(tx.run(cypher.load("merge_candidates"), room=rid, **_window(objects, margin)))
     if not near:
         return [], np.zeros((len(objects), 0))
-    mean_c = np.array([o.mean for o in objects], float)
-    mean_o = np.array([[c["x"], c["y"], c["z"]] for c in near], float)
-    var_o = np.array([c["var"] for c in near], float)
-    size_o = np.array([c["size"] for c in near], float)
-    s_pos = position_similarity(mean_o[None, :, :], var_o[None, :, :], mean_c[:, None, :],
-                                params.sigma_floor, params.sigma_cap)
-    # Partial views of one big object: its σ is floored at a fraction of its extent, and
-    # overlapping 3-D boxes count as the same place. Only between views of one kind of thing: a
-    # chair tucked under a table, or a cup on it, sits inside the table's extent and is not it.
-    same_kind = shared_labels([o.labels for o in objects], [c["labels"] for c in near]) > 0
-    if same_kind.any():
-        floor = np.maximum(params.sigma_floor, params.sigma_size_fraction * size_o.max(axis=1))[None, :, None]
-        s_wide = position_similarity(mean_o[None, :, :], var_o[None, :, :], mean_c[:, None, :],
-                                     floor, params.sigma_cap)
-        box_o = np.array([c["box_centre"] or [c["x"], c["y"], c["z"]] for c in near], float)
-        box_c = np.array([_box_centre(o) for o in objects], float)
-        size_c = np.array([o.size for o in objects], float)
-        s_box = box_position_similarity(box_o[None, :, :], size_o[None, :, :], box_c[:, None, :],
-                                        size_c[:, None, :], basis, params.sigma_floor)
-        s_pos = np.where(same_kind, np.maximum(s_pos, np.maximum(s_wide, s_box)), s_pos)
+    # a batch spans the room, so most pairs are far apart: a cheap test drops the candidates
+    # nothing local can reach before the exact scores (same result, without their tails)
+    near = [near[j] for j in np.flatnonzero(_may_pass(objects, near, params, basis).any(axis=0))]
+    if not near:
+        return [], np.zeros((len(objects), 0))
+    s_pos = _position_scores(objects, near, params, basis)
     keep = np.flatnonzero((s_pos >= params.min_position_similarity()).any(axis=0))
     if keep.size == 0:
         return [], np.zeros((len(objects), 0))
@@ -120,6 +107,59 @@ def _fetch_candidates(tx: ManagedTransaction, rid: str, objects: list[ObjectObse
     for c in cands:
         c["hist"] = hists.get(c["id"])
     return cands, s_pos[:, keep]
+
+
+def _position_arrays(objects: list[ObjectObservation], near: list[dict]) -> dict:
+    """Broadcast-ready (n_local, n_cand, 3) operands of the position tests."""
+    return {
+        "mean_c": np.array([o.mean for o in objects], float)[:, None, :],
+        "mean_o": np.array([[c["x"], c["y"], c["z"]] for c in near], float)[None, :, :],
+        "var_o": np.array([c["var"] for c in near], float)[None, :, :],
+        "size_o": np.array([c["size"] for c in near], float)[None, :, :],
+        "box_o": np.array([c["box_centre"] or [c["x"], c["y"], c["z"]] for c in near], float)[None, :, :],
+        "box_c": np.array([_box_centre(o) for o in objects], float)[:, None, :],
+        "size_c": np.array([o.size for o in objects], float)[:, None, :],
+        "same_kind": shared_labels([o.labels for o in objects], [c["labels"] for c in near]) > 0,
+    }
+
+
+def _wide_floor(a: dict, params: SimilarityParams) -> np.ndarray:
+    """σ floor of a stored object between views of one kind: a fraction of its largest extent."""
+    return np.maximum(params.sigma_floor, params.sigma_size_fraction * a["size_o"].max(axis=-1))[..., None]
+
+
+def _may_pass(objects: list[ObjectObservation], near: list[dict], params: SimilarityParams,
+              basis: np.ndarray) -> np.ndarray:
+    """(n_local, n_cand): False only where `_position_scores` is surely below the position
+    threshold (no normal tails evaluated)."""
+    a, p_min = _position_arrays(objects, near), params.min_position_similarity()
+    ok = position_may_pass(a["mean_o"], a["var_o"], a["mean_c"], p_min, params.sigma_floor, params.sigma_cap)
+    if a["same_kind"].any():
+        # σ_wide ≥ σ, so the wide test covers the plain one for same-kind pairs
+        wide = position_may_pass(a["mean_o"], a["var_o"], a["mean_c"], p_min, _wide_floor(a, params),
+                                 params.sigma_cap)
+        box = box_may_pass(a["box_o"], a["size_o"], a["box_c"], a["size_c"], basis, p_min, params.sigma_floor)
+        ok = ok | (a["same_kind"] & (wide | box))
+    return ok
+
+
+def _position_scores(objects: list[ObjectObservation], near: list[dict], params: SimilarityParams,
+                     basis: np.ndarray) -> np.ndarray:
+    """s_position (Eq. 12-13) of every (local, candidate) pair, shape (n_local, n_cand).
+
+    Partial views of one big object: its σ is floored at a fraction of its extent, and
+    overlapping 3-D boxes count as the same place. Only between views of one kind of thing: a
+    chair tucked under a table, or a cup on it, sits inside the table's extent and is not it.
+    """
+    a = _position_arrays(objects, near)
+    s_pos = position_similarity(a["mean_o"], a["var_o"], a["mean_c"], params.sigma_floor, params.sigma_cap)
+    if a["same_kind"].any():
+        s_wide = position_similarity(a["mean_o"], a["var_o"], a["mean_c"], _wide_floor(a, params),
+                                     params.sigma_cap)
+        s_box = box_position_similarity(a["box_o"], a["size_o"], a["box_c"], a["size_c"], basis,
+                                        params.sigma_floor)
+        s_pos = np.where(a["same_kind"], np.maximum(s_pos, np.maximum(s_wide, s_box)), s_pos)
+    return s_pos
 
 
 def _pair_scores(objects: list[ObjectObservation], cands: list[dict], s_pos: np.ndarray,
