@@ -20,6 +20,7 @@ from scipy.optimize import linear_sum_assignment
 
 from graphdb import cypher
 from graphdb.consistency import canonical_rows, resolve_pairs
+from graphdb.tally import add_tallies
 from graphdb.similarity import (MAX_EXTENT_M, SimilarityParams, box_may_pass,
                                 box_position_similarity, histogram_intersection,
                                 label_similarity_matrix, position_may_pass, position_similarity,
@@ -299,6 +300,7 @@ def merge_in_tx(tx: ManagedTransaction, graph: LocalGraph, embedding: Optional[L
     matches, absorbed = match_nodes(objects, cands, s_pos, embedding, params) if cands else ({}, {})
 
     updates, creates = [], []
+    counted, uncounted = [], []     # (label, colour) of objects entering / leaving the tallies
     for i, obj in enumerate(objects):
         if i in matches:
             cand = cands[matches[i]]
@@ -310,17 +312,22 @@ def merge_in_tx(tx: ManagedTransaction, graph: LocalGraph, embedding: Optional[L
                 folded["observations"] = props["observations"] + int(other["observations"])
                 props = folded
                 _fold_node(tx, other["id"], cand["id"])
+                uncounted.append((other["label"], other["colour"]))
                 report.absorbed += 1
             updates.append({"id": cand["id"], **_appearance_split(props)})
+            uncounted.append((cand["label"], cand["colour"]))
+            counted.append((props["label"], props["colour"]))
         else:
             props = _new_props(obj, rid, now)
             report.node_ids[obj.local_id] = props["id"]
             creates.append(_appearance_split(props))
+            counted.append((props["label"], props["colour"]))
     if updates:
         tx.run(cypher.load("object_update"), rows=updates).consume()
     if creates:
         tx.run(cypher.load("object_create"), room=rid, rows=creates).consume()
     report.updated, report.created = len(updates), len(creates)
+    add_tallies(tx, rid, counted, uncounted)
 
     # stored form between global ids (symmetric edges by the smaller GLOBAL id, no viewpoint
     # relations); then the pairs this merge touched keep only their better-supported statement

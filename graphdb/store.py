@@ -106,7 +106,8 @@ class Store:
     # -- schema ------------------------------------------------------------------------------
     def ensure_schema(self) -> None:
         """Apply cypher/schema.cypher once per store (idempotent statements), then migrate the
-        data of an older schema (`migrate_appearance`) before recording the new version."""
+        data of an older schema (`migrate_appearance`, tallies recounted) before recording the
+        new version."""
         if self._schema_checked:
             return
         if self.read_only:
@@ -119,6 +120,9 @@ class Store:
                 for stmt in cypher.statements("schema"):
                     s.run(stmt).consume()
             self.migrate_appearance()
+            from graphdb.tally import rebuild_tallies
+
+            rebuild_tallies(self)
             self.write("schema_version_set", version=SCHEMA_VERSION)
         self._schema_checked = True
 

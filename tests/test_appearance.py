@@ -100,6 +100,7 @@ def test_a_schema_1_store_is_migrated_and_keeps_answering(store, monkeypatch):
     assert node_counts(store)["Appearance"] == 5        # the migrated ones (the chair's was deleted above)
     full = {o["id"]: o for o in (r["o"] for r in store.read("object_all", room=ROOM))}
     assert np.allclose(unpack_hist(full["old-3"]["hist"]), h) and bytes(full["old-3"]["thumbnail"]) == b"\xff\xd8old\x03"
+    assert answer(store, "how many bowls are there?").value == 5     # tallies recounted
     a = answer(store, "show me the biggest bowl")
     assert a.ok and a.value["id"] == "old-4" and a.thumbnail == b"\xff\xd8old\x04"
     # a merge onto a migrated node combines the migrated histogram
