@@ -3,8 +3,8 @@
 // (:Object)-[:INSTANCE_OF]->(:Category)-[:IS_A]->(:Category)
 // (:Appearance {id, hist, thumbnail}) holds an Object's colour histogram and thumbnail under the
 // Object's id (schema 2): the bulky bytes stay off the Object record that merges and counts read.
-// (:Tally {key, room, label, colour, n}): objects per room, label and colour ('' = all), kept by
-// the merge (graphdb/tally.py) so store-wide counts read no Object record.
+// (:Tally {key, kind: 'label|colour', room, label, colour, n}): objects per room, label and colour
+// ('' = all), kept by the merge (graphdb/tally.py) so store-wide counts read no Object record.
 CREATE CONSTRAINT building_id IF NOT EXISTS FOR (b:Building) REQUIRE b.id IS UNIQUE;
 CREATE CONSTRAINT room_id IF NOT EXISTS FOR (r:Room) REQUIRE r.id IS UNIQUE;
 CREATE CONSTRAINT object_id IF NOT EXISTS FOR (o:Object) REQUIRE o.id IS UNIQUE;
@@ -15,4 +15,4 @@ CREATE CONSTRAINT merge_key IF NOT EXISTS FOR (m:MergeLog) REQUIRE m.key IS UNIQ
 CREATE INDEX object_room IF NOT EXISTS FOR (o:Object) ON (o.room);
 CREATE INDEX object_label IF NOT EXISTS FOR (o:Object) ON (o.label);
 CREATE INDEX room_name IF NOT EXISTS FOR (r:Room) ON (r.name);
-CREATE INDEX tally_label IF NOT EXISTS FOR (t:Tally) ON (t.label)
+CREATE INDEX tally_kind IF NOT EXISTS FOR (t:Tally) ON (t.kind)

@@ -22,6 +22,11 @@ def tally_key(room: str, label: str, colour: str) -> str:
     return f"{room}\x1f{label}\x1f{colour}"
 
 
+def tally_kind(label: str, colour: str) -> str:
+    """The indexed look-up key of a tally, spelt as cypher/vqa_count.cypher builds it."""
+    return f"{label}|{colour}"
+
+
 def tally_deltas(plus: Iterable[tuple[str, Optional[str]]],
                  minus: Iterable[tuple[str, Optional[str]]]) -> Counter:
     """(label, colour) -> net change, each object counted under its colour and under ''."""
@@ -35,7 +40,8 @@ def tally_deltas(plus: Iterable[tuple[str, Optional[str]]],
 
 
 def tally_rows(room: str, counts: Counter) -> list[dict]:
-    return [{"key": tally_key(room, label, colour), "room": room, "label": label, "colour": colour, "n": int(n)}
+    return [{"key": tally_key(room, label, colour), "kind": tally_kind(label, colour), "room": room,
+             "label": label, "colour": colour, "n": int(n)}
             for (label, colour), n in sorted(counts.items()) if n != 0]
 
 
