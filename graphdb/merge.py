@@ -4,8 +4,9 @@ The whole merge of one local graph is ONE write transaction (`session.execute_wr
 on transient errors): a failure anywhere inside, in Python or in Cypher, rolls everything back.
 Inside it: fetch candidates (same room, inside a spatial window around the local graph), score
 them against the local objects in Python (`graphdb.similarity`), pair them one-to-one, update
-the matched nodes, create the rest, merge the edges, and log the merge under the graph's key so
-that a re-run or `--resume` skips it.
+the matched nodes, create the rest (each Object with its Appearance node: histogram and
+thumbnail), adjust the room's tallies (`graphdb.tally`), merge the edges, and log the merge
+under the graph's key so that a re-run or `--resume` skips it.
 """
 from __future__ import annotations
 
@@ -20,11 +21,11 @@ from scipy.optimize import linear_sum_assignment
 
 from graphdb import cypher
 from graphdb.consistency import canonical_rows, resolve_pairs
-from graphdb.tally import add_tallies
 from graphdb.similarity import (MAX_EXTENT_M, SimilarityParams, box_may_pass,
                                 box_position_similarity, histogram_intersection,
                                 label_similarity_matrix, position_may_pass, position_similarity,
                                 shared_labels, total_similarity)
+from graphdb.tally import add_tallies
 from graphdb.update import (combine_boxes, combine_gaussians, combine_histograms, combine_labels,
                             incoming_has_best_label)
 from ingest.embedding import LabelEmbedding, default_embedding

@@ -6,7 +6,7 @@ import numpy as np
 
 from graphdb import store as store_module
 from graphdb.export import fetch_graph
-from graphdb.merge import merge_local_graph, pack_hist, room_id, unpack_hist
+from graphdb.merge import _new_props, merge_local_graph, pack_hist, room_id, unpack_hist
 from queries.vqa import answer
 from tests.factories import graph, hist_of, obj
 
@@ -30,7 +30,9 @@ def test_merged_objects_carry_no_bytes_and_their_appearance_does(store):
                                     obj("b", "bowl", (1.0, 0.0, 1.0))]))
     records = raw_objects(store)
     assert len(records) == 2
-    assert all("hist" not in o and "thumbnail" not in o for o in records)
+    # object_create spells the properties out: every one the merge computes is stored, no bytes
+    own = set(_new_props(obj("z", "cup", (0, 0, 0)), ROOM, 0.0)) - {"hist", "thumbnail"}
+    assert all(set(o) == own for o in records)
     assert node_counts(store).get("Appearance") == 2
     full = {o["label"]: o for o in (r["o"] for r in store.read("object_all", room=ROOM))}
     assert np.allclose(unpack_hist(full["cup"]["hist"]), h)
