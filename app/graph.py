@@ -81,8 +81,8 @@ def graph_schema(store) -> dict:
     nodes = {
         "Building": ["id"],
         "Room": ["id ('building/room')", "name", "building", "up", "to_building (16 floats, row-major 4x4)"],
-        "Object": list(NODE_FIELDS) + ["box_centre", "hist (512 float32 bytes)", "thumbnail (JPEG bytes)",
-                                       "score", "updated_at"],
+        "Object": list(NODE_FIELDS) + ["box_centre", "score", "updated_at"],
+        "Appearance": ["id (the Object's id)", "hist (512 float32 bytes)", "thumbnail (JPEG bytes)"],
         "Category": ["name"],
         "MergeLog": ["key", "room", "frames", "created", "updated", "at"],
     }

@@ -18,6 +18,8 @@ STEPS = [
     ("frames: read + ABIR + KGE vs decode floor", ["benchmarks/bench_frames.py", "--repeat", "1"], None),
     ("build: whole pipeline per preset", ["-m", "benchmarks.bench_build", "--methods", "3d-full"], None),
     ("store: upserts and merge latency", ["-m", "benchmarks.bench_store"], ["--objects", "2000", "--single", "50", "--graphs", "10"]),
+    ("store: reference size, 1,000 rooms", ["-m", "benchmarks.bench_store", "--objects", "100000", "--rooms", "1000"],
+     ["--objects", "10000", "--rooms", "100", "--single", "50", "--graphs", "10"]),
     ("ask: latency on a generated store", ["-m", "benchmarks.bench_ask"], ["--objects", "20000", "--rooms", "200", "--repeat", "10"]),
 ]
 

@@ -1,3 +1,4 @@
-// A node folded into another: it and its remaining edges go.
+// A node folded into another: it, its Appearance and its remaining edges go.
 MATCH (k:Object {id: $id})
-DETACH DELETE k
+OPTIONAL MATCH (a:Appearance {id: $id})
+DETACH DELETE k, a

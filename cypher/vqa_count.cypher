@@ -1,8 +1,11 @@
-// Objects per label among the asked labels (null = any) and colour (null = any), whole store
-// or a large room list. Starts from the object_label index: no "$x IS NULL OR" on the
-// indexed property, else ArcadeDB's planner falls back to a scan of every Object.
-MATCH (o:Object)
-WHERE o.label IN $labels
-  AND ($rooms IS NULL OR o.room IN $rooms)
-  AND ($colour IS NULL OR o.colour = $colour)
-RETURN o.label AS label, count(o) AS n
+// Objects per label among the asked labels, of the asked colour (null = any), in the asked rooms
+// (null = all; a large room list): sums the per-room tallies (graphdb/tally.py), one small record
+// per room, label and colour; no Object record is read. One tally_kind index look-up per label
+// ('label|colour', '' = every colour): only the tallies of the asked kind are read.
+UNWIND $labels AS l
+MATCH (t:Tally)
+WHERE t.kind = l + '|' + coalesce($colour, '')
+  AND ($rooms IS NULL OR t.room IN $rooms)
+WITH t.label AS label, sum(t.n) AS n
+WHERE n > 0
+RETURN label, n

@@ -1,6 +1,9 @@
 // Objects per label whatever their label, in the asked rooms (null = all), of the asked colour
-// (null = any): counting everything is a scan whatever the plan.
-MATCH (o:Object)
-WHERE ($rooms IS NULL OR o.room IN $rooms)
-  AND ($colour IS NULL OR o.colour = $colour)
-RETURN o.label AS label, count(o) AS n
+// (null = any): sums the per-room tallies (graphdb/tally.py); a scan of the tallies, not of the
+// objects.
+MATCH (t:Tally)
+WHERE t.colour = coalesce($colour, '')
+  AND ($rooms IS NULL OR t.room IN $rooms)
+WITH t.label AS label, sum(t.n) AS n
+WHERE n > 0
+RETURN label, n

@@ -1,3 +1,3 @@
-// The thumbnail (JPEG bytes) of one object: the multimodal answer.
-MATCH (o:Object {id: $id})
-RETURN o.thumbnail AS thumbnail
+// The thumbnail (JPEG bytes) of one object: the multimodal answer (from its Appearance).
+MATCH (a:Appearance {id: $id})
+RETURN a.thumbnail AS thumbnail

@@ -16,8 +16,13 @@ NODE_FIELDS = ("id", "room", "label", "labels", "scores", "x", "y", "z", "var", 
 def fetch_graph(store, building: str, room: Optional[str] = None, thumbnails: bool = False,
                 histograms: bool = False) -> dict:
     nodes = []
-    for row in store.read("export_objects", building=building, room=room):
-        o = row["o"]
+    rows = store.read("export_objects", building=building, room=room)
+    # the bytes live on Appearance nodes (schema 2): read only when asked for
+    looks = {}
+    if thumbnails or histograms:
+        looks = {a["id"]: a for a in store.read("appearance_of", ids=[r["o"]["id"] for r in rows])}
+    for row in rows:
+        o = {**row["o"], **{k: v for k, v in looks.get(row["o"]["id"], {}).items() if v is not None}}
         node = {k: o.get(k) for k in NODE_FIELDS}
         node["room_name"] = row["room"]
         if histograms and o.get("hist") is not None:

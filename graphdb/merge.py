@@ -4,8 +4,9 @@ The whole merge of one local graph is ONE write transaction (`session.execute_wr
 on transient errors): a failure anywhere inside, in Python or in Cypher, rolls everything back.
 Inside it: fetch candidates (same room, inside a spatial window around the local graph), score
 them against the local objects in Python (`graphdb.similarity`), pair them one-to-one, update
-the matched nodes, create the rest, merge the edges, and log the merge under the graph's key so
-that a re-run or `--resume` skips it.
+the matched nodes, create the rest (each Object with its Appearance node: histogram and
+thumbnail), adjust the room's tallies (`graphdb.tally`), merge the edges, and log the merge
+under the graph's key so that a re-run or `--resume` skips it.
 """
 from __future__ import annotations
 
@@ -20,13 +21,15 @@ from scipy.optimize import linear_sum_assignment
 
 from graphdb import cypher
 from graphdb.consistency import canonical_rows, resolve_pairs
-from graphdb.similarity import (MAX_EXTENT_M, SimilarityParams, box_position_similarity,
-                                histogram_intersection, label_similarity_matrix,
-                                position_similarity, shared_labels, total_similarity)
+from graphdb.similarity import (MAX_EXTENT_M, SimilarityParams, box_may_pass,
+                                box_position_similarity, histogram_intersection,
+                                label_similarity_matrix, position_may_pass, position_similarity,
+                                shared_labels, total_similarity)
+from graphdb.tally import add_tallies
 from graphdb.update import (combine_boxes, combine_gaussians, combine_histograms, combine_labels,
                             incoming_has_best_label)
 from ingest.embedding import LabelEmbedding, default_embedding
-from ingest.model import RELATION_TYPES, LocalGraph, ObjectObservation
+from ingest.model import HIST_SIZE, RELATION_TYPES, LocalGraph, ObjectObservation
 
 
 @dataclass
@@ -53,6 +56,8 @@ def pack_hist(hist) -> bytes:
 
 
 def unpack_hist(value) -> np.ndarray:
+    if value is None:       # a node without an Appearance (not written by sg3d): no colour seen
+        return np.zeros(HIST_SIZE)
     if isinstance(value, (bytes, bytearray)):
         return np.frombuffer(value, dtype="<f4").astype(float)
     return np.asarray(value, dtype=float)  # stores written as lists stay readable
@@ -81,41 +86,82 @@ def _fetch_candidates(tx: ManagedTransaction, rid: str, objects: list[ObjectObse
                       params: SimilarityParams, basis: np.ndarray) -> tuple[list[dict], np.ndarray]:
     """Candidates and the (n_local, n_cand) position similarity (Eq. 12-13) of each pair.
 
-    Two passes so the store never ships a histogram that cannot matter: positions inside the
-    window first, then the full attributes of the candidates some local object is close to.
+    One query for the candidates inside the window (small Object records, no bytes); the
+    histograms of the ones some local object is close to come from their Appearance nodes.
     """
     largest = max(max(o.size) for o in objects)
     margin = params.window_margin() + (min(largest, MAX_EXTENT_M) + MAX_EXTENT_M) / 2
     near = _rows(tx.run(cypher.load("merge_candidates"), room=rid, **_window(objects, margin)))
     if not near:
         return [], np.zeros((len(objects), 0))
-    mean_c = np.array([o.mean for o in objects], float)
-    mean_o = np.array([[c["x"], c["y"], c["z"]] for c in near], float)
-    var_o = np.array([c["var"] for c in near], float)
-    size_o = np.array([c["size"] for c in near], float)
-    s_pos = position_similarity(mean_o[None, :, :], var_o[None, :, :], mean_c[:, None, :],
-                                params.sigma_floor, params.sigma_cap)
-    # Partial views of one big object: its σ is floored at a fraction of its extent, and
-    # overlapping 3-D boxes count as the same place. Only between views of one kind of thing: a
-    # chair tucked under a table, or a cup on it, sits inside the table's extent and is not it.
-    same_kind = shared_labels([o.labels for o in objects], [c["labels"] for c in near]) > 0
-    if same_kind.any():
-        floor = np.maximum(params.sigma_floor, params.sigma_size_fraction * size_o.max(axis=1))[None, :, None]
-        s_wide = position_similarity(mean_o[None, :, :], var_o[None, :, :], mean_c[:, None, :],
-                                     floor, params.sigma_cap)
-        box_o = np.array([c["box_centre"] or [c["x"], c["y"], c["z"]] for c in near], float)
-        box_c = np.array([_box_centre(o) for o in objects], float)
-        size_c = np.array([o.size for o in objects], float)
-        s_box = box_position_similarity(box_o[None, :, :], size_o[None, :, :], box_c[:, None, :],
-                                        size_c[:, None, :], basis, params.sigma_floor)
-        s_pos = np.where(same_kind, np.maximum(s_pos, np.maximum(s_wide, s_box)), s_pos)
+    # a batch spans the room, so most pairs are far apart: a cheap test drops the candidates
+    # nothing local can reach before the exact scores (same result, without their tails)
+    near = [near[j] for j in np.flatnonzero(_may_pass(objects, near, params, basis).any(axis=0))]
+    if not near:
+        return [], np.zeros((len(objects), 0))
+    s_pos = _position_scores(objects, near, params, basis)
     keep = np.flatnonzero((s_pos >= params.min_position_similarity()).any(axis=0))
     if keep.size == 0:
         return [], np.zeros((len(objects), 0))
-    details = {c["id"]: c for c in _rows(tx.run(cypher.load("merge_candidate_details"),
-                                                ids=[near[j]["id"] for j in keep]))}
-    cands = [{**near[j], **details[near[j]["id"]]} for j in keep]
+    cands = [near[j] for j in keep]
+    hists = {r["id"]: r["hist"] for r in _rows(tx.run(cypher.load("merge_candidate_hists"),
+                                                      ids=[c["id"] for c in cands]))}
+    for c in cands:
+        c["hist"] = hists.get(c["id"])
     return cands, s_pos[:, keep]
+
+
+def _position_arrays(objects: list[ObjectObservation], near: list[dict]) -> dict:
+    """Broadcast-ready (n_local, n_cand, 3) operands of the position tests."""
+    return {
+        "mean_c": np.array([o.mean for o in objects], float)[:, None, :],
+        "mean_o": np.array([[c["x"], c["y"], c["z"]] for c in near], float)[None, :, :],
+        "var_o": np.array([c["var"] for c in near], float)[None, :, :],
+        "size_o": np.array([c["size"] for c in near], float)[None, :, :],
+        "box_o": np.array([c["box_centre"] or [c["x"], c["y"], c["z"]] for c in near], float)[None, :, :],
+        "box_c": np.array([_box_centre(o) for o in objects], float)[:, None, :],
+        "size_c": np.array([o.size for o in objects], float)[:, None, :],
+        "same_kind": shared_labels([o.labels for o in objects], [c["labels"] for c in near]) > 0,
+    }
+
+
+def _wide_floor(a: dict, params: SimilarityParams) -> np.ndarray:
+    """σ floor of a stored object between views of one kind: a fraction of its largest extent."""
+    return np.maximum(params.sigma_floor, params.sigma_size_fraction * a["size_o"].max(axis=-1))[..., None]
+
+
+def _may_pass(objects: list[ObjectObservation], near: list[dict], params: SimilarityParams,
+              basis: np.ndarray) -> np.ndarray:
+    """(n_local, n_cand): False only where `_position_scores` is surely below the position
+    threshold (no normal tails evaluated)."""
+    a, p_min = _position_arrays(objects, near), params.min_position_similarity()
+    ok = position_may_pass(a["mean_o"], a["var_o"], a["mean_c"], p_min, params.sigma_floor, params.sigma_cap)
+    if a["same_kind"].any():
+        # σ_wide ≥ σ, so the wide test covers the plain one for same-kind pairs
+        wide = position_may_pass(a["mean_o"], a["var_o"], a["mean_c"], p_min, _wide_floor(a, params),
+                                 params.sigma_cap)
+        box = box_may_pass(a["box_o"], a["size_o"], a["box_c"], a["size_c"], basis, p_min, params.sigma_floor)
+        ok = ok | (a["same_kind"] & (wide | box))
+    return ok
+
+
+def _position_scores(objects: list[ObjectObservation], near: list[dict], params: SimilarityParams,
+                     basis: np.ndarray) -> np.ndarray:
+    """s_position (Eq. 12-13) of every (local, candidate) pair, shape (n_local, n_cand).
+
+    Partial views of one big object: its σ is floored at a fraction of its extent, and
+    overlapping 3-D boxes count as the same place. Only between views of one kind of thing: a
+    chair tucked under a table, or a cup on it, sits inside the table's extent and is not it.
+    """
+    a = _position_arrays(objects, near)
+    s_pos = position_similarity(a["mean_o"], a["var_o"], a["mean_c"], params.sigma_floor, params.sigma_cap)
+    if a["same_kind"].any():
+        s_wide = position_similarity(a["mean_o"], a["var_o"], a["mean_c"], _wide_floor(a, params),
+                                     params.sigma_cap)
+        s_box = box_position_similarity(a["box_o"], a["size_o"], a["box_c"], a["size_c"], basis,
+                                        params.sigma_floor)
+        s_pos = np.where(a["same_kind"], np.maximum(s_pos, np.maximum(s_wide, s_box)), s_pos)
+    return s_pos
 
 
 def _pair_scores(objects: list[ObjectObservation], cands: list[dict], s_pos: np.ndarray,
@@ -211,6 +257,13 @@ def _updated_props(cand: dict, obj: ObjectObservation, now: float, basis: np.nda
     return props
 
 
+def _appearance_split(props: dict) -> dict:
+    """A write row: the Object's own properties, and the histogram and thumbnail (None = keep
+    the stored one) that go to its Appearance node (schema 2)."""
+    own = dict(props)
+    return {"props": own, "hist": own.pop("hist"), "thumbnail": own.pop("thumbnail", None)}
+
+
 def _window(objects: list[ObjectObservation], margin: float) -> dict:
     means = np.array([o.mean for o in objects], float)
     lo = means.min(axis=0) - margin
@@ -248,6 +301,7 @@ def merge_in_tx(tx: ManagedTransaction, graph: LocalGraph, embedding: Optional[L
     matches, absorbed = match_nodes(objects, cands, s_pos, embedding, params) if cands else ({}, {})
 
     updates, creates = [], []
+    counted, uncounted = [], []     # (label, colour) of objects entering / leaving the tallies
     for i, obj in enumerate(objects):
         if i in matches:
             cand = cands[matches[i]]
@@ -259,17 +313,22 @@ def merge_in_tx(tx: ManagedTransaction, graph: LocalGraph, embedding: Optional[L
                 folded["observations"] = props["observations"] + int(other["observations"])
                 props = folded
                 _fold_node(tx, other["id"], cand["id"])
+                uncounted.append((other["label"], other["colour"]))
                 report.absorbed += 1
-            updates.append({"id": cand["id"], "props": props})
+            updates.append({"id": cand["id"], **_appearance_split(props)})
+            uncounted.append((cand["label"], cand["colour"]))
+            counted.append((props["label"], props["colour"]))
         else:
             props = _new_props(obj, rid, now)
             report.node_ids[obj.local_id] = props["id"]
-            creates.append({"props": props})
+            creates.append(_appearance_split(props))
+            counted.append((props["label"], props["colour"]))
     if updates:
         tx.run(cypher.load("object_update"), rows=updates).consume()
     if creates:
         tx.run(cypher.load("object_create"), room=rid, rows=creates).consume()
     report.updated, report.created = len(updates), len(creates)
+    add_tallies(tx, rid, counted, uncounted)
 
     # stored form between global ids (symmetric edges by the smaller GLOBAL id, no viewpoint
     # relations); then the pairs this merge touched keep only their better-supported statement
@@ -292,7 +351,10 @@ def merge_local_graph(store, graph: LocalGraph, embedding: Optional[LabelEmbeddi
     """Merge one local graph as ONE transaction; the store is unchanged if anything fails."""
     embedding = embedding or default_embedding()
     store.ensure_schema()
-    create_room(store, graph.building, graph.room)
+    rid = room_id(graph.building, graph.room)
+    if rid not in store.rooms_known:     # a room is created once: later merges skip the round trip
+        create_room(store, graph.building, graph.room)
+        store.rooms_known.add(rid)
     return store.execute_write(lambda tx: merge_in_tx(tx, graph, embedding, params))
 
 

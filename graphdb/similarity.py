@@ -57,11 +57,7 @@ class SimilarityParams:
         below p_min beyond z* standard deviations, and σ is capped, so nothing farther than
         z*·σ_cap on any axis can match: the candidate query may ignore it safely.
         """
-        p_min = self.min_position_similarity()
-        if p_min <= 0:
-            return float("inf")
-        z = _tail_inverse(p_min * _two_sided_tail(1.0))
-        return float(z * self.sigma_cap)
+        return float(max_tail_z(self.min_position_similarity()) * self.sigma_cap)
 
 
 def _two_sided_tail(z):
@@ -74,6 +70,19 @@ def _tail_inverse(p: float) -> float:
     from scipy.special import ndtri
 
     return float(-ndtri(p / 2.0))
+
+
+def max_tail_z(p_min: float) -> float:
+    """The largest z at which one axis of Eq. 13 (1, or the tail ratio beyond ±σ) is still
+    ≥ p_min. Every axis factor is ≤ 1, so a pair with any axis beyond it scores below p_min."""
+    if p_min <= 0:
+        return float("inf")
+    return _tail_inverse(p_min * _two_sided_tail(1.0))
+
+
+def _tail_factors(z) -> np.ndarray:
+    """Eq. 13 per axis: 1 inside ±σ (z < 1), else the normal tail ratio."""
+    return np.where(z < 1.0, 1.0, _two_sided_tail(z) / _two_sided_tail(1.0))
 
 
 def label_score(scores_o: Sequence[float], scores_c: Sequence[float]) -> float:
@@ -146,13 +155,25 @@ def position_similarity(mean_o, var_o, mean_c, sigma_floor=SIGMA_FLOOR_M,
     Broadcasts: mean_o/var_o (..., 3) against mean_c (..., 3); returns (...). `sigma_floor`
     may be an array broadcasting like var_o (a per-object floor, see SIGMA_SIZE_FRACTION).
     """
+    return np.prod(_tail_factors(_position_z(mean_o, var_o, mean_c, sigma_floor, sigma_cap)), axis=-1)
+
+
+def _position_z(mean_o, var_o, mean_c, sigma_floor, sigma_cap) -> np.ndarray:
+    """|mean_c − mean_o| / σ_o per axis, σ_o clipped to [sigma_floor, sigma_cap] (Eq. 13's z)."""
     mean_o = np.asarray(mean_o, dtype=float)
     mean_c = np.asarray(mean_c, dtype=float)
     sigma = np.sqrt(np.maximum(np.asarray(var_o, dtype=float), 0.0))
     sigma = np.minimum(np.maximum(sigma, sigma_floor), sigma_cap)
-    z = np.abs(mean_c - mean_o) / sigma
-    per_axis = np.where(z < 1.0, 1.0, _two_sided_tail(z) / _two_sided_tail(1.0))
-    return np.prod(per_axis, axis=-1)
+    return np.abs(mean_c - mean_o) / sigma
+
+
+def position_may_pass(mean_o, var_o, mean_c, p_min: float, sigma_floor=SIGMA_FLOOR_M,
+                      sigma_cap: float = SIGMA_CAP_M) -> np.ndarray:
+    """Whether `position_similarity` can be ≥ p_min (every axis within `max_tail_z`), without
+    evaluating the normal tail: the cheap test that spares a batched merge the tails of
+    pairs across the room. Never False where the similarity is ≥ p_min."""
+    z = _position_z(mean_o, var_o, mean_c, sigma_floor, sigma_cap)
+    return np.all(z <= max_tail_z(p_min) * (1 + 1e-9), axis=-1)
 
 
 def box_position_similarity(centre_o, size_o, centre_c, size_c, basis: np.ndarray,
@@ -165,12 +186,22 @@ def box_position_similarity(centre_o, size_o, centre_c, size_c, basis: np.ndarra
     as different places) but two boxes that overlap. `basis`: rows e1, e2, up (sizes are along
     them). Broadcasts like `position_similarity`.
     """
+    return np.prod(_tail_factors(_box_z(centre_o, size_o, centre_c, size_c, basis, sigma)), axis=-1)
+
+
+def _box_z(centre_o, size_o, centre_c, size_c, basis: np.ndarray, sigma: float) -> np.ndarray:
+    """Per gravity-frame axis: the gap between the two boxes (0 while they overlap) over σ."""
     d = (np.asarray(centre_c, float) - np.asarray(centre_o, float)) @ basis.T
     half = (np.asarray(size_o, float) + np.asarray(size_c, float)) / 2.0
-    gap = np.maximum(np.abs(d) - half, 0.0)
-    z = gap / sigma
-    per_axis = np.where(z < 1.0, 1.0, _two_sided_tail(z) / _two_sided_tail(1.0))
-    return np.prod(per_axis, axis=-1)
+    return np.maximum(np.abs(d) - half, 0.0) / sigma
+
+
+def box_may_pass(centre_o, size_o, centre_c, size_c, basis: np.ndarray, p_min: float,
+                 sigma: float = SIGMA_FLOOR_M) -> np.ndarray:
+    """Whether `box_position_similarity` can be ≥ p_min, without the normal tail (see
+    `position_may_pass`)."""
+    z = _box_z(centre_o, size_o, centre_c, size_c, basis, sigma)
+    return np.all(z <= max_tail_z(p_min) * (1 + 1e-9), axis=-1)
 
 
 def histogram_intersection(h_i, h_j) -> np.ndarray:

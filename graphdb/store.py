@@ -8,7 +8,9 @@ from neo4j import GraphDatabase, ManagedTransaction
 
 from graphdb import cypher
 
-SCHEMA_VERSION = 1
+# 2: an Object's histogram and thumbnail live on its (:Appearance {id}) node (cypher/schema.cypher)
+SCHEMA_VERSION = 2
+MIGRATION_BATCH = 2000   # objects moved per transaction by a schema migration
 
 # the driver logs every retry of a refused connection; the CLI reports the final failure once
 logging.getLogger("neo4j").setLevel(logging.ERROR)
@@ -37,6 +39,8 @@ class Store:
         self.driver = GraphDatabase.driver(uri, auth=auth, connection_timeout=10,
                                            max_transaction_retry_time=30)
         self._schema_checked = False
+        # rooms this handle has created or seen created (graphdb.merge skips create_room for them)
+        self.rooms_known: set[str] = set()
         try:
             self.driver.verify_connectivity()
         except Exception:
@@ -101,7 +105,9 @@ class Store:
 
     # -- schema ------------------------------------------------------------------------------
     def ensure_schema(self) -> None:
-        """Apply cypher/schema.cypher once per store (idempotent statements)."""
+        """Apply cypher/schema.cypher once per store (idempotent statements), then migrate the
+        data of an older schema (`migrate_appearance`, tallies recounted) before recording the
+        new version."""
         if self._schema_checked:
             return
         if self.read_only:
@@ -113,8 +119,23 @@ class Store:
             with self.session() as s:
                 for stmt in cypher.statements("schema"):
                     s.run(stmt).consume()
+            self.migrate_appearance()
+            from graphdb.tally import rebuild_tallies
+
+            rebuild_tallies(self)
             self.write("schema_version_set", version=SCHEMA_VERSION)
         self._schema_checked = True
+
+    def migrate_appearance(self) -> int:
+        """Schema 1 -> 2: move every Object's hist/thumbnail onto its Appearance node, in batches
+        (each its own transaction; an interrupted migration resumes where it stopped, since the
+        version is recorded only after the last batch). Returns the objects moved."""
+        moved = 0
+        while True:
+            n = self.write("schema_migrate_appearance", batch=MIGRATION_BATCH)[0]["n"]
+            moved += n
+            if n == 0:
+                return moved
 
     def wipe(self) -> None:
         """Delete every node and edge (tests, `sg3d db reset`)."""
@@ -122,3 +143,4 @@ class Store:
             raise ReadOnlyStoreError("wipe needs the writer")
         self.write("wipe")
         self._schema_checked = False
+        self.rooms_known.clear()

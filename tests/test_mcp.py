@@ -79,8 +79,8 @@ def test_reads_return_rows_with_parameters_and_a_limit(kitchen):
                            {"label": "cup"})
     assert out == {"keys": ["colour"], "rows": [{"colour": "blue"}, {"colour": "red"}, {"colour": "white"}],
                    "truncated": False}
-    assert read_only_cypher(kitchen, "MATCH (o:Object) RETURN o.hist AS h", limit=4)["truncated"] is True
-    assert read_only_cypher(kitchen, "MATCH (o:Object) RETURN o.hist AS h LIMIT 1")["rows"][0]["h"].endswith("bytes>")
+    assert read_only_cypher(kitchen, "MATCH (a:Appearance) RETURN a.hist AS h", limit=4)["truncated"] is True
+    assert read_only_cypher(kitchen, "MATCH (a:Appearance) RETURN a.hist AS h LIMIT 1")["rows"][0]["h"].endswith("bytes>")
 
 
 # -- the MCP server over stdio ---------------------------------------------------------------------

@@ -105,3 +105,24 @@ def test_combine_boxes_covers_both_boxes():
 
     centre, size = combine_boxes((0, 0, 0), (1, 1, 1), (1.5, 0, 0), (1, 1, 1), np.eye(3))
     assert np.allclose(centre, (0.75, 0, 0)) and np.allclose(size, (2.5, 1, 1))
+
+
+def test_the_cheap_position_tests_never_drop_a_pair_that_reaches_the_threshold():
+    """position_may_pass / box_may_pass let a batched merge skip the normal tails of far pairs:
+    they must be True wherever the exact similarity is ≥ p_min, and False for most far pairs."""
+    from graphdb.similarity import box_may_pass, box_position_similarity, position_may_pass
+
+    rng = np.random.default_rng(3)
+    p_min = SimilarityParams().min_position_similarity()
+    mean_o, mean_c = rng.uniform(0, 4, (400, 1, 3)), rng.uniform(0, 4, (1, 300, 3))
+    var_o = rng.uniform(0, 0.5, (400, 1, 3)) ** 2
+    exact = position_similarity(mean_o, var_o, mean_c)
+    cheap = position_may_pass(mean_o, var_o, mean_c, p_min)
+    assert (exact >= p_min).sum() > 50 and not ((exact >= p_min) & ~cheap).any()
+    assert (~cheap).mean() > 0.5
+    basis = np.linalg.qr(rng.normal(size=(3, 3)))[0]
+    size_o, size_c = rng.uniform(0.05, 1.5, (400, 1, 3)), rng.uniform(0.05, 1.5, (1, 300, 3))
+    exact = box_position_similarity(mean_o, size_o, mean_c, size_c, basis)
+    cheap = box_may_pass(mean_o, size_o, mean_c, size_c, basis, p_min)
+    assert (exact >= p_min).sum() > 50 and not ((exact >= p_min) & ~cheap).any()
+    assert (~cheap).mean() > 0.3
