@@ -355,7 +355,17 @@ def merge_local_graph(store, graph: LocalGraph, embedding: Optional[LabelEmbeddi
     if rid not in store.rooms_known:     # a room is created once: later merges skip the round trip
         create_room(store, graph.building, graph.room)
         store.rooms_known.add(rid)
-    return store.execute_write(lambda tx: merge_in_tx(tx, graph, embedding, params))
+    from neo4j.exceptions import ConstraintError
+
+    try:
+        return store.execute_write(lambda tx: merge_in_tx(tx, graph, embedding, params))
+    except ConstraintError:
+        # Two merges of one key raced (two runs of one build): the store may report the loser
+        # as a duplicate MergeLog key rather than a retryable conflict. The same key means the
+        # same local graph, so the winner's commit is this merge.
+        if graph.key and store.read("merge_log_exists", key=graph.key):
+            return MergeReport(key=graph.key, skipped=True)
+        raise
 
 
 def create_room(store, building: str, room: str, attempts: int = 4) -> None:

@@ -104,7 +104,10 @@ def shipped_vectors() -> dict[str, np.ndarray]:
     words = [w for w in words if w]
     if len(words) != len(vecs):
         return {}     # a half-regenerated pair: ignore rather than mis-assign vectors
-    return dict(zip(words, vecs.astype(np.float32)))
+    vecs = vecs.astype(np.float32)
+    # unit length again after the float16 round trip: similarities are dot products of unit vectors
+    vecs /= np.linalg.norm(vecs, axis=1, keepdims=True) + 1e-12
+    return dict(zip(words, vecs))
 
 
 class MiniLMEmbedding(_DiskCachedEmbedding):
