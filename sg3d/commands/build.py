@@ -96,7 +96,7 @@ def build(settings, sequence: Path, room: str, building: str, method: str, quali
     from rich.console import Console
     from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
 
-    from app.build import BuildError, BuildRequest, build_room
+    from app.build import BuildError, BuildRequest, build_room, validate
     from ingest import coverage
     from ingest.pipeline import DEFAULT_CHUNK_FRAMES, METHODS, Settings
 
@@ -117,6 +117,7 @@ def build(settings, sequence: Path, room: str, building: str, method: str, quali
         progress.update(task, description=phase, completed=done, total=total)
 
     try:
+        validate(request)          # bad input is refused before the store is started
         summary = build_room(settings.store(), request, options, progress=on_progress)
     except BuildError as exc:
         raise UserError(str(exc))
