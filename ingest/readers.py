@@ -376,6 +376,12 @@ class TumSequence(Sequence):
                             f"matrix, or fx fy cx cy); only rgbd_dataset_freiburg1/2/3_* folders have a default")
 
 
+def _numbered_images(folder: Path) -> list[tuple[int, Path]]:
+    """(number, path) of the images named by a frame number (``12.jpg``, ``00012.png``), in order."""
+    return sorted((int(p.stem), p) for p in folder.iterdir()
+                  if p.suffix.lower() in (".jpg", ".jpeg", ".png") and p.stem.isdigit())
+
+
 # -- ScanNet ---------------------------------------------------------------------------------
 
 class ScanNetSequence(Sequence):
@@ -392,13 +398,8 @@ class ScanNetSequence(Sequence):
             registration = Registration.from_intrinsics(K, _read_matrix(path / "intrinsic" / "intrinsic_depth.txt"))
         if not (path / "color").is_dir():
             raise SequenceError(f"missing folder {path / 'color'} (ScanNet SensReader export)")
-        numbered = []
-        for p in (path / "color").iterdir():
-            if p.suffix.lower() in (".jpg", ".jpeg", ".png") and p.stem.isdigit():
-                numbered.append((int(p.stem), p))
-        numbered.sort()
         entries, skipped = [], []
-        for number, color in numbered:
+        for number, color in _numbered_images(path / "color"):
             depth = path / "depth" / f"{color.stem}.png"
             if not depth.is_file():
                 skipped.append((color.stem, f"missing depth/{depth.name}"))
@@ -463,10 +464,8 @@ class Open3dSequence(Sequence):
             raise SequenceError(f"missing {path / 'trajectory.log'} (Open3D/Redwood camera trajectory)")
         poses = read_trajectory_log(path / "trajectory.log")
         colour_dir = path / "image" if (path / "image").is_dir() else path / "color"
-        numbered = sorted((int(p.stem), p) for p in colour_dir.iterdir()
-                          if p.suffix.lower() in (".jpg", ".jpeg", ".png") and p.stem.isdigit())
         entries, skipped = [], []
-        for number, color in numbered:
+        for number, color in _numbered_images(colour_dir):
             depth = path / "depth" / f"{color.stem}.png"
             if not depth.is_file():
                 skipped.append((color.stem, f"missing depth/{depth.name}"))
