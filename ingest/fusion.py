@@ -15,14 +15,14 @@ After the pass, hypotheses with the same best label that were never detected in 
 and whose boxes overlap or centres fall within the gate are folded together (`consolidate`):
 association is greedy in time, this undoes the splits it makes when a part view comes first.
 
-Each hypothesis accumulates label evidence over all its sightings (`ingest.tracks.fuse_labels`:
+Each hypothesis accumulates label evidence over all its sightings (`fuse_labels`:
 the label the detector repeats wins over one it said once with a high score), its position
 Gaussian (pooled Eq. 8 moments), a robust union box, the summed HSV histogram, the most frequent
 colour name and the best-scored view's thumbnail.
 """
 from __future__ import annotations
 
-from collections import Counter
+from collections import Counter, defaultdict
 from dataclasses import dataclass, field
 from functools import cached_property
 from typing import Iterable, Optional, Sequence
@@ -32,9 +32,8 @@ from scipy.optimize import linear_sum_assignment
 
 from ingest.attributes import ObjectAttributes
 from ingest.detect import Detection
-from ingest.model import ObjectObservation
+from ingest.model import TOP_K, ObjectObservation
 from ingest.moments import combine_gaussians
-from ingest.tracks import fuse_labels
 
 ASSOC_MAX_DISTANCE = 0.25
 ASSOC_EXTENT_FRACTION = 0.5
@@ -51,6 +50,20 @@ NESTED_OVERLAP = 0.7
 BOX_LOW_PERCENTILE = 20.0
 BOX_HIGH_PERCENTILE = 80.0
 _INFEASIBLE = 1e6
+
+
+def fuse_labels(members: Sequence, top_k: int = TOP_K) -> tuple[list[str], list[float]]:
+    """Top-k labels of a hypothesis: each label's score averaged over ALL its detections (members
+    with a `.detection`), a detection that did not list the label counting 0, so a label the
+    detector repeats beats one it said once with a high score."""
+    if not members:
+        return [], []
+    total: dict[str, float] = defaultdict(float)
+    for m in members:
+        for label, score in zip(m.detection.labels, m.detection.scores):
+            total[label] += float(score)
+    ranked = sorted(total.items(), key=lambda kv: (-kv[1], kv[0]))[:top_k]
+    return [label for label, _ in ranked], [s / len(members) for _, s in ranked]
 
 
 @dataclass

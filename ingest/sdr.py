@@ -1,7 +1,7 @@
 """Spurious detection rejection (paper Sec. IV-C), after the detector's own NMS.
 
 1. irrelevant classes: objects that cannot belong to a persistent indoor scene graph;
-2. repetition: an object must be seen in >= MIN_FRAMES frames of its keyframe group;
+2. repetition: an object must be seen often enough where it is visible (`ingest.existence`);
 3. relation voting over frames, contradiction-free: a pair keeps one placement and one size
    statement, symmetric relations once, and a relation that flips between views is dropped;
 4. the relation prior of Eq. 7 from a curated dictionary (`data/relation_prior.json`).
@@ -20,12 +20,9 @@ import numpy as np
 from ingest.detect import Detection
 from ingest.model import RelationObservation
 from ingest.relation_rules import SYMMETRIC, Statement, edges_of, statement_of
-from ingest.tracks import Track
 
 RELATION_PRIOR_FILE = Path(__file__).resolve().parent / "data" / "relation_prior.json"
 
-# Authors' code: an object must be detected at least twice.
-MIN_FRAMES = 2
 # Paper Sec. VII-A: relations with probability below 0.5 are rejected.
 RELATION_PROB_THRESHOLD = 0.5
 
@@ -64,10 +61,6 @@ def reject_irrelevant(detections: Iterable[Detection],
         kept.append(Detection(d.box, [p[0] for p in pairs], [p[1] for p in pairs]))
     return kept
 
-
-def reject_rare_tracks(tracks: Iterable[Track], min_frames: int = MIN_FRAMES) -> list[Track]:
-    """Keep the tracks seen in at least `min_frames` distinct frames of their keyframe group."""
-    return [t for t in tracks if t.n_frames >= min_frames]
 
 
 # --------------------------------------------------------------------------- relation voting

@@ -169,3 +169,18 @@ def test_existence_keeps_what_the_detector_keeps_finding_and_rejects_a_made_up_d
     kept = [(label, ev) for label, v in verdict.items() for ok, ev in v if ok]
     assert {"dining table", "chair"} <= {label for label, _ in kept}
     assert all(ev.detected >= 0.5 * ev.expected for label, ev in kept if label == "dining table")
+
+
+def test_fuse_labels_means_over_all_detections():
+    from types import SimpleNamespace
+
+    def seen(labels, scores):
+        return SimpleNamespace(detection=Detection((0, 0, 1, 1), labels, scores))
+
+    members = [seen(["cup", "bowl"], [0.6, 0.3]), seen(["cup"], [0.8]),
+               seen(["bowl", "cup", "vase"], [0.9, 0.4, 0.2])]
+    labels, scores = fusion.fuse_labels(members)
+    assert labels == ["cup", "bowl", "vase"]
+    assert scores == pytest.approx([(0.6 + 0.8 + 0.4) / 3, (0.3 + 0.9) / 3, 0.2 / 3])
+    assert fusion.fuse_labels(members, top_k=1) == (["cup"], [pytest.approx(0.6)])
+    assert fusion.fuse_labels([]) == ([], [])

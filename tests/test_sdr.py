@@ -14,12 +14,10 @@ from ingest.sdr import (
     default_prior,
     filter_relations,
     reject_irrelevant,
-    reject_rare_tracks,
     VOTE_MAJORITY,
     relation_prior_probability,
     vote_relations,
 )
-from ingest.tracks import FrameDetection, Track
 
 
 def det(labels, scores, box=(0, 0, 10, 10)):
@@ -40,17 +38,6 @@ def test_irrelevant_classes_are_rejected_and_stripped():
     assert not {"cup", "chair", "dining table", "tv", "refrigerator"} & IRRELEVANT_CLASSES
     # the list is configurable
     assert [d.label for d in reject_irrelevant(dets, irrelevant={"cup"})] == ["person", "car", "chair"]
-
-
-def test_tracks_seen_in_fewer_than_two_frames_are_rejected():
-    def fd(frame):
-        return FrameDetection(frame, det(["cup"], [0.5]), (0.0, 0.0, 0.0))
-    once = Track(0, [fd(3)])
-    twice = Track(1, [fd(3), fd(5)])
-    same_frame_twice = Track(2, [fd(4), fd(4)])
-    assert reject_rare_tracks([once, twice, same_frame_twice]) == [twice]
-    assert reject_rare_tracks([once, twice], min_frames=1) == [once, twice]
-    assert reject_rare_tracks([once, twice], min_frames=3) == []
 
 
 def as_set(relations):
