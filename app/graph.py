@@ -24,8 +24,7 @@ def fetch_named_graph(store, building: str, room: Optional[str] = None, thumbnai
     graph = fetch_graph(store, building, room, thumbnails, histograms)
     if not graph["nodes"]:
         where = f"room {room!r} of building {building!r}" if room else f"building {building!r}"
-        raise NotFound(f"nothing to export: {where} holds no objects "
-                       f"(see `sg3d cypher \"MATCH (r:Room) RETURN r.id\"`)")
+        raise NotFound(f"nothing to export: {where} holds no objects (`sg3d rooms` lists the rooms)")
     if room_transforms:
         from graphdb.building import list_rooms
 
