@@ -49,7 +49,28 @@ NESTED_OVERLAP = 0.7
 # in a fifth of the views still widens the box; a single flying-pixel box does not.
 BOX_LOW_PERCENTILE = 20.0
 BOX_HIGH_PERCENTILE = 80.0
+# The fused object's box (what relations and answers use) reaches, on each side of each
+# horizontal axis, as far as at least BOX_SUPPORT sightings (or BOX_SUPPORT_FRACTION of them, if
+# more) reach: the far end of a table seen in a few views of a hundred still belongs to it.
+# Heights keep the percentile box (what stands on a table inflates its boxes upwards), and so
+# does association (a core that rare part views do not drag around).
+BOX_SUPPORT = 3
+BOX_SUPPORT_FRACTION = 0.05
 _INFEASIBLE = 1e6
+
+
+def object_box(h: "Hypothesis") -> tuple[np.ndarray, np.ndarray]:
+    """The fused object's box (gravity frame): along e1 and e2 the k-th lowest lower bound and
+    the k-th highest upper bound of its sightings' boxes, k = max(BOX_SUPPORT,
+    BOX_SUPPORT_FRACTION * n) capped at n (the box reaches as far as k sightings agree it does);
+    along up the hypothesis' percentile box."""
+    lows = np.array([s.lo for s in h.sightings])
+    highs = np.array([s.hi for s in h.sightings])
+    n = len(lows)
+    k = min(n, max(BOX_SUPPORT, int(np.ceil(BOX_SUPPORT_FRACTION * n))))
+    lo, hi = np.sort(lows, axis=0)[k - 1], np.sort(highs, axis=0)[n - k]
+    lo[2], hi[2] = h.lo[2], h.hi[2]
+    return lo, hi
 
 
 def fuse_labels(members: Sequence, top_k: int = TOP_K) -> tuple[list[str], list[float]]:
@@ -269,12 +290,13 @@ def fuse(local_id: str, h: Hypothesis, basis: np.ndarray, labels: Optional[Seque
         mean, var, n = combine_gaussians(mean, var, n, s.attrs.mean, s.attrs.var, s.attrs.n_points)
     best = max(h.sightings, key=lambda s: s.detection.score)
     colours = Counter(s.attrs.colour for s in h.sightings)
-    centre = basis.T @ ((h.lo + h.hi) / 2)
+    lo, hi = object_box(h)
+    centre = basis.T @ ((lo + hi) / 2)
     return ObjectObservation(
         local_id=local_id, labels=list(labels if labels is not None else h.labels),
         scores=[float(v) for v in (scores if scores is not None else h.scores)],
         mean=tuple(float(v) for v in mean), var=tuple(float(v) for v in var), n_points=int(n),
-        size=tuple(float(v) for v in (h.hi - h.lo)), box_centre=tuple(float(v) for v in centre),
+        size=tuple(float(v) for v in (hi - lo)), box_centre=tuple(float(v) for v in centre),
         hist=np.sum([s.attrs.hist for s in h.sightings], axis=0),
         colour=colours.most_common(1)[0][0], thumbnail=best.attrs.thumbnail,
         first_frame=h.frames[0], last_frame=h.frames[-1], n_frames=h.n_frames)

@@ -7,7 +7,8 @@ Per chunk [a, b) of the sequence (a whole room is one chunk by default):
 3. fusion of the detections of ALL chosen frames into object hypotheses (`ingest.fusion`);
 4. existence from multi-view evidence, negative evidence included (`ingest.existence`): the
    paper's "seen at least twice" rule, plus "seen in a fair share of the views that show it";
-5. relations of every chosen frame from 3-D geometry, voted across the frames and filtered by
+5. relations of every chosen frame from 3-D geometry, voted across the frames, completed by
+   the relations of the fused whole-sequence boxes (`sdr.with_whole_geometry`) and filtered by
    the relation prior (SDR, Eq. 7).
 The result of a chunk is one `LocalGraph`, merged by `graphdb.merge` (Eq. 10-15). Chunks, frame
 choice and fusion depend only on the sequence and the settings, so a re-run or `--resume` skips
@@ -35,7 +36,7 @@ from ingest.kge import KeyframeGrouper
 from ingest.model import LocalGraph, ObjectObservation, RelationObservation
 from ingest.relations import (ObjectGeometry, horizontal_basis, side_by_side_on_one_support,
                               spatial_relations)
-from ingest.sdr import filter_relations, reject_irrelevant, vote_relations
+from ingest.sdr import filter_relations, reject_irrelevant, vote_relations, with_whole_geometry
 from ingest.selection import FrameSelector
 
 # KGE's anchor threshold for the frames a build detects. Higher than the authors' 0.68 (which
@@ -227,7 +228,8 @@ def _existing(hyps: list[fusion.Hypothesis], views: list[existence.View], basis,
 
 def _relations(hyps: dict[str, fusion.Hypothesis], objects: list[ObjectObservation], up,
                method: Method) -> list[RelationObservation]:
-    """Relations of every detected frame between the objects it shows, voted (SDR) across frames."""
+    """Relations of every detected frame between the objects it shows, voted (SDR) across frames,
+    then completed by the fused objects' own boxes (`with_whole_geometry`)."""
     per_frame: dict[int, list[ObjectGeometry]] = defaultdict(list)
     label_of = {o.local_id: o.label for o in objects}
     for local_id, h in hyps.items():
@@ -249,7 +251,9 @@ def _relations(hyps: dict[str, fusion.Hypothesis], objects: list[ObjectObservati
     for geoms in per_frame.values():
         ids = sorted(g.local_id for g in geoms)
         co_observed.update((a, b) for k, a in enumerate(ids) for b in ids[k + 1:])
-    relations = vote_relations(frames, co_observed=dict(co_observed))
+    voted = vote_relations(frames, co_observed=dict(co_observed))
+    whole = spatial_relations([ObjectGeometry(o.local_id, o.label, o.box_centre, o.size) for o in objects], up)
+    relations = with_whole_geometry(voted, whole)
     labels = {o.local_id: o.label for o in objects}
     centres = {o.local_id: o.mean for o in objects}
     return side_by_side_on_one_support(filter_relations(relations, labels, centres))

@@ -31,7 +31,8 @@ stored and which exclude each other). Per pair, at most one placement fact, test
 - A small thing at the top level of a support surface (>= SUPPORT_MIN_SIDE wide) and touching
   its edge, but not ON it, gets no placement fact in that frame: the surface may be seen in part.
 - NEXT_TO (side by side, not stacked): no fact above holds, both stand on the same level
-  (bottoms within BASE_TOLERANCE, or both ON the same object), footprints overlap by at most
+  (bottoms within BASE_TOLERANCE, or both ON the same object, or both furniture that stands on
+  the floor by its kind, FLOOR_STANDING_LABELS: "the chair at the table"), footprints overlap by at most
   NEXT_TO_MAX_FOOTPRINT_OVERLAP of the smaller one (a chair tucked in overlaps a table), and the
   horizontal gap is at most NEXT_TO_GAP_FRACTION of the pair's mean footprint side, kept within
   [NEXT_TO_MIN_GAP, NEXT_TO_MAX_GAP] (two chairs 40 cm apart are next to each other, two cups
@@ -87,6 +88,11 @@ CONTAINER_LABELS = frozenset({
 # Fixtures set into the furniture that holds them (their rim flush with its top surface).
 FITTED_LABELS = frozenset({"sink", "oven"})
 # -- side by side ------------------------------------------------------------------------
+# Furniture that stands on the floor by its kind: two of them are on one level even when their
+# boxes say otherwise (a chair at a table is seen above the table top, or down to the floor).
+FLOOR_STANDING_LABELS = frozenset({
+    "chair", "couch", "bed", "dining table", "bench", "toilet", "refrigerator", "oven",
+})
 # A chair tucked in at a table overlaps its footprint; more than this is not "beside".
 NEXT_TO_MAX_FOOTPRINT_OVERLAP = 0.9
 # A support surface at least this wide (a table, a counter) is often seen only in part: a small
@@ -239,8 +245,13 @@ def on_score(a: _Box, b: _Box) -> float:
     if not (-penetration <= gap <= ON_TOLERANCE):
         return 0.0
     # A reaches B's top and does not reach below B's bottom: of two thin stacked boxes only the
-    # upper one is on the other, and a flat book measured a few cm into a table-top slab is on it
-    if a.top < b.top - ON_TOLERANCE or a.bottom <= b.bottom:
+    # upper one is on the other, and a flat book measured a few cm into a table-top slab is on it.
+    # A broad support's slab is often no thicker than what lies on it (the top surface is all the
+    # camera sees, raised by the things standing there): a much smaller flat thing filling its
+    # height is on it too.
+    if a.top < b.top - ON_TOLERANCE:
+        return 0.0
+    if a.bottom <= b.bottom and b.footprint < PILE_BASE_FOOTPRINT_RATIO * a.footprint:
         return 0.0
     overlap = _footprint_intersection(a, b) / a.footprint
     if overlap < ON_MIN_FOOTPRINT_OVERLAP:
@@ -295,7 +306,8 @@ def at_support_edge(a: _Box, b: _Box) -> bool:
 
 def next_to_score(a: _Box, b: _Box, same_support: bool = False) -> float:
     """NEXT_TO: side by side on one level, within a size-scaled gap (module docstring)."""
-    if abs(a.bottom - b.bottom) > BASE_TOLERANCE and not same_support:
+    on_floor = a.label in FLOOR_STANDING_LABELS and b.label in FLOOR_STANDING_LABELS
+    if abs(a.bottom - b.bottom) > BASE_TOLERANCE and not same_support and not on_floor:
         return 0.0
     if _footprint_intersection(a, b) / min(a.footprint, b.footprint) > NEXT_TO_MAX_FOOTPRINT_OVERLAP:
         return 0.0

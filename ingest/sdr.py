@@ -111,6 +111,34 @@ def vote_relations(per_frame_relations: Sequence[Sequence[RelationObservation]],
     return kept
 
 
+def with_whole_geometry(voted: Sequence[RelationObservation],
+                        whole: Sequence[RelationObservation]) -> list[RelationObservation]:
+    """Relations of the fused objects, vetoed by the views: per pair and family (placement,
+    size), the frame vote (`voted`, `vote_relations`) where it decided something, except that a
+    placement the whole-sequence boxes state (`whole`: `spatial_relations` of the fused objects;
+    on, in, under, above) overrules a voted "side by side"; where the frames stated nothing, the
+    whole boxes' statement.
+
+    Why both: a frame sees a big support in part (the end of a table, a cup beyond the visible
+    edge), so per-frame placement is often silent or says "beside", while the fused box holds
+    every part; but fused boxes of neighbours can swell into each other, so what the views that
+    saw the pair together agreed on otherwise stands."""
+    def statements(relations):
+        out: dict[tuple[str, str, str], tuple[Statement, float]] = {}
+        for r in relations:
+            st = statement_of(r.subject, r.predicate, r.object)
+            if st is not None:
+                out[(st.family, st.lo, st.hi)] = (st, float(r.score))
+        return out
+
+    decided = statements(voted)
+    for key, (st, score) in statements(whole).items():
+        vote = decided.get(key)
+        if vote is None or (vote[0].side == 0 and st.side != 0):
+            decided[key] = (st, score)
+    return [e for st, score in decided.values() for e in edges_of(st, score)]
+
+
 # --------------------------------------------------------------------------- relation prior
 
 def gaussian_pdf(k: float, mu: float, sigma: float) -> float:

@@ -224,6 +224,17 @@ def _filters(q: Query, rooms) -> dict:
     return {"labels": q.target.labels, "rooms": rooms, "colour": q.colour}
 
 
+# A stored pair is either NEXT_TO or NEAR (one statement per pair): "next to" is the closer form
+# of "near", so a question about what is near (around, close to) X also means what is next to it.
+IMPLIED_BY = {"NEAR": ("NEAR", "NEXT_TO")}
+
+
+def asked_types(relation: str) -> tuple[str, ...]:
+    """The stored relation types that answer a question about `relation`: itself, and the more
+    specific types that imply it (IMPLIED_BY: NEXT_TO implies NEAR)."""
+    return IMPLIED_BY.get(relation, (relation,))
+
+
 def _candidates(run: _Run, q: Query, rooms) -> list[dict]:
     """The objects the question is about (target, attributes, relation), one row per object."""
     if q.relation in VIEWPOINT:      # never stored: computed from a viewpoint (queries/viewpoint.py)
@@ -233,7 +244,7 @@ def _candidates(run: _Run, q: Query, rooms) -> list[dict]:
             raise Refusal(str(exc)) from None
     if q.relation:
         name = _variant("vqa_related_any" if q.symmetric else "vqa_related", rooms)
-        rows = run.read_rel(name, q.relation, anchors=q.anchor.labels, anchor_colour=q.anchor_colour,
+        rows = run.read_rel(name, asked_types(q.relation), anchors=q.anchor.labels, anchor_colour=q.anchor_colour,
                             limit=ROW_LIMIT, **_filters(q, rooms))
         seen, unique = set(), []
         for r in rows:

@@ -109,6 +109,10 @@ def test_existence_probability_is_bayes_over_two_binomials():
 def test_size_prior_relabels_or_rejects():
     assert existence.plausible_labels(["cell phone", "book"], [0.4, 0.2], (0.45, 0.36, 0.1)) == (["book"], [0.2])
     assert existence.plausible_labels(["cup"], [0.5], (1.5, 0.9, 0.8)) == ([], [])
+    # what is left after the prior is a faint guess, not a reading of the object: rejected
+    box = (0.36, 0.46, 0.1)
+    assert existence.plausible_labels(["cell phone", "remote", "book"], [0.28, 0.10, 0.09], box) == ([], [])
+    assert existence.plausible_labels(["cell phone", "remote", "book"], [0.28, 0.10, 0.14], box) == (["book"], [0.14])
     assert existence.size_plausible("chair", (0.5, 0.5, 0.9))
 
 
@@ -184,3 +188,18 @@ def test_fuse_labels_means_over_all_detections():
     assert scores == pytest.approx([(0.6 + 0.8 + 0.4) / 3, (0.3 + 0.9) / 3, 0.2 / 3])
     assert fusion.fuse_labels(members, top_k=1) == (["cup"], [pytest.approx(0.6)])
     assert fusion.fuse_labels([]) == ([], [])
+
+
+def test_the_object_box_reaches_as_far_as_a_few_views_agree_but_heights_keep_the_core():
+    # 60 views of the left part of a table, 4 (5 %) that also see its far right end, 1 shifted box
+    views = [_sighting(i, "dining table", (0.0, 0, 0.72), (1.2, 0.8, 0.05)) for i in range(60)]
+    views += [_sighting(60 + i, "dining table", (0.5, 0, 0.72), (2.2, 0.8, 0.05)) for i in range(4)]
+    views += [_sighting(64, "dining table", (0.0, 0.5, 0.72), (1.2, 0.8, 0.05))]
+    hyp = fusion.Hypothesis(0, views)
+    lo, hi = fusion.object_box(hyp)
+    assert hi[0] == pytest.approx(1.6)                 # the far end, seen by 4 views of 65
+    assert hyp.hi[0] == pytest.approx(0.6)             # the association core does not reach it
+    assert hi[1] == pytest.approx(0.4)                 # the one shifted box does not widen it
+    assert (lo[2], hi[2]) == (hyp.lo[2], hyp.hi[2])    # heights: the percentile core
+    obs = fusion.fuse("t", hyp, np.eye(3))
+    assert obs.size[0] == pytest.approx(hi[0] - lo[0]) and obs.box_centre[0] == pytest.approx((lo[0] + hi[0]) / 2)

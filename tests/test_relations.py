@@ -291,3 +291,31 @@ def test_next_to_needs_one_support_across_the_sequence():
     assert ("cup", "NEXT_TO", "book") in kept and ("chair", "NEXT_TO", "table") in kept
     assert ("chair", "NEXT_TO", "cup") not in kept
     assert ("chair", "NEAR", "book") in kept and len(kept) == 5
+
+
+def test_a_flat_thing_filling_a_broad_support_slabs_height_is_on_it():
+    # the fused table box is its top surface raised by what stands on it (8 cm); a magazine
+    # measured from the same surface fills that height, its bottom a noisy 5 mm below the slab's:
+    # on the table (the table is 15x its footprint)
+    slab = ObjectGeometry("table", "dining table", (0.0, 0.0, 0.755), (1.8, 1.0, 0.07))   # 0.72-0.79
+    magazine = ObjectGeometry("mag", "book", (0.2, 0.0, 0.735), (0.33, 0.36, 0.04))   # 0.715-0.755
+    r = rels([slab, magazine])
+    assert ("mag", "ON", "table") in r and ("table", "ON", "mag") not in r
+    # two magazines of one size, one measured into the other: only the upper one is on the other
+    lower = ObjectGeometry("a", "book", (0.0, 0.0, 0.73), (0.3, 0.3, 0.04))
+    upper = ObjectGeometry("b", "book", (0.0, 0.0, 0.74), (0.3, 0.3, 0.04))          # bottoms 1 cm apart
+    r = rels([lower, upper])
+    assert ("b", "ON", "a") in r and ("a", "ON", "b") not in r
+    same = rels([lower, ObjectGeometry("c", "book", (0.0, 0.0, 0.73), (0.3, 0.3, 0.04))])
+    assert not any(k[1] == "ON" for k in same)          # level bottoms, same size: neither is on the other
+
+
+def test_a_chair_at_the_end_of_a_table_is_next_to_it_whatever_its_box_height():
+    # the table's box is its top slab; the end chair is seen down to the floor: their bottoms
+    # are 0.7 m apart, but chairs and tables stand on the floor by their kind
+    slab = ObjectGeometry("table", "dining table", (0.0, 0.0, 0.72), (1.9, 0.9, 0.08))
+    chair = ObjectGeometry("chair", "chair", (1.2, 0.0, 0.45), (0.33, 0.5, 0.9))
+    assert ("chair", "NEXT_TO", "table") in rels([slab, chair])
+    # a box on the floor at the same spot is not at the table (it is no furniture)
+    box = ObjectGeometry("box", "suitcase", (1.2, 0.0, 0.45), (0.33, 0.5, 0.9))
+    assert not any({k[0], k[2]} == {"box", "table"} and k[1] == "NEXT_TO" for k in rels([slab, box]))

@@ -182,3 +182,21 @@ def test_filter_reads_symmetric_relations_both_ways_and_keeps_inverse_pairs_whol
     assert as_set(filter_relations([Rel("a", "NEXT_TO", "b")], labels, positions, prior)) == {("a", "NEXT_TO", "b")}
     pair = [Rel("t", "ABOVE", "s"), Rel("s", "BELOW", "t")]
     assert as_set(filter_relations(pair, labels, positions, prior)) == {("t", "ABOVE", "s"), ("s", "BELOW", "t")}
+
+
+def test_whole_sequence_placement_overrules_a_voted_beside_and_fills_silence():
+    from ingest.sdr import with_whole_geometry
+
+    voted = [Rel("book", "NEXT_TO", "table", 0.6),             # partial table boxes: "beside"
+             Rel("cup", "ON", "table", 0.8),                     # the views saw it on the table
+             Rel("chair", "NEAR", "cup", 0.5)]
+    whole = [Rel("book", "ON", "table", 0.7),                   # the fused boxes: on the table
+             Rel("cup", "NEXT_TO", "table", 0.9),               # swollen boxes: overruled by the views
+             Rel("chair", "NEXT_TO", "cup", 0.9),               # same side as the vote: the vote stands
+             Rel("chair", "NEXT_TO", "table", 0.8)]             # never stated by a frame: taken
+    kept = as_set(with_whole_geometry(voted, whole))
+    assert kept == {("book", "ON", "table"), ("cup", "ON", "table"), ("chair", "NEAR", "cup"),
+                    ("chair", "NEXT_TO", "table")}
+    # an inverse pair arrives whole: one statement, both of its edges
+    both = as_set(with_whole_geometry([], [Rel("tv", "ABOVE", "shelf", 0.7), Rel("shelf", "BELOW", "tv", 0.7)]))
+    assert both == {("tv", "ABOVE", "shelf"), ("shelf", "BELOW", "tv")}

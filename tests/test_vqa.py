@@ -82,6 +82,8 @@ def ask(store, q, **kw):
     ("how many red cups are on the table", 1),
     ("how many objects are in the sink", 1),
     ("how many things are next to the sink?", 1),
+    ("how many things are near the sink?", 1),           # next to is the closer form of near
+    ("how many objects are around the sink", 1),
     ("how many toasters are there?", 0),
 ])
 def test_counting(store, house, question, n):
