@@ -14,6 +14,8 @@ forgotten between keyframe groups:
 After the pass, hypotheses with the same best label that were never detected in the same frame
 and whose boxes overlap or centres fall within the gate are folded together (`consolidate`):
 association is greedy in time, this undoes the splits it makes when a part view comes first.
+Parts seen on their own fold into their object too: a chair's back and base boxed in different
+tiles (two chairs cannot share floor space), a TV's corner a tile called "book".
 
 Each hypothesis accumulates label evidence over all its sightings (`fuse_labels`:
 the label the detector repeats wins over one it said once with a high score), its position
@@ -34,6 +36,7 @@ from ingest.attributes import ObjectAttributes
 from ingest.detect import Detection
 from ingest.model import TOP_K, ObjectObservation
 from ingest.moments import combine_gaussians
+from ingest.relations import FLOOR_STANDING_LABELS
 
 ASSOC_MAX_DISTANCE = 0.25
 ASSOC_EXTENT_FRACTION = 0.5
@@ -244,12 +247,35 @@ def associate(sightings: Iterable[Sighting]) -> list[Hypothesis]:
     return hyps
 
 
+def _seen_apart(a: Hypothesis, b: Hypothesis) -> bool:
+    return len(set(a.frames) & set(b.frames)) <= MAX_SHARED_FRAMES * min(a.n_frames, b.n_frames)
+
+
+def part_read_as_other(part: Hypothesis, whole: Hypothesis) -> bool:
+    """A part of `whole` named otherwise in views that did not show the whole (a tile sees a
+    corner of a TV and says "book", listing "tv" second): `part`'s box lies inside `whole`'s
+    (NESTED_OVERLAP of the smaller, and it is the smaller), `whole`'s label is among `part`'s
+    candidate labels, and the two were hardly ever detected in one frame."""
+    return (np.prod(part.hi - part.lo) <= np.prod(whole.hi - whole.lo)
+            and whole.label in part.candidate_labels
+            and box_overlap(part.lo, part.hi, whole.lo, whole.hi) >= NESTED_OVERLAP
+            and _seen_apart(part, whole))
+
+
+def share_floor_space(a: Hypothesis, b: Hypothesis) -> bool:
+    """Two pieces of floor-standing furniture of one kind (FLOOR_STANDING_LABELS) whose
+    footprints nest (NESTED_OVERLAP of the smaller) are one piece: two chairs cannot stand in one
+    place, so boxes of a chair's back and of its base seen in different tiles are one chair."""
+    return (a.label == b.label and a.label in FLOOR_STANDING_LABELS
+            and box_overlap(a.lo[:2], a.hi[:2], b.lo[:2], b.hi[:2]) >= NESTED_OVERLAP)
+
+
 def _may_fold(a: Hypothesis, b: Hypothesis) -> bool:
     if a.label != b.label:
-        return False
-    if box_overlap(a.lo, a.hi, b.lo, b.hi) >= NESTED_OVERLAP:
+        return part_read_as_other(a, b) or part_read_as_other(b, a)
+    if box_overlap(a.lo, a.hi, b.lo, b.hi) >= NESTED_OVERLAP or share_floor_space(a, b):
         return True            # one inside the other: a part boxed on its own (a chair's seat)
-    if len(set(a.frames) & set(b.frames)) > MAX_SHARED_FRAMES * min(a.n_frames, b.n_frames):
+    if not _seen_apart(a, b):
         return False
     gate = max(ASSOC_MAX_DISTANCE, ASSOC_EXTENT_FRACTION * max(a.extent, b.extent))
     if float(np.linalg.norm(a.centre_gravity - b.centre_gravity)) <= gate:
@@ -258,8 +284,10 @@ def _may_fold(a: Hypothesis, b: Hypothesis) -> bool:
 
 
 def consolidate(hyps: Sequence[Hypothesis]) -> list[Hypothesis]:
-    """Fold same-label hypotheses that were never detected together and overlap or lie within
-    the association gate, the closest pairs first, until none is left; ids are renumbered."""
+    """Fold same-label hypotheses that nest, share floor space (`share_floor_space`), or were
+    never detected together and overlap or lie within the association gate, and parts read as
+    another label (`part_read_as_other`), the closest pairs first, until none is left; ids are
+    renumbered."""
     pool = [Hypothesis(h.hid, list(h.sightings)) for h in hyps]
     while True:
         best: Optional[tuple[float, int, int]] = None

@@ -203,3 +203,32 @@ def test_the_object_box_reaches_as_far_as_a_few_views_agree_but_heights_keep_the
     assert (lo[2], hi[2]) == (hyp.lo[2], hyp.hi[2])    # heights: the percentile core
     obs = fusion.fuse("t", hyp, np.eye(3))
     assert obs.size[0] == pytest.approx(hi[0] - lo[0]) and obs.box_centre[0] == pytest.approx((lo[0] + hi[0]) / 2)
+
+
+def test_a_chairs_back_and_base_boxed_in_different_tiles_are_one_chair():
+    # tiles box the back (upper half) in some frames, the base in others, both in one frame:
+    # their 3-D boxes barely overlap, but two chairs cannot stand in one place
+    back = [_sighting(i, "chair", (0.4, 1.5, 0.15), (0.5, 0.7, 0.5)) for i in range(0, 12, 2)]
+    base = [_sighting(i, "chair", (0.4, 1.5, -0.35), (0.6, 0.7, 0.5)) for i in range(1, 12, 2)]
+    base.append(_sighting(4, "chair", (0.4, 1.5, -0.35), (0.6, 0.7, 0.5)))
+    hyps = fusion.consolidate(fusion.associate(back + base))
+    assert len(hyps) == 1 and hyps[0].n_frames == 12
+    # two cups stacked in one place are two cups: only floor-standing furniture is exclusive
+    low = [_sighting(i, "cup", (0, 0, 0.05), (0.1, 0.1, 0.1)) for i in range(4)]
+    high = [_sighting(i, "cup", (0, 0, 0.35), (0.1, 0.1, 0.1)) for i in range(4)]
+    assert len(fusion.consolidate(fusion.associate(low + high))) == 2
+
+
+def test_a_part_read_as_another_label_folds_into_the_whole_only_when_seen_apart():
+    tv = [_sighting(i, "tv", (1.6, 1.7, 0.6), (0.7, 0.2, 0.45), score=0.6) for i in range(10, 16)]
+    corner = [_sighting(i, "book", (1.5, 1.7, 0.6), (0.4, 0.15, 0.4), score=0.3, labels=["book", "tv"])
+              for i in range(0, 5)]
+    hyps = fusion.consolidate(fusion.associate(tv + corner))
+    assert len(hyps) == 1 and hyps[0].label == "tv" and hyps[0].n_frames == 11
+    # a book that never lists "tv" stays a book; one seen with the TV in the same frames too
+    book = [_sighting(i, "book", (1.5, 1.7, 0.6), (0.4, 0.15, 0.4), score=0.3) for i in range(0, 5)]
+    assert sorted(h.label for h in fusion.consolidate(fusion.associate(tv + book))) == ["book", "tv"]
+    together = [_sighting(i, "book", (1.5, 1.7, 0.6), (0.4, 0.15, 0.4), score=0.3, labels=["book", "tv"])
+                for i in range(10, 15)]
+    assert not fusion.part_read_as_other(fusion.Hypothesis(1, together), fusion.Hypothesis(0, tv))
+    assert fusion.part_read_as_other(fusion.Hypothesis(1, corner), fusion.Hypothesis(0, tv))

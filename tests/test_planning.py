@@ -86,8 +86,11 @@ def test_templates_synonyms_and_doors(kitchen, tmp_path):
     micro = plan_task(kitchen, "put red_cup in the microwave", room="kitchen", out_dir=tmp_path)
     names = [s[0] for s in micro.steps]
     assert "open" in names and names.index("open") < names.index("put-in")
-    with pytest.raises(PlanningError, match="which mug .*blue_cup, red_cup, white_cup"):
+    with pytest.raises(PlanningError, match="which mug .*the blue cup, the red cup or the white cup"):
         plan_task(kitchen, "bring the mug to the counter", room="kitchen", out_dir=tmp_path)
+    # a tv is in the room but no rule plans with it: said so, not "no tv in the room"
+    with pytest.raises(PlanningError, match="the tv is not in the planning problem: no planning rule"):
+        plan_task(kitchen, "bring the tv to the sink", room="kitchen", out_dir=tmp_path)
     bottle = plan_task(kitchen, "bring the bottle to the counter", room="kitchen", out_dir=tmp_path)
     assert bottle.moved == {"bottle": ("microwave", "dining_table")}
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 import re
 from typing import Optional
 
-from queries.planning.problem import Atom, PlanObject, Problem, slug
+from queries.planning.problem import Atom, PlanObject, Problem, readable, slug
 from queries.planning.rules import PlanningError, Rules, load_rules
 from queries.planning.domain import Domain
 
@@ -102,8 +102,9 @@ def _one_unless_plural(phrase: str, problem: Problem, rules: Rules, *, role: str
     found, plural = resolve_phrase(phrase, problem, rules)
     if len(found) > 1 and (force_single or not plural):
         noun = " ".join(w for w in phrase.split() if w not in rules.articles)
-        raise PlanningError(f"which {noun} as {role}: {', '.join(o.name for o in found)}? "
-                            f"(name one, e.g. '{found[0].name}')")
+        names = [readable(o.name) for o in found]
+        raise PlanningError(f"which {noun} as {role}: the {', the '.join(names[:-1])} or the {names[-1]}? "
+                            f"(name one, e.g. 'the {names[0]}')")
     return found
 
 
@@ -117,7 +118,7 @@ def resolve_phrase(phrase: str, problem: Problem, rules: Rules) -> tuple[list[Pl
         if problem.get(name) is not None:
             return [problem.get(name)], False
     if noun in problem.left_out:
-        raise PlanningError(f"{noun} is not in the planning problem: {problem.left_out[noun]}")
+        raise PlanningError(f"the {readable(noun)} is not in the planning problem: {problem.left_out[noun]}")
     candidates = []
     for form, is_plural in [(noun, False)] + [(s, True) for s in singulars(noun)]:
         candidates += [(form, is_plural), (rules.synonym(form), is_plural)]
@@ -132,6 +133,10 @@ def resolve_phrase(phrase: str, problem: Problem, rules: Rules) -> tuple[list[Pl
             if matches:
                 return matches, True
     known = sorted({o.label for o in planned})
+    unplanned = [n for n in problem.left_out if noun and f" {noun} " in f" {readable(n)} "]
+    if unplanned:    # it is in the room, but the planning rules leave it out: say why
+        raise PlanningError(f"the {readable(unplanned[0])} is not in the planning problem: "
+                            f"{problem.left_out[unplanned[0]]}")
     raise PlanningError(f"no {noun!r} in room {problem.room} to plan with (it has: {', '.join(known)})")
 
 

@@ -9,7 +9,7 @@ from typing import Optional
 from queries.planning.domain import Domain, load_domain
 from queries.planning.goals import goal_from_command, goal_from_pddl
 from queries.planning.planner import PlannerResult, solve
-from queries.planning.problem import Atom, Problem, atom_text, build_problem
+from queries.planning.problem import Atom, Problem, atom_text, build_problem, readable
 from queries.planning.rules import PlanningError, Rules, load_rules
 from queries.planning.validate import InvalidPlan, Simulation, simulate
 
@@ -36,6 +36,11 @@ class PlanOutcome:
         return [f"{readable(item)} -> {readable(dest) if dest else 'stays'}: {rule}"
                 for item, (dest, rule) in sorted(self.problem.placement.items())]
 
+    def left_out_line(self) -> str:
+        """The objects the problem leaves out, by readable name, each with why ('' if none)."""
+        left = self.problem.left_out
+        return ", ".join(f"{readable(k)} ({v})" for k, v in left.items())
+
     def to_json(self) -> dict:
         return {
             "room": self.room, "planner": self.planner.planner, "valid": True,
@@ -47,11 +52,6 @@ class PlanOutcome:
             "placement": {k: {"to": d, "rule": r} for k, (d, r) in self.problem.placement.items()},
             "domain": str(self.out_dir / "domain.pddl"), "problem": str(self.out_dir / "problem.pddl"),
         }
-
-
-def readable(name: str) -> str:
-    """A PDDL name as the readable name it spells (queries/naming.py): white_cup -> white cup."""
-    return name.replace("_", " ")
 
 
 def resolve_room(store, room: Optional[str] = None, building: Optional[str] = None) -> str:

@@ -78,6 +78,11 @@ def slug(label: str) -> str:
     return s if s[0].isalpha() else "obj_" + s
 
 
+def readable(name: str) -> str:
+    """A PDDL name as the readable name it spells (queries/naming.py): white_cup -> white cup."""
+    return name.replace("_", " ")
+
+
 def name_objects(rows: Iterable[dict], edges: Iterable[dict] = ()) -> dict[str, str]:
     """node id -> PDDL name: the shared readable name (queries/naming.py, the same ask and show
     print) as a PDDL identifier ("white cup on the dining table" -> white_cup_on_the_dining_table)."""

@@ -55,7 +55,7 @@ def plan(settings, command, goal, room, building, start, out_dir, planner, as_js
     click.echo(f"{len(outcome.steps)} steps, validated by simulation; {p.planner} planned in "
                f"{p.seconds * 1000:.0f} ms (search {p.search_seconds * 1000:.0f} ms)")
     if outcome.problem.left_out:
-        click.echo("not in the problem: " + ", ".join(f"{k} ({v})" for k, v in outcome.problem.left_out.items()),
+        click.echo("not in the problem: " + outcome.left_out_line(),
                    err=True)
 
 
