@@ -43,6 +43,18 @@ def validate(req: BuildRequest) -> None:
                          f"(stop must be greater than start, start at least 0)")
 
 
+def check_frame_selection_options(method: str, given: list[str]) -> None:
+    """The basic presets (2d-basic, 3d-basic: paper Table I without the efficient modules) detect
+    every frame, so ABIR and KGE never run and their options would change nothing: refuse them
+    rather than accept a setting that is silently ignored."""
+    from ingest.pipeline import METHODS
+
+    if given and not METHODS[method].efficient:
+        raise BuildError(f"{', '.join(given)} tune{'s' if len(given) == 1 else ''} ABIR/KGE frame selection, "
+                         f"which --method {method} does not run (it detects every frame); "
+                         f"drop {'it' if len(given) == 1 else 'them'} or use an efficient preset")
+
+
 def build_room(store, req: BuildRequest, settings, detector=None, embedding=None,
                progress: Optional[ProgressFn] = None) -> dict:
     """Run the pipeline over `req.sequence` and merge each chunk into `store`; the summary dict.

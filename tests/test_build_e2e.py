@@ -161,3 +161,17 @@ def test_two_concurrent_builds_of_one_new_room_equal_one_build(home, kitchen_dir
     once = sg3d(home, "build", *args[:1], "--room", "once", *args[1:])
     assert once.returncode == 0, once.stderr
     assert _room_state(home, "twice", "race") == _room_state(home, "once", "race")
+
+
+@pytest.mark.parametrize("method", ["2d-basic", "3d-basic"])
+def test_frame_selection_options_with_a_basic_preset_are_one_clear_error(tmp_path, kitchen_dir, method):
+    """The basic presets run neither ABIR nor KGE: tuning them would silently do nothing."""
+    from graphdb.embedded import EmbeddedServer
+
+    home = tmp_path / "home"
+    for option in (["--abir-gain", "5"], ["--t-key", "0.3"], ["--t-anchor", "0.8"]):
+        out = sg3d(home, "build", str(kitchen_dir), "--room", "basic", "--method", method, *option)
+        assert out.returncode == 2, out.stderr
+        lines = out.stderr.strip().splitlines()
+        assert len(lines) == 1 and option[0] in lines[0] and f"--method {method}" in lines[0]
+    assert EmbeddedServer(home).daemon_pids() == []      # refused before the store was started
