@@ -55,6 +55,17 @@ def check_frame_selection_options(method: str, given: list[str]) -> None:
                          f"drop {'it' if len(given) == 1 else 'them'} or use an efficient preset")
 
 
+def check_detector(settings) -> None:
+    """Refuse an unknown detector, a missing ONNX labels file or a recogniser that cannot run
+    offline before anything starts (nothing is loaded here)."""
+    from ingest.detectors import detector_for
+
+    try:
+        detector_for(settings.detector, settings.score_threshold, tiles=settings.quality == "high")
+    except (ValueError, FileNotFoundError, RuntimeError) as exc:
+        raise BuildError(str(exc))
+
+
 def build_room(store, req: BuildRequest, settings, detector=None, embedding=None,
                progress: Optional[ProgressFn] = None) -> dict:
     """Run the pipeline over `req.sequence` and merge each chunk into `store`; the summary dict.
@@ -98,11 +109,11 @@ def build_room(store, req: BuildRequest, settings, detector=None, embedding=None
     t_gravity = time.perf_counter() - t0
 
     if detector is None:
-        from ingest.detect import detector_for
+        from ingest.detectors import detector_for
 
         try:
             detector = detector_for(settings.detector, settings.score_threshold, tiles=settings.quality == "high")
-        except (ValueError, FileNotFoundError) as exc:
+        except (ValueError, FileNotFoundError, RuntimeError) as exc:
             raise BuildError(str(exc))
     embedding = embedding or default_embedding()
     params = SimilarityParams() if settings.method.three_d else SimilarityParams(threshold=float("inf"))
@@ -140,7 +151,8 @@ def build_room(store, req: BuildRequest, settings, detector=None, embedding=None
     hyp = {"formed": counts.pop("hypotheses"), "kept": counts.pop("kept"), "rejected": counts.pop("rejected")}
     return {
         "sequence": str(req.sequence), "layout": seq.layout, "room": req.room, "building": req.building,
-        "method": settings.method.name, "quality": settings.quality, "interrupted": interrupted,
+        "method": settings.method.name, "quality": settings.quality, "detector": settings.detector,
+        "interrupted": interrupted,
         "up": [round(float(v), 4) for v in up],
         "frames": {"in_range": stop - req.start, **{k: counts[k] for k in (
             "read", "blurry", "keyframes", "anchors", "coverage", "detected", "detections")},

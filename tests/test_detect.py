@@ -13,8 +13,8 @@ from ingest.detect import (
     box_iou,
     detections_from_candidates,
     load_label_map,
-    make_detector,
 )
+from ingest.detectors import make_detector
 
 
 def test_label_map_has_80_classes_with_tf_zoo_ids():
@@ -184,7 +184,7 @@ def _write_constant_onnx_detector(folder, size=(640, 640)):
 
 
 def test_onnx_plugin_runs_a_real_model_on_a_kitchen_frame(tmp_path, kitchen_dir):
-    from ingest.detect import detector_for
+    from ingest.detectors import detector_for
 
     image = cv2.imread(str(kitchen_dir / "frame-000000.color.jpg"))
     h, w = image.shape[:2]

@@ -56,6 +56,9 @@ def _summary_table(summary: dict):
                    "skipped, so this only states the intent.)")
 @click.option("--detector", default=None, metavar="NAME|MODEL.onnx",
               help="Detector: ssd-mobilenet-v2-coco (default) or your own ONNX model (labels file beside it).")
+@click.option("--recognizer", type=click.Choice(["none", "efficientnet"]), default="none", show_default=True,
+              help="efficientnet: re-rank each box's labels with the shipped EfficientNet-Lite3 ImageNet "
+                   "classifier (the paper's recognition module; needs the recognize extra, ~10 ms per box).")
 @click.option("--score-threshold", type=click.FloatRange(0.0, 1.0), default=0.23, show_default=True,
               help="Detection score threshold (any detector).")
 @click.option("--detect-fraction", type=click.FloatRange(0.0, 1.0, min_open=True), default=None,
@@ -78,7 +81,8 @@ def _summary_table(summary: dict):
 @bag_options
 @click.pass_obj
 def build(settings, sequence: Path, room: str, building: str, method: str, quality: str, layout: Optional[str],
-          start: int, stop: Optional[int], resume: bool, detector: Optional[str], score_threshold: float,
+          start: int, stop: Optional[int], resume: bool, detector: Optional[str], recognizer: str,
+          score_threshold: float,
           detect_fraction: Optional[float], chunk_frames: Optional[int], abir_gain: Optional[float],
           t_key: Optional[float], t_anchor: Optional[float], transform_file: Optional[Path], align_to: Optional[str],
           shared_frame: bool, as_json: bool, bag: dict) -> None:
@@ -97,8 +101,10 @@ def build(settings, sequence: Path, room: str, building: str, method: str, quali
     from rich.console import Console
     from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
 
-    from app.build import BuildError, BuildRequest, build_room, check_frame_selection_options, validate
+    from app.build import (BuildError, BuildRequest, build_room, check_detector, check_frame_selection_options,
+                           validate)
     from ingest import coverage
+    from ingest.detectors import with_recognizer
     from ingest.pipeline import DEFAULT_CHUNK_FRAMES, METHODS, Settings
 
     request = BuildRequest(sequence, room, building, layout, start, stop, transform_file, align_to, shared_frame,
@@ -109,7 +115,7 @@ def build(settings, sequence: Path, room: str, building: str, method: str, quali
     options = Settings(method=METHODS[method], abir_gain=abir_gain, **tuned,
                        detect_fraction=detect_fraction or coverage.DEFAULT_FRACTION,
                        chunk_frames=chunk_frames or DEFAULT_CHUNK_FRAMES,
-                       detector=detector or "ssd-mobilenet-v2-coco", score_threshold=score_threshold,
+                       detector=with_recognizer(detector, recognizer), score_threshold=score_threshold,
                        quality=quality)
     progress = Progress(TextColumn("[bold]{task.description:<10}"), BarColumn(), MofNCompleteColumn(),
                         TimeElapsedColumn(), console=Console(stderr=True), disable=as_json, transient=False)
@@ -123,6 +129,7 @@ def build(settings, sequence: Path, room: str, building: str, method: str, quali
     try:
         validate(request)          # bad input is refused before the store is started
         check_frame_selection_options(method, given)
+        check_detector(options)
         summary = build_room(settings.store(), request, options, progress=on_progress)
     except BuildError as exc:
         raise UserError(str(exc))
