@@ -78,7 +78,7 @@ def build_room(store, req: BuildRequest, settings, detector=None, embedding=None
     from ingest.gravity import estimate_gravity, sample_frames
     from ingest.model import RELATION_TYPES
     from ingest.pipeline import PipelineStats, chunk_graph, chunk_ranges, run_key
-    from ingest.readers import open_sequence
+    from ingest.readers import SequenceError, open_sequence
 
     validate(req)
     placement = None
@@ -90,7 +90,10 @@ def build_room(store, req: BuildRequest, settings, detector=None, embedding=None
         except TransformError as exc:
             raise BuildError(str(exc))
     t_start = time.perf_counter()
-    seq = open_sequence(req.sequence, req.layout, **(req.bag_options or {}))
+    try:
+        seq = open_sequence(req.sequence, req.layout, **(req.bag_options or {}))
+    except SequenceError as exc:
+        raise BuildError(str(exc)) from None
     if len(seq) == 0:
         raise BuildError(f"no frames found in {req.sequence}")
     if req.start >= len(seq):
