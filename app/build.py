@@ -174,12 +174,13 @@ def place_room(store, req: BuildRequest, transform):
     import numpy as np
 
     from graphdb.align import AlignmentError
-    from graphdb.building import link_rooms, list_rooms, room_id_of, set_room_transform
+    from graphdb.building import link_rooms, list_rooms, set_room_transform
+    from graphdb.merge import room_id
 
-    rid = room_id_of(req.building, req.room)
+    rid = room_id(req.building, req.room)
     try:
         if req.align_to:
-            report = link_rooms(store, room_id_of(req.building, req.align_to), rid)
+            report = link_rooms(store, room_id(req.building, req.align_to), rid)
             return {"how": f"aligned to {req.align_to}", "residual_m": round(report.residual_rms_m, 4),
                     "pairs": report.pairs, "same_as": len(report.same_as)}
         if transform is not None:

@@ -62,11 +62,12 @@ def link(ctx: click.Context, room_a: str, room_b: str, building: Optional[str], 
         raise UserError(f"two buildings given ({outer!r} before link, {building!r} after it): give --building once")
     building = building or outer
     from graphdb.align import AlignmentError
-    from graphdb.building import LINK_TOL_M, TransformError, format_matrix, link_rooms, load_transform, room_id_of
+    from graphdb.building import LINK_TOL_M, TransformError, format_matrix, link_rooms, load_transform
+    from graphdb.merge import room_id
 
     try:
         T = load_transform(transform_file) if transform_file else None
-        report = link_rooms(settings.store(), room_id_of(building, room_a), room_id_of(building, room_b),
+        report = link_rooms(settings.store(), room_id(building, room_a), room_id(building, room_b),
                             transform=T, link_tol_m=LINK_TOL_M if tolerance is None else tolerance)
     except (AlignmentError, TransformError) as exc:
         raise UserError(str(exc)) from None
