@@ -69,6 +69,8 @@ def _summary_table(summary: dict):
 @click.option("--abir-gain", type=float, default=None,
               help="ABIR gain g of Eq. 4 [10, the authors' code]; not with --method 2d-basic/3d-basic.")
 @click.option("--t-key", type=float, default=None, help="KGE keyframe overlap threshold [0.2].")
+# t_anchor 0.9 was chosen on the kitchen; ingest/pipeline.py (BUILD_T_ANCHOR) records what it
+# gives on the living room (the same frames as coverage alone; test_quality's living-room floor).
 @click.option("--t-anchor", type=float, default=None,
               help="KGE anchor overlap threshold [0.9] (the authors' code: 0.68; see ingest/pipeline.py).")
 @click.option("--transform", "transform_file", type=click.Path(exists=True, dir_okay=False, path_type=Path),
