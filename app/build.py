@@ -43,6 +43,29 @@ def validate(req: BuildRequest) -> None:
                          f"(stop must be greater than start, start at least 0)")
 
 
+def check_frame_selection_options(method: str, given: list[str]) -> None:
+    """The basic presets (2d-basic, 3d-basic: paper Table I without the efficient modules) detect
+    every frame, so ABIR and KGE never run and their options would change nothing: refuse them
+    rather than accept a setting that is silently ignored."""
+    from ingest.pipeline import METHODS
+
+    if given and not METHODS[method].efficient:
+        raise BuildError(f"{', '.join(given)} tune{'s' if len(given) == 1 else ''} ABIR/KGE frame selection, "
+                         f"which --method {method} does not run (it detects every frame); "
+                         f"drop {'it' if len(given) == 1 else 'them'} or use an efficient preset")
+
+
+def check_detector(settings) -> None:
+    """Refuse an unknown detector, a missing ONNX labels file or a recogniser that cannot run
+    offline before anything starts (nothing is loaded here)."""
+    from ingest.detectors import detector_for
+
+    try:
+        detector_for(settings.detector, settings.score_threshold, tiles=settings.quality == "high")
+    except (ValueError, FileNotFoundError, RuntimeError) as exc:
+        raise BuildError(str(exc))
+
+
 def build_room(store, req: BuildRequest, settings, detector=None, embedding=None,
                progress: Optional[ProgressFn] = None) -> dict:
     """Run the pipeline over `req.sequence` and merge each chunk into `store`; the summary dict.
@@ -55,7 +78,7 @@ def build_room(store, req: BuildRequest, settings, detector=None, embedding=None
     from ingest.gravity import estimate_gravity, sample_frames
     from ingest.model import RELATION_TYPES
     from ingest.pipeline import PipelineStats, chunk_graph, chunk_ranges, run_key
-    from ingest.readers import open_sequence
+    from ingest.readers import SequenceError, open_sequence
 
     validate(req)
     placement = None
@@ -67,7 +90,10 @@ def build_room(store, req: BuildRequest, settings, detector=None, embedding=None
         except TransformError as exc:
             raise BuildError(str(exc))
     t_start = time.perf_counter()
-    seq = open_sequence(req.sequence, req.layout, **(req.bag_options or {}))
+    try:
+        seq = open_sequence(req.sequence, req.layout, **(req.bag_options or {}))
+    except SequenceError as exc:
+        raise BuildError(str(exc)) from None
     if len(seq) == 0:
         raise BuildError(f"no frames found in {req.sequence}")
     if req.start >= len(seq):
@@ -86,11 +112,11 @@ def build_room(store, req: BuildRequest, settings, detector=None, embedding=None
     t_gravity = time.perf_counter() - t0
 
     if detector is None:
-        from ingest.detect import detector_for
+        from ingest.detectors import detector_for
 
         try:
             detector = detector_for(settings.detector, settings.score_threshold, tiles=settings.quality == "high")
-        except (ValueError, FileNotFoundError) as exc:
+        except (ValueError, FileNotFoundError, RuntimeError) as exc:
             raise BuildError(str(exc))
     embedding = embedding or default_embedding()
     params = SimilarityParams() if settings.method.three_d else SimilarityParams(threshold=float("inf"))
@@ -128,7 +154,8 @@ def build_room(store, req: BuildRequest, settings, detector=None, embedding=None
     hyp = {"formed": counts.pop("hypotheses"), "kept": counts.pop("kept"), "rejected": counts.pop("rejected")}
     return {
         "sequence": str(req.sequence), "layout": seq.layout, "room": req.room, "building": req.building,
-        "method": settings.method.name, "quality": settings.quality, "interrupted": interrupted,
+        "method": settings.method.name, "quality": settings.quality, "detector": settings.detector,
+        "interrupted": interrupted,
         "up": [round(float(v), 4) for v in up],
         "frames": {"in_range": stop - req.start, **{k: counts[k] for k in (
             "read", "blurry", "keyframes", "anchors", "coverage", "detected", "detections")},
@@ -147,12 +174,13 @@ def place_room(store, req: BuildRequest, transform):
     import numpy as np
 
     from graphdb.align import AlignmentError
-    from graphdb.building import link_rooms, list_rooms, room_id_of, set_room_transform
+    from graphdb.building import link_rooms, list_rooms, set_room_transform
+    from graphdb.merge import room_id
 
-    rid = room_id_of(req.building, req.room)
+    rid = room_id(req.building, req.room)
     try:
         if req.align_to:
-            report = link_rooms(store, room_id_of(req.building, req.align_to), rid)
+            report = link_rooms(store, room_id(req.building, req.align_to), rid)
             return {"how": f"aligned to {req.align_to}", "residual_m": round(report.residual_rms_m, 4),
                     "pairs": report.pairs, "same_as": len(report.same_as)}
         if transform is not None:

@@ -3,9 +3,10 @@ tool) and the read-only Cypher path (the MCP `cypher` tool)."""
 from __future__ import annotations
 
 import re
-from typing import Any, Optional
+from typing import Optional
 
 from app.errors import AppError, NotFound, Refused
+from graphdb.values import jsonable
 
 FORMATS = ("json", "graphml", "spark-dsg", "3dssg")
 CYPHER_ROW_LIMIT = 1000
@@ -155,21 +156,6 @@ def explain_writes(store, statement: str) -> list[str]:
     if not plan:
         return ["no plan"]
     return [] if summary.query_type == "r" else [f"query type {summary.query_type!r}"]
-
-
-def jsonable(value: Any) -> Any:
-    """A driver value as JSON: bytes as '<n bytes>', nodes and relationships as their properties."""
-    if isinstance(value, (bytes, bytearray)):
-        return f"<{len(value)} bytes>"
-    if isinstance(value, (list, tuple)):
-        return [jsonable(v) for v in value]
-    if isinstance(value, dict):
-        return {k: jsonable(v) for k, v in value.items()}
-    if hasattr(value, "items"):
-        return {k: jsonable(v) for k, v in value.items()}
-    if hasattr(value, "iso_format"):          # neo4j temporal types
-        return value.iso_format()
-    return value
 
 
 def read_only_cypher(store, statement: str, params: Optional[dict] = None, limit: int = CYPHER_ROW_LIMIT,

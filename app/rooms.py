@@ -48,11 +48,11 @@ def room_objects(store, building: str, room: str, label: Optional[str] = None, c
     """The objects of one room with their readable names, filtered by best label, colour name and
     distance from a point (`near` x,y,z in the room's frame; `radius` metres, default: no bound,
     sorted nearest first). NotFound when the room is not in the store."""
-    from graphdb.building import room_id_of
+    from graphdb.merge import room_id
     from queries.naming import names_in_store
 
     point = _near(near, radius)
-    rid = room_id_of(building, room)
+    rid = room_id(building, room)
     if not store.read("building_room_get", room=rid):
         raise NotFound(f"no room {rid!r} in the store")
     rows = store.read("vqa_objects_in_rooms", rooms=[rid], labels=[label.strip().lower()] if label else None,

@@ -7,7 +7,7 @@ from typing import Optional
 
 import numpy as np
 
-from app.errors import NotFound
+from app.errors import AppError, NotFound
 
 VOXEL_M = 0.01            # one cloud point per centimetre cube: frames overlap, so most are repeats
 MAX_DEPTH_M = 4.0         # farther depth is noisy on a Kinect-class sensor
@@ -42,9 +42,12 @@ def sequence_cloud(sequence_path, frames: int = 8, max_points: int = 20000, stri
     spread over the sequence: every `stride`-th depth pixel back-projected, reduced to one point
     per `voxel_m` cube (the frames see the same surfaces again and again), then at most
     `max_points` of them (a seeded uniform subsample)."""
-    from ingest.readers import open_sequence
+    from ingest.readers import SequenceError, open_sequence
 
-    seq = open_sequence(sequence_path)
+    try:
+        seq = open_sequence(sequence_path)
+    except SequenceError as exc:
+        raise AppError(str(exc)) from None
     picks = sorted({int(i) for i in np.linspace(0, len(seq) - 1, max(1, frames))})
     pts, cols = [], []
     for i in picks:

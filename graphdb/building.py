@@ -84,11 +84,6 @@ def from_list(values) -> Optional[np.ndarray]:
     return None if values is None else np.asarray(values, dtype=float).reshape(4, 4)
 
 
-def room_id_of(building: str, room: str) -> str:
-    """A room argument: a full id ('home/kitchen') as is, else a name in `building`."""
-    return room if "/" in room else f"{building}/{room}"
-
-
 def get_room(store, rid: str) -> dict:
     rows = store.read("building_room_get", room=rid)
     if not rows:

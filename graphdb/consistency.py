@@ -19,7 +19,7 @@ from neo4j import ManagedTransaction
 
 from graphdb import cypher
 from ingest.model import RELATION_TYPES, RelationObservation
-from ingest.relation_rules import Statement, edges_of, statement_of
+from ingest.relation_rules import SYMMETRIC, Statement, edges_of, statement_of
 
 
 def canonical_rows(relations: Iterable[RelationObservation], node_ids: dict[str, str]) -> dict[str, list[dict]]:
@@ -72,7 +72,7 @@ def resolve_pairs(tx: ManagedTransaction, ids: Iterable[str]) -> dict[str, int]:
         count, score = int(r["count"] or 1), float(r["score"] or 0.0)
         old = stated[key].get(st, (0, 0.0))
         # a backwards symmetric twin adds its evidence; inverse twins (ABOVE/BELOW) share one
-        twin = st.form in ("NEXT_TO", "NEAR")
+        twin = st.form in SYMMETRIC
         stated[key][st] = (old[0] + count if twin else max(old[0], count), max(old[1], score))
         present[key][(r["s"], r["type"], r["o"])] = count
     deletes: dict[str, list[dict]] = defaultdict(list)

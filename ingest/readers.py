@@ -31,7 +31,6 @@ import numpy as np
 
 from ingest.frames import Frame, FrameError
 from ingest.registration import DepthRegistrar, Registration
-from sg3d.errors import UserError
 
 LAYOUTS = ("7scenes", "tum", "scannet", "open3d")
 _ALIASES = {"3dmatch": "7scenes", "7-scenes": "7scenes", "tum-rgbd": "tum", "sens": "scannet",
@@ -45,8 +44,9 @@ TUM_FREIBURG = {
 }
 
 
-class SequenceError(UserError):
-    """The sequence as a whole cannot be read (missing folder, unknown layout, no intrinsics)."""
+class SequenceError(ValueError):
+    """The sequence as a whole cannot be read (missing folder, unknown layout, no intrinsics);
+    front ends show it as one line (ingest knows nothing of them)."""
 
 
 @dataclass

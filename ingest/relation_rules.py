@@ -29,7 +29,12 @@ from typing import NamedTuple, Optional
 
 from ingest.model import RelationObservation
 
+# Relation types whose meaning does not depend on the direction of the edge.
 SYMMETRIC = frozenset({"NEXT_TO", "NEAR"})
+# a -P-> b says the same as b -INVERSE[P]-> a.
+INVERSE = {"ABOVE": "BELOW", "BELOW": "ABOVE", "IN": "CONTAINS_OBJ", "CONTAINS_OBJ": "IN",
+           "IN_FRONT_OF": "BEHIND", "BEHIND": "IN_FRONT_OF", "LEFT_OF": "RIGHT_OF",
+           "RIGHT_OF": "LEFT_OF", "BIGGER_THAN": "SMALLER_THAN", "SMALLER_THAN": "BIGGER_THAN"}
 VIEWPOINT = frozenset({"IN_FRONT_OF", "BEHIND", "LEFT_OF", "RIGHT_OF"})
 # Types ingest stores (the whitelist keeps the viewpoint ones for query-time use only).
 STORED = ("ON", "UNDER", "ABOVE", "BELOW", "IN", "NEXT_TO", "NEAR", "BIGGER_THAN", "SMALLER_THAN")

@@ -14,16 +14,11 @@ from pathlib import Path
 from typing import Optional
 
 from ingest.model import RELATION_TYPES
+from ingest.relation_rules import INVERSE, SYMMETRIC  # noqa: F401 - eval_edges reads them here
 
 # The GT's "sure"/"unsure" wording; anything else is treated as sure (the default annotation).
 UNSURE = "unsure"
 
-# Predicates whose meaning does not depend on the direction of the edge.
-SYMMETRIC = frozenset({"NEXT_TO", "NEAR"})
-# a -P-> b says the same as b -INVERSE[P]-> a.
-INVERSE = {"ABOVE": "BELOW", "BELOW": "ABOVE", "IN": "CONTAINS_OBJ", "CONTAINS_OBJ": "IN",
-           "IN_FRONT_OF": "BEHIND", "BEHIND": "IN_FRONT_OF", "LEFT_OF": "RIGHT_OF",
-           "RIGHT_OF": "LEFT_OF", "BIGGER_THAN": "SMALLER_THAN", "SMALLER_THAN": "BIGGER_THAN"}
 # English wordings that are not just the type name with spaces.
 PREDICATE_WORDING = {"on top of": "ON", "beside": "NEXT_TO", "inside": "IN", "contains": "CONTAINS_OBJ",
                      "below": "BELOW", "beneath": "UNDER", "underneath": "UNDER", "near to": "NEAR",

@@ -11,6 +11,7 @@ from __future__ import annotations
 import re
 from typing import Any, Callable, Optional
 
+from graphdb.values import jsonable
 from queries.eval_gt import GroundTruth, GTQuestion
 from queries.eval_match import Matching
 
@@ -90,7 +91,7 @@ def vqa_metrics(store, gt: GroundTruth, matching: Matching, room: str, building:
                 row.setdefault("reason", "no answer" + (f": {reply.text}" if isinstance(getattr(reply, "text", None), str) else ""))
                 row["status"] = "unsupported"
             else:
-                row["got"] = _jsonable(_reply_value(reply))
+                row["got"] = jsonable(_reply_value(reply))
                 if isinstance(getattr(reply, "text", None), str):
                     row["answer"] = reply.text       # what a person reads: objects by name, no ids
                 verdict = score(q, reply, matching, gt_ids)
@@ -109,13 +110,3 @@ def vqa_metrics(store, gt: GroundTruth, matching: Matching, room: str, building:
         "accuracy_all_sure": right / len(sure) if sure else None,
         "questions": rows,
     }
-
-
-def _jsonable(value: Any) -> Any:
-    if isinstance(value, (str, int, float, bool)) or value is None:
-        return value
-    if isinstance(value, (list, tuple)):
-        return [_jsonable(v) for v in value]
-    if isinstance(value, dict):
-        return {str(k): _jsonable(v) for k, v in value.items()}
-    return str(value)

@@ -17,11 +17,10 @@ from queries.eval_vqa import vqa_metrics
 
 
 def category_matcher() -> Callable[[str, str], bool]:
-    """Node label vs GT COCO class: equal, or synonyms when the taxonomy module is there."""
-    try:
-        from queries import taxonomy  # written separately; may not exist yet
-    except ImportError:
-        taxonomy = None
+    """Node label vs GT COCO class: equal, or the label is a word of the one vocabulary of `ask`
+    and planning (`queries.lexicon`: synonyms.json + taxonomy) that means exactly that class
+    (an imported node labelled "mug" is a cup; "glass", meaning a wine glass or a cup, is neither)."""
+    from queries.lexicon import known
 
     def norm(s: str) -> str:
         return " ".join(s.strip().lower().split())
@@ -30,22 +29,8 @@ def category_matcher() -> Callable[[str, str], bool]:
         a, b = norm(label or ""), norm(coco)
         if a == b:
             return True
-        if taxonomy is None:
-            return False
-        for name in ("canonical", "canonical_name", "normalize", "normalise"):
-            fn = getattr(taxonomy, name, None)
-            if callable(fn):
-                try:
-                    return norm(str(fn(a))) == norm(str(fn(b)))
-                except Exception:  # noqa: BLE001 - a taxonomy gap means "not the same"
-                    return False
-        fn = getattr(taxonomy, "synonyms", None)
-        if callable(fn):
-            try:
-                return b in {norm(s) for s in fn(a)} or a in {norm(s) for s in fn(b)}
-            except Exception:  # noqa: BLE001
-                return False
-        return False
+        target = known(a) if a else None
+        return target is not None and target.labels == [b]
 
     return same
 

@@ -27,7 +27,7 @@ from typing import Optional, Sequence
 
 import numpy as np
 
-from ingest.relation_rules import VIEWPOINT
+from ingest.relation_rules import SYMMETRIC, VIEWPOINT
 from ingest.relations import MIN_EXTENT, horizontal_basis
 from queries.lexicon import resolve
 
@@ -189,7 +189,7 @@ def describe_place(relations: list[dict], names: Optional[dict] = None) -> str:
     for r in ranked:
         if r["other_id"] in named:
             continue
-        side_by_side = r["rel"] in ("NEXT_TO", "NEAR")
+        side_by_side = r["rel"] in SYMMETRIC
         if side_by_side and neighbours >= MAX_NEIGHBOURS:
             continue
         named.add(r["other_id"])

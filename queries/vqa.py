@@ -28,7 +28,7 @@ from dataclasses import dataclass, field
 from typing import Any, Optional
 
 from graphdb import cypher
-from ingest.relation_rules import VIEWPOINT
+from ingest.relation_rules import SYMMETRIC, VIEWPOINT
 from queries import viewpoint as views
 from queries.naming import names_in_store
 from queries.parse import ParseError, Query, parse, refusal
@@ -381,7 +381,6 @@ def rooms_with(run: _Run, q: Query, rooms) -> Answer:
 
 REL_WORDS = {"ON": "on", "IN": "in", "UNDER": "under", "BELOW": "below", "ABOVE": "above",
              "NEXT_TO": "next to", "NEAR": "near"}
-SYMMETRIC = ("NEXT_TO", "NEAR")
 
 
 def _without_place(name: str, said: str) -> str:
@@ -402,7 +401,7 @@ def where(run: _Run, q: Query, rooms) -> Answer:
     ids = [r["id"] for r in rows[:LIST_SHOWN]]
     rels: dict[str, list[dict]] = {i: [] for i in ids}
     placed: dict[str, list[dict]] = {i: [] for i in ids}    # with colour and score, for the sentence
-    for incoming, types in ((False, sorted(REL_WORDS)), (True, list(SYMMETRIC))):
+    for incoming, types in ((False, sorted(REL_WORDS)), (True, sorted(SYMMETRIC))):
         for e in run.read("vqa_where", ids=ids, types=types, incoming=incoming):
             if not any(x["other_id"] == e["other_id"] and x["rel"] == e["rel"] for x in rels[e["id"]]):
                 rels[e["id"]].append({"rel": e["rel"], "other_id": e["other_id"], "other_label": e["other_label"]})

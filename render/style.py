@@ -6,6 +6,8 @@ from dataclasses import dataclass
 from functools import lru_cache
 from typing import Iterable
 
+from ingest.relation_rules import SYMMETRIC
+
 # matplotlib's tab20, as hex: 20 well-separated colours that plotly draws identically
 PALETTE = ["#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b", "#e377c2", "#7f7f7f",
            "#bcbd22", "#17becf", "#aec7e8", "#ffbb78", "#98df8a", "#ff9896", "#c5b0d5", "#c49c94",
@@ -15,7 +17,6 @@ MISSING_COLOUR = "#c80000"
 
 # Size statements connect nearly every pair and bury the spatial ones: hidden unless asked for.
 COMPARISON_TYPES = frozenset({"BIGGER_THAN", "SMALLER_THAN"})
-SYMMETRIC_TYPES = frozenset({"NEXT_TO", "NEAR"})
 # The word for "b TYPE a" said from a's side: an edge drawn against its stored direction reads so.
 INVERSE_WORDS = {"ON": "holds", "IN": "contains", "ABOVE": "below", "BELOW": "above", "UNDER": "over",
                  "BIGGER_THAN": "smaller than", "SMALLER_THAN": "bigger than", "IN_FRONT_OF": "behind",
@@ -86,15 +87,15 @@ def pair_edges(edges: Iterable[dict]) -> list[PairEdge]:
     out = []
     for key in sorted(pairs):
         facts = sorted(pairs[key], key=lambda e: (rank.get(e["type"], len(rank)), e["s"]))
-        lead = next((e for e in facts if e["type"] not in SYMMETRIC_TYPES), facts[0])
+        lead = next((e for e in facts if e["type"] not in SYMMETRIC), facts[0])
         s, o = lead["s"], lead["o"]
         words: list[str] = []
         for e in facts:
-            w = word(e["type"]) if (e["s"] == s or e["type"] in SYMMETRIC_TYPES) else \
+            w = word(e["type"]) if (e["s"] == s or e["type"] in SYMMETRIC) else \
                 INVERSE_WORDS.get(e["type"], word(e["type"]) + " (reverse)")
             if w not in words:
                 words.append(w)
         types = sorted({e["type"] for e in facts})
-        out.append(PairEdge(s, o, words, types, any(t not in SYMMETRIC_TYPES for t in types),
+        out.append(PairEdge(s, o, words, types, any(t not in SYMMETRIC for t in types),
                             all(t in COMPARISON_TYPES for t in types)))
     return out

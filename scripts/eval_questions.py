@@ -1,15 +1,15 @@
-"""Run the `sure` questions of a ground-truth file through `queries.vqa.answer` and score them.
+"""Run the questions of a ground-truth file through `queries.vqa.answer` and print each verdict.
 
-    python scripts/eval_questions.py [--gt ../shared/eval/kitchen_gt.json] [--room kitchen]
+    python scripts/eval_questions.py [--gt ../shared/eval/kitchen_gt.json] [--room kitchen] [--all]
 
-Per question: the question, the expected answer, sg3d's answer and a verdict: right, wrong,
-refused (ok=False), or check (a text answer that does not contain the expected text: judge by
-eye). Numbers and yes/no are judged exactly; a refusal is never counted as right.
+The verdicts are `sg3d eval`'s own (`queries.eval_vqa.score`, with the node matching, so answers
+citing objects are judged too): right, wrong, unsupported (a refusal: never right) or not
+scorable. Only the `sure` questions unless --all.
 """
 from __future__ import annotations
 
 import argparse
-import json
+import dataclasses
 import sys
 from pathlib import Path
 
@@ -17,37 +17,31 @@ REPO = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(REPO))
 
 
-def verdict(expected, a) -> str:
-    if not a.ok:
-        return "refused"
-    if isinstance(expected, bool) or (isinstance(expected, str) and expected.lower() in ("yes", "no")):
-        want = expected if isinstance(expected, bool) else expected.lower() == "yes"
-        return "right" if a.value is want else "wrong"
-    if isinstance(expected, int):
-        return "right" if isinstance(a.value, int) and not isinstance(a.value, bool) and a.value == expected else "wrong"
-    return "right" if str(expected).lower() in a.text.lower() else "check"
-
-
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--gt", default=str(REPO / ".." / "shared" / "eval" / "kitchen_gt.json"))
-    ap.add_argument("--room", default=None)
-    ap.add_argument("--building", default=None)
+    ap.add_argument("--room", default="kitchen")
+    ap.add_argument("--building", default="default")
     ap.add_argument("--all", action="store_true", help="also the questions not marked sure")
     args = ap.parse_args(argv)
 
-    from queries.vqa import answer
+    from graphdb.merge import room_id
+    from queries.eval_gt import load_gt
+    from queries.evaluation import evaluate
     from sg3d.settings import Settings
 
-    questions = [q for q in json.loads(Path(args.gt).read_text())["questions"] if args.all or q.get("sure")]
+    gt = load_gt(args.gt)
+    if args.all:
+        gt.questions = [dataclasses.replace(q, sure=True) for q in gt.questions]
     store = Settings.from_options().store()
+    vqa = evaluate(store, gt, room_id(args.building, args.room), room=args.room, building=args.building)["vqa"]
     tally: dict[str, int] = {}
-    for q in questions:
-        a = answer(store, q["text"], room=args.room, building=args.building)
-        v = verdict(q["answer"], a)
-        tally[v] = tally.get(v, 0) + 1
-        print(f"[{v:7}] {q['text']}\n          expected: {q['answer']}\n          answer:   {a.text}")
-    print(f"{len(questions)} questions: " + ", ".join(f"{tally.get(k, 0)} {k}" for k in ("right", "wrong", "refused", "check")))
+    for q in vqa["questions"]:
+        tally[q["status"]] = tally.get(q["status"], 0) + 1
+        print(f"[{q['status']:12}] {q['question']}\n               expected: {q['expected']}\n"
+              f"               answer:   {q.get('answer', q.get('got', q.get('reason')))}")
+    print(f"{len(vqa['questions'])} questions: "
+          + ", ".join(f"{tally.get(k, 0)} {k}" for k in ("right", "wrong", "unsupported", "not scorable")))
     return 0
 
 

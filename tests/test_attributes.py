@@ -118,10 +118,23 @@ def test_thumbnail_is_a_small_jpeg_of_the_box():
 
 
 def test_measure_object_bundles_everything():
-    a = measure_object(_scene(), BOX)
+    """The 50 x 50 px red patch at 1.5 m (0.75 m square, facing the camera) measured in full:
+    every field against the scene as made."""
+    a = measure_object(_scene(), BOX)       # up: the camera's image up
     np.testing.assert_allclose(a.mean, _true_centre(), atol=1e-9)
-    assert a.colour == "red" and a.hist.sum() == 50 * 50 and a.thumbnail[:2] == b"\xff\xd8"
-    assert all(s > 0 for s in a.size[:1]) and a.n_points == 100
+    assert a.n_points == 100 and max(a.var) < 0.15 ** 2
+    side = (BOX[2] - BOX[0]) * OBJECT_DEPTH / K[0, 0]
+    w, d, h = a.size
+    # percentiles 5-95 keep 90 % of each extent; the patch is flat along the viewing direction,
+    # which is horizontal, so its horizontal extent is shared between width and depth
+    assert h == pytest.approx(0.9 * side, rel=0.05)
+    assert np.hypot(w, d) == pytest.approx(0.9 * side, rel=0.1)
+    np.testing.assert_allclose(a.centre, _true_centre(), atol=0.02)   # the patch is symmetric about it
+    assert a.colour == "red"
+    assert a.hist.sum() == 50 * 50 and a.hist[(0 * 8 + 7) * 8 + 7] == 50 * 50   # HSV (0, 255, 255)
+    thumb = cv2.imdecode(np.frombuffer(a.thumbnail, np.uint8), cv2.IMREAD_COLOR)
+    assert thumb.shape[:2] == (50, 50)
+    assert thumb[..., 2].min() > 200 and thumb[..., :2].max() < 60     # the red box, nothing around it
 
 
 def test_up_is_perpendicular_to_the_kitchen_table(kitchen_dir):

@@ -161,3 +161,57 @@ def test_two_concurrent_builds_of_one_new_room_equal_one_build(home, kitchen_dir
     once = sg3d(home, "build", *args[:1], "--room", "once", *args[1:])
     assert once.returncode == 0, once.stderr
     assert _room_state(home, "twice", "race") == _room_state(home, "once", "race")
+
+
+@pytest.mark.parametrize("method", ["2d-basic", "3d-basic"])
+def test_frame_selection_options_with_a_basic_preset_are_one_clear_error(tmp_path, kitchen_dir, method):
+    """The basic presets run neither ABIR nor KGE: tuning them would silently do nothing."""
+    from graphdb.embedded import EmbeddedServer
+
+    home = tmp_path / "home"
+    for option in (["--abir-gain", "5"], ["--t-key", "0.3"], ["--t-anchor", "0.8"]):
+        out = sg3d(home, "build", str(kitchen_dir), "--room", "basic", "--method", method, *option)
+        assert out.returncode == 2, out.stderr
+        lines = out.stderr.strip().splitlines()
+        assert len(lines) == 1 and option[0] in lines[0] and f"--method {method}" in lines[0]
+    assert EmbeddedServer(home).daemon_pids() == []      # refused before the store was started
+
+
+def _best_scores(home, room, building="test"):
+    rows = json.loads(sg3d(home, "cypher", "MATCH (o:Object) WHERE o.room = $room RETURN o.label AS label, "
+                           "o.score AS score", "-p", f"room={json.dumps(building + '/' + room)}", "--json").stdout)
+    best = {}
+    for r in rows:
+        best[r["label"]] = max(best.get(r["label"], 0.0), r["score"])
+    return best
+
+
+def test_recognizer_option_reaches_the_build(home, kitchen_dir, tmp_path):
+    """`--recognizer efficientnet` runs the shipped EfficientNet-Lite3 on every box of the build:
+    the classifier's evidence only ever raises a label's score (noisy-OR), so the same slice
+    built with it holds the same kinds of object with scores at least as high, some higher."""
+    import importlib.util
+
+    args = [str(kitchen_dir), "--building", "test", "--start", "0", "--stop", "120", "--json"]
+    if importlib.util.find_spec("ai_edge_litert") is None:
+        if os.environ.get("CI", "").lower() == "true":   # .ci/run installs the recognize extra
+            pytest.fail("ai-edge-litert missing in CI (pip install -e '.[recognize]')")
+        bare = tmp_path / "home"
+        out = sg3d(bare, "build", *args, "--room", "recognized", "--recognizer", "efficientnet")
+        assert out.returncode == 2 and len(out.stderr.strip().splitlines()) == 1, out.stderr
+        assert "ai-edge-litert" in out.stderr
+        from graphdb.embedded import EmbeddedServer
+
+        assert EmbeddedServer(bare).daemon_pids() == []
+        pytest.skip("ai-edge-litert not installed (pip install -e '.[recognize]'): only its refusal was checked")
+    plain = _build(home, kitchen_dir)
+    out = sg3d(home, "build", *args, "--room", "recognized", "--recognizer", "efficientnet")
+    assert out.returncode == 0, out.stderr
+    recognized = json.loads(out.stdout)
+    assert recognized["detector"] == "ssd-mobilenet-v2-coco+efficientnet" and plain["detector"] == "ssd-mobilenet-v2-coco"
+    assert recognized["frames"]["detected"] == plain["frames"]["detected"]
+    before, after = _best_scores(home, "slice"), _best_scores(home, "recognized")
+    common = set(before) & set(after)
+    assert {"chair", "dining table"} <= common
+    assert all(after[label] >= before[label] - 1e-6 for label in common), (before, after)
+    assert any(after[label] > before[label] + 0.01 for label in common), (before, after)

@@ -158,3 +158,19 @@ def test_cli_rooms_and_link(store, monkeypatch, tmp_path):
     bad.write_text("1 2 3\n")
     res = runner.invoke(cli, ["rooms", "link", "kitchen", "hall", "--building", "home", "--transform", str(bad)])
     assert res.exit_code == 2 and "expected 4 lines of 4 numbers" in res.output
+
+
+def test_cli_rooms_building_given_before_link_is_the_links_building(store, monkeypatch):
+    from sg3d.cli import cli
+    from sg3d.settings import Settings
+
+    _build_rooms(store)
+    monkeypatch.setattr(Settings, "store", lambda self: store)
+    runner = CliRunner()
+    res = runner.invoke(cli, ["rooms", "--building", "home", "link", "kitchen", "hall", "--json"])
+    assert res.exit_code == 0, res.output
+    data = json.loads(res.stdout)
+    assert (data["room_a"], data["room_b"]) == ("home/kitchen", "home/hall") and data["same_as"] == 5
+    res = runner.invoke(cli, ["rooms", "--building", "home", "link", "kitchen", "hall", "--building", "other"])
+    assert res.exit_code == 2
+    assert len(res.output.strip().splitlines()) == 1 and "give --building once" in res.output

@@ -13,8 +13,8 @@ from ingest.detect import (
     box_iou,
     detections_from_candidates,
     load_label_map,
-    make_detector,
 )
+from ingest.detectors import make_detector
 
 
 def test_label_map_has_80_classes_with_tf_zoo_ids():
@@ -155,3 +155,52 @@ def test_real_recognizer_on_a_kitchen_crop(ssd, kitchen_dir):
     dets = RecognizingDetector(ssd, recognizer).detect(image)
     assert "dining table" in [d.label for d in dets]
     assert isinstance(make_detector({"kind": "ssd", "recognize": True}), RecognizingDetector)
+
+
+# --------------------------------------------------------------------------- ONNX plug-in
+
+def _write_constant_onnx_detector(folder, size=(640, 640)):
+    """A real ONNX graph in OnnxDetector's output convention (N x 6: x1 y1 x2 y2 score class,
+    corners normalised). Row 0's score is the mean of the network input, so it proves the image
+    reached the model; the other rows are constants: a plate, an unknown class (7, ignored) and a
+    mug below the 0.23 threshold."""
+    from tests.onnx_writer import attr_int, model, node, tensor, value_info
+
+    rows = np.array([[0.10, 0.20, 0.50, 0.60, 0.0, 3],
+                     [0.60, 0.50, 0.90, 0.95, 0.8, 2],
+                     [0.00, 0.00, 1.00, 1.00, 0.9, 7],
+                     [0.30, 0.30, 0.40, 0.40, 0.1, 1]], np.float32)
+    mask = np.zeros_like(rows)
+    mask[0, 4] = 1.0
+    path = folder / "mine.onnx"
+    path.write_bytes(model(
+        [node("ReduceMean", ["images"], ["m"], attr_int("keepdims", 0)),
+         node("Mul", ["mask", "m"], ["s"]),
+         node("Add", ["rows", "s"], ["det"])],
+        [tensor("rows", rows), tensor("mask", mask)],
+        [value_info("images", [1, 3, size[1], size[0]])], [value_info("det", list(rows.shape))]))
+    (folder / "mine.labels.json").write_text('{"labels": {"1": "mug", "2": "plate", "3": "bowl"}}')
+    return path
+
+
+def test_onnx_plugin_runs_a_real_model_on_a_kitchen_frame(tmp_path, kitchen_dir):
+    from ingest.detectors import detector_for
+
+    image = cv2.imread(str(kitchen_dir / "frame-000000.color.jpg"))
+    h, w = image.shape[:2]
+    path = _write_constant_onnx_detector(tmp_path)
+    detector = make_detector(str(path))
+    assert isinstance(detector, OnnxDetector)
+    dets = sorted(detector.detect(image), key=lambda d: d.label)
+    assert [d.label for d in dets] == ["bowl", "plate"]      # class 7 unknown, mug below 0.23
+    bowl, plate = dets
+    assert plate.box == pytest.approx((0.60 * w, 0.50 * h, 0.90 * w, 0.95 * h), abs=1e-3)
+    assert plate.labels == ["plate"] and plate.scores == pytest.approx([0.8], abs=1e-6)
+    assert bowl.box == pytest.approx((0.10 * w, 0.20 * h, 0.50 * w, 0.60 * h), abs=1e-3)
+    # the model saw this image, resized to its 640x640 input and scaled to [0, 1]
+    seen = cv2.resize(image, (640, 640)).mean() / 255.0
+    assert bowl.score == pytest.approx(seen, abs=2e-3)
+    # a black frame: the bowl's score is 0, so only the constant plate remains
+    assert [d.label for d in detector.detect(np.zeros_like(image))] == ["plate"]
+    # the build's own route to it (`--detector mine.onnx --score-threshold 0.85`)
+    assert detector_for(str(path), score_threshold=0.85).detect(image) == []

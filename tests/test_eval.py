@@ -222,3 +222,17 @@ def test_eval_scores_the_real_vqa_answers(store):
     assert status["How many cups are there?"] == "right"
     assert status["Is there a tv?"] == "right"          # the graph holds a (spurious) tv
     assert status["What colour is the cup?"] == "right"  # factories' default colour is white
+
+
+def test_eval_reads_labels_with_the_vocabulary_of_ask_and_plan():
+    from queries.evaluation import category_matcher
+
+    same = category_matcher()
+    assert same("cup", "cup") and same("Dining  Table", "dining table")
+    assert same("mug", "cup") and same("sofa", "couch") and same("magazine", "book")
+    assert not same("counter", "dining table")      # no class covers a counter
+    assert not same("glass", "cup")                 # a wine glass or a cup: not one class
+    assert not same("dish", "bowl")                 # tableware, a group
+    gt = parse_gt({"objects": [{"id": "g1", "category": "cup", "coco_category": "cup", "world_position": [0, 0, 1]}]})
+    m = match([Node("n1", "mug", (0.02, 0.0, 1.0))], gt.objects, same_category=same)
+    assert m.gt_to_node == {"g1": "n1"}

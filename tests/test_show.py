@@ -220,22 +220,60 @@ def test_building_outlines_and_names_its_rooms_in_the_building_frame(store, embe
 
 
 def test_spring_layout_with_all_edges_is_readable(store, embedded_home, tmp_path):
+    """The README's promise, checked on the SVG written: each connected group laid out on its
+    own (groups never interleave), a hub between its neighbours, labels that never overlap, and
+    size statements (--all-edges) that do not move anything."""
     from app.scene import fetch_scene
     from render.diagram import draw
 
-    build(store)
-    out = tmp_path / "s.png"
-    r = show(embedded_home, "--out", str(out), "--layout", "spring", "--all-edges")
-    assert r.exit_code == 0, r.output
-    assert cv2.imread(str(out)).shape == (1200, 1600, 3)
+    far = {**PLACES, "u": (4.0, 3.0, 0.4), "v": (4.5, 3.0, 0.9), "p": (-3.0, 2.0, 0.3)}
+    g = graph([
+        obj("t", "dining table", world(*far["t"]), size=(1.5, 0.8, 0.7), colour="brown"),
+        obj("c", "cup", world(*far["c"]), colour="white"),
+        obj("b", "book", world(*far["b"]), colour="red"),
+        obj("h", "chair", world(*far["h"]), colour="black"),
+        obj("u", "couch", world(*far["u"]), size=(2.0, 0.9, 0.8), colour="gray"),
+        obj("v", "tv", world(*far["v"]), size=(1.0, 0.1, 0.6), colour="black"),
+        obj("p", "potted plant", world(*far["p"]), colour="green"),
+    ], relations=[("c", "ON", "t", 0.9), ("b", "ON", "t", 0.9), ("h", "NEXT_TO", "t", 0.8),
+                  ("v", "NEXT_TO", "u", 0.8),
+                  ("t", "BIGGER_THAN", "c", 0.9), ("u", "BIGGER_THAN", "t", 0.9), ("u", "BIGGER_THAN", "p", 0.9)],
+        room=ROOM, building=BUILDING)
+    g.up = tuple(UP)
+    merge_local_graph(store, g)
+    ids = ids_by_label(store)
+    groups = [["dining table", "cup", "book", "chair"], ["couch", "tv"], ["potted plant"]]
+
+    def positions(*extra):
+        out = tmp_path / f"s{len(extra)}.svg"
+        r = show(embedded_home, "--out", str(out), "--layout", "spring", *extra)
+        assert r.exit_code == 0, r.output
+        pos = svg_nodes(ET.parse(out).getroot())
+        assert set(pos) == set(ids.values())
+        return {label: pos[ids[label]] for label in ids}
+
+    pos = positions("--all-edges")
+    # size statements pull nothing: the same picture positions without them
+    without = positions()
+    assert all(np.allclose(pos[k], without[k], atol=0.5) for k in pos)
+    # groups are laid out apart: their bounding boxes (+ a marker) never overlap
+    boxes = [(np.min([pos[k] for k in grp], axis=0) - 5, np.max([pos[k] for k in grp], axis=0) + 5) for grp in groups]
+    for (lo1, hi1), (lo2, hi2) in itertools.combinations(boxes, 2):
+        assert np.any(hi1 < lo2) or np.any(hi2 < lo1), "two connected groups interleave"
+    # the table holds the star together: of its group, it is every leaf's nearest node, and
+    # nearer to the group's centre than any leaf
+    star = groups[0]
+    for leaf in star[1:]:
+        assert min((k for k in star if k != leaf), key=lambda k: np.linalg.norm(pos[k] - pos[leaf])) == "dining table"
+    centre = np.mean([pos[k] for k in star], axis=0)
+    assert min(star, key=lambda k: np.linalg.norm(pos[k] - centre)) == "dining table"
+    # nodes spread out, labels readable
+    assert min(np.linalg.norm(pos[p] - pos[q]) for p, q in itertools.combinations(pos, 2)) > 10
     d = draw(fetch_scene(store, BUILDING, ROOM), layout="spring", all_edges=True)
     renderer = d.figure.canvas.get_renderer()
     boxes = [t.get_window_extent(renderer) for t in d.ax.texts if t.get_text()]
-    assert len(boxes) >= 4
+    assert len(boxes) >= 7
     assert not any(a.overlaps(b) for a, b in itertools.combinations(boxes, 2))
-    # nodes spread over the map: no two closer than a marker's width
-    px = np.array(list(d.node_px.values()))
-    assert min(np.linalg.norm(p - q) for p, q in itertools.combinations(px, 2)) > 20
 
 
 class Tags(HTMLParser):

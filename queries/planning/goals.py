@@ -5,9 +5,11 @@ from __future__ import annotations
 import re
 from typing import Optional
 
+from queries.lexicon import known, lemma_phrase
 from queries.planning.problem import Atom, PlanObject, Problem, readable, slug
 from queries.planning.rules import PlanningError, Rules, load_rules
 from queries.planning.domain import Domain
+from queries.taxonomy import Taxonomy
 
 
 # -- commands -------------------------------------------------------------------------------
@@ -110,7 +112,9 @@ def _one_unless_plural(phrase: str, problem: Problem, rules: Rules, *, role: str
 
 def resolve_phrase(phrase: str, problem: Problem, rules: Rules) -> tuple[list[PlanObject], bool]:
     """Objects a noun phrase names, and whether it named them in the plural.
-    Order: a PDDL name, a label, a synonym, a singular form of either, a taxonomy group."""
+    Order: a PDDL name, a label (or its plural), then the words `ask` knows (`queries.lexicon`:
+    the one synonym table and taxonomy); a group word ("the dishes", "all objects") names all
+    of its kind."""
     words = [w for w in phrase.split() if w not in rules.articles]
     plural = any(w in ("all", "every") for w in phrase.split())
     noun = " ".join(words)
@@ -119,25 +123,27 @@ def resolve_phrase(phrase: str, problem: Problem, rules: Rules) -> tuple[list[Pl
             return [problem.get(name)], False
     if noun in problem.left_out:
         raise PlanningError(f"the {readable(noun)} is not in the planning problem: {problem.left_out[noun]}")
-    candidates = []
-    for form, is_plural in [(noun, False)] + [(s, True) for s in singulars(noun)]:
-        candidates += [(form, is_plural), (rules.synonym(form), is_plural)]
+    candidates = [(noun, False)] + [(s, True) for s in singulars(noun)]
     planned = [o for o in problem.objects if o.node_id]
     for form, is_plural in candidates:
         matches = [o for o in planned if form and o.label == form]
         if matches:
             return matches, plural or is_plural
-    for form, _ in candidates:
-        if form and form in rules.all_groups():
-            matches = [o for o in planned if form in rules.groups_of(o.label)]
-            if matches:
-                return matches, True
-    known = sorted({o.label for o in planned})
+    tax = Taxonomy.load()
+    for form, is_plural in candidates:
+        target = known(form) if form else None
+        if target is None or target.labels == []:
+            continue
+        matches = [o for o in planned if target.labels is None or o.label in target.labels]
+        if matches:
+            group = target.labels is None or all(n in tax.groups for n in target.names)
+            return matches, plural or is_plural or group or lemma_phrase(form) != form
+    known_labels = sorted({o.label for o in planned})
     unplanned = [n for n in problem.left_out if noun and f" {noun} " in f" {readable(n)} "]
     if unplanned:    # it is in the room, but the planning rules leave it out: say why
         raise PlanningError(f"the {readable(unplanned[0])} is not in the planning problem: "
                             f"{problem.left_out[unplanned[0]]}")
-    raise PlanningError(f"no {noun!r} in room {problem.room} to plan with (it has: {', '.join(known)})")
+    raise PlanningError(f"no {noun!r} in room {problem.room} to plan with (it has: {', '.join(known_labels)})")
 
 
 def singulars(noun: str) -> list[str]:

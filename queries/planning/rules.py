@@ -1,7 +1,8 @@
 """The graph -> PDDL rules (queries/data/planning_rules.json) and a label's taxonomy groups.
 
 Rules are data so that teaching the planner a new kind of object means editing JSON, not code.
-Groups come from `queries.taxonomy` when it is importable, else from the rules' fallback table.
+Words and groups are not the rules' business: the one synonym table and taxonomy of `ask`
+(queries/data/synonyms.json, taxonomy.json, read through `queries.lexicon`) serve planning too.
 """
 from __future__ import annotations
 
@@ -10,6 +11,8 @@ import json
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Optional
+
+from queries.taxonomy import Taxonomy
 
 DATA = Path(__file__).resolve().parent.parent / "data"
 RULES_FILE = DATA / "planning_rules.json"
@@ -26,8 +29,6 @@ class Rules:
     doors: frozenset[str]
     door_state: str
     support_relations: dict[str, str]          # graph relation type -> PDDL predicate
-    fallback_groups: dict[str, list[str]]
-    synonyms: dict[str, str]
     cleanup_target: str
     robot_name: str
     robot_type: str
@@ -48,17 +49,7 @@ class Rules:
 
     def groups_of(self, label: str) -> list[str]:
         """Taxonomy groups (categories above `label`), nearest first."""
-        groups = _taxonomy_groups(label)
-        if groups is None:
-            groups = [g for g, members in self.fallback_groups.items() if label in members]
-        return groups
-
-    def synonym(self, word: str) -> str:
-        """What a word means: the rules' own synonyms first, then the shared VQA table."""
-        return self.synonyms.get(word) or shared_synonyms().get(word, "")
-
-    def all_groups(self) -> set[str]:
-        return set(self.fallback_groups) | set(_taxonomy_group_names() or ())
+        return Taxonomy.load().ancestors(label)
 
     def pddl_type(self, label: Optional[str]) -> Optional[str]:
         """The PDDL type of a node label: its own rule first, then its groups'; None = left out."""
@@ -79,54 +70,9 @@ def load_rules(path: Optional[str] = None) -> Rules:
         types=dict(raw["types"]), doors=frozenset(raw.get("doors", ())),
         door_state=raw.get("door_state", "closed"),
         support_relations=dict(raw["support_relations"]),
-        fallback_groups={k: list(v) for k, v in raw.get("fallback_groups", {}).items()},
-        synonyms=dict(raw.get("synonyms", {})), cleanup_target=raw.get("cleanup_target", "sink"),
+        cleanup_target=raw.get("cleanup_target", "sink"),
         robot_name=raw.get("robot", {}).get("name", "robot"), robot_type=raw.get("robot", {}).get("type", "agent"),
         commands=list(raw.get("commands", [])), phrases=dict(raw.get("phrases", {})),
         articles=tuple(raw.get("articles", ("the",))),
         placement=tuple(raw.get("placement", {}).get("rules", ())),
         placement_default=dict(raw.get("placement", {}).get("default", {"to": ["stay"], "rule": "it stays unless named"})))
-
-
-# -- the taxonomy, when another part of `queries` provides one -------------------------------
-@functools.cache
-def _taxonomy():
-    try:
-        from queries.taxonomy import Taxonomy  # written alongside; optional by design
-        return Taxonomy.load()
-    except Exception:  # noqa: BLE001 - absent or broken taxonomy: fall back to the rules' table
-        return None
-
-
-def _taxonomy_groups(label: str) -> Optional[list[str]]:
-    tax = _taxonomy()
-    if tax is None:
-        return None
-    # the taxonomy's API is not fixed yet; accept the usual spellings of "what is X a kind of"
-    for method in ("ancestors", "groups_of", "groups", "parents"):
-        fn = getattr(tax, method, None)
-        if callable(fn):
-            try:
-                found = fn(label)
-            except Exception:  # noqa: BLE001 - unknown label or another signature
-                continue
-            return [g for g in found if g != label]
-    return None
-
-
-def _taxonomy_group_names() -> Optional[list[str]]:
-    value = getattr(_taxonomy(), "groups", None)   # a set property on queries.taxonomy.Taxonomy
-    if callable(value):
-        value = value()
-    return list(value) if value else None
-
-
-@functools.cache
-def shared_synonyms() -> dict[str, str]:
-    """Single-meaning words of the VQA synonym table (queries/data/synonyms.json), if present:
-    one vocabulary for asking and for commanding. Words meaning several classes are skipped."""
-    try:
-        words = json.loads((DATA / "synonyms.json").read_text()).get("words", {})
-    except (OSError, ValueError):
-        return {}
-    return {w: m[0] for w, m in words.items() if isinstance(m, list) and len(m) == 1}

@@ -56,6 +56,9 @@ def _summary_table(summary: dict):
                    "skipped, so this only states the intent.)")
 @click.option("--detector", default=None, metavar="NAME|MODEL.onnx",
               help="Detector: ssd-mobilenet-v2-coco (default) or your own ONNX model (labels file beside it).")
+@click.option("--recognizer", type=click.Choice(["none", "efficientnet"]), default="none", show_default=True,
+              help="efficientnet: re-rank each box's labels with the shipped EfficientNet-Lite3 ImageNet "
+                   "classifier (the paper's recognition module; needs the recognize extra, ~10 ms per box).")
 @click.option("--score-threshold", type=click.FloatRange(0.0, 1.0), default=0.23, show_default=True,
               help="Detection score threshold (any detector).")
 @click.option("--detect-fraction", type=click.FloatRange(0.0, 1.0, min_open=True), default=None,
@@ -63,10 +66,13 @@ def _summary_table(summary: dict):
                    "[0.15]; at least 40 frames (or all) are detected in any sequence.")
 @click.option("--chunk-frames", type=click.IntRange(min=10), default=None,
               help="Fuse and merge the sequence in chunks of this many frames [3000].")
-@click.option("--abir-gain", type=float, default=None, help="ABIR gain g of Eq. 4 (default 10, the authors' code).")
-@click.option("--t-key", type=float, default=0.2, show_default=True, help="KGE keyframe overlap threshold.")
-@click.option("--t-anchor", type=float, default=0.9, show_default=True,
-              help="KGE anchor overlap threshold (the authors' code: 0.68; see ingest/pipeline.py).")
+@click.option("--abir-gain", type=float, default=None,
+              help="ABIR gain g of Eq. 4 [10, the authors' code]; not with --method 2d-basic/3d-basic.")
+@click.option("--t-key", type=float, default=None, help="KGE keyframe overlap threshold [0.2].")
+# t_anchor 0.9 was chosen on the kitchen; ingest/pipeline.py (BUILD_T_ANCHOR) records what it
+# gives on the living room (the same frames as coverage alone; test_quality's living-room floor).
+@click.option("--t-anchor", type=float, default=None,
+              help="KGE anchor overlap threshold [0.9] (the authors' code: 0.68; see ingest/pipeline.py).")
 @click.option("--transform", "transform_file", type=click.Path(exists=True, dir_okay=False, path_type=Path),
               default=None, help="4x4 room-to-building transform (4 lines of 4 numbers).")
 @click.option("--align-to", default=None, metavar="ROOM",
@@ -77,9 +83,10 @@ def _summary_table(summary: dict):
 @bag_options
 @click.pass_obj
 def build(settings, sequence: Path, room: str, building: str, method: str, quality: str, layout: Optional[str],
-          start: int, stop: Optional[int], resume: bool, detector: Optional[str], score_threshold: float,
+          start: int, stop: Optional[int], resume: bool, detector: Optional[str], recognizer: str,
+          score_threshold: float,
           detect_fraction: Optional[float], chunk_frames: Optional[int], abir_gain: Optional[float],
-          t_key: float, t_anchor: float, transform_file: Optional[Path], align_to: Optional[str],
+          t_key: Optional[float], t_anchor: Optional[float], transform_file: Optional[Path], align_to: Optional[str],
           shared_frame: bool, as_json: bool, bag: dict) -> None:
     """Build (or extend) the 3-D scene graph of ROOM from the RGB-D SEQUENCE folder or ROS bag
     (ROS1 .bag, ROS2 bag folder, .mcap; topics are picked when unambiguous, see the --*-topic options).
@@ -96,16 +103,21 @@ def build(settings, sequence: Path, room: str, building: str, method: str, quali
     from rich.console import Console
     from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
 
-    from app.build import BuildError, BuildRequest, build_room, validate
+    from app.build import (BuildError, BuildRequest, build_room, check_detector, check_frame_selection_options,
+                           validate)
     from ingest import coverage
+    from ingest.detectors import with_recognizer
     from ingest.pipeline import DEFAULT_CHUNK_FRAMES, METHODS, Settings
 
     request = BuildRequest(sequence, room, building, layout, start, stop, transform_file, align_to, shared_frame,
                            bag_options=bag)
-    options = Settings(method=METHODS[method], abir_gain=abir_gain, t_key=t_key, t_anchor=t_anchor,
+    selection = {"--abir-gain": abir_gain, "--t-key": t_key, "--t-anchor": t_anchor}
+    given = [flag for flag, value in selection.items() if value is not None]
+    tuned = {k: v for k, v in (("t_key", t_key), ("t_anchor", t_anchor)) if v is not None}
+    options = Settings(method=METHODS[method], abir_gain=abir_gain, **tuned,
                        detect_fraction=detect_fraction or coverage.DEFAULT_FRACTION,
                        chunk_frames=chunk_frames or DEFAULT_CHUNK_FRAMES,
-                       detector=detector or "ssd-mobilenet-v2-coco", score_threshold=score_threshold,
+                       detector=with_recognizer(detector, recognizer), score_threshold=score_threshold,
                        quality=quality)
     progress = Progress(TextColumn("[bold]{task.description:<10}"), BarColumn(), MofNCompleteColumn(),
                         TimeElapsedColumn(), console=Console(stderr=True), disable=as_json, transient=False)
@@ -118,6 +130,8 @@ def build(settings, sequence: Path, room: str, building: str, method: str, quali
 
     try:
         validate(request)          # bad input is refused before the store is started
+        check_frame_selection_options(method, given)
+        check_detector(options)
         summary = build_room(settings.store(), request, options, progress=on_progress)
     except BuildError as exc:
         raise UserError(str(exc))

@@ -27,7 +27,7 @@ def _short(value) -> str:
 
 
 def print_result(keys, rows, as_json: bool) -> None:
-    from app.graph import jsonable
+    from graphdb.values import jsonable
 
     if as_json:
         click.echo(json.dumps([dict(zip(keys, map(jsonable, r))) for r in rows]))

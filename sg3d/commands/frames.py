@@ -42,7 +42,7 @@ def frames_command(sequence: Path, layout: Optional[str], abir_gain, abir_offset
     from ingest.abir import ABIR, DEFAULT_ALPHA, DEFAULT_GAIN, DEFAULT_OFFSET
     from ingest.kge import DEFAULT_T_KEY, KeyframeGrouper
     from ingest.pipeline import BUILD_T_ANCHOR
-    from ingest.readers import open_sequence
+    from ingest.readers import SequenceError, open_sequence
     from ingest.selection import FrameSelector
 
     params = dict(abir_alpha=DEFAULT_ALPHA if abir_alpha is None else abir_alpha,
@@ -55,7 +55,10 @@ def frames_command(sequence: Path, layout: Optional[str], abir_gain, abir_offset
         grouper = KeyframeGrouper(params["t_key"], params["t_anchor"])
     except ValueError as exc:
         raise UserError(str(exc)) from None
-    seq = open_sequence(sequence, layout=layout, **bag)
+    try:
+        seq = open_sequence(sequence, layout=layout, **bag)
+    except SequenceError as exc:
+        raise UserError(str(exc)) from None
     sources = getattr(seq, "sources", None)  # what a ROS bag reader picked
     stop = len(seq) if limit is None else min(len(seq), limit * step)
     selector = FrameSelector(abir, grouper)

@@ -41,25 +41,33 @@ def rooms(ctx: click.Context, building: str, as_json: bool) -> None:
 @rooms.command("link")
 @click.argument("room_a")
 @click.argument("room_b")
-@click.option("--building", default="default", show_default=True,
-              help="Building of the rooms (a full room id 'building/room' overrides it).")
+@click.option("--building", default=None,
+              help="Building of the rooms (default: `sg3d rooms --building`, else 'default'; a full "
+                   "room id 'building/room' overrides it).")
 @click.option("--transform", "transform_file", type=click.Path(dir_okay=False, path_type=Path), default=None,
               help="4x4 rigid transform (4 lines of 4 numbers) taking ROOM_B's frame into ROOM_A's; "
                    "skips the alignment.")
 @click.option("--tolerance", type=float, default=None,
               help="Metres within which two objects of the rooms are one (default 0.3).")
 @click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
-@click.pass_obj
-def link(settings, room_a: str, room_b: str, building: str, transform_file: Optional[Path],
+@click.pass_context
+def link(ctx: click.Context, room_a: str, room_b: str, building: Optional[str], transform_file: Optional[Path],
          tolerance: Optional[float], as_json: bool) -> None:
     """Align ROOM_B to ROOM_A from their shared objects (or a transform file), store both rooms'
     building transforms and link the shared objects (SAME_AS) and the rooms (ADJACENT_TO)."""
+    settings = ctx.obj
+    outer = ctx.parent.params["building"]
+    if building is not None and outer != building and \
+            ctx.parent.get_parameter_source("building") is not click.core.ParameterSource.DEFAULT:
+        raise UserError(f"two buildings given ({outer!r} before link, {building!r} after it): give --building once")
+    building = building or outer
     from graphdb.align import AlignmentError
-    from graphdb.building import LINK_TOL_M, TransformError, format_matrix, link_rooms, load_transform, room_id_of
+    from graphdb.building import LINK_TOL_M, TransformError, format_matrix, link_rooms, load_transform
+    from graphdb.merge import room_id
 
     try:
         T = load_transform(transform_file) if transform_file else None
-        report = link_rooms(settings.store(), room_id_of(building, room_a), room_id_of(building, room_b),
+        report = link_rooms(settings.store(), room_id(building, room_a), room_id(building, room_b),
                             transform=T, link_tol_m=LINK_TOL_M if tolerance is None else tolerance)
     except (AlignmentError, TransformError) as exc:
         raise UserError(str(exc)) from None

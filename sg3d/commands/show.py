@@ -60,7 +60,10 @@ def show(settings, room: Optional[str], building: str, out: Path, layout: str, a
     if fmt == "html":
         from render.view3d import render_html
 
-        cloud = sequence_cloud(sequence, frames=frames, max_points=max_points) if sequence is not None else None
+        try:
+            cloud = sequence_cloud(sequence, frames=frames, max_points=max_points) if sequence is not None else None
+        except AppError as exc:
+            raise UserError(str(exc)) from None
         data = render_html(scene, cloud=cloud, all_edges=all_edges, title=title)
     else:
         from render.diagram import render_diagram
