@@ -1,5 +1,5 @@
 // The extreme-volume object in a few rooms, restricted to the rooms before ordering:
-// $sign 1 = biggest, -1 = smallest.
+// $sign 1 = biggest, -1 = smallest; with the provenance fields (see vqa_provenance).
 MATCH (r:Room)
 WHERE r.id IN $rooms
 MATCH (r)-[:CONTAINS]->(o:Object)
@@ -7,6 +7,8 @@ WHERE ($labels IS NULL OR o.label IN $labels)
   AND ($colour IS NULL OR o.colour = $colour)
   AND o.volume IS NOT NULL
 RETURN o.id AS id, o.label AS label, o.colour AS colour, o.volume AS volume, o.size AS size,
-       o.room AS room, o.x AS x, o.y AS y, o.z AS z, o.score AS score
+       o.room AS room, o.x AS x, o.y AS y, o.z AS z, o.score AS score,
+       o.observations AS observations, o.n_frames AS n_frames, o.first_frame AS first_frame,
+       o.last_frame AS last_frame, o.updated_at AS updated_at
 ORDER BY volume * $sign DESC, id
 LIMIT 1

@@ -99,6 +99,9 @@ class _Run:
         self.steps: list[dict] = []
         self.viewpoint, self.seen_from = viewpoint, seen_from     # see queries/viewpoint.py
         self._names: dict[str, str] = {}
+        # one answer reads its candidates once: the count, then its provenance, reuse them
+        self.candidates: dict[tuple, list[dict]] = {}
+        self.rows_by_id: dict[str, dict] = {}      # candidate rows that carry provenance fields
 
     def names(self, rows) -> dict[str, str]:
         """id -> readable name (queries/naming.py) for stored objects (rows with id, label, room)."""
@@ -173,9 +176,14 @@ def _understood(q: Query) -> str:
     return f" [{'; '.join(notes)}]" if notes else ""
 
 
+def _few_rooms(rooms) -> bool:
+    """A scope small enough that templates start from its rooms (`*_in_rooms`)."""
+    return rooms is not None and len(rooms) <= SCOPE_EXPAND_MAX
+
+
 def _variant(base: str, rooms, labels=()) -> str:
     """Which variant of a template: see the module docstring (access paths)."""
-    if rooms is not None and len(rooms) <= SCOPE_EXPAND_MAX:
+    if _few_rooms(rooms):
         return base + "_in_rooms"
     return base + "_any" if labels is None else base
 
@@ -189,13 +197,17 @@ def _rooms_named(store, name: str, building: Optional[str]) -> list[dict]:
     return rows or store.read("vqa_rooms", room=name.lower(), building=b)
 
 
-def _scope(run: _Run, room: Optional[str], building: Optional[str]) -> Optional[list[str]]:
-    """Room ids in scope, None = everything."""
+def _scope(run: _Run, room: Optional[str], building: Optional[str],
+           known: Optional[dict] = None) -> Optional[list[str]]:
+    """Room ids in scope, None = everything; `known`: rooms already looked up by name while
+    parsing (same building)."""
     if room is None and building is None:
         return None
     if room is not None:
         run.steps.append({"template": "cypher/vqa_room_named.cypher", "params": {"names": [room], "building": building}})
-        rows = _rooms_named(run.store, room, building)
+        rows = (known or {}).get(room)
+        if rows is None:
+            rows = _rooms_named(run.store, room, building)
     else:
         rows = run.read("vqa_rooms", room=None, building=building.lower())
     if not rows:
@@ -225,7 +237,17 @@ def _filters(q: Query, rooms) -> dict:
 
 
 def _candidates(run: _Run, q: Query, rooms) -> list[dict]:
-    """The objects the question is about (target, attributes, relation), one row per object."""
+    """The objects the question is about (target, attributes, relation), one row per object;
+    read once per answer (the count and its provenance share them)."""
+    key = (id(q), tuple(rooms) if rooms is not None else None)
+    if key not in run.candidates:
+        rows = _read_candidates(run, q, rooms)
+        run.candidates[key] = rows
+        run.rows_by_id.update((r["id"], r) for r in rows if r.get("id") and "observations" in r)
+    return run.candidates[key]
+
+
+def _read_candidates(run: _Run, q: Query, rooms) -> list[dict]:
     if q.relation in VIEWPOINT:      # never stored: computed from a viewpoint (queries/viewpoint.py)
         try:
             return _by_size(run, views.related(run, q, rooms, run.viewpoint, run.seen_from), q.size)
@@ -258,11 +280,13 @@ def _brief(r: dict) -> dict:
 def count(run: _Run, q: Query, rooms) -> Answer:
     """Simple, hierarchical, attribute and relation counting."""
     breakdown: dict[str, int] = {}
-    if q.relation or q.size:
+    if q.relation or q.size or _few_rooms(rooms):
+        # a few rooms: their objects are read anyway for the provenance, so count those rows
+        # (one query instead of a count and then the objects)
         rows = _candidates(run, q, rooms)
         for r in rows:
             breakdown[r["label"]] = breakdown.get(r["label"], 0) + 1
-    else:
+    if not (q.relation or q.size) and (not _few_rooms(rooms) or len(rows) >= ROW_LIMIT):
         name = _variant("vqa_count", rooms, q.target.labels)
         breakdown = {r["label"]: r["n"] for r in run.read(name, **_filters(q, rooms))}
     merged = 0
@@ -334,6 +358,7 @@ def show(run: _Run, q: Query, rooms) -> Answer:
                           key=lambda r: (-sign * float(r["volume"]), r["id"]))[:1]
         else:
             rows = run.read(_variant("vqa_extreme", rooms, q.target.labels), sign=sign, **_filters(q, rooms))
+            run.rows_by_id.update((r["id"], r) for r in rows if "observations" in r)
         how = "biggest" if q.superlative == "max" else "smallest"
     rel = f" {q.relation_word} the {' or '.join(q.anchor.names)}" if q.relation else ""
     if not rows:
@@ -423,13 +448,13 @@ def answer(store, question: str, room: Optional[str] = None, building: Optional[
                       f"the question is {len(question)} characters long; ask in at most {MAX_QUESTION}")
     text, seen_from = split_viewpoint(question)
     run = _Run(store, viewpoint, seen_from)
-    seen: dict[str, bool] = {}
+    seen: dict[str, list[dict]] = {}
 
     def is_room(name: str) -> bool:
         # one indexed look-up per candidate name, not a read of every room (1,000 rooms: 10 ms)
         if name not in seen:
-            seen[name] = bool(_rooms_named(store, name, building))
-        return seen[name]
+            seen[name] = _rooms_named(store, name, building)
+        return bool(seen[name])
 
     try:
         q = parse(text, is_room, embedding=embedding, use_embedding=use_embedding)
@@ -440,7 +465,7 @@ def answer(store, question: str, room: Optional[str] = None, building: Optional[
     if q.room and room and q.room.lower() != room.lower():
         return Answer(question, False, f"the question says '{q.room}' but --room is '{room}'", query=q)
     try:
-        rooms = _scope(run, q.room or room, building)
+        rooms = _scope(run, q.room or room, building, seen)
         result = FORMS[q.form](run, q, rooms)
     except Refusal as exc:
         return Answer(question, False, str(exc), query=q, steps=run.steps)
@@ -469,7 +494,10 @@ def _provenance(run: _Run, a: Answer, q: Query, rooms) -> list[dict]:
     ids = list(dict.fromkeys(ids))[:PROVENANCE_MAX]
     if not ids:
         return []
-    rows = run.read("vqa_provenance", ids=ids)
+    if all(i in run.rows_by_id for i in ids):     # the candidate rows already say it
+        rows = [run.rows_by_id[i] for i in sorted(ids)]
+    else:
+        rows = run.read("vqa_provenance", ids=ids)
     names = run.names(rows)
     out = []
     for r in rows:
