@@ -177,6 +177,8 @@ class _CountingStore:
     ("how many red chairs are in the kitchen?", ["vqa_room_named", "vqa_objects_in_rooms", "naming_objects"]),
     ("is there a sink in the kitchen?", ["vqa_room_named", "vqa_objects_in_rooms", "naming_objects"]),
     ("how many cups are on the table in the kitchen?", ["vqa_room_named", "session", "naming_objects"]),
+    # the biggest bowl, its provenance and its thumbnail in one query
+    ("show me the biggest bowl in the kitchen", ["vqa_room_named", "vqa_extreme_in_rooms", "naming_objects"]),
 ])
 def test_room_scoped_answers_read_their_objects_once(store, house, question, queries):
     """A room-scoped count names its room once and reads its objects once: the count, the
@@ -188,6 +190,8 @@ def test_room_scoped_answers_read_their_objects_once(store, house, question, que
     for p in a.provenance:
         assert p["name"] and p["observations"] >= 1 and p["n_frames"] >= 1 and p["last_seen"]
     assert a.provenance == ask(store, question).provenance
+    if a.form == "show":
+        assert a.thumbnail and a.thumbnail.startswith(b"\xff\xd8") and a.thumbnail == ask(store, question).thumbnail
 
 
 @pytest.mark.parametrize("question", [
