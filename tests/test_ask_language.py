@@ -11,6 +11,7 @@ import re
 import pytest
 from click.testing import CliRunner
 
+from benchmarks.common import CountingStore
 from queries.naming import object_names
 from queries.vqa import answer
 from tests.test_vqa import _Settings, house  # noqa: F401 - the fixture is used by name
@@ -154,24 +155,6 @@ def test_answers_name_objects_and_carry_provenance(store, house):
     assert "cypher/vqa_objects_in_rooms.cypher" in data["templates"] and data["steps"][1]["params"]["colour"] == "red"
 
 
-class _CountingStore:
-    """The real store, counting the queries sent to it (each is one round trip)."""
-
-    def __init__(self, store):
-        self._store, self.sent = store, []
-
-    def read(self, name, **params):
-        self.sent.append(name)
-        return self._store.read(name, **params)
-
-    def session(self, **kw):
-        self.sent.append("session")
-        return self._store.session(**kw)
-
-    def __getattr__(self, name):
-        return getattr(self._store, name)
-
-
 @pytest.mark.parametrize("question,queries", [
     # room by name (once, while parsing), the room's chairs with their provenance, their names
     ("how many red chairs are in the kitchen?", ["vqa_room_named", "vqa_objects_in_rooms", "naming_objects"]),
@@ -183,7 +166,7 @@ class _CountingStore:
 def test_room_scoped_answers_read_their_objects_once(store, house, question, queries):
     """A room-scoped count names its room once and reads its objects once: the count, the
     provenance and the names come from that read (no count-then-objects-then-provenance)."""
-    counting = _CountingStore(store)
+    counting = CountingStore(store)
     a = ask(counting, question)
     assert counting.sent == queries
     assert a.value and len(a.provenance) == (a.value if isinstance(a.value, int) and a.value is not True else 1)
