@@ -6,10 +6,15 @@ A scratch embedded store is filled through a bulk UNWIND CREATE (cypher/vqa_benc
 merge_local_graph would take ~100 s for 100k objects) and its per-room tallies recounted, then each question is asked `--repeat`
 times through `queries.vqa.answer` (store running, taxonomy loaded, embedding never needed), and
 once through `python -m sg3d ask` in a fresh process (cold: interpreter, imports, driver).
+Each question also says how many queries (Bolt round trips) one answer sends, a figure that
+does not move with the machine's load. The last lines sum up what the issue-19 goals name
+(store-wide count p50, room-scoped p50 range); `--json` prints every figure as one JSON object,
+so runs of two trees can be compared line by line.
 """
 from __future__ import annotations
 
 import argparse
+import json
 import os
 import statistics
 import subprocess
@@ -20,7 +25,7 @@ from pathlib import Path
 
 import numpy as np
 
-from benchmarks.common import LABELS
+from benchmarks.common import LABELS, CountingStore
 from ingest.model import COLOUR_NAMES
 
 QUESTIONS = [
@@ -69,11 +74,17 @@ def generate(store, n_objects: int, n_rooms: int, seed: int = 0, batch_rooms: in
     return time.perf_counter() - t0
 
 
-def warm(store, repeat: int) -> None:
+def room_scoped(question: str) -> bool:
+    return " in room " in question
+
+
+def warm(store, repeat: int) -> list[dict]:
     from queries.vqa import answer
 
+    out = []
     for q in QUESTIONS:
-        first = answer(store, q)
+        counting = CountingStore(store)
+        first = answer(counting, q)
         if not first.ok:
             print(f"  refused: {q}: {first.text[:100]}")
             continue
@@ -84,7 +95,19 @@ def warm(store, repeat: int) -> None:
             times.append((time.perf_counter() - t) * 1000)
         times.sort()
         p95 = times[min(len(times) - 1, int(round(0.95 * (len(times) - 1))))]
-        print(f"  {statistics.median(times):7.1f} ms p50 {p95:7.1f} ms p95  {q!r} -> {first.text[:70]}")
+        row = {"question": q, "scope": "room" if room_scoped(q) else "store", "p50_ms": round(statistics.median(times), 2),
+               "p95_ms": round(p95, 2), "queries": len(counting.sent), "answer": first.text}
+        out.append(row)
+        print(f"  {row['p50_ms']:7.1f} ms p50 {p95:7.1f} ms p95 {row['queries']:3d} queries  {q!r} -> {first.text[:70]}")
+    return out
+
+
+def summary(rows: list[dict]) -> dict:
+    """The figures the issue's goals name: store-wide counts and room-scoped questions, p50."""
+    room = [r["p50_ms"] for r in rows if r["scope"] == "room"]
+    counts = {r["question"]: r["p50_ms"] for r in rows if r["scope"] == "store"}
+    return {"store_wide_p50_ms": counts, "room_scoped_p50_ms": [min(room), max(room)] if room else None,
+            "room_scoped_queries": [r["queries"] for r in rows if r["scope"] == "room"]}
 
 
 def cold(info, question: str) -> float:
@@ -103,6 +126,7 @@ def main() -> None:
     ap.add_argument("--objects", type=int, default=100_000)
     ap.add_argument("--rooms", type=int, default=1000)
     ap.add_argument("--repeat", type=int, default=30)
+    ap.add_argument("--json", action="store_true", help="Also print every figure as one JSON object.")
     args = ap.parse_args()
 
     from graphdb.embedded import EmbeddedServer
@@ -118,10 +142,19 @@ def main() -> None:
             n = store.read("object_total")[0]["n"]
             print(f"generated {n} objects in {args.rooms} rooms in {dt:.1f} s ({n / dt:.0f} objects/s)")
             print(f"warm ({args.repeat} runs each, store running, taxonomy loaded):")
-            warm(store, args.repeat)
+            rows = warm(store, args.repeat)
             print("cold (python -m sg3d ask, new process):")
-            for q in (QUESTIONS[0], QUESTIONS[1]):
-                cold(info, q)
+            cold_s = {q: round(cold(info, q), 2) for q in (QUESTIONS[0], QUESTIONS[1])}
+            s = summary(rows)
+            for q, ms in s["store_wide_p50_ms"].items():
+                print(f"store-wide p50 {ms:7.1f} ms  {q!r}")
+            if s["room_scoped_p50_ms"]:
+                lo, hi = s["room_scoped_p50_ms"]
+                print(f"room-scoped p50 {lo:.1f}-{hi:.1f} ms over {len(s['room_scoped_queries'])} questions "
+                      f"({min(s['room_scoped_queries'])}-{max(s['room_scoped_queries'])} queries each)")
+            if args.json:
+                print(json.dumps({"objects": n, "rooms": args.rooms, "repeat": args.repeat, "generate_s": round(dt, 1),
+                                  "warm": rows, "cold_s": cold_s, **s}))
         finally:
             store.close()
             server.stop()

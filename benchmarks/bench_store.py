@@ -11,6 +11,7 @@ object per transaction. The 20-object merges land in the first room (objects/roo
 from __future__ import annotations
 
 import argparse
+import json
 import statistics
 import time
 
@@ -33,6 +34,7 @@ def main() -> None:
     ap.add_argument("--batch", type=int, default=500)
     ap.add_argument("--single", type=int, default=200)
     ap.add_argument("--graphs", type=int, default=30)
+    ap.add_argument("--json", action="store_true", help="Also print every figure as one JSON object.")
     args = ap.parse_args()
     rng = np.random.default_rng(0)
     embedding = default_embedding()
@@ -68,7 +70,12 @@ def main() -> None:
     print(f"{f'upserts/s, batched ({n} objects, {args.rooms} rooms, {batch} per transaction)':<60}{batched:>12.0f}")
     print(f"{'upserts/s, single (1 object per transaction)':<60}{single:>12.0f}")
     print(f"{f'merge of 20 objects into a room of {per_room}, p50 ms':<60}{statistics.median(latencies):>12.1f}")
-    print(f"{f'merge of 20 objects into a room of {per_room}, p95 ms':<60}{latencies[int(0.95 * (len(latencies) - 1))]:>12.1f}")
+    p95 = latencies[int(0.95 * (len(latencies) - 1))]
+    print(f"{f'merge of 20 objects into a room of {per_room}, p95 ms':<60}{p95:>12.1f}")
+    if args.json:
+        print(json.dumps({"objects": n, "rooms": args.rooms, "batch": batch, "upserts_per_s_batched": round(batched),
+                          "upserts_per_s_single": round(single), "merge20_room_size": per_room,
+                          "merge20_p50_ms": round(statistics.median(latencies), 1), "merge20_p95_ms": round(p95, 1)}))
 
 
 if __name__ == "__main__":

@@ -38,3 +38,22 @@ def synthetic_object(rng: np.random.Generator, i: int, extent=(20.0, 3.0, 20.0))
         mean=tuple(rng.uniform(0, 1, 3) * extent), var=(0.01, 0.01, 0.01), n_points=100,
         size=(0.2, 0.2, 0.2), hist=hist, colour="white", thumbnail=b"\xff" * 4000,
         first_frame=i, last_frame=i)
+
+
+class CountingStore:
+    """A store that counts the queries sent through it (each one Bolt round trip): a figure of
+    a question's cost that does not depend on the machine's load."""
+
+    def __init__(self, store):
+        self._store, self.sent = store, []
+
+    def read(self, name, **params):
+        self.sent.append(name)
+        return self._store.read(name, **params)
+
+    def session(self, **kw):
+        self.sent.append("session")
+        return self._store.session(**kw)
+
+    def __getattr__(self, name):
+        return getattr(self._store, name)

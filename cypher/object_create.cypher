@@ -1,4 +1,8 @@
-// New nodes of a room, each with its CONTAINS edge and its Appearance (histogram, thumbnail).
+// New nodes of a room, each with its CONTAINS edge and its Appearance (histogram, thumbnail),
+// then the room's tally changes of the whole merge ($tallies, rows of cypher/tally_add.cypher:
+// created, relabelled, recoloured and folded objects) in the same statement: one round trip.
+// count(*) folds the created rows into one, so the tallies are written once, also when
+// $rows is empty.
 // Properties are spelt out in CREATE, not SET o = row.props: on ArcadeDB one record write instead
 // of a create then a rewrite (measured 1.25-1.4x more upserts/s). The keys are those of
 // graphdb.merge._new_props (tests/test_appearance.py checks they match).
@@ -14,3 +18,8 @@ CREATE (o:Object {id: row.props.id, room: row.props.room, label: row.props.label
                   updated_at: row.props.updated_at})
 CREATE (r)-[:CONTAINS]->(o)
 CREATE (a:Appearance {id: row.props.id, hist: row.hist, thumbnail: row.thumbnail})
+WITH count(*) AS created
+UNWIND $tallies AS t
+MERGE (x:Tally {key: t.key})
+ON CREATE SET x.room = t.room, x.label = t.label, x.colour = t.colour, x.kind = t.kind, x.n = 0
+SET x.n = x.n + t.n

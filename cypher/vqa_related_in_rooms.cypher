@@ -9,6 +9,9 @@ MATCH (o:Object)-[e:REL_TYPE]->(b)
 WHERE ($labels IS NULL OR o.label IN $labels)
   AND ($colour IS NULL OR o.colour = $colour)
 RETURN o.id AS id, o.label AS label, o.colour AS colour, o.volume AS volume, o.size AS size,
-       o.room AS room, b.id AS anchor_id, b.label AS anchor_label, e.score AS rel_score
+       o.room AS room, b.id AS anchor_id, b.label AS anchor_label, e.score AS rel_score,
+       o.score AS score,
+       o.observations AS observations, o.n_frames AS n_frames, o.first_frame AS first_frame,
+       o.last_frame AS last_frame, o.updated_at AS updated_at
 ORDER BY id, anchor_id
 LIMIT $limit

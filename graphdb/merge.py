@@ -25,7 +25,7 @@ from graphdb.similarity import (MAX_EXTENT_M, SimilarityParams, box_may_pass,
                                 box_position_similarity, histogram_intersection,
                                 label_similarity_matrix, position_may_pass, position_similarity,
                                 shared_labels, total_similarity)
-from graphdb.tally import add_tallies
+from graphdb.tally import create_objects_and_tallies
 from graphdb.update import (combine_boxes, combine_gaussians, combine_histograms, combine_labels,
                             incoming_has_best_label)
 from ingest.embedding import LabelEmbedding, default_embedding
@@ -327,10 +327,8 @@ def merge_in_tx(tx: ManagedTransaction, graph: LocalGraph, embedding: Optional[L
             counted.append((props["label"], props["colour"]))
     if updates:
         tx.run(cypher.load("object_update"), rows=updates).consume()
-    if creates:
-        tx.run(cypher.load("object_create"), room=rid, rows=creates).consume()
+    create_objects_and_tallies(tx, rid, creates, counted, uncounted)
     report.updated, report.created = len(updates), len(creates)
-    add_tallies(tx, rid, counted, uncounted)
 
     # stored form between global ids (symmetric edges by the smaller GLOBAL id, no viewpoint
     # relations); then the pairs this merge touched keep only their better-supported statement

@@ -14,6 +14,7 @@ MIGRATION_BATCH = 2000   # objects moved per transaction by a schema migration
 
 # the driver logs every retry of a refused connection; the CLI reports the final failure once
 logging.getLogger("neo4j").setLevel(logging.ERROR)
+log = logging.getLogger("sg3d.store")
 
 
 class ReadOnlyStoreError(RuntimeError):
@@ -119,11 +120,16 @@ class Store:
             with self.session() as s:
                 for stmt in cypher.statements("schema"):
                     s.run(stmt).consume()
-            self.migrate_appearance()
+            moved = self.migrate_appearance()
             from graphdb.tally import rebuild_tallies
 
-            rebuild_tallies(self)
+            tallies = rebuild_tallies(self)
             self.write("schema_version_set", version=SCHEMA_VERSION)
+            if rows and (moved or tallies):
+                # an existing store was upgraded in place: say so once (stderr), nothing to rebuild
+                log.warning("upgraded the store from schema %s to %s: moved %d objects' histograms and "
+                            "thumbnails to Appearance nodes, recounted %d tallies",
+                            rows[0]["version"], SCHEMA_VERSION, moved, tallies)
         self._schema_checked = True
 
     def migrate_appearance(self) -> int:

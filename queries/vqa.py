@@ -19,6 +19,12 @@ label). So each template comes in variants chosen here: `*_in_rooms` starts from
 nodes (unique index) and follows CONTAINS; the plain one starts from the object_label index;
 `*_any` (no label asked, no small scope) is the one that scans. See `_variant`.
 
+Round trips: on the embedded store a query costs ~1-3 ms of Bolt round trip against < 1 ms of
+execution for a room's objects (PROFILE, 100 objects per room), so a room-scoped answer sends
+as few as it can: the room is looked up once (while parsing), its candidates are read once with
+the provenance fields (`_candidates`, shared by the count, the size filter and `_provenance`),
+and the "show me" templates bring the winner's thumbnail along.
+
 Across rooms (issue 7) one physical object may be stored once per room that saw it, linked by
 SAME_AS; counts over more than one room count each SAME_AS group once (`_same_as_excess`).
 """
@@ -99,6 +105,9 @@ class _Run:
         self.steps: list[dict] = []
         self.viewpoint, self.seen_from = viewpoint, seen_from     # see queries/viewpoint.py
         self._names: dict[str, str] = {}
+        # one answer reads its candidates once: the count, then its provenance, reuse them
+        self.candidates: dict[tuple, list[dict]] = {}
+        self.rows_by_id: dict[str, dict] = {}      # candidate rows that carry provenance fields
 
     def names(self, rows) -> dict[str, str]:
         """id -> readable name (queries/naming.py) for stored objects (rows with id, label, room)."""
@@ -173,9 +182,14 @@ def _understood(q: Query) -> str:
     return f" [{'; '.join(notes)}]" if notes else ""
 
 
+def _few_rooms(rooms) -> bool:
+    """A scope small enough that templates start from its rooms (`*_in_rooms`)."""
+    return rooms is not None and len(rooms) <= SCOPE_EXPAND_MAX
+
+
 def _variant(base: str, rooms, labels=()) -> str:
     """Which variant of a template: see the module docstring (access paths)."""
-    if rooms is not None and len(rooms) <= SCOPE_EXPAND_MAX:
+    if _few_rooms(rooms):
         return base + "_in_rooms"
     return base + "_any" if labels is None else base
 
@@ -189,13 +203,17 @@ def _rooms_named(store, name: str, building: Optional[str]) -> list[dict]:
     return rows or store.read("vqa_rooms", room=name.lower(), building=b)
 
 
-def _scope(run: _Run, room: Optional[str], building: Optional[str]) -> Optional[list[str]]:
-    """Room ids in scope, None = everything."""
+def _scope(run: _Run, room: Optional[str], building: Optional[str],
+           known: Optional[dict] = None) -> Optional[list[str]]:
+    """Room ids in scope, None = everything; `known`: rooms already looked up by name while
+    parsing (same building)."""
     if room is None and building is None:
         return None
     if room is not None:
         run.steps.append({"template": "cypher/vqa_room_named.cypher", "params": {"names": [room], "building": building}})
-        rows = _rooms_named(run.store, room, building)
+        rows = (known or {}).get(room)
+        if rows is None:
+            rows = _rooms_named(run.store, room, building)
     else:
         rows = run.read("vqa_rooms", room=None, building=building.lower())
     if not rows:
@@ -236,7 +254,17 @@ def asked_types(relation: str) -> tuple[str, ...]:
 
 
 def _candidates(run: _Run, q: Query, rooms) -> list[dict]:
-    """The objects the question is about (target, attributes, relation), one row per object."""
+    """The objects the question is about (target, attributes, relation), one row per object;
+    read once per answer (the count and its provenance share them)."""
+    key = (id(q), tuple(rooms) if rooms is not None else None)
+    if key not in run.candidates:
+        rows = _read_candidates(run, q, rooms)
+        run.candidates[key] = rows
+        run.rows_by_id.update((r["id"], r) for r in rows if r.get("id") and "observations" in r)
+    return run.candidates[key]
+
+
+def _read_candidates(run: _Run, q: Query, rooms) -> list[dict]:
     if q.relation in VIEWPOINT:      # never stored: computed from a viewpoint (queries/viewpoint.py)
         try:
             return _by_size(run, views.related(run, q, rooms, run.viewpoint, run.seen_from), q.size)
@@ -269,11 +297,13 @@ def _brief(r: dict) -> dict:
 def count(run: _Run, q: Query, rooms) -> Answer:
     """Simple, hierarchical, attribute and relation counting."""
     breakdown: dict[str, int] = {}
-    if q.relation or q.size:
+    if q.relation or q.size or _few_rooms(rooms):
+        # a few rooms: their objects are read anyway for the provenance, so count those rows
+        # (one query instead of a count and then the objects)
         rows = _candidates(run, q, rooms)
         for r in rows:
             breakdown[r["label"]] = breakdown.get(r["label"], 0) + 1
-    else:
+    if not (q.relation or q.size) and (not _few_rooms(rooms) or len(rows) >= ROW_LIMIT):
         name = _variant("vqa_count", rooms, q.target.labels)
         breakdown = {r["label"]: r["n"] for r in run.read(name, **_filters(q, rooms))}
     merged = 0
@@ -345,13 +375,17 @@ def show(run: _Run, q: Query, rooms) -> Answer:
                           key=lambda r: (-sign * float(r["volume"]), r["id"]))[:1]
         else:
             rows = run.read(_variant("vqa_extreme", rooms, q.target.labels), sign=sign, **_filters(q, rooms))
+            run.rows_by_id.update((r["id"], r) for r in rows if "observations" in r)
         how = "biggest" if q.superlative == "max" else "smallest"
     rel = f" {q.relation_word} the {' or '.join(q.anchor.names)}" if q.relation else ""
     if not rows:
         return Answer("", True, f"there is no {_what(q, 1)}{rel}{' in the ' + q.room if q.room else ''}", "show", None, query=q)
     r = rows[0]
-    thumb = run.read("vqa_thumbnail", id=r["id"])
-    data = thumb[0]["thumbnail"] if thumb else None
+    if "thumbnail" in r:       # the extreme templates bring the winner's thumbnail along
+        data = r["thumbnail"]
+    else:
+        thumb = run.read("vqa_thumbnail", id=r["id"])
+        data = thumb[0]["thumbnail"] if thumb else None
     detail = f"{r.get('volume', 0) or 0:.3g} m^3" if q.superlative != "closest" else f"{r['distance']:.2f} m away"
     named = the(run.names([r])[r["id"]])
     if q.superlative == "closest":
@@ -433,13 +467,13 @@ def answer(store, question: str, room: Optional[str] = None, building: Optional[
                       f"the question is {len(question)} characters long; ask in at most {MAX_QUESTION}")
     text, seen_from = split_viewpoint(question)
     run = _Run(store, viewpoint, seen_from)
-    seen: dict[str, bool] = {}
+    seen: dict[str, list[dict]] = {}
 
     def is_room(name: str) -> bool:
         # one indexed look-up per candidate name, not a read of every room (1,000 rooms: 10 ms)
         if name not in seen:
-            seen[name] = bool(_rooms_named(store, name, building))
-        return seen[name]
+            seen[name] = _rooms_named(store, name, building)
+        return bool(seen[name])
 
     try:
         q = parse(text, is_room, embedding=embedding, use_embedding=use_embedding)
@@ -450,7 +484,7 @@ def answer(store, question: str, room: Optional[str] = None, building: Optional[
     if q.room and room and q.room.lower() != room.lower():
         return Answer(question, False, f"the question says '{q.room}' but --room is '{room}'", query=q)
     try:
-        rooms = _scope(run, q.room or room, building)
+        rooms = _scope(run, q.room or room, building, seen)
         result = FORMS[q.form](run, q, rooms)
     except Refusal as exc:
         return Answer(question, False, str(exc), query=q, steps=run.steps)
@@ -479,7 +513,10 @@ def _provenance(run: _Run, a: Answer, q: Query, rooms) -> list[dict]:
     ids = list(dict.fromkeys(ids))[:PROVENANCE_MAX]
     if not ids:
         return []
-    rows = run.read("vqa_provenance", ids=ids)
+    if all(i in run.rows_by_id for i in ids):     # the candidate rows already say it
+        rows = [run.rows_by_id[i] for i in sorted(ids)]
+    else:
+        rows = run.read("vqa_provenance", ids=ids)
     names = run.names(rows)
     out = []
     for r in rows:

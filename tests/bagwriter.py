@@ -3,6 +3,7 @@ frames of a folder sequence, so the bag reader can be compared with the folder r
 from __future__ import annotations
 
 import shutil
+import struct
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Optional
@@ -62,10 +63,14 @@ def _pose_msgs(ts, T: np.ndarray):
 
 def write_bag(path: Path, frames: list[BagFrame], *, kind: str = "ros1", colour: str = "raw",
               poses: str = "topic", encoding: str = "rgb8", drop_tf: Optional[set] = None,
-              depth_offset: float = 0.003, extra_colour_topic: bool = False, depth: bool = True) -> Path:
+              depth_offset: float = 0.003, extra_colour_topic: bool = False, depth: bool = True,
+              depth_format: str = "raw") -> Path:
     """kind: ros1 | sqlite3 | mcap | bare-mcap; colour: raw (Image `encoding`) | jpeg
     (CompressedImage); poses: topic (PoseStamped) | tf (/tf world->base_link, /tf_static
-    base_link->camera_optical) | none; depth: False leaves the depth topic out; drop_tf: frame indices whose /tf message is left out."""
+    base_link->camera_optical) | none; depth: False leaves the depth topic out; depth_format:
+    raw (16UC1 Image) | compressedDepth (CompressedImage as image_transport's
+    compressed_depth_image_transport writes it: a 12-byte header, then a PNG of 16-bit mm);
+    drop_tf: frame indices whose /tf message is left out."""
     ros1 = kind == "ros1"
     ts = _typestore(ros1)
     serialize = ts.serialize_ros1 if ros1 else ts.serialize_cdr
@@ -89,7 +94,9 @@ def write_bag(path: Path, frames: list[BagFrame], *, kind: str = "ros1", colour:
                                          "/camera/color/image_raw/compressed", ctype, typestore=ts)
         c_extra = writer.add_connection("/camera/ir/image_raw", "sensor_msgs/msg/Image", typestore=ts) \
             if extra_colour_topic else None
-        c_depth = writer.add_connection("/camera/aligned_depth_to_color/image_raw", "sensor_msgs/msg/Image",
+        dtype = "sensor_msgs/msg/Image" if depth_format == "raw" else "sensor_msgs/msg/CompressedImage"
+        c_depth = writer.add_connection("/camera/aligned_depth_to_color/image_raw" if depth_format == "raw" else
+                                        "/camera/aligned_depth_to_color/image_raw/compressedDepth", dtype,
                                         typestore=ts) if depth else None
         c_info = writer.add_connection("/camera/color/camera_info", "sensor_msgs/msg/CameraInfo", typestore=ts)
         if poses == "topic":
@@ -133,11 +140,18 @@ def write_bag(path: Path, frames: list[BagFrame], *, kind: str = "ros1", colour:
                            data=cv2.cvtColor(f.colour, cv2.COLOR_BGR2GRAY).reshape(-1))
                 writer.write(c_extra, t, serialize(ir, "sensor_msgs/msg/Image"))
             td = t + int(depth_offset * 1e9)
-            dmsg = _make(ts, "sensor_msgs/msg/Image", header=_header(ts, td, cam), height=h, width=w,
-                         encoding="16UC1", is_bigendian=0, step=w * 2,
-                         data=np.ascontiguousarray(f.depth_mm).view(np.uint8).reshape(-1))
+            if depth_format == "raw":
+                dmsg = _make(ts, "sensor_msgs/msg/Image", header=_header(ts, td, cam), height=h, width=w,
+                             encoding="16UC1", is_bigendian=0, step=w * 2,
+                             data=np.ascontiguousarray(f.depth_mm).view(np.uint8).reshape(-1))
+            else:  # header: int32 compression format (0 = 16UC1 as is), float32 depthQuantA, B (unused)
+                ok, png = cv2.imencode(".png", f.depth_mm)
+                assert ok, "cv2 cannot write a 16-bit PNG"
+                dmsg = _make(ts, "sensor_msgs/msg/CompressedImage", header=_header(ts, td, cam),
+                             format="16UC1; compressedDepth png",
+                             data=np.frombuffer(struct.pack("<iff", 0, 0.0, 0.0) + png.tobytes(), dtype=np.uint8))
             if c_depth is not None:
-                writer.write(c_depth, td, serialize(dmsg, "sensor_msgs/msg/Image"))
+                writer.write(c_depth, td, serialize(dmsg, dtype))
             if k == 0:
                 K = f.K
                 info = _make(ts, "sensor_msgs/msg/CameraInfo", header=_header(ts, t, cam), height=h, width=w,

@@ -75,7 +75,7 @@ def test_a_folded_node_takes_its_appearance_with_it(store):
     assert np.allclose(unpack_hist(table["hist"]), 3 * hist)
 
 
-def test_a_schema_1_store_is_migrated_and_keeps_answering(store, monkeypatch):
+def test_a_schema_1_store_is_migrated_and_keeps_answering(store, monkeypatch, caplog):
     """Objects written the old way (bytes on the record, version 1) move to Appearance nodes."""
     monkeypatch.setattr(store_module, "MIGRATION_BATCH", 2)   # several batches
     h = hist_of({5: 10, 9: 30})
@@ -95,7 +95,12 @@ def test_a_schema_1_store_is_migrated_and_keeps_answering(store, monkeypatch):
     store.write("schema_version_set", version=1)
     store._schema_checked = False
 
-    store.ensure_schema()
+    with caplog.at_level("WARNING", logger="sg3d.store"):
+        store.ensure_schema()
+    n_tallies = store.run_raw("MATCH (t:Tally) RETURN count(t)")[1][0][0]
+    assert [r.getMessage() for r in caplog.records] == [
+        "upgraded the store from schema 1 to 2: moved 5 objects' histograms and thumbnails to Appearance "
+        f"nodes, recounted {n_tallies} tallies"]
 
     assert store.read("schema_version")[0]["version"] == store_module.SCHEMA_VERSION == 2
     assert all("hist" not in o and "thumbnail" not in o for o in raw_objects(store))

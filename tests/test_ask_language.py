@@ -11,6 +11,7 @@ import re
 import pytest
 from click.testing import CliRunner
 
+from benchmarks.common import CountingStore
 from queries.naming import object_names
 from queries.vqa import answer
 from tests.test_vqa import _Settings, house  # noqa: F401 - the fixture is used by name
@@ -151,7 +152,29 @@ def test_answers_name_objects_and_carry_provenance(store, house):
     a = ask(store, "how many red chairs are in the kitchen?")
     assert {p["id"] for p in a.provenance} == {house["c1"], house["c2"]}
     data = a.to_json()
-    assert "cypher/vqa_count_in_rooms.cypher" in data["templates"] and data["steps"][1]["params"]["colour"] == "red"
+    assert "cypher/vqa_objects_in_rooms.cypher" in data["templates"] and data["steps"][1]["params"]["colour"] == "red"
+
+
+@pytest.mark.parametrize("question,queries", [
+    # room by name (once, while parsing), the room's chairs with their provenance, their names
+    ("how many red chairs are in the kitchen?", ["vqa_room_named", "vqa_objects_in_rooms", "naming_objects"]),
+    ("is there a sink in the kitchen?", ["vqa_room_named", "vqa_objects_in_rooms", "naming_objects"]),
+    ("how many cups are on the table in the kitchen?", ["vqa_room_named", "session", "naming_objects"]),
+    # the biggest bowl, its provenance and its thumbnail in one query
+    ("show me the biggest bowl in the kitchen", ["vqa_room_named", "vqa_extreme_in_rooms", "naming_objects"]),
+])
+def test_room_scoped_answers_read_their_objects_once(store, house, question, queries):
+    """A room-scoped count names its room once and reads its objects once: the count, the
+    provenance and the names come from that read (no count-then-objects-then-provenance)."""
+    counting = CountingStore(store)
+    a = ask(counting, question)
+    assert counting.sent == queries
+    assert a.value and len(a.provenance) == (a.value if isinstance(a.value, int) and a.value is not True else 1)
+    for p in a.provenance:
+        assert p["name"] and p["observations"] >= 1 and p["n_frames"] >= 1 and p["last_seen"]
+    assert a.provenance == ask(store, question).provenance
+    if a.form == "show":
+        assert a.thumbnail and a.thumbnail.startswith(b"\xff\xd8") and a.thumbnail == ask(store, question).thumbnail
 
 
 @pytest.mark.parametrize("question", [

@@ -75,6 +75,7 @@ def test_export_loads_in_spark_dsg_and_imports_back(home, tmp_path):
     report = json.loads(r.stdout)
     assert [x["room"] for x in report["rooms"]] == ["copy/kitchen"]
     copy = _objects(home, "copy")
+    assert len(copy["nodes"]) == len(ours["nodes"])
     a = sorted((n["label"], n["x"], n["y"], n["z"]) for n in ours["nodes"])
     b = sorted((n["label"], n["x"], n["y"], n["z"]) for n in copy["nodes"])
     assert [x[0] for x in a] == [x[0] for x in b]

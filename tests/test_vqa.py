@@ -193,7 +193,7 @@ def test_cli_answers_explains_writes_thumbnail_and_refuses(store, house, tmp_pat
     r = runner.invoke(ask_cmd, ["how many red chairs", "--room", "kitchen", "--explain"], obj=_Settings(store))
     assert r.exit_code == 0, r.output
     assert r.output.splitlines()[0].startswith("2 red chairs")
-    assert "cypher/vqa_count_in_rooms.cypher" in r.output and '"colour": "red"' in r.output
+    assert "cypher/vqa_objects_in_rooms.cypher" in r.output and '"colour": "red"' in r.output
     import cv2
 
     for name, magic in (("bowl.png", b"\x89PNG"), ("bowl.jpg", b"\xff\xd8"), ("bowl.JPEG", b"\xff\xd8")):

@@ -1,4 +1,4 @@
-"""`sg3d db start|stop|status|reset`: the embedded store's lifecycle."""
+"""`sg3d db start|stop|status|reset|rebuild-tallies`: the store's lifecycle and repair."""
 from __future__ import annotations
 
 import json
@@ -80,6 +80,26 @@ def reset(settings, yes: bool) -> None:
         click.confirm(f"delete the whole graph in {settings.uri or 'the embedded store'}?", abort=True)
     settings.store().wipe()
     click.echo("store emptied")
+
+
+@db.command("rebuild-tallies")
+@click.option("--json", "as_json", is_flag=True, help="Machine-readable output.")
+@click.pass_obj
+def rebuild_tallies_cmd(settings, as_json: bool) -> None:
+    """Recount the per-room tallies that counting questions read from the Object records (after
+    objects were edited with `sg3d cypher --write`; a schema upgrade recounts them itself)."""
+    from graphdb.tally import rebuild_tallies
+
+    store = settings.store()
+    store.ensure_schema()
+    t0 = time.monotonic()
+    n = rebuild_tallies(store)
+    objects = store.read("object_total")[0]["n"]
+    data = {"tallies": n, "objects": objects, "seconds": round(time.monotonic() - t0, 2)}
+    if as_json:
+        click.echo(json.dumps(data))
+    else:
+        click.echo(f"recounted {n} tallies from {objects} objects in {data['seconds']:.1f} s")
 
 
 commands = [db]
