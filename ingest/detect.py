@@ -49,6 +49,8 @@ class Detection:
     box: tuple[float, float, float, float]          # x1, y1, x2, y2 in pixels
     labels: list[str] = field(default_factory=list)
     scores: list[float] = field(default_factory=list)
+    # False when only an enlarged tile named it (`TiledDetector`): the full frame did not
+    full_frame: bool = True
 
     @property
     def label(self) -> str:
@@ -339,6 +341,16 @@ def cut_by_tile(boxes: np.ndarray, size: tuple[int, int], inner: tuple[bool, boo
             | (right & (b[:, 2] >= w - edge)) | (bottom & (b[:, 3] >= h - edge)))
 
 
+def named_by_full_frame(det: Detection, boxes: np.ndarray, class_ids: np.ndarray, scores: np.ndarray,
+                        label_map: Mapping[int, str], score_threshold: float) -> bool:
+    """Did the full-frame pass name this detection by itself? Some full-frame candidate of its best
+    label, at or above the score threshold, overlaps its box by NMS_IOU (IoU)."""
+    same = np.array([label_map.get(int(c)) == det.label for c in class_ids], dtype=bool) & (scores >= score_threshold)
+    if not same.any():
+        return False
+    return bool((box_iou(np.asarray(det.box), boxes[same]) >= NMS_IOU).any())
+
+
 class TiledDetector:
     """The full frame plus overlapping tiles through one OpenCV-dnn detector; the raw candidates
     of all windows, mapped back to image pixels, go through the same NMS and top-k collapse as a
@@ -367,6 +379,9 @@ class TiledDetector:
             ids.append(np.asarray(c).reshape(-1)[keep])
             scores.append(np.asarray(s, dtype=np.float64).reshape(-1)[keep])
         b = self.base
-        return detections_from_candidates(np.vstack(boxes), np.concatenate(ids), np.concatenate(scores),
-                                          b.label_map, score_threshold=b.score_threshold, nms_iou=b.nms_iou,
-                                          same_region_iou=b.same_region_iou, top_k=b.top_k)
+        found = detections_from_candidates(np.vstack(boxes), np.concatenate(ids), np.concatenate(scores),
+                                           b.label_map, score_threshold=b.score_threshold, nms_iou=b.nms_iou,
+                                           same_region_iou=b.same_region_iou, top_k=b.top_k)
+        for det in found:
+            det.full_frame = named_by_full_frame(det, boxes[0], ids[0], scores[0], b.label_map, b.score_threshold)
+        return found

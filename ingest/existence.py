@@ -31,6 +31,10 @@ MAX_RANGE_M = 4.5
 # A view counts fully once the object spans this many pixels; smaller views count in proportion
 # (the detector's hit rate falls with apparent size: 640x480 is shrunk to 300x300).
 FULL_VIEW_PIXELS = 120.0
+# Tiles enlarge a frame to find what is small or far. An object as big in the image as the full
+# frame sees fully (median box side >= FULL_VIEW_PIXELS) that only tiles ever named is a tile
+# artefact: a zoomed-in texture (a cabinet front read as a laptop) recurs in every view of it.
+TILE_ONLY_MAX_PIXELS = FULL_VIEW_PIXELS
 # ... and nothing stands in front: the surface seen there is not nearer than the object's own
 # front (half its extent before its centre) by more than this.
 OCCLUSION_TOLERANCE_M = 0.15
@@ -76,6 +80,15 @@ def plausible_labels(labels: Sequence[str], scores: Sequence[float], size: Seque
     if kept and scores and kept[0][1] < RELABEL_MIN_SHARE * float(scores[0]):
         kept = []
     return [l for l, _ in kept], [s for _, s in kept]
+
+
+def tile_artefact(detections: Sequence) -> bool:
+    """True when no detection of an object was named by the full frame (`Detection.full_frame`)
+    although its median box side max(x2 - x1, y2 - y1) is at least TILE_ONLY_MAX_PIXELS."""
+    if not detections or any(d.full_frame for d in detections):
+        return False
+    sides = [max(d.box[2] - d.box[0], d.box[3] - d.box[1]) for d in detections]
+    return float(np.median(sides)) >= TILE_ONLY_MAX_PIXELS
 
 
 @dataclass(frozen=True)

@@ -217,7 +217,9 @@ def _existing(hyps: list[fusion.Hypothesis], views: list[existence.View], basis,
             continue
         centre = basis.T @ ((h.lo + h.hi) / 2)
         ev = existence.evidence(centre, h.extent, set(h.frames), views)
-        if ev.detected < existence.MIN_DETECTIONS:
+        if existence.tile_artefact([s.detection for s in h.sightings]):
+            stats.rejected["named only in tiles, though big enough for the full frame"] += 1
+        elif ev.detected < existence.MIN_DETECTIONS:
             stats.rejected["seen once"] += 1
         elif not existence.exists(ev):
             stats.rejected["rarely detected where visible"] += 1

@@ -58,7 +58,7 @@ def reject_irrelevant(detections: Iterable[Detection],
         if not d.labels or d.labels[0] in banned:
             continue
         pairs = [(label, score) for label, score in zip(d.labels, d.scores) if label not in banned]
-        kept.append(Detection(d.box, [p[0] for p in pairs], [p[1] for p in pairs]))
+        kept.append(Detection(d.box, [p[0] for p in pairs], [p[1] for p in pairs], d.full_frame))
     return kept
 
 

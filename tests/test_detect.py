@@ -204,3 +204,32 @@ def test_onnx_plugin_runs_a_real_model_on_a_kitchen_frame(tmp_path, kitchen_dir)
     assert [d.label for d in detector.detect(np.zeros_like(image))] == ["plate"]
     # the build's own route to it (`--detector mine.onnx --score-threshold 0.85`)
     assert detector_for(str(path), score_threshold=0.85).detect(image) == []
+
+
+def test_named_by_full_frame_needs_its_label_its_place_and_the_threshold():
+    from ingest.detect import named_by_full_frame
+
+    labels = load_label_map()
+    chair_id = next(k for k, v in labels.items() if v == "chair")
+    tv_id = next(k for k, v in labels.items() if v == "tv")
+    det = Detection((100, 100, 200, 300), ["chair", "bench"], [0.4, 0.1])
+    boxes = np.array([[105, 95, 205, 305], [400, 100, 500, 300]], dtype=float)
+    assert named_by_full_frame(det, boxes, np.array([chair_id, chair_id]), np.array([0.3, 0.9]), labels, 0.23)
+    assert not named_by_full_frame(det, boxes, np.array([tv_id, chair_id]), np.array([0.9, 0.9]), labels, 0.23)
+    assert not named_by_full_frame(det, boxes, np.array([chair_id, chair_id]), np.array([0.2, 0.9]), labels, 0.23)
+    assert not named_by_full_frame(det, boxes[:0], np.array([], dtype=int), np.array([]), labels, 0.23)
+
+
+def test_tiles_flag_what_only_they_named_on_a_real_frame(ssd, kitchen_dir):
+    from ingest.detect import TiledDetector
+
+    image = cv2.imread(str(kitchen_dir / "frame-000000.color.jpg"))
+    plain = ssd.detect(image)
+    tiled = TiledDetector(ssd).detect(image)
+    assert all(d.full_frame for d in plain)           # a plain detector's detections are its own
+    assert any(d.full_frame for d in tiled) and len(tiled) >= len(plain)
+    for d in tiled:
+        same = [p for p in plain if p.label == d.label]
+        overlaps = bool(same) and bool((box_iou(np.array(d.box), np.array([p.box for p in same])) >= 0.5).any())
+        if overlaps:                                   # the full frame named it at that place
+            assert d.full_frame, d

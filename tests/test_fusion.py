@@ -232,3 +232,13 @@ def test_a_part_read_as_another_label_folds_into_the_whole_only_when_seen_apart(
                 for i in range(10, 15)]
     assert not fusion.part_read_as_other(fusion.Hypothesis(1, together), fusion.Hypothesis(0, tv))
     assert fusion.part_read_as_other(fusion.Hypothesis(1, corner), fusion.Hypothesis(0, tv))
+
+
+def test_an_object_only_tiles_named_though_big_enough_for_the_full_frame_is_a_tile_artefact():
+    def det(side, full):
+        return Detection((10, 10, 10 + side, 10 + side * 0.6), ["laptop"], [0.4], full)
+
+    assert existence.tile_artefact([det(200, False), det(180, False), det(150, False)])
+    assert not existence.tile_artefact([det(200, False), det(180, True)])      # the full frame named it once
+    assert not existence.tile_artefact([det(90, False), det(60, False)])       # small: what tiles are for
+    assert not existence.tile_artefact([])
