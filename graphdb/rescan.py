@@ -5,7 +5,8 @@ batch). In the merge's own transaction (graphdb.merge):
 - matched and new nodes record the scan (first_seen/last_seen, first_scan/last_scan, scans);
 - a new observation that matches no node, but matches by label and colour a node whose place this
   scan saw empty (`is_move`), moves that node: its earlier place goes to its history lists
-  (history_scans, history_at, history_x/y/z), its stale relation edges go, no duplicate is made;
+  (entry k: scan history_scans[k], at history_at[k], moved it from history_x/y/z[k]), its stale
+  relation edges go, no duplicate is made;
 - the frames that saw a node's place empty (`ingest.rescan`) are recorded on the node;
 - the scan's last merge closes it: nodes with at least MIN_EMPTY_FRAMES such frames that the scan
   did not re-observe are marked removed (removed_at, removed_scan; the frames stay as evidence)
@@ -105,7 +106,7 @@ def moved_props(old: dict, props: dict, obj: ObjectObservation, scan: ScanInfo) 
     return {**props, "x": mean[0], "y": mean[1], "z": mean[2], "var": [float(v) for v in obj.var],
             "n_points": int(obj.n_points), "size": size, "volume": float(np.prod(size)),
             "box_centre": [float(v) for v in centre],
-            "history_scans": list(old.get("history_scans") or []) + [old.get("last_scan") or old.get("first_scan") or ""],
+            "history_scans": list(old.get("history_scans") or []) + [scan.id],
             "history_at": list(old.get("history_at") or []) + [scan.at],
             "history_x": list(old.get("history_x") or []) + [float(old["x"])],
             "history_y": list(old.get("history_y") or []) + [float(old["y"])],

@@ -3,11 +3,16 @@ real store, tallies after a removal, history, idempotent re-runs. The kitchen sc
 frames are in tests/test_rescan_kitchen.py."""
 from __future__ import annotations
 
+import json
 from collections import Counter
 
 import numpy as np
 import pytest
 
+from click.testing import CliRunner
+
+from app.ask import ask
+from app.changes import room_changes
 from graphdb.merge import merge_local_graph, room_id
 from graphdb.rescan import known_objects
 from ingest.existence import DEPTH_FACTOR, View
@@ -113,6 +118,36 @@ def test_a_mug_whose_place_is_seen_empty_is_removed_kept_out_of_counts_and_a_rer
     assert merge_local_graph(store, scan(graph([book]), "s2", 200.0, known, frames)).skipped
     assert objects(store) == after and tallies(store) == Counter({"book": 1})
 
+    changes = room_changes(store, "kitchen", "home")
+    assert changes["scans"] == ["s2"] and (changes["moved"], changes["added"]) == ([], [])
+    assert [(o["id"], o["label"], o["name"]) for o in changes["removed"]] == [(mug_id, "cup", "cup")]
+    assert changes["removed"][0]["z"] == pytest.approx(0.85)
+    assert room_changes(store, "kitchen", "home", since="s1")["removed"] == changes["removed"]
+    assert room_changes(store, "kitchen", "home", since="s2")["removed"] == []
+    gone = ask(store, "What is gone?").answer
+    assert gone.ok and "cup" in gone.text and "book" not in gone.text
+    changed = ask(store, "what changed in the kitchen?").answer
+    assert changed.ok and changed.value["removed"][0]["id"] == mug_id and "gone: the cup" in changed.text
+    before = ask(store, "where was the cup before?").answer
+    assert before.ok and "(0.00, 0.00, 0.85)" in before.text and "now gone" in before.text
+
+
+def test_changes_command_prints_json_and_refuses_an_unknown_scan(store, embedded_home):
+    mug_id, book_id = first_scan(store)
+    runner = CliRunner()
+    from sg3d.cli import cli
+
+    out = runner.invoke(cli, ["--home", str(embedded_home), "changes", "--room", "kitchen", "--building", "home",
+                              "--json"])
+    assert out.exit_code == 0, out.output
+    data = json.loads(out.output)
+    assert sorted(o["id"] for o in data["added"]) == sorted([mug_id, book_id])   # the first scan added both
+    assert all(set(o) >= {"id", "name", "label", "x", "y", "z"} for o in data["added"])
+    assert (data["moved"], data["removed"]) == ([], [])
+    bad = runner.invoke(cli, ["--home", str(embedded_home), "changes", "--room", "kitchen", "--building", "home",
+                              "--since", "nope"])
+    assert bad.exit_code == 2 and "no scan 'nope'" in bad.output
+
 
 def test_a_partial_rescan_that_never_looks_at_the_mug_keeps_it(store):
     mug_id, _ = first_scan(store)
@@ -137,9 +172,14 @@ def test_a_mug_one_metre_away_with_its_old_place_seen_empty_moves_the_node(store
     assert set(after) == {mug_id, book_id}                      # no duplicate, no ghost
     mug = after[mug_id]
     assert mug.get("removed_at") is None and mug["y"] == pytest.approx(1.0)
-    assert mug["history_scans"] == ["s1"] and mug["history_y"] == [pytest.approx(0.0)]
+    assert mug["history_scans"] == ["s2"] and mug["history_at"] == [200.0] and mug["history_y"] == [pytest.approx(0.0)]
     assert mug["moved_scan"] == "s2" and mug["scans"] == ["s1", "s2"]
     assert tallies(store) == Counter({"cup": 1, "book": 1})
+    changes = room_changes(store, "kitchen", "home")
+    assert [o["id"] for o in changes["moved"]] == [mug_id] and (changes["added"], changes["removed"]) == ([], [])
+    assert changes["moved"][0]["from"] == {"x": 0.0, "y": 0.0, "z": 0.85} and changes["moved"][0]["y"] == 1.0
+    before = ask(store, "where was the cup before?").answer
+    assert before.ok and "was at (0.00, 0.00, 0.85); now at (0.00, 1.00, 0.85)" in before.text
 
 
 def test_without_empty_place_evidence_a_far_mug_is_a_new_object(store):
