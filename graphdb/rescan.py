@@ -140,6 +140,8 @@ def known_objects(store, rid: str) -> list[KnownObject]:
     """The room's present objects (boxes) for a re-scan's removal test (`ingest.rescan`)."""
     out = []
     for r in store.read("rescan_known", room=rid):
+        if not r.get("size") or r.get("x") is None:     # an imported node without a box: not judged
+            continue
         centre = r["box_centre"] or [r["x"], r["y"], r["z"]]
         out.append(KnownObject(r["id"], tuple(float(v) for v in centre), tuple(float(v) for v in r["size"])))
     return out

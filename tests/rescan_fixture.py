@@ -17,8 +17,8 @@ import numpy as np
 from ingest.registration import DepthRegistrar, Registration
 from ingest.relations import horizontal_basis
 
-GROW = 1.0            # the painted box: the object's box grown by this factor ...
-MARGIN_M = 0.02       # ... and this margin on each side (the handle, the box's own error)
+GROW = 1.5            # the painted box: the object's box grown by this factor ...
+MARGIN_M = 0.04       # ... and this margin on each side (the handle, the box's own error)
 ABOVE_SUPPORT_M = 0.015   # the object's pixels stand this far above the surface it stood on
 MIN_OBJECT_PIXELS = 30    # fewer: the frame does not show it
 
@@ -55,6 +55,14 @@ def paint_out(src: Path, dst: Path, centre, size, up) -> list[int]:
             os.symlink(colour_path, dst / colour_path.name)
             os.symlink(depth_path, dst / depth_path.name)
     return changed
+
+
+def _in_polygon(gu, gv, us, vs) -> np.ndarray:
+    """Pixels (gu, gv) inside the convex hull of the projected box corners (us, vs)."""
+    hull = cv2.convexHull(np.stack([us, vs], 1).astype(np.float32))
+    mask = np.zeros((int(gv.max()) + 2, int(gu.max()) + 2), np.uint8)
+    cv2.fillConvexPoly(mask, np.round(hull[:, 0]).astype(np.int32), 1)
+    return mask[gv.astype(int), gu.astype(int)] > 0
 
 
 @functools.lru_cache(maxsize=2)
@@ -101,6 +109,8 @@ def _paint_frame(colour_path, depth_path, pose, K, reg, corners, centre, basis, 
     # the surface it stood on, as this frame sees it: the low heights in the box's footprint
     support = float(np.percentile(local[..., 2][footprint], 10)) + float(basis[2] @ np.asarray(centre, float))
     inside = footprint & (np.abs(local[..., 2]) <= half[2]) & (points @ up_v > support + ABOVE_SUPPORT_M)
+    # too near for the depth sensor (no reading): the box's own projection is the object
+    inside |= (z <= 0) & _in_polygon(gu, gv, us, vs)
     if inside.sum() < MIN_OBJECT_PIXELS:
         return False
     mask = np.zeros((h, w), np.uint8)
