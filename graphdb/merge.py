@@ -345,7 +345,8 @@ def merge_in_tx(tx: ManagedTransaction, graph: LocalGraph, embedding: Optional[L
                 folded["observations"] = props["observations"] + int(other["observations"])
                 props = folded
                 _fold_node(tx, other["id"], cand["id"])
-                uncounted.append((other["label"], other["colour"]))
+                if other.get("removed_at") is None:
+                    uncounted.append((other["label"], other["colour"]))
                 report.absorbed += 1
             updates.append({"id": cand["id"], **_appearance_split(props)})
             if cand.get("removed_at") is None:     # a removed node seen again comes back

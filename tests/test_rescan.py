@@ -149,6 +149,28 @@ def test_changes_command_prints_json_and_refuses_an_unknown_scan(store, embedded
     assert bad.exit_code == 2 and "no scan 'nope'" in bad.output
 
 
+def test_a_scan_that_fails_while_closing_leaves_the_previous_state(store, monkeypatch):
+    mug_id, _ = first_scan(store)
+    before, counted = objects(store), tallies(store)
+    frames = [view(i, camera_at(MUG["mean"], back=(0.1 * i, -1.0, 1.0))) for i in range(3)]
+    g2 = scan(graph([obj("b2", "book", (1.0, 0.0, 0.82), size=(0.2, 0.15, 0.04), colour="blue")]), "s2", 200.0,
+              known_objects(store, ROOM), frames)
+    import graphdb.rescan as rescan_module
+
+    real_close = rescan_module.close_scan
+
+    def crash(tx, *args):
+        real_close(tx, *args)           # the removal is written, then the process dies
+        raise RuntimeError("crash mid-scan")
+
+    monkeypatch.setattr(rescan_module, "close_scan", crash)
+    with pytest.raises(RuntimeError):
+        merge_local_graph(store, g2)
+    assert objects(store) == before and tallies(store) == counted
+    monkeypatch.setattr(rescan_module, "close_scan", real_close)
+    assert merge_local_graph(store, g2).removed == 1          # the same scan again completes it
+
+
 def test_a_partial_rescan_that_never_looks_at_the_mug_keeps_it(store):
     mug_id, _ = first_scan(store)
     known = known_objects(store, ROOM)
