@@ -52,6 +52,11 @@ def ask(store, question: str, room: Optional[str] = None, building: Optional[str
     from queries.picture import write_picture
     from queries.vqa import answer
 
+    from app.changes import change_answer
+
+    result = change_answer(store, question, room=room, building=building, embedding=embedding)
+    if result is not None:
+        return Asked(result)
     result = answer(store, question, room=room, building=building, embedding=embedding, viewpoint=viewpoint)
     path = None
     if picture and result.ok and result.thumbnail:

@@ -73,10 +73,11 @@ def build_room(store, req: BuildRequest, settings, detector=None, embedding=None
     `settings`: `ingest.pipeline.Settings`. KeyboardInterrupt between chunks keeps what was
     merged and returns a summary with "interrupted": True."""
     from graphdb.merge import merge_local_graph, merged_keys, room_id
+    from graphdb.rescan import known_objects
     from graphdb.similarity import SimilarityParams
     from ingest.embedding import default_embedding
     from ingest.gravity import estimate_gravity, sample_frames
-    from ingest.model import RELATION_TYPES
+    from ingest.model import RELATION_TYPES, ScanInfo
     from ingest.pipeline import PipelineStats, chunk_graph, chunk_ranges, run_key
     from ingest.readers import SequenceError, open_sequence
 
@@ -123,17 +124,24 @@ def build_room(store, req: BuildRequest, settings, detector=None, embedding=None
 
     stats = PipelineStats()
     totals = {"chunks": 0, "merged_chunks": 0, "skipped_chunks": 0, "objects_created": 0,
-              "objects_updated": 0, "relations": 0}
+              "objects_updated": 0, "objects_moved": 0, "objects_removed": 0, "relations": 0}
     merge_seconds = 0.0
     interrupted = False
+    scan_id = scan_key(run, req.start, stop)
+    scan_at = time.time()
+    ranges = chunk_ranges(req.start, stop, settings.chunk_frames)
     try:
-        for a, b in chunk_ranges(req.start, stop, settings.chunk_frames):
+        for a, b in ranges:
             totals["chunks"] += 1
             key = f"{run}:{a}-{b}"
             if key in done:
                 totals["skipped_chunks"] += 1
                 continue
-            graph = chunk_graph(seq, a, b, detector, up, settings, req.room, req.building, key, stats, progress)
+            # the room as it stands before this chunk: what a re-scan may find moved or gone
+            known = known_objects(store, rid)
+            scan = ScanInfo(scan_id, scan_at, closes=(a, b) == ranges[-1])
+            graph = chunk_graph(seq, a, b, detector, up, settings, req.room, req.building, key, stats, progress,
+                                known=known, scan=scan)
             t0 = time.perf_counter()
             report = merge_local_graph(store, graph, embedding, params)
             merge_seconds += time.perf_counter() - t0
@@ -142,6 +150,8 @@ def build_room(store, req: BuildRequest, settings, detector=None, embedding=None
             totals["objects_created"] += report.created
             totals["objects_updated"] += report.updated
             totals["relations"] += report.relations
+            totals["objects_moved"] += report.moved
+            totals["objects_removed"] += report.removed
     except KeyboardInterrupt:
         interrupted = True
 
@@ -165,8 +175,14 @@ def build_room(store, req: BuildRequest, settings, detector=None, embedding=None
         "seconds": {k: round(v, 3) for k, v in {"gravity": t_gravity, **stats.seconds,
                                                 "merge": merge_seconds, "total": wall}.items()},
         "input_frames_per_second": round(counts["frames"] / wall, 2) if wall > 0 and counts["frames"] else 0.0,
-        "key": run, "placement": placed,
+        "key": run, "scan": scan_id, "placement": placed,
     }
+
+
+def scan_key(run: str, start: int, stop: int) -> str:
+    """A build's scan id: the build's identity and its frame range (the same build re-run or
+    resumed is the same scan; another range of the same sequence is another scan)."""
+    return f"{run}@{start}-{stop}"
 
 
 def place_room(store, req: BuildRequest, transform):

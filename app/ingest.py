@@ -178,5 +178,5 @@ def ingest_graph(store, req: IngestRequest, embedding=None) -> dict:
     report = merge_local_graph(store, to_local_graph(req), embedding, SimilarityParams())
     rid = room_id(req.building, req.room)
     return {"key": report.key, "room": rid, "skipped": report.skipped, "created": report.created,
-            "updated": report.updated, "absorbed": report.absorbed, "relations": report.relations,
+            "updated": report.updated, "absorbed": report.absorbed, "moved": report.moved, "removed": report.removed, "relations": report.relations,
             "node_ids": report.node_ids, "room_objects": store.read("object_count", room=rid)[0]["n"]}

@@ -4,6 +4,8 @@
 // $non_canonical the backwards symmetric tags, $viewpoint the types never stored.
 MATCH (a:Object)-[e]->(b:Object)
 WHERE a.room = $room AND type(e) IN $types
+  AND a.removed_at IS NULL
+  AND b.removed_at IS NULL
 WITH CASE WHEN a.id < b.id THEN a.id ELSE b.id END AS lo,
      CASE WHEN a.id < b.id THEN b.id ELSE a.id END AS hi,
      CASE WHEN a.id < b.id THEN type(e) ELSE '~' + type(e) END AS tag,

@@ -5,6 +5,7 @@ MATCH (r:Room)
 WHERE r.id IN $rooms
 MATCH (r)-[:CONTAINS]->(o:Object)
 WHERE o.label IN $labels
+  AND o.removed_at IS NULL
 OPTIONAL MATCH (o)-[e]->(s:Object)
 WHERE type(e) IN $support_types
 RETURN o.id AS id, o.label AS label, o.colour AS colour, o.room AS room, o.x AS x, o.y AS y,

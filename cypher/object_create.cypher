@@ -15,7 +15,9 @@ CREATE (o:Object {id: row.props.id, room: row.props.room, label: row.props.label
                   box_centre: row.props.box_centre, colour: row.props.colour,
                   first_frame: row.props.first_frame, last_frame: row.props.last_frame,
                   observations: row.props.observations, n_frames: row.props.n_frames,
-                  updated_at: row.props.updated_at})
+                  updated_at: row.props.updated_at, first_seen: row.props.first_seen,
+                  last_seen: row.props.last_seen, first_scan: row.props.first_scan,
+                  last_scan: row.props.last_scan, scans: row.props.scans})
 CREATE (r)-[:CONTAINS]->(o)
 CREATE (a:Appearance {id: row.props.id, hist: row.hist, thumbnail: row.thumbnail})
 WITH count(*) AS created

@@ -6,4 +6,5 @@ WHERE r.id IN $rooms
 MATCH (r)-[:CONTAINS]->(o:Object)
 WHERE ($labels IS NULL OR o.label IN $labels)
   AND ($colour IS NULL OR o.colour = $colour)
+  AND o.removed_at IS NULL
 RETURN o.label AS label, count(o) AS n

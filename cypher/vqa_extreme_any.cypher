@@ -5,6 +5,7 @@ MATCH (o:Object)
 WHERE ($rooms IS NULL OR o.room IN $rooms)
   AND ($colour IS NULL OR o.colour = $colour)
   AND o.volume IS NOT NULL
+  AND o.removed_at IS NULL
 WITH o
 ORDER BY o.volume * $sign DESC, o.id
 LIMIT 1

@@ -8,6 +8,7 @@ MATCH (r)-[:CONTAINS]->(o:Object)
 WHERE ($labels IS NULL OR o.label IN $labels)
   AND ($colour IS NULL OR o.colour = $colour)
   AND o.volume IS NOT NULL
+  AND o.removed_at IS NULL
 WITH o
 ORDER BY o.volume * $sign DESC, o.id
 LIMIT 1

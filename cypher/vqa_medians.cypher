@@ -3,4 +3,5 @@
 MATCH (o:Object)
 WHERE o.label IN $labels
   AND o.volume IS NOT NULL
+  AND o.removed_at IS NULL
 RETURN o.label AS label, percentileCont(o.volume, 0.5) AS median

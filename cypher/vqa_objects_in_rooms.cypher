@@ -6,6 +6,7 @@ WHERE r.id IN $rooms
 MATCH (r)-[:CONTAINS]->(o:Object)
 WHERE ($labels IS NULL OR o.label IN $labels)
   AND ($colour IS NULL OR o.colour = $colour)
+  AND o.removed_at IS NULL
 RETURN o.id AS id, o.label AS label, o.colour AS colour, o.volume AS volume, o.size AS size,
        o.room AS room, o.x AS x, o.y AS y, o.z AS z, o.score AS score,
        o.observations AS observations, o.n_frames AS n_frames, o.first_frame AS first_frame,

@@ -7,6 +7,11 @@ them against the local objects in Python (`graphdb.similarity`), pair them one-t
 the matched nodes, create the rest (each Object with its Appearance node: histogram and
 thumbnail), adjust the room's tallies (`graphdb.tally`), merge the edges, and log the merge
 under the graph's key so that a re-run or `--resume` skips it.
+
+Re-scans (`graphdb.rescan`): every merge belongs to a scan; nodes keep first/last seen and the
+scans that saw them. A new observation that matches no node but matches by label and colour a
+node whose place this scan saw empty moves that node (history kept). The scan's last merge
+marks removed the nodes whose place it saw empty and that it did not re-observe.
 """
 from __future__ import annotations
 
@@ -25,11 +30,12 @@ from graphdb.similarity import (MAX_EXTENT_M, SimilarityParams, box_may_pass,
                                 box_position_similarity, histogram_intersection,
                                 label_similarity_matrix, position_may_pass, position_similarity,
                                 shared_labels, total_similarity)
+from graphdb import rescan
 from graphdb.tally import create_objects_and_tallies
 from graphdb.update import (combine_boxes, combine_gaussians, combine_histograms, combine_labels,
                             incoming_has_best_label)
 from ingest.embedding import LabelEmbedding, default_embedding
-from ingest.model import HIST_SIZE, RELATION_TYPES, LocalGraph, ObjectObservation
+from ingest.model import HIST_SIZE, RELATION_TYPES, LocalGraph, ObjectObservation, ScanInfo
 
 
 @dataclass
@@ -41,6 +47,8 @@ class MergeReport:
     candidates: int = 0
     absorbed: int = 0              # stored nodes found to be one object with another, folded in
     relations: int = 0
+    moved: int = 0                 # nodes moved to a new place by this merge
+    removed: int = 0               # nodes marked removed when this merge closed its scan
     node_ids: dict[str, str] = field(default_factory=dict)   # local_id -> global id
     seconds: float = 0.0
 
@@ -218,7 +226,7 @@ def _as_observation(cand: dict) -> ObjectObservation:
         n_frames=int(cand["n_frames"]), box_centre=cand["box_centre"])
 
 
-def _new_props(obj: ObjectObservation, rid: str, now: float) -> dict:
+def _new_props(obj: ObjectObservation, rid: str, now: float, scan: ScanInfo) -> dict:
     mean = [float(v) for v in obj.mean]
     size = [float(v) for v in obj.size]
     return {
@@ -232,10 +240,12 @@ def _new_props(obj: ObjectObservation, rid: str, now: float) -> dict:
         "thumbnail": obj.thumbnail or b"",
         "first_frame": int(obj.first_frame), "last_frame": int(obj.last_frame),
         "observations": 1, "n_frames": int(obj.n_frames), "updated_at": now,
+        **rescan.first_sighting(scan),
     }
 
 
-def _updated_props(cand: dict, obj: ObjectObservation, now: float, basis: np.ndarray) -> dict:
+def _updated_props(cand: dict, obj: ObjectObservation, now: float, basis: np.ndarray,
+                   scan: Optional[ScanInfo] = None) -> dict:
     labels, scores = combine_labels(cand["labels"], cand["scores"], obj.labels, obj.scores)
     mean, var, n = combine_gaussians([cand["x"], cand["y"], cand["z"]], cand["var"], cand["n_points"],
                                      obj.mean, obj.var, obj.n_points)
@@ -256,6 +266,8 @@ def _updated_props(cand: dict, obj: ObjectObservation, now: float, basis: np.nda
     }
     if incoming_has_best_label(cand["scores"], obj.scores) and obj.thumbnail:
         props["thumbnail"] = obj.thumbnail
+    if scan is not None:
+        props.update(rescan.sighting(cand, scan))
     return props
 
 
@@ -292,9 +304,12 @@ def merge_in_tx(tx: ManagedTransaction, graph: LocalGraph, embedding: Optional[L
     embedding = embedding or default_embedding()
     rid = room_id(graph.building, graph.room)
     now = time.time()
+    scan = rescan.scan_of(graph, now)
     # first write of the transaction: the room lock (see cypher/room_ensure.cypher)
     tx.run(cypher.load("room_ensure"), building=graph.building, room=rid, name=graph.room,
            up=[float(v) for v in graph.up] if graph.up is not None else None).consume()
+    tx.run(cypher.load("scan_ensure"), id=scan.id, room=rid, at=scan.at,
+           kind="ingest" if (graph.key or "").startswith("ingest:") else "build").consume()
 
     objects = graph.objects
     basis = gravity_basis(graph.up)
@@ -304,31 +319,57 @@ def merge_in_tx(tx: ManagedTransaction, graph: LocalGraph, embedding: Optional[L
 
     updates, creates = [], []
     counted, uncounted = [], []     # (label, colour) of objects entering / leaving the tallies
+    seen = {cands[j]["id"] for j in matches.values()} | {cands[k]["id"] for k in absorbed}
+    unmatched = [i for i in range(len(objects)) if i not in matches]
+    moves = rescan.find_moves(tx, rid, graph, [objects[i] for i in unmatched], seen, embedding) if unmatched else {}
+    for n, old in moves.items():
+        i = unmatched[n]
+        obj = objects[i]
+        report.node_ids[obj.local_id] = old["id"]
+        props = rescan.moved_props(old, _updated_props(old, obj, now, basis, scan), obj, scan)
+        rescan.clear_relations(tx, old["id"])
+        updates.append({"id": old["id"], **_appearance_split(props)})
+        uncounted.append((old["label"], old["colour"]))
+        counted.append((props["label"], props["colour"]))
+        seen.add(old["id"])
+        report.moved += 1
+    moved_locals = {unmatched[n] for n in moves}
     for i, obj in enumerate(objects):
+        if i in moved_locals:
+            continue
         if i in matches:
             cand = cands[matches[i]]
             report.node_ids[obj.local_id] = cand["id"]
-            props = _updated_props(cand, obj, now, basis)
+            props = _updated_props(cand, obj, now, basis, scan)
             for k in (k for k, j in absorbed.items() if j == matches[i]):
                 other = cands[k]
-                folded = _updated_props({**cand, **props}, _as_observation(other), now, basis)
+                folded = _updated_props({**cand, **props}, _as_observation(other), now, basis, scan)
                 folded["observations"] = props["observations"] + int(other["observations"])
                 props = folded
                 _fold_node(tx, other["id"], cand["id"])
-                uncounted.append((other["label"], other["colour"]))
+                if other.get("removed_at") is None:
+                    uncounted.append((other["label"], other["colour"]))
                 report.absorbed += 1
             updates.append({"id": cand["id"], **_appearance_split(props)})
-            uncounted.append((cand["label"], cand["colour"]))
+            if cand.get("removed_at") is None:     # a removed node seen again comes back
+                uncounted.append((cand["label"], cand["colour"]))
             counted.append((props["label"], props["colour"]))
         else:
-            props = _new_props(obj, rid, now)
+            props = _new_props(obj, rid, now, scan)
             report.node_ids[obj.local_id] = props["id"]
             creates.append(_appearance_split(props))
             counted.append((props["label"], props["colour"]))
     if updates:
         tx.run(cypher.load("object_update"), rows=updates).consume()
+    report.updated, report.created = len(updates) - report.moved, len(creates)
+    rescan.record_empty_places(tx, scan, graph.empty_places, seen)
+    if scan.closes:
+        gone = rescan.close_scan(tx, rid, scan, now)
+        uncounted.extend((g["label"], g["colour"]) for g in gone)
+        report.removed = len(gone)
+    # after the scan's close: new objects are not the scan's to remove, and the removed ones
+    # leave the tallies written with the creates
     create_objects_and_tallies(tx, rid, creates, counted, uncounted)
-    report.updated, report.created = len(updates), len(creates)
 
     # stored form between global ids (symmetric edges by the smaller GLOBAL id, no viewpoint
     # relations); then the pairs this merge touched keep only their better-supported statement

@@ -9,7 +9,7 @@ from neo4j import GraphDatabase, ManagedTransaction
 from graphdb import cypher
 
 # 2: an Object's histogram and thumbnail live on its (:Appearance {id}) node (cypher/schema.cypher)
-SCHEMA_VERSION = 2
+SCHEMA_VERSION = 3
 MIGRATION_BATCH = 2000   # objects moved per transaction by a schema migration
 
 # the driver logs every retry of a refused connection; the CLI reports the final failure once

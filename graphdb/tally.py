@@ -46,13 +46,22 @@ def tally_rows(room: str, counts: Counter) -> list[dict]:
             for (label, colour), n in sorted(counts.items()) if n != 0]
 
 
+# New objects per statement: a local graph of thousands of objects (the 2d-basic preset keeps
+# every detection) in one Bolt message of thumbnails is refused by the store.
+CREATE_BATCH = 500
+
+
 def create_objects_and_tallies(tx, room: str, creates: list[dict], plus: Iterable[tuple[str, Optional[str]]],
                                minus: Iterable[tuple[str, Optional[str]]] = ()) -> None:
     """Inside a merge transaction: the room's new objects (cypher/object_create.cypher rows) and
-    the tally changes of the whole merge, in one statement (one round trip instead of two)."""
+    the tally changes of the whole merge, in one statement (one round trip instead of two) per
+    CREATE_BATCH objects, the tallies with the last."""
     tallies = tally_rows(room, tally_deltas(plus, minus))
-    if creates or tallies:
-        tx.run(cypher.load("object_create"), room=room, rows=creates, tallies=tallies).consume()
+    batches = [creates[i:i + CREATE_BATCH] for i in range(0, len(creates), CREATE_BATCH)] or [[]]
+    for k, batch in enumerate(batches):
+        last = k == len(batches) - 1
+        if batch or (last and tallies):
+            tx.run(cypher.load("object_create"), room=room, rows=batch, tallies=tallies if last else []).consume()
 
 
 def rebuild_tallies(store, batch: int = 5000) -> int:

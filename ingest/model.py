@@ -72,6 +72,25 @@ class RelationObservation:
             raise ValueError(f"unknown relation type {self.predicate!r}")
 
 
+@dataclass(frozen=True)
+class KnownObject:
+    """An object already in the store, as a re-scan's removal test sees it: its box."""
+
+    id: str
+    box_centre: tuple[float, float, float]   # world frame
+    size: tuple[float, float, float]         # extent along the room's gravity axes e1, e2, up
+
+
+@dataclass(frozen=True)
+class ScanInfo:
+    """One scan of a room (a `sg3d build` or a `POST /ingest` batch): its id and time. A scan
+    of several chunks closes (decides what was removed) in its last chunk's merge."""
+
+    id: str
+    at: float                                # seconds since the epoch, when the scan started
+    closes: bool = True                      # this local graph is the scan's last chunk
+
+
 @dataclass
 class LocalGraph:
     """The local 3-D scene graph of one keyframe group (Sec. V-B)."""
@@ -84,3 +103,6 @@ class LocalGraph:
     key: Optional[str] = None
     frames: list[int] = field(default_factory=list)
     up: Optional[tuple[float, float, float]] = None  # room's up direction in world frame
+    scan: Optional[ScanInfo] = None        # None: a scan of its own, named by the key
+    # stored object id -> frames of this graph that saw its place empty (ingest.rescan)
+    empty_places: dict[str, list[int]] = field(default_factory=dict)

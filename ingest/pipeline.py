@@ -23,17 +23,17 @@ import json
 import time
 from collections import Counter, defaultdict
 from dataclasses import asdict, dataclass, field, fields
-from typing import Callable, Optional
+from typing import Callable, Optional, Sequence
 
 import numpy as np
 
-from ingest import coverage, existence, fusion
+from ingest import coverage, existence, fusion, rescan
 from ingest.abir import ABIR
 from ingest.attributes import measure_object
 from ingest.detect import Detector
 from ingest.frames import FrameError
 from ingest.kge import KeyframeGrouper
-from ingest.model import LocalGraph, ObjectObservation, RelationObservation
+from ingest.model import KnownObject, LocalGraph, ObjectObservation, RelationObservation, ScanInfo
 from ingest.relations import (ObjectGeometry, horizontal_basis, side_by_side_on_one_support,
                               spatial_relations)
 from ingest.sdr import filter_relations, reject_irrelevant, vote_relations, with_whole_geometry
@@ -263,8 +263,10 @@ def _relations(hyps: dict[str, fusion.Hypothesis], objects: list[ObjectObservati
 
 def chunk_graph(seq, a: int, b: int, detector: Detector, up, settings: Settings, room: str,
                 building: str, key: Optional[str], stats: PipelineStats,
-                progress: Optional[ProgressFn] = None) -> LocalGraph:
-    """The local 3-D scene graph of frames [a, b) of `seq`."""
+                progress: Optional[ProgressFn] = None, known: Sequence[KnownObject] = (),
+                scan: Optional[ScanInfo] = None) -> LocalGraph:
+    """The local 3-D scene graph of frames [a, b) of `seq`; with the room's `known` objects
+    (a re-scan), also the frames that saw each one's place empty (`ingest.rescan`)."""
     method = settings.method
     basis = np.stack(horizontal_basis(up))
     stats.chunks += 1
@@ -290,5 +292,9 @@ def chunk_graph(seq, a: int, b: int, detector: Detector, up, settings: Settings,
     stats.seconds["relations"] += time.perf_counter() - t0
     stats.objects += len(objects)
     stats.relations += len(relations)
+    t0 = time.perf_counter()
+    empty = rescan.empty_places(known, views, basis) if known else {}
+    stats.seconds["rescan"] += time.perf_counter() - t0
     return LocalGraph(room=room, building=building, objects=objects, relations=relations, key=key,
-                      frames=[v.index for v in views], up=tuple(float(v) for v in up))
+                      frames=[v.index for v in views], up=tuple(float(v) for v in up),
+                      scan=scan, empty_places=empty)

@@ -341,3 +341,43 @@ def _build(form, attribute, rest, is_room, embedding, use_embedding) -> Query:
     if form == "list" and q.superlative in ("max", "min"):
         q.form = "show"
     return q
+
+
+# Questions about re-scans (issue #17), answered from the scans' history (app/changes.py):
+# "what changed in the kitchen", "what is gone", "where was the cup before".
+CHANGE_FRAMES: list[tuple[re.Pattern, str]] = [
+    (re.compile(r"^what (?:has |have )?(?:changed|is different|moved)(?: since (?:the )?last (?:scan|time))?(?P<rest>.*)$"),
+     "changes"),
+    (re.compile(r"^what (?:is|are|has|have) (?:been )?(?:gone|missing|disappeared|removed|taken away)(?P<rest>.*)$"), "gone"),
+    (re.compile(r"^what (?:disappeared|went missing|was removed|were removed|vanished)(?P<rest>.*)$"), "gone"),
+    (re.compile(r"^where (?:was|were|did) (?P<rest>.+?) (?:before|previously|earlier|yesterday|used to be|stand before)$"),
+     "before"),
+]
+
+
+@dataclass
+class ChangeQuery:
+    form: str                        # changes | gone | before
+    target: Optional[Target] = None  # "before": the objects asked about
+    room: Optional[str] = None
+
+
+def parse_change(question: str, is_room: Callable[[str], bool] = lambda name: False,
+                 embedding=None) -> Optional[ChangeQuery]:
+    """A question about what re-scans changed -> ChangeQuery; None when it is no such question
+    (then `parse` reads it); ParseError when it is one but its object is not understood."""
+    text, _ = clean(question)
+    for regex, form in CHANGE_FRAMES:
+        m = regex.match(text)
+        if not m:
+            continue
+        rest, room = _split_room(m.group("rest").strip(), is_room)
+        if form != "before":
+            if rest and _words(rest):
+                continue            # "what changed the colour of ..." is not a question about scans
+            return ChangeQuery(form, room=room)
+        target, why = resolve(" ".join(_words(rest)), embedding=embedding)
+        if target is None or not target.labels:
+            raise ParseError(why or f"I don't know what '{rest}' is")
+        return ChangeQuery(form, target=target, room=room)
+    return None

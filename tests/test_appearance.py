@@ -7,6 +7,7 @@ import numpy as np
 from graphdb import store as store_module
 from graphdb.export import fetch_graph
 from graphdb.merge import _new_props, merge_local_graph, pack_hist, room_id, unpack_hist
+from ingest.model import ScanInfo
 from queries.vqa import answer
 from tests.factories import graph, hist_of, obj
 
@@ -31,7 +32,7 @@ def test_merged_objects_carry_no_bytes_and_their_appearance_does(store):
     records = raw_objects(store)
     assert len(records) == 2
     # object_create spells the properties out: every one the merge computes is stored, no bytes
-    own = set(_new_props(obj("z", "cup", (0, 0, 0)), ROOM, 0.0)) - {"hist", "thumbnail"}
+    own = set(_new_props(obj("z", "cup", (0, 0, 0)), ROOM, 0.0, ScanInfo("s", 0.0))) - {"hist", "thumbnail"}
     assert all(set(o) == own for o in records)
     assert node_counts(store).get("Appearance") == 2
     full = {o["label"]: o for o in (r["o"] for r in store.read("object_all", room=ROOM))}
@@ -99,10 +100,10 @@ def test_a_schema_1_store_is_migrated_and_keeps_answering(store, monkeypatch, ca
         store.ensure_schema()
     n_tallies = store.run_raw("MATCH (t:Tally) RETURN count(t)")[1][0][0]
     assert [r.getMessage() for r in caplog.records] == [
-        "upgraded the store from schema 1 to 2: moved 5 objects' histograms and thumbnails to Appearance "
+        "upgraded the store from schema 1 to 3: moved 5 objects' histograms and thumbnails to Appearance "
         f"nodes, recounted {n_tallies} tallies"]
 
-    assert store.read("schema_version")[0]["version"] == store_module.SCHEMA_VERSION == 2
+    assert store.read("schema_version")[0]["version"] == store_module.SCHEMA_VERSION == 3
     assert all("hist" not in o and "thumbnail" not in o for o in raw_objects(store))
     assert node_counts(store)["Appearance"] == 5        # the migrated ones (the chair's was deleted above)
     full = {o["id"]: o for o in (r["o"] for r in store.read("object_all", room=ROOM))}

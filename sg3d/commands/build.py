@@ -25,7 +25,10 @@ def _summary_table(summary: dict):
     t.add_row("objects found", f"{h['formed']} candidates, {h['kept']} kept (rejected: {rejected})")
     g = summary["graph"]
     t.add_row("merged", f"{g['merged_chunks']} of {g['chunks']} chunks ({g['skipped_chunks']} already merged)")
-    t.add_row("objects", f"{g['objects_created']} new, {g['objects_updated']} updated; room now holds {g['room_objects']}")
+    t.add_row("objects", f"{g['objects_created']} new, {g['objects_updated']} updated, {g.get('objects_moved', 0)} moved, "
+                         f"{g.get('objects_removed', 0)} removed; room now holds {g['room_objects']}")
+    if summary.get("scan"):
+        t.add_row("scan", f"{summary['scan']} (`sg3d changes --room {summary['room']}` shows what it changed)")
     t.add_row("relations", f"{g['relations']} merged; room now holds {g['room_relations']}")
     t.add_row("seconds", ", ".join(f"{k} {v:.2f}" for k, v in summary["seconds"].items()))
     t.add_row("speed", f"{summary['input_frames_per_second']:.1f} input frames/s")

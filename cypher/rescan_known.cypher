@@ -1,0 +1,5 @@
+// The room's present objects as a re-scan's removal test needs them: id and box.
+MATCH (o:Object)
+WHERE o.room = $room AND o.removed_at IS NULL
+RETURN o.id AS id, o.box_centre AS box_centre, o.x AS x, o.y AS y, o.z AS z, o.size AS size
+ORDER BY o.id
