@@ -105,3 +105,18 @@ def test_sg3d_db_rebuild_tallies_repairs_stale_tallies(mixed, embedded_home):
     assert tallies(mixed) == recount(mixed)
     assert answer(mixed, "how many couches are there?").value == 1
     assert answer(mixed, "how many cups are there?").value == 2
+
+
+def test_a_local_graph_of_more_objects_than_one_create_batch_is_created_whole(store):
+    from graphdb.tally import CREATE_BATCH
+
+    n = CREATE_BATCH + 37        # two statements; the tallies ride with the last
+    objs = [obj(f"o{i}", "cup" if i % 2 else "book", (i * 2.0, 0.0, 1.0), colour="red" if i % 3 else "white")
+            for i in range(n)]
+    report = merge_local_graph(store, graph(objs, room="hall"))
+    assert report.created == n
+    _, rows = store.run_raw("MATCH (o:Object) RETURN count(o)")
+    assert rows[0][0] == n
+    assert tallies(store) == recount(store)
+    hall = room_id("home", "hall")
+    assert tallies(store)[(hall, "cup", "")] + tallies(store)[(hall, "book", "")] == n
