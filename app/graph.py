@@ -33,6 +33,17 @@ def fetch_named_graph(store, building: str, room: Optional[str] = None, thumbnai
     return name_graph(graph)     # each node's readable name, as ask, plan and show print it
 
 
+def present_only(graph: dict) -> dict:
+    """The graph without the objects a re-scan marked removed (`removed_at`) and their edges: the
+    scene as it stands now, for formats that describe one (spark-dsg, 3DSSG). The JSON and
+    GraphML exports keep them, with `removed_at`, as the store does."""
+    gone = {n["id"] for n in graph["nodes"] if n.get("removed_at") is not None}
+    if not gone:
+        return graph
+    return {**graph, "nodes": [n for n in graph["nodes"] if n["id"] not in gone],
+            "edges": [e for e in graph["edges"] if e["s"] not in gone and e["o"] not in gone]}
+
+
 def render_graph(graph: dict, fmt: str) -> str:
     """The graph as text: the paper's JSON form, GraphML or spark_dsg's JSON (Hydra's format,
     `graphdb.spark`; positions in the building frame when `graph` has "room_transforms")."""
@@ -43,13 +54,13 @@ def render_graph(graph: dict, fmt: str) -> str:
     if fmt == "spark-dsg":
         from graphdb.spark import to_spark_json
 
-        return to_spark_json(graph, graph.get("room_transforms"))
+        return to_spark_json(present_only(graph), graph.get("room_transforms"))
     if fmt == "3dssg":  # both files in one document; `sg3d export --out DIR` writes them apart
         import json
 
         from graphdb.threedssg import to_3dssg
 
-        objects, relationships = to_3dssg(graph)
+        objects, relationships = to_3dssg(present_only(graph))
         return json.dumps({"objects": objects, "relationships": relationships}, indent=1)
     return to_json(graph) if fmt == "json" else to_graphml(graph)
 
@@ -65,6 +76,7 @@ def write_3dssg(graph: dict, folder) -> tuple[int, int]:
     if folder.exists() and not folder.is_dir():
         raise Refused(f"{folder}: 3dssg writes objects.json and relationships.json into a folder, not a file")
     folder.mkdir(parents=True, exist_ok=True)
+    graph = present_only(graph)
     objects, relationships = to_3dssg(graph)
     (folder / "objects.json").write_text(json.dumps(objects, indent=1))
     (folder / "relationships.json").write_text(json.dumps(relationships, indent=1))

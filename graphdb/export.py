@@ -10,7 +10,8 @@ from graphdb.merge import unpack_hist
 from ingest.model import RELATION_TYPES
 
 NODE_FIELDS = ("id", "room", "label", "labels", "scores", "x", "y", "z", "var", "n_points", "size",
-               "volume", "colour", "first_frame", "last_frame", "observations", "n_frames")
+               "volume", "colour", "first_frame", "last_frame", "observations", "n_frames",
+               "first_seen", "last_seen", "removed_at")
 
 
 def fetch_graph(store, building: str, room: Optional[str] = None, thumbnails: bool = False,

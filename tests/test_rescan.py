@@ -131,6 +131,14 @@ def test_a_mug_whose_place_is_seen_empty_is_removed_kept_out_of_counts_and_a_rer
     before = ask(store, "where was the cup before?").answer
     assert before.ok and "(0.00, 0.00, 0.85)" in before.text and "now gone" in before.text
 
+    # the formats that describe the scene as it stands leave the removed cup out; JSON keeps it
+    from app.graph import fetch_named_graph, render_graph
+
+    exported = fetch_named_graph(store, "home", "kitchen")
+    assert mug_id in {n["id"] for n in exported["nodes"]}
+    assert '"label": "cup"' not in render_graph(exported, "3dssg")
+    assert "cup" not in render_graph(exported, "spark-dsg") and "book" in render_graph(exported, "spark-dsg")
+
 
 def test_changes_command_prints_json_and_refuses_an_unknown_scan(store, embedded_home):
     mug_id, book_id = first_scan(store)
