@@ -3,6 +3,7 @@ tables name things instead of printing internal keys or ids (each test runs the 
 subprocess with its own SG3D_HOME)."""
 from __future__ import annotations
 
+import json
 from pathlib import Path
 
 import pytest
@@ -25,3 +26,45 @@ def test_a_usage_error_is_one_line_naming_the_help(tmp_path, args):
     args = [str(tmp_path) if a == "SEQ" else a for a in args]
     line = one_error_line(sg3d(tmp_path / "home", *args))
     assert "--help" in line
+
+
+@pytest.fixture(scope="module")
+def walk_builds(tmp_path_factory):
+    """A 12-frame synthetic walk built twice into one home: as text and as --json."""
+    from tests.test_frames_cli import write_walk
+
+    root = tmp_path_factory.mktemp("walk")
+    seq = write_walk(root / "walk", blurry=())
+    home = root / "home"
+    try:
+        text = sg3d(home, "build", str(seq), "--room", "hall", timeout=300)
+        js = sg3d(home, "build", str(seq), "--room", "porch", "--json", timeout=300)
+        assert text.returncode == 0 and js.returncode == 0, (text.stderr, js.stderr)
+        yield text, json.loads(js.stdout)
+    finally:
+        sg3d(home, "db", "stop")
+
+
+def test_build_summary_says_in_words_where_the_room_is_placed(walk_builds):
+    text, _ = walk_builds
+    row = next(line for line in text.stdout.splitlines() if "in building" in line)
+    assert "reference room of the building" in row
+    assert "how " not in row          # the placement dict's keys are not for the user
+
+
+def test_an_interrupted_summary_says_so_and_how_far_detection_got(walk_builds):
+    from rich.console import Console
+
+    from sg3d.commands.build import _summary_table
+
+    _, summary = walk_builds
+    f = summary["frames"]
+    chosen = f["keyframes"] + f["anchors"] + f["coverage"]
+    summary = {**summary, "interrupted": True, "placement": None,
+               "frames": {**f, "detected": chosen - 2, "read": f["read"] - 1}}
+    console = Console(width=200, record=True)
+    console.print(_summary_table(summary))
+    out = console.export_text()
+    assert "interrupted" in out.splitlines()[0]
+    assert f"{chosen - 2} of {chosen} chosen frames" in out
+    assert "input frames/s" not in out   # a speed over an interrupted run means nothing
