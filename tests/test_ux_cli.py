@@ -68,3 +68,18 @@ def test_an_interrupted_summary_says_so_and_how_far_detection_got(walk_builds):
     assert "interrupted" in out.splitlines()[0]
     assert f"{chosen - 2} of {chosen} chosen frames" in out
     assert "input frames/s" not in out   # a speed over an interrupted run means nothing
+
+
+def test_eval_tables_name_objects_not_ids(store, embedded_home, tmp_path):
+    from tests.test_eval import BUILDING, GT, ROOM, build_room
+
+    nodes = build_room(store)
+    gt_file = tmp_path / "gt.json"
+    gt_file.write_text(json.dumps(GT))
+    out = sg3d(embedded_home, "eval", "--gt", str(gt_file), "--room", ROOM, "--building", BUILDING, "--no-vqa",
+               COLUMNS="200")
+    assert out.returncode == 0, out.stderr
+    assert not any(node_id[:8] in out.stdout for node_id in nodes.values()), out.stdout
+    rows = {line.split("│")[1].strip(): line for line in out.stdout.splitlines() if line.count("│") > 3}
+    assert "black chair" in rows["match"] and "H chair" in rows["match"].replace("  ", " ")
+    assert "red chair" in rows["duplicate"] and "tv" in rows["spurious"]
