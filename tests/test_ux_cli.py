@@ -83,3 +83,21 @@ def test_eval_tables_name_objects_not_ids(store, embedded_home, tmp_path):
     rows = {line.split("│")[1].strip(): line for line in out.stdout.splitlines() if line.count("│") > 3}
     assert "black chair" in rows["match"] and "H chair" in rows["match"].replace("  ", " ")
     assert "red chair" in rows["duplicate"] and "tv" in rows["spurious"]
+
+
+def test_serve_on_a_port_in_use_is_one_line_and_starts_nothing(tmp_path):
+    import socket
+
+    with socket.socket() as busy:
+        busy.bind(("127.0.0.1", 0))
+        busy.listen()
+        port = busy.getsockname()[1]
+        out = sg3d(tmp_path / "home", "serve", "--port", str(port), timeout=120)
+    line = one_error_line(out)
+    assert str(port) in line and "in use" in line
+    assert not (tmp_path / "home" / "server.json").exists()   # the store was not started for nothing
+
+
+def test_serve_on_an_unknown_host_is_one_line(tmp_path):
+    line = one_error_line(sg3d(tmp_path / "home", "serve", "--host", "no-such-host.invalid", timeout=120))
+    assert "no-such-host.invalid" in line
