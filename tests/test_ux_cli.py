@@ -101,3 +101,16 @@ def test_serve_on_a_port_in_use_is_one_line_and_starts_nothing(tmp_path):
 def test_serve_on_an_unknown_host_is_one_line(tmp_path):
     line = one_error_line(sg3d(tmp_path / "home", "serve", "--host", "no-such-host.invalid", timeout=120))
     assert "no-such-host.invalid" in line
+
+
+@pytest.mark.parametrize("args, words", [
+    (["--format", "spark-dsg", "--out", "OUT.spark-dsg"], ".json"),
+    (["--format", "spark-dsg", "--out", "OUT"], ".json"),
+    (["--format", "graphml", "--thumbnails"], "--thumbnails"),
+    (["--format", "3dssg", "--histograms"], "--histograms"),
+])
+def test_export_refuses_options_that_would_do_nothing_or_write_an_unreadable_file(tmp_path, args, words):
+    out = sg3d(tmp_path / "home", "export", *[str(tmp_path / a) if a.startswith("OUT") else a for a in args])
+    assert words in one_error_line(out)
+    assert not list(tmp_path.glob("OUT*"))
+    assert not (tmp_path / "home" / "server.json").exists()   # refused before the store starts
