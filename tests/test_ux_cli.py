@@ -114,3 +114,22 @@ def test_export_refuses_options_that_would_do_nothing_or_write_an_unreadable_fil
     assert words in one_error_line(out)
     assert not list(tmp_path.glob("OUT*"))
     assert not (tmp_path / "home" / "server.json").exists()   # refused before the store starts
+
+
+def _commands(cmd, path="sg3d"):
+    import click
+
+    yield path, cmd
+    if isinstance(cmd, click.Group):
+        for name, sub in cmd.commands.items():
+            yield from _commands(sub, f"{path} {name}")
+
+
+def test_every_option_of_every_command_says_what_it_does():
+    import click
+
+    from sg3d.cli import cli
+
+    bare = [(path, p.opts[0]) for path, cmd in _commands(cli) for p in cmd.params
+            if isinstance(p, click.Option) and not p.hidden and not (p.help or "").strip()]
+    assert not bare, bare

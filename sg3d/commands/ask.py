@@ -17,7 +17,8 @@ import click
               help="Where 'in front of/behind/left of/right of' are seen from: a point in the room's "
                    "world frame or an object name (or say 'as seen from the sink' in the question).")
 @click.option("--out", type=click.Path(dir_okay=False), default=None,
-              help="Where 'show me ...' writes the picture: .png or .jpg/.jpeg (default: a temporary .png).")
+              help="Where an answer with a picture ('which cup is the biggest', 'show me the cup closest "
+                   "to the sink') writes it: .png or .jpg/.jpeg (default: a temporary .png).")
 @click.pass_obj
 def ask(settings, question: str, room, building, explain: bool, as_json: bool, viewpoint, out) -> None:
     """Answer QUESTION from the scene graph, e.g. sg3d ask "how many red chairs are there?"

@@ -23,7 +23,7 @@ def parse_size(text: str) -> tuple[int, int]:
 
 @click.command()
 @click.option("--room", default=None, help="Room name (default: every room of the building).")
-@click.option("--building", default="default", show_default=True)
+@click.option("--building", default="default", show_default=True, help="Building of the room(s).")
 @click.option("--out", required=True, type=click.Path(dir_okay=False, path_type=Path),
               help="Output file: .png, .svg or .pdf (top-down node-link diagram) or .html (interactive 3-D view).")
 @click.option("--layout", type=click.Choice(["topdown", "spring"]), default="topdown", show_default=True,
@@ -40,7 +40,7 @@ def parse_size(text: str) -> tuple[int, int]:
 @click.pass_obj
 def show(settings, room: Optional[str], building: str, out: Path, layout: str, all_edges: bool,
          size_text: str, sequence: Optional[Path], frames: int, max_points: int) -> None:
-    """Draw the scene graph: a 2-D diagram (PNG/SVG) or a 3-D view (HTML)."""
+    """Draw the scene graph: a 2-D diagram (PNG/SVG/PDF) or a 3-D view (HTML)."""
     fmt = FORMATS.get(out.suffix.lower())
     if fmt is None:
         raise UserError(f"--out {out.name}: unknown picture type {out.suffix or '(none)'!r}; use .png, .svg, .pdf or .html")
