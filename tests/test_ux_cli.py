@@ -133,3 +133,15 @@ def test_every_option_of_every_command_says_what_it_does():
     bare = [(path, p.opts[0]) for path, cmd in _commands(cli) for p in cmd.params
             if isinstance(p, click.Option) and not p.hidden and not (p.help or "").strip()]
     assert not bare, bare
+
+
+@pytest.mark.parametrize("args, words", [
+    (["--out", "MISSING/x.png"], "does not exist"),
+    (["--viewpoint", "1,2"], "X,Y,Z"),
+    (["--viewpoint", "1,2,z"], "X,Y,Z"),
+])
+def test_ask_refuses_a_bad_out_or_viewpoint_in_one_line_before_the_store_starts(tmp_path, args, words):
+    args = [str(tmp_path / a) if a.startswith("MISSING") else a for a in args]
+    out = sg3d(tmp_path / "home", "ask", "which cup is the biggest?", *args)
+    assert words in one_error_line(out)
+    assert not (tmp_path / "home" / "server.json").exists()

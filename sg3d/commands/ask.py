@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import json
+from pathlib import Path
 
 import click
 
@@ -32,9 +33,12 @@ def ask(settings, question: str, room, building, explain: bool, as_json: bool, v
     from app.stores import reader
     from sg3d.errors import UserError
 
+    if out is not None and not Path(out).expanduser().absolute().parent.is_dir():
+        raise UserError(f"--out {out}: the folder {Path(out).expanduser().absolute().parent} does not exist")
     try:
+        point_of_view = parse_viewpoint(viewpoint)     # a bad one is refused before the store starts
         asked = ask_question(reader(settings), question, room=room, building=building, picture=True, out=out,
-                             viewpoint=parse_viewpoint(viewpoint))
+                             viewpoint=point_of_view)
     except AppError as exc:
         raise UserError(str(exc)) from exc
     result, path = asked.answer, asked.picture
