@@ -145,3 +145,15 @@ def test_ask_refuses_a_bad_out_or_viewpoint_in_one_line_before_the_store_starts(
     out = sg3d(tmp_path / "home", "ask", "which cup is the biggest?", *args)
     assert words in one_error_line(out)
     assert not (tmp_path / "home" / "server.json").exists()
+
+
+def test_a_build_that_read_no_frame_prints_no_speed(walk_builds):
+    from rich.console import Console
+
+    from sg3d.commands.build import _summary_table
+
+    _, summary = walk_builds
+    summary = {**summary, "input_frames_per_second": 0.0, "frames": {**summary["frames"], "read": 0}}
+    console = Console(width=200, record=True)
+    console.print(_summary_table(summary))
+    assert "input frames/s" not in console.export_text()   # everything was merged already

@@ -32,7 +32,7 @@ def _summary_table(summary: dict):
     t.add_row("objects", f"{g['objects_created']} new, {g['objects_updated']} updated; room now holds {g['room_objects']}")
     t.add_row("relations", f"{g['relations']} merged; room now holds {g['room_relations']}")
     t.add_row("seconds", ", ".join(f"{k} {v:.2f}" for k, v in summary["seconds"].items()))
-    if not interrupted:    # a speed over a run cut short means nothing
+    if not interrupted and f["read"]:    # a speed over a run cut short, or over no frame, means nothing
         t.add_row("speed", f"{summary['input_frames_per_second']:.1f} input frames/s")
     if summary.get("placement"):
         t.add_row("in building", _placement_text(summary["placement"]))
