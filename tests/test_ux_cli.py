@@ -157,3 +157,17 @@ def test_a_build_that_read_no_frame_prints_no_speed(walk_builds):
     console = Console(width=200, record=True)
     console.print(_summary_table(summary))
     assert "input frames/s" not in console.export_text()   # everything was merged already
+
+
+def test_show_sequence_shows_progress_over_the_frames(store, embedded_home, tmp_path):
+    from tests.test_eval import BUILDING, ROOM, build_room
+    from tests.test_frames_cli import write_walk
+
+    build_room(store)
+    seq = write_walk(tmp_path / "walk", n=6, blurry=())
+    page = tmp_path / "view.html"
+    out = sg3d(embedded_home, "show", "--building", BUILDING, "--room", ROOM, "--out", str(page),
+               "--sequence", str(seq), "--frames", "6", COLUMNS="120")
+    assert out.returncode == 0, out.stderr
+    assert page.stat().st_size > 0
+    assert "point cloud" in out.stderr and "6/6" in out.stderr, out.stderr
