@@ -30,16 +30,19 @@ class Asked:
 
 
 def parse_viewpoint(text: Optional[str]) -> Optional[dict]:
-    """"X,Y,Z" -> a point in the room's world frame; any other text -> an object's name."""
+    """"X,Y,Z" -> a point in the room's world frame; text without a comma -> an object's name
+    (no name has a comma, so "1,2" or "1,2,z" is a mistyped point: AppError)."""
     if not text:
         return None
+    if "," not in text:
+        return {"object": text.strip()}
     parts = text.split(",")
-    if len(parts) == 3:
-        try:
+    try:
+        if len(parts) == 3:
             return {"position": [float(p) for p in parts]}
-        except ValueError:
-            pass
-    return {"object": text.strip()}
+    except ValueError:
+        pass
+    raise AppError(f"--viewpoint {text!r}: give a point as X,Y,Z (three numbers, metres) or an object's name")
 
 
 def ask(store, question: str, room: Optional[str] = None, building: Optional[str] = None,
@@ -64,4 +67,6 @@ def ask(store, question: str, room: Optional[str] = None, building: Optional[str
             path = write_picture(result.thumbnail, out)
         except ValueError as exc:
             raise AppError(str(exc)) from exc
+        except OSError as exc:
+            raise AppError(f"cannot write the picture to {out}: {exc.strerror or exc}") from exc
     return Asked(result, path)

@@ -3,7 +3,7 @@ building with each room's up direction and building transform, and a coloured po
 back-projected from a sequence. Plain data (dicts, NumPy arrays); the drawing is in `render/`."""
 from __future__ import annotations
 
-from typing import Optional
+from typing import Callable, Optional
 
 import numpy as np
 
@@ -37,11 +37,12 @@ def fetch_scene(store, building: str, room: Optional[str] = None) -> dict:
 
 
 def sequence_cloud(sequence_path, frames: int = 8, max_points: int = 20000, stride: int = 4,
-                   voxel_m: float = VOXEL_M, seed: int = 0) -> tuple[np.ndarray, np.ndarray]:
+                   voxel_m: float = VOXEL_M, seed: int = 0,
+                   progress: Optional[Callable[[int, int], None]] = None) -> tuple[np.ndarray, np.ndarray]:
     """(points N x 3 in the sequence's world frame, colours N x 3 uint8 RGB) from `frames` frames
     spread over the sequence: every `stride`-th depth pixel back-projected, reduced to one point
     per `voxel_m` cube (the frames see the same surfaces again and again), then at most
-    `max_points` of them (a seeded uniform subsample)."""
+    `max_points` of them (a seeded uniform subsample). `progress(done, total)` after each frame."""
     from ingest.readers import SequenceError, open_sequence
 
     try:
@@ -50,7 +51,9 @@ def sequence_cloud(sequence_path, frames: int = 8, max_points: int = 20000, stri
         raise AppError(str(exc)) from None
     picks = sorted({int(i) for i in np.linspace(0, len(seq) - 1, max(1, frames))})
     pts, cols = [], []
-    for i in picks:
+    for done, i in enumerate(picks, 1):
+        if progress is not None and done > 1:
+            progress(done - 1, len(picks))
         try:
             f = seq.frame(i)
             depth, colour, K, pose = f.depth, f.color, f.K, f.pose
@@ -62,6 +65,8 @@ def sequence_cloud(sequence_path, frames: int = 8, max_points: int = 20000, stri
         cam = np.stack([(u[ok] - K[0, 2]) / K[0, 0] * d[ok], (v[ok] - K[1, 2]) / K[1, 1] * d[ok], d[ok]], axis=1)
         pts.append(cam @ pose[:3, :3].T + pose[:3, 3])
         cols.append(colour[v[ok], u[ok]][:, ::-1])        # BGR -> RGB
+    if progress is not None:
+        progress(len(picks), len(picks))
     if not pts:
         return np.zeros((0, 3)), np.zeros((0, 3), np.uint8)
     P, C = np.vstack(pts), np.vstack(cols).astype(np.uint8)

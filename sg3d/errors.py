@@ -24,6 +24,11 @@ def run_cli(group: click.Group) -> int:
     except click.exceptions.Abort:
         click.echo("aborted", err=True)
         return 130
+    except click.UsageError as exc:
+        # click prints usage, a hint and the error on three lines; bad input is one line here
+        path = exc.ctx.command_path if exc.ctx is not None else "sg3d"
+        click.echo(f"Error: {exc.format_message()} (see '{path} --help')", err=True)
+        return 2
     except click.ClickException as exc:
         exc.show()
         return exc.exit_code

@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import json
+from pathlib import Path
 
 import click
 
@@ -17,7 +18,8 @@ import click
               help="Where 'in front of/behind/left of/right of' are seen from: a point in the room's "
                    "world frame or an object name (or say 'as seen from the sink' in the question).")
 @click.option("--out", type=click.Path(dir_okay=False), default=None,
-              help="Where 'show me ...' writes the picture: .png or .jpg/.jpeg (default: a temporary .png).")
+              help="Where an answer with a picture ('which cup is the biggest', 'show me the cup closest "
+                   "to the sink') writes it: .png or .jpg/.jpeg (default: a temporary .png).")
 @click.pass_obj
 def ask(settings, question: str, room, building, explain: bool, as_json: bool, viewpoint, out) -> None:
     """Answer QUESTION from the scene graph, e.g. sg3d ask "how many red chairs are there?"
@@ -31,9 +33,12 @@ def ask(settings, question: str, room, building, explain: bool, as_json: bool, v
     from app.stores import reader
     from sg3d.errors import UserError
 
+    if out is not None and not Path(out).expanduser().absolute().parent.is_dir():
+        raise UserError(f"--out {out}: the folder {Path(out).expanduser().absolute().parent} does not exist")
     try:
+        point_of_view = parse_viewpoint(viewpoint)     # a bad one is refused before the store starts
         asked = ask_question(reader(settings), question, room=room, building=building, picture=True, out=out,
-                             viewpoint=parse_viewpoint(viewpoint))
+                             viewpoint=point_of_view)
     except AppError as exc:
         raise UserError(str(exc)) from exc
     result, path = asked.answer, asked.picture

@@ -14,11 +14,15 @@ from sg3d.errors import UserError
 def _summary_table(summary: dict):
     from rich.table import Table
 
+    interrupted = summary.get("interrupted")
     t = Table(title=f"sg3d build: {summary['building']}/{summary['room']} ({summary['method']}, "
-                    f"{summary['quality']} quality)", show_header=False)
+                    f"{summary['quality']} quality){', interrupted' if interrupted else ''}", show_header=False)
     f = summary["frames"]
     t.add_row("frames", f"{f['read']} read of {f['in_range']}, {f['skipped']} skipped, {f['blurry']} blurry")
-    t.add_row("detected", f"{f['detected']} frames ({f['keyframes']} keyframes + {f['anchors']} anchors + "
+    chosen = f["keyframes"] + f["anchors"] + f["coverage"]
+    detected = (f"{f['detected']} of {chosen} chosen frames" if interrupted and f["detected"] < chosen
+                else f"{f['detected']} frames")
+    t.add_row("detected", f"{detected} ({f['keyframes']} keyframes + {f['anchors']} anchors + "
                           f"{f['coverage']} for new viewpoints), {f['detections']} detections")
     h = summary["hypotheses"]
     rejected = ", ".join(f"{n} {why}" for why, n in h["rejected"].items()) or "none"
@@ -31,14 +35,27 @@ def _summary_table(summary: dict):
         t.add_row("scan", f"{summary['scan']} (`sg3d changes --room {summary['room']}` shows what it changed)")
     t.add_row("relations", f"{g['relations']} merged; room now holds {g['room_relations']}")
     t.add_row("seconds", ", ".join(f"{k} {v:.2f}" for k, v in summary["seconds"].items()))
-    t.add_row("speed", f"{summary['input_frames_per_second']:.1f} input frames/s")
+    if not interrupted and f["read"]:    # a speed over a run cut short, or over no frame, means nothing
+        t.add_row("speed", f"{summary['input_frames_per_second']:.1f} input frames/s")
     if summary.get("placement"):
-        t.add_row("in building", ", ".join(f"{k} {v}" for k, v in summary["placement"].items()))
+        t.add_row("in building", _placement_text(summary["placement"]))
     if f["skipped_frames"]:
         shown = "; ".join(f"{s['frame']}: {s['reason']}" for s in f["skipped_frames"][:5])
         more = len(f["skipped_frames"]) - 5
         t.add_row("skipped frames", shown + (f"; and {more} more (--json lists all)" if more > 0 else ""))
     return t
+
+
+def _placement_text(placement: dict) -> str:
+    """app.build.place_room's dict in words: how the room was placed, then the alignment's figures."""
+    extra = []
+    if "residual_m" in placement:
+        extra.append(f"residual {placement['residual_m']} m")
+    if "pairs" in placement:
+        extra.append(f"{placement['pairs']} object pairs")
+    if "same_as" in placement:
+        extra.append(f"{placement['same_as']} objects linked SAME_AS")
+    return placement["how"] + (f" ({', '.join(extra)})" if extra else "")
 
 
 @click.command()

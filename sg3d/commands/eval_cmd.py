@@ -10,7 +10,9 @@ import click
 from sg3d.errors import UserError
 
 
-def _render(report: dict) -> None:
+def _render(report: dict, names: dict[str, str], gt) -> None:
+    """The report as tables; graph objects by the names `sg3d ask` uses (ids are in --json), GT
+    objects by id and the annotator's name ("K14 mug")."""
     from rich.console import Console
     from rich.table import Table
 
@@ -25,19 +27,26 @@ def _render(report: dict) -> None:
         summary.add_row(k, v)
     console.print(summary)
 
+    def node(p: dict) -> str:
+        return names.get(p["node"], p["label"])
+
+    def gt_name(gid: str) -> str:
+        obj = gt.by_id.get(gid)
+        return f"{gid} {obj.category}" if obj is not None and obj.category else gid
+
     detail = Table(title="nodes and objects", show_lines=False)
-    for col in ("kind", "node", "label", "GT", "distance m"):
+    for col in ("kind", "object", "label", "GT", "distance m"):
         detail.add_column(col)
     for p in n["pairs"]:
-        detail.add_row("match", p["node"], p["label"], p["gt"], f"{p['distance']:.2f}")
+        detail.add_row("match", node(p), p["label"], gt_name(p["gt"]), f"{p['distance']:.2f}")
     for p in n["duplicates"]:
-        detail.add_row("[yellow]duplicate", p["node"], p["label"], p["gt"], f"{p['distance']:.2f}")
+        detail.add_row("[yellow]duplicate", node(p), p["label"], gt_name(p["gt"]), f"{p['distance']:.2f}")
     for p in n["spurious"]:
-        near = f"(nearest {p['nearest_gt']})" if "nearest_gt" in p else ""
-        detail.add_row("[red]spurious", p["node"], p["label"], near,
+        near = f"(nearest {gt_name(p['nearest_gt'])})" if "nearest_gt" in p else ""
+        detail.add_row("[red]spurious", node(p), p["label"], near,
                        f"{p['nearest_distance']:.2f}" if "nearest_distance" in p else "")
     for g in n["missing"]:
-        detail.add_row("[red]missing" + ("" if g["sure"] else " (unsure)"), "", g["coco"], g["gt"], "")
+        detail.add_row("[red]missing" + ("" if g["sure"] else " (unsure)"), "", g["coco"], gt_name(g["gt"]), "")
     console.print(detail)
     if n["not_detectable"]:
         console.print("not detectable by a COCO detector: "
@@ -100,7 +109,14 @@ def eval_command(settings, gt_path: Path, room: str, building: str, tolerance: O
     if as_json:
         click.echo(json.dumps(report))
     else:
-        _render(report)
+        from app.errors import NotFound
+        from app.graph import fetch_named_graph
+
+        try:
+            names = {n["id"]: n["name"] for n in fetch_named_graph(store, building, room)["nodes"]}
+        except NotFound:
+            names = {}
+        _render(report, names, gt)
 
 
 commands = [eval_command]

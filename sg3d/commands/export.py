@@ -11,13 +11,16 @@ from sg3d.errors import UserError
 
 @click.command()
 @click.option("--room", default=None, help="Room name (default: every room of the building).")
-@click.option("--building", default="default", show_default=True)
-@click.option("--format", "fmt", type=click.Choice(["json", "graphml", "spark-dsg", "3dssg"]), default="json", show_default=True)
+@click.option("--building", default="default", show_default=True, help="Building of the room(s).")
+@click.option("--format", "fmt", type=click.Choice(["json", "graphml", "spark-dsg", "3dssg"]), default="json",
+              show_default=True, help="json: the paper's form; graphml; spark-dsg: Hydra's JSON (--out must end "
+                                      "in .json); 3dssg: objects.json + relationships.json.")
 @click.option("--out", type=click.Path(path_type=Path), default=None,
               help="Write to this file (default: standard output); 3dssg: a folder for objects.json and "
                    "relationships.json.")
-@click.option("--thumbnails", is_flag=True, help="JSON: include thumbnails as base64 JPEG.")
-@click.option("--histograms", is_flag=True, help="JSON: include the 512-bin HSV histograms (spark-dsg: always).")
+@click.option("--thumbnails", is_flag=True, help="--format json only: include thumbnails as base64 JPEG.")
+@click.option("--histograms", is_flag=True,
+              help="--format json only: include the 512-bin HSV histograms (spark-dsg has them always).")
 @click.pass_obj
 def export(settings, room: Optional[str], building: str, fmt: str, out: Optional[Path],
            thumbnails: bool, histograms: bool) -> None:
@@ -28,6 +31,7 @@ def export(settings, room: Optional[str], building: str, fmt: str, out: Optional
     from app.graph import fetch_named_graph, render_graph, write_3dssg
     from app.stores import reader
 
+    _check_options(fmt, out, thumbnails, histograms)   # before the store starts
     try:
         spark = fmt == "spark-dsg"  # loads in spark_dsg.DynamicSceneGraph.load(); re-imports losslessly
         graph = fetch_named_graph(reader(settings), building, room, thumbnails, histograms or spark,
@@ -50,6 +54,18 @@ def export(settings, room: Optional[str], building: str, fmt: str, out: Optional
         click.echo(f"wrote {len(graph['nodes'])} nodes and {len(graph['edges'])} edges to {out}", err=True)
     else:
         click.echo(text)
+
+
+def _check_options(fmt: str, out: Optional[Path], thumbnails: bool, histograms: bool) -> None:
+    """Refuse options the format would ignore, and a spark-dsg file name spark_dsg cannot load
+    (it picks its codec by extension: no extension means binary, '.spark-dsg' is refused)."""
+    if thumbnails and fmt != "json":
+        raise UserError(f"--thumbnails only applies to --format json, not {fmt}")
+    if histograms and fmt not in ("json", "spark-dsg"):
+        raise UserError(f"--histograms only applies to --format json (spark-dsg has them always), not {fmt}")
+    if fmt == "spark-dsg" and out is not None and out.suffix != ".json" and not out.is_dir():
+        raise UserError(f"--out {out}: a spark-dsg file must end in .json, or spark_dsg (and `sg3d import`) "
+                        f"cannot load it")
 
 
 commands = [export]

@@ -12,7 +12,8 @@ from sg3d.errors import UserError
 
 @click.command("import")
 @click.argument("file", type=click.Path(path_type=Path))
-@click.option("--format", "fmt", type=click.Choice(["spark-dsg"]), default="spark-dsg", show_default=True)
+@click.option("--format", "fmt", type=click.Choice(["spark-dsg"]), default="spark-dsg", show_default=True,
+              help="File format: spark_dsg JSON (Hydra, Clio, `sg3d export --format spark-dsg`).")
 @click.option("--building", default=None, help="Building to merge into (default: the file's building, else 'default').")
 @click.option("--room", default=None, help="Merge every object into this room (default: one room per room of the file).")
 @click.option("--json", "as_json", is_flag=True, help="Print the merge report as JSON.")

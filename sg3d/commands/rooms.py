@@ -12,7 +12,7 @@ from sg3d.errors import UserError
 
 
 @click.group(invoke_without_command=True)
-@click.option("--building", default="default", show_default=True)
+@click.option("--building", default="default", show_default=True, help="Building whose rooms to list.")
 @click.option("--json", "as_json", is_flag=True, help="Print the rooms as JSON.")
 @click.pass_context
 def rooms(ctx: click.Context, building: str, as_json: bool) -> None:

@@ -1,13 +1,16 @@
 """`sg3d serve` (HTTP API) and `sg3d mcp` (MCP server over stdio) for robots and agents."""
 from __future__ import annotations
 
+import errno
+
 import click
 
 
 @click.command()
 @click.option("--host", default="127.0.0.1", show_default=True,
               help="Address to bind. Anything but loopback exposes the API to the network (a warning is printed).")
-@click.option("--port", type=click.IntRange(1, 65535), default=8765, show_default=True)
+@click.option("--port", type=click.IntRange(1, 65535), default=8765, show_default=True,
+              help="TCP port to listen on; a port in use is refused.")
 @click.option("--access-log", is_flag=True, help="Log every request.")
 @click.pass_obj
 def serve(settings, host: str, port: int, access_log: bool) -> None:
@@ -20,6 +23,7 @@ def serve(settings, host: str, port: int, access_log: bool) -> None:
     from sg3d.server.auth import ensure_token, token_path
     from sg3d.server.http import create_app, is_loopback
 
+    sock = _bind(host, port)       # a taken port or unknown host: one line, before the store starts
     home = settings.embedded_home()
     token = ensure_token(home)
     if not is_loopback(host):
@@ -28,7 +32,28 @@ def serve(settings, host: str, port: int, access_log: bool) -> None:
     api = create_app(settings, token)
     api.state.stores.get()          # start or find the store now, not on the first request
     click.echo(f"sg3d serving http://{host}:{port} (docs at /docs); token in {token_path(home)}", err=True)
-    uvicorn.run(api, host=host, port=port, log_level="warning", access_log=access_log)
+    config = uvicorn.Config(api, host=host, port=port, log_level="warning", access_log=access_log)
+    uvicorn.Server(config).run(sockets=[sock])
+
+
+def _bind(host: str, port: int):
+    """The listening socket uvicorn would make (SO_REUSEADDR, IPv6 for a host with ':'), made here
+    so that a failure is a UserError instead of uvicorn's log line and exit status 3."""
+    import socket
+
+    from sg3d.errors import UserError
+
+    sock = socket.socket(socket.AF_INET6 if ":" in host else socket.AF_INET)
+    sock.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
+    try:
+        sock.bind((host, port))
+    except OSError as exc:
+        sock.close()
+        reason = exc.strerror or str(exc)
+        if exc.errno == errno.EADDRINUSE:
+            reason = "the port is in use (another `sg3d serve`?); choose another with --port"
+        raise UserError(f"cannot listen on {host}:{port}: {reason}") from None
+    return sock
 
 
 @click.command()

@@ -23,7 +23,7 @@ def parse_size(text: str) -> tuple[int, int]:
 
 @click.command()
 @click.option("--room", default=None, help="Room name (default: every room of the building).")
-@click.option("--building", default="default", show_default=True)
+@click.option("--building", default="default", show_default=True, help="Building of the room(s).")
 @click.option("--out", required=True, type=click.Path(dir_okay=False, path_type=Path),
               help="Output file: .png, .svg or .pdf (top-down node-link diagram) or .html (interactive 3-D view).")
 @click.option("--layout", type=click.Choice(["topdown", "spring"]), default="topdown", show_default=True,
@@ -40,7 +40,7 @@ def parse_size(text: str) -> tuple[int, int]:
 @click.pass_obj
 def show(settings, room: Optional[str], building: str, out: Path, layout: str, all_edges: bool,
          size_text: str, sequence: Optional[Path], frames: int, max_points: int) -> None:
-    """Draw the scene graph: a 2-D diagram (PNG/SVG) or a 3-D view (HTML)."""
+    """Draw the scene graph: a 2-D diagram (PNG/SVG/PDF) or a 3-D view (HTML)."""
     fmt = FORMATS.get(out.suffix.lower())
     if fmt is None:
         raise UserError(f"--out {out.name}: unknown picture type {out.suffix or '(none)'!r}; use .png, .svg, .pdf or .html")
@@ -50,7 +50,7 @@ def show(settings, room: Optional[str], building: str, out: Path, layout: str, a
     if not out.resolve().parent.is_dir():
         raise UserError(f"--out {out}: the directory {out.parent} does not exist")
     from app.errors import AppError
-    from app.scene import fetch_scene, sequence_cloud
+    from app.scene import fetch_scene
 
     try:
         scene = fetch_scene(settings.reader(), building, room)
@@ -61,7 +61,7 @@ def show(settings, room: Optional[str], building: str, out: Path, layout: str, a
         from render.view3d import render_html
 
         try:
-            cloud = sequence_cloud(sequence, frames=frames, max_points=max_points) if sequence is not None else None
+            cloud = _cloud_with_progress(sequence, frames, max_points) if sequence is not None else None
         except AppError as exc:
             raise UserError(str(exc)) from None
         data = render_html(scene, cloud=cloud, all_edges=all_edges, title=title)
@@ -77,6 +77,20 @@ def show(settings, room: Optional[str], building: str, out: Path, layout: str, a
     except OSError as exc:
         raise UserError(f"--out {out}: cannot write it ({exc.strerror or exc})") from None
     click.echo(f"wrote {out} ({len(scene['nodes'])} nodes, {len(scene['edges'])} edges)", err=True)
+
+
+def _cloud_with_progress(sequence: Path, frames: int, max_points: int):
+    """app.scene.sequence_cloud with a progress bar on stderr (100 frames take ~10 s)."""
+    from rich.console import Console
+    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
+
+    from app.scene import sequence_cloud
+
+    with Progress(TextColumn("[bold]point cloud"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn(),
+                  console=Console(stderr=True)) as bar:
+        task = bar.add_task("point cloud", total=frames)
+        return sequence_cloud(sequence, frames=frames, max_points=max_points,
+                              progress=lambda done, total: bar.update(task, completed=done, total=total))
 
 
 commands = [show]
