@@ -12,7 +12,7 @@ def _where(o: dict) -> str:
 
 @click.command()
 @click.option("--room", required=True, help="Room name.")
-@click.option("--building", default="default", show_default=True)
+@click.option("--building", default="default", show_default=True, help="The building the room belongs to.")
 @click.option("--since", default=None, metavar="SCAN",
               help="Changes of the scans after this scan id (default: the room's last scan).")
 @click.option("--json", "as_json", is_flag=True,
