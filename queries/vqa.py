@@ -225,15 +225,25 @@ def _scope(run: _Run, room: Optional[str], building: Optional[str],
     return [r["id"] for r in rows]
 
 
+# "Big" and "small" compare with the median volume of the label, estimated from at most this many
+# stored objects of it (a random sample: ids are random), so the yardstick costs the same in a
+# store of 100,000 objects as in one of 500.
+MEDIAN_SAMPLE = 500
+
+
 def _by_size(run: _Run, rows: list[dict], size: Optional[str]) -> list[dict]:
-    """Keep objects above (big) / below (small) the median volume of their own label."""
+    """Keep objects above (big) / below (small) the median volume of their own label (exact up to
+    MEDIAN_SAMPLE objects of the label, a sample's median beyond)."""
     if size is None:
         return rows
     labels = sorted({r["label"] for r in rows})
     if not labels:
         return rows
-    median = {r["label"]: float(r["median"]) for r in run.read("vqa_medians", labels=labels)
-              if r["median"] is not None}
+    median = {}
+    for label in labels:
+        rows_m = run.read("vqa_median", label=label, sample=MEDIAN_SAMPLE)
+        if rows_m and rows_m[0]["median"] is not None:
+            median[label] = float(rows_m[0]["median"])
     keep = (lambda v, m: v > m) if size == "big" else (lambda v, m: v < m)
     return [r for r in rows if r["volume"] is not None and keep(float(r["volume"]), median[r["label"]])]
 

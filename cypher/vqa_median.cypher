@@ -1,0 +1,11 @@
+// The median volume of the stored objects of one label, over at most $sample of them: the
+// yardstick of "big"/"small" (percentileCont = the mean of the two middle values, as
+// statistics.median). Ids are random, so the first $sample in index order are a random sample;
+// a label with fewer objects gets its exact median.
+MATCH (o:Object)
+WHERE o.label = $label
+  AND o.volume IS NOT NULL
+  AND o.removed_at IS NULL
+WITH o.volume AS volume
+LIMIT $sample
+RETURN percentileCont(volume, 0.5) AS median
