@@ -59,14 +59,20 @@ BOX_HIGH_PERCENTILE = 80.0
 # does association (a core that rare part views do not drag around).
 BOX_SUPPORT = 3
 BOX_SUPPORT_FRACTION = 0.05
+# Only objects this wide (core box, horizontally) are seen in parts; a smaller one is seen whole in
+# each view, so its outermost boxes are noise (a mug's box that took in the magazine beside it).
+PART_VIEW_MIN_EXTENT = 0.5
 _INFEASIBLE = 1e6
 
 
 def object_box(h: "Hypothesis") -> tuple[np.ndarray, np.ndarray]:
-    """The fused object's box (gravity frame): along e1 and e2 the k-th lowest lower bound and
-    the k-th highest upper bound of its sightings' boxes, k = max(BOX_SUPPORT,
-    BOX_SUPPORT_FRACTION * n) capped at n (the box reaches as far as k sightings agree it does);
-    along up the hypothesis' percentile box."""
+    """The fused object's box (gravity frame). For an object whose core box is at least
+    PART_VIEW_MIN_EXTENT wide: along e1 and e2 the k-th lowest lower bound and the k-th highest
+    upper bound of its sightings' boxes, k = max(BOX_SUPPORT, BOX_SUPPORT_FRACTION * n) capped at
+    n (the box reaches as far as k sightings agree it does), along up the hypothesis' percentile
+    box. A smaller object keeps the percentile box."""
+    if max(h.hi[0] - h.lo[0], h.hi[1] - h.lo[1]) < PART_VIEW_MIN_EXTENT:
+        return h.lo.copy(), h.hi.copy()
     lows = np.array([s.lo for s in h.sightings])
     highs = np.array([s.hi for s in h.sightings])
     n = len(lows)

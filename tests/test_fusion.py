@@ -203,6 +203,12 @@ def test_the_object_box_reaches_as_far_as_a_few_views_agree_but_heights_keep_the
     assert (lo[2], hi[2]) == (hyp.lo[2], hyp.hi[2])    # heights: the percentile core
     obs = fusion.fuse("t", hyp, np.eye(3))
     assert obs.size[0] == pytest.approx(hi[0] - lo[0]) and obs.box_centre[0] == pytest.approx((lo[0] + hi[0]) / 2)
+    # a mug is seen whole in every view: its outermost boxes (one took in the magazine) are noise
+    mug = [_sighting(i, "cup", (0.0, 0, 0.8), (0.1, 0.1, 0.1)) for i in range(60)]
+    mug += [_sighting(60 + i, "cup", (0.1, 0, 0.8), (0.3, 0.1, 0.1)) for i in range(4)]
+    cup = fusion.Hypothesis(1, mug)
+    lo, hi = fusion.object_box(cup)
+    assert (list(lo), list(hi)) == (list(cup.lo), list(cup.hi)) and hi[0] == pytest.approx(0.05)
 
 
 def test_a_chairs_back_and_base_boxed_in_different_tiles_are_one_chair():
