@@ -11,16 +11,20 @@ from sg3d.cli import cli
 from tests.test_eval import BUILDING, GT, ROOM, build_room
 
 
-def test_report_files_mention_the_metrics_and_colour_the_nodes(store, embedded_home, tmp_path):
+def _report(store, home, tmp_path, *extra):
+    """`sg3d eval --report DIR` on the hand-made room: (DIR, report.md text, report.html text)."""
     build_room(store)
     gt_file = tmp_path / "gt.json"
     gt_file.write_text(json.dumps(GT))
     out = tmp_path / "rep"
-    r = CliRunner().invoke(cli, ["--home", str(embedded_home), "eval", "--gt", str(gt_file), "--room", ROOM,
-                                 "--building", BUILDING, "--no-vqa", "--report", str(out)])
+    r = CliRunner().invoke(cli, ["--home", str(home), "eval", "--gt", str(gt_file), "--room", ROOM,
+                                 "--building", BUILDING, *extra, "--report", str(out)])
     assert r.exit_code == 0, r.output
-    md = (out / "report.md").read_text()
-    page = (out / "report.html").read_text()
+    return out, (out / "report.md").read_text(), (out / "report.html").read_text()
+
+
+def test_report_files_mention_the_metrics_and_colour_the_nodes(store, embedded_home, tmp_path):
+    out, md, page = _report(store, embedded_home, tmp_path, "--no-vqa")
     for text in (md, page):
         for metric in ("node precision", "node recall", "edge precision", "duplicate nodes", "missing nodes"):
             assert metric in text
@@ -42,15 +46,7 @@ def test_report_has_edge_and_vqa_tables_with_the_names_ask_prints(store, embedde
 
     from app.scene import fetch_scene
 
-    build_room(store)
-    gt_file = tmp_path / "gt.json"
-    gt_file.write_text(json.dumps(GT))
-    out = tmp_path / "rep"
-    r = CliRunner().invoke(cli, ["--home", str(embedded_home), "eval", "--gt", str(gt_file), "--room", ROOM,
-                                 "--building", BUILDING, "--report", str(out)])
-    assert r.exit_code == 0, r.output
-    md = (out / "report.md").read_text()
-    page = (out / "report.html").read_text()
+    _, md, page = _report(store, embedded_home, tmp_path)
     names = {n["id"]: n["name"] for n in fetch_scene(store, BUILDING, ROOM)["nodes"]}
     for text in (md, page):
         assert "Edges by type" in text and "VQA (sure questions)" in text
