@@ -222,6 +222,7 @@ def _as_observation(cand: dict) -> ObjectObservation:
         local_id=cand["id"], labels=list(cand["labels"]), scores=list(cand["scores"]),
         mean=(cand["x"], cand["y"], cand["z"]), var=tuple(cand["var"]), n_points=int(cand["n_points"]),
         size=tuple(cand["size"]), hist=unpack_hist(cand["hist"]), colour=cand["colour"], thumbnail=None,
+        colour2=cand.get("colour2"), layer=cand.get("layer") or "object", shape=cand.get("shape"),
         first_frame=int(cand["first_frame"]), last_frame=int(cand["last_frame"]),
         n_frames=int(cand["n_frames"]), box_centre=cand["box_centre"])
 
@@ -236,7 +237,8 @@ def _new_props(obj: ObjectObservation, rid: str, now: float, scan: ScanInfo) -> 
         "x": mean[0], "y": mean[1], "z": mean[2], "var": [float(v) for v in obj.var],
         "n_points": int(obj.n_points), "size": size, "volume": float(np.prod(size)),
         "box_centre": [float(v) for v in _box_centre(obj)],
-        "hist": pack_hist(obj.hist), "colour": obj.colour,
+        "hist": pack_hist(obj.hist), "colour": obj.colour, "colour2": obj.colour2,
+        "layer": obj.layer, "shape": obj.shape,
         "thumbnail": obj.thumbnail or b"",
         "first_frame": int(obj.first_frame), "last_frame": int(obj.last_frame),
         "observations": 1, "n_frames": int(obj.n_frames), "updated_at": now,
@@ -259,6 +261,10 @@ def _updated_props(cand: dict, obj: ObjectObservation, now: float, basis: np.nda
         "box_centre": [float(v) for v in centre], "hist": pack_hist(hist),
         # the dominant colour follows the larger share of the combined histogram's pixels
         "colour": obj.colour if float(np.sum(obj.hist)) > float(np.sum(hist)) / 2 else cand["colour"],
+        "colour2": obj.colour2 if float(np.sum(obj.hist)) > float(np.sum(hist)) / 2 else cand.get("colour2"),
+        # a structure node stays structure; a shape word is kept until a view says another
+        "layer": "structure" if "structure" in (cand.get("layer"), obj.layer) else "object",
+        "shape": obj.shape or cand.get("shape"),
         "first_frame": min(int(cand["first_frame"]), int(obj.first_frame)),
         "last_frame": max(int(cand["last_frame"]), int(obj.last_frame)),
         "observations": int(cand["observations"]) + 1,

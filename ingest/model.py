@@ -26,6 +26,15 @@ COLOUR_NAMES = (
     "brown", "black", "white", "grey",
 )
 
+# The label of an object found from geometry that no detector named: it is counted and listed,
+# described by its shape, size and colour, never given a class name from one view.
+UNNAMED_LABEL = "object"
+# Layers of the graph (spark_dsg's objects and structure): "object" for things in the room,
+# "structure" for the room's floor, walls and large horizontal surfaces (counters, shelves).
+LAYERS = ("object", "structure")
+# Plain shape words for unnamed objects, where the geometry says one.
+SHAPE_WORDS = ("flat", "box-shaped", "tall", "round")
+
 
 @dataclass
 class ObjectObservation:
@@ -48,6 +57,9 @@ class ObjectObservation:
     last_frame: int = 0
     n_frames: int = 1                      # frames of the keyframe group that saw it
     box_centre: Optional[tuple[float, float, float]] = None  # centre of the 3-D box (size); None: mean
+    layer: str = "object"                  # one of LAYERS
+    shape: Optional[str] = None            # one of SHAPE_WORDS, for unnamed objects; None: not said
+    colour2: Optional[str] = None          # a second colour from COLOUR_NAMES (two-coloured objects)
 
     @property
     def label(self) -> str:
