@@ -17,7 +17,7 @@ import numpy as np
 from scipy import ndimage
 
 from ingest.room_cloud import RoomCloud
-from ingest.structure import FLOOR_SLAB_M, SURFACE_SLAB_M, Element
+from ingest.structure import FLOOR_SLAB_M, SURFACE_SLAB_M, WALL_FAR_M, WALL_SURE_FAR, Element
 
 VOXEL_M = 0.025
 # Points this close to a wall or a long vertical front (cabinet doors, a backsplash) are cut
@@ -34,7 +34,8 @@ HIT_TOLERANCE_M = 0.04
 HIT_TOLERANCE_REL = 0.02
 SAMPLE_VOXELS = 60
 CLAIM_MARGIN_M = 0.01
-MIN_SEEN_VIEWS = 3            # views where most of its visible voxels were hit
+MIN_SEEN_VIEWS = 5            # views where most of its visible voxels were hit
+MIN_SEEN_SHARE = 0.25          # of the views that could tell
 MIN_HIT_RATIO = 0.5           # share of its voxels that are solid (hit more than seen through)
 
 
@@ -49,6 +50,7 @@ class Segment:
     hits: int = 0
     free: int = 0
     seen_views: int = 0
+    looked_views: int = 0     # views that saw most of its place unoccluded (hit or through)
     best_view: int = -1       # the view that saw most of it, whole and near
 
     @property
@@ -66,11 +68,14 @@ def object_points(cloud: RoomCloud, structure: Sequence[Element], fronts: bool =
     MAX_HEIGHT_M); with `fronts`, long vertical fronts are cut away too."""
     p = cloud.points
     keep = (p[:, 2] > FLOOR_SLAB_M) & (p[:, 2] < MAX_HEIGHT_M)
+    masks = cloud.__dict__.setdefault("_structure_masks", {})
     for el in structure:
         if el.label == "floor" or (el.label == "front" and not fronts):
             continue
         slab = PLANE_CUT_M if el.label in ("wall", "front") else SURFACE_SLAB_M
-        keep &= ~el.contains(p, slab)
+        if id(el) not in masks:        # each element's slab is computed once per cloud
+            masks[id(el)] = el.contains(p, slab)
+        keep &= ~masks[id(el)]
     return keep
 
 
@@ -102,6 +107,10 @@ def voxel_segments(cloud: RoomCloud, mask: np.ndarray, too_big: Optional[list] =
     if count == 0:
         return []
     point_label = labels.reshape(-1)[flat]
+    # the frames of every component at once, from its (component, frame) pairs
+    lf = np.unique(point_label * nviews + f)
+    lf = lf[lf >= nviews]
+    frames_of = np.split(lf % nviews, np.searchsorted(lf // nviews, np.arange(2, count + 1)))
     objects = ndimage.find_objects(labels)
     out: list[Segment] = []
     sizes = np.bincount(labels.reshape(-1), minlength=count + 1)
@@ -118,7 +127,7 @@ def voxel_segments(cloud: RoomCloud, mask: np.ndarray, too_big: Optional[list] =
             if too_big is not None and float(np.max(hi - lo)) > MAX_EXTENT_M:
                 too_big.append(where[point_label == c])
             continue
-        out.append(Segment(centres, lo, hi, np.unique(f[point_label == c])))
+        out.append(Segment(centres, lo, hi, frames_of[c - 1]))
     return out
 
 
@@ -136,7 +145,7 @@ def depth_evidence(seg: Segment, cloud: RoomCloud, rng: np.random.Generator) -> 
     best = (-1, 0.0, -1)
     hit_v = np.zeros(len(vox), int)
     free_v = np.zeros(len(vox), int)
-    seen = 0
+    seen = looked = 0
     for k, (view, w2c) in enumerate(zip(cloud.views, cloud.world_to_camera)):
         cam = world @ w2c[:3, :3].T + w2c[:3, 3]
         z = cam[:, 2]
@@ -163,6 +172,9 @@ def depth_evidence(seg: Segment, cloud: RoomCloud, rng: np.random.Generator) -> 
         hit_v[inside] += hit
         free_v[inside] += through
         nh = int(hit.sum())
+        # a view that could tell: it sees most of the voxels, unoccluded (hit or seen through)
+        if int(hit.sum() + through.sum()) >= 0.5 * len(vox):
+            looked += 1
         if nh > 0 and nh >= 0.5 * int(known.sum()):
             seen += 1
         whole = bool(inside.all())
@@ -171,12 +183,14 @@ def depth_evidence(seg: Segment, cloud: RoomCloud, rng: np.random.Generator) -> 
             best = (*score, k)
     solid = (hit_v >= 1) & (hit_v >= free_v)
     seg.hits, seg.free, seg.seen_views, seg.best_view = int(solid.sum()), int((~solid).sum()), seen, int(best[2])
+    seg.looked_views = looked
 
 
 def exists(seg: Segment) -> bool:
     """The depth existence decision: seen in MIN_SEEN_VIEWS views and MIN_HIT_RATIO of its
     voxels solid."""
-    return seg.seen_views >= MIN_SEEN_VIEWS and seg.hit_ratio >= MIN_HIT_RATIO
+    return (seg.seen_views >= max(MIN_SEEN_VIEWS, MIN_SEEN_SHARE * seg.looked_views)
+            and seg.hit_ratio >= MIN_HIT_RATIO)
 
 
 def outside_boxes(points: np.ndarray, boxes: Sequence[tuple[np.ndarray, np.ndarray]],
@@ -188,13 +202,23 @@ def outside_boxes(points: np.ndarray, boxes: Sequence[tuple[np.ndarray, np.ndarr
     return keep
 
 
+def outside_room(seg: Segment, structure: Sequence[Element]) -> bool:
+    """Rule "beyond the walls": a segment whose centre lies more than WALL_FAR_M behind a wall
+    that surely bounds the room (WALL_SURE_FAR) was seen through a window or a glass partition."""
+    centre = ((seg.lo + seg.hi) / 2)[None, :]
+    return any(bool(e.behind(centre, WALL_FAR_M)[0]) for e in structure
+               if e.label == "wall" and e.far_behind <= WALL_SURE_FAR)
+
+
 def room_segments(cloud: RoomCloud, structure: Sequence[Element],
                   claimed: Sequence[tuple[np.ndarray, np.ndarray]] = ()) -> list[Segment]:
     """Every segment of the room that passes the depth existence test. Points inside a
     `claimed` box (a named object's) are its object's and join no segment, so a cup does not
     weld the magazine beside it into one thing."""
     rng = np.random.default_rng(0)
-    free = object_points(cloud, structure) & outside_boxes(cloud.points, claimed)
+    free = object_points(cloud, structure)
+    idx = np.flatnonzero(free)
+    free[idx] = outside_boxes(cloud.points[idx], claimed)
     # walls and surfaces apart first; what is still too big for an object (cabinets run into
     # each other along a wall) is cut along the long vertical fronts too
     big: list = []
@@ -203,6 +227,7 @@ def room_segments(cloud: RoomCloud, structure: Sequence[Element],
         again = np.zeros(len(cloud.points), bool)
         again[np.concatenate(big)] = True
         segs += voxel_segments(cloud, again & free & object_points(cloud, structure, fronts=True))
+    segs = [s for s in segs if not outside_room(s, structure)]
     for s in segs:
         depth_evidence(s, cloud, rng)
     return [s for s in segs if exists(s)]

@@ -15,7 +15,7 @@ room's objects (`ingest.segments`). Each element is found by a named rule:
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Optional
 
 import numpy as np
@@ -37,7 +37,11 @@ WALL_OFFSET_BIN_M = 0.03
 WALL_SLAB_M = 0.05
 WALL_MIN_HEIGHT = 0.6
 WALL_MIN_LENGTH = 1.0
-WALL_MAX_BEHIND = 0.08                # share of the room's points that may lie behind a wall
+WALL_MAX_BEHIND = 0.10                # share of the room's points that may lie behind a wall
+# A wall that bounds the room for sure: at most WALL_SURE_FAR of the points lie more than
+# WALL_FAR_M behind it (what a window or glass door shows of the outside).
+WALL_FAR_M = 0.3
+WALL_SURE_FAR = 0.01
 MAX_WALLS = 10
 # Surface names: a counter is a deep surface at worktop height; a shelf a narrow one, or any
 # surface above reach-in height; anything else a surface (a desk or table top no detector named).
@@ -60,6 +64,15 @@ class Element:
     footprint: Optional[np.ndarray] = None   # bool grid of a surface, SURFACE_CELL_M cells
     origin: Optional[np.ndarray] = None      # (a, b) of footprint[0, 0]
     plane: Optional[tuple[float, float]] = None   # a wall's (angle rad, offset m)
+    side: float = 1.0                 # sign of (offset along the plane normal - rho) on the room's side
+    far_behind: float = 1.0           # share of the room's points more than WALL_FAR_M behind it
+    _grown: Optional[np.ndarray] = field(default=None, repr=False)   # footprint grown by a cell
+
+    def behind(self, pts: np.ndarray, margin: float) -> np.ndarray:
+        """Points of a wall's far side (outside the room) by more than `margin`."""
+        theta, rho = self.plane
+        off = pts[:, 0] * np.cos(theta) + pts[:, 1] * np.sin(theta) - rho
+        return self.side * off < -margin
 
     def contains(self, pts: np.ndarray, slab: float) -> np.ndarray:
         """Points of this element's slab: within `slab` of its surface (its level, or its plane)."""
@@ -69,13 +82,17 @@ class Element:
             theta, rho = self.plane
             off = pts[:, 0] * np.cos(theta) + pts[:, 1] * np.sin(theta) - rho
             return np.abs(off) <= slab
-        near = np.abs(pts[:, 2] - self.height) <= slab
-        cells = np.floor((pts[:, :2] - self.origin) / SURFACE_CELL_M).astype(int)
-        fp = ndimage.binary_dilation(self.footprint, iterations=1)
-        inside = ((cells >= 0) & (cells < fp.shape)).all(axis=1)
         hit = np.zeros(len(pts), bool)
-        idx = np.flatnonzero(near & inside)
-        hit[idx] = fp[cells[idx, 0], cells[idx, 1]]
+        idx = np.flatnonzero(np.abs(pts[:, 2] - self.height) <= slab)
+        if idx.size == 0:
+            return hit
+        cells = np.floor((pts[idx, :2] - self.origin) / SURFACE_CELL_M).astype(int)
+        if self._grown is None:
+            self._grown = ndimage.binary_dilation(self.footprint, iterations=1)
+        fp = self._grown
+        inside = (cells >= 0).all(axis=1) & (cells[:, 0] < fp.shape[0]) & (cells[:, 1] < fp.shape[1])
+        idx, cells = idx[inside], cells[inside]
+        hit[idx] = fp[cells[:, 0], cells[:, 1]]
         return hit
 
 
@@ -152,9 +169,10 @@ def horizontal_surfaces(cloud: RoomCloud) -> list[Element]:
             lo = np.array([lo2[0], lo2[1], level - SURFACE_SLAB_M])
             hi = np.array([hi2[0], hi2[1], level])
             el = Element(surface_name(level, lo, hi), lo, hi, 0, 0, level, fp, origin)
-            member = el.contains(p, SURFACE_SLAB_M) & up
-            el.n_points, el.frames = int(member.sum()), _frames(cloud, member)
-            used |= member
+            cand = np.flatnonzero(sel)
+            member = cand[el.contains(p[cand], SURFACE_SLAB_M)]
+            el.n_points, el.frames = int(member.size), int(np.unique(cloud.frame[member]).size)
+            used[member] = True
             out.append(el)
     return out
 
@@ -205,11 +223,13 @@ def walls(cloud: RoomCloud) -> list[Element]:
         side = np.sign(np.median(cams[:, 0] * np.cos(th) + cams[:, 1] * np.sin(th)) - rh)
         s_off = sample[:, 0] * np.cos(th) + sample[:, 1] * np.sin(th) - rh
         behind = float(np.mean(side * s_off < -WALL_SLAB_M))
+        far = float(np.mean(side * s_off < -WALL_FAR_M))
         taken |= inl
         lo = np.min(pts, axis=0)
         hi = np.max(pts, axis=0)
         label = "wall" if behind <= WALL_MAX_BEHIND else "front"
-        out.append(Element(label, lo, hi, int(inl.sum()), 0, plane=(float(th), float(rh))))
+        out.append(Element(label, lo, hi, int(inl.sum()), 0, plane=(float(th), float(rh)), side=float(side or 1.0),
+                           far_behind=far))
     return out
 
 
