@@ -52,6 +52,10 @@ def row_of(method: str, build: dict, report: dict, wall: float) -> dict:
         "missing_edges": len(e["missed"]) + len(e["unmapped"]["end_not_matched"]),
         "edge_precision": e["precision"],
         "edge_recall": e["recall"],
+        # every object, named or not, against all located GT objects
+        "object_nodes": report.get("objects", {}).get("nodes"),
+        "object_precision": report.get("objects", {}).get("precision"),
+        "object_recall": report.get("objects", {}).get("recall"),
         "frames_read": frames,
         "seconds_per_frame": (total / frames) if frames else None,
     }
@@ -61,6 +65,7 @@ def row_of(method: str, build: dict, report: dict, wall: float) -> dict:
 HEADERS = {"spurious_nodes": "spur N", "duplicate_nodes": "dup N", "missing_nodes": "miss N",
            "node_precision": "P node", "node_recall": "R node", "spurious_edges": "spur E",
            "missing_edges": "miss E", "edge_precision": "P edge", "edge_recall": "R edge",
+           "object_nodes": "all N", "object_precision": "P all", "object_recall": "R all",
            "frames_read": "frames", "seconds_per_frame": "s/frame"}
 
 
