@@ -199,30 +199,51 @@ def hsv_histogram(image: np.ndarray, box: Optional[Box] = None, bins: int = HIST
     return hist.reshape(-1).astype(np.float64)
 
 
-# Depth must cover this share of a box's sampled pixels for its surface to give the colour.
-MIN_MASK_SHARE = 0.25
-# Where it does not, the box's inner region (this margin cut on every side) is read instead.
+# A box's colour is read from its inner region (this margin cut on every side: the corners of a
+# box around a rounded object are background) where depth shows the object's surface...
 INNER_MARGIN = 0.2
+# ... and from the whole inner region when that surface covers under this share of it.
+MIN_MASK_SHARE = 0.25
+# The object's own depths lie within half its box's metric width, at least this, of its centre's.
+MIN_DEPTH_BAND = 0.05
 # Frames are sampled every this many pixels to estimate their colour cast.
 CAST_STRIDE = 8
 
 
 def colour_pixels(frame: Frame, bounds: tuple[int, int, int, int], screen: bool = False) -> tuple[np.ndarray, int]:
     """(BGR pixels N x 3, their sampling stride) that show the object in a box: the samples of
-    `object_mask`, or of the box's inner region when the mask holds under MIN_MASK_SHARE of them
-    (black and glossy surfaces return little depth). A screen's box is read whole: its frame
-    lies at the box's edge and its glass returns little depth."""
+    the box's inner region (INNER_MARGIN) on the surface `object_mask` connects to the centre and
+    at the object's own depth (`within_object_depth`), or the whole inner region when those are
+    under MIN_MASK_SHARE of it (black and glossy surfaces return little depth). A screen's box is
+    read whole: its frame lies at the box's edge and its glass returns little depth."""
     stride = sample_stride(bounds)
     x1, y1, x2, y2 = bounds
     crop = frame.color[y1:y2:stride, x1:x2:stride]
     if screen:
         return crop.reshape(-1, 3), stride
-    mask = object_mask(frame.depth, bounds, stride)
-    if mask.sum() >= max(3, MIN_MASK_SHARE * mask.size):
-        return crop[mask], stride
     h, w = crop.shape[:2]
     my, mx = int(h * INNER_MARGIN), int(w * INNER_MARGIN)
-    return crop[my:max(h - my, my + 1), mx:max(w - mx, mx + 1)].reshape(-1, 3), stride
+    inner = np.zeros((h, w), bool)
+    inner[my:max(h - my, my + 1), mx:max(w - mx, mx + 1)] = True
+    mask = object_mask(frame.depth, bounds, stride) & inner
+    mask &= within_object_depth(frame.depth[y1:y2:stride, x1:x2:stride], bounds, frame.K)
+    if mask.sum() >= max(3, MIN_MASK_SHARE * inner.sum()):
+        return crop[mask], stride
+    return crop[inner], stride
+
+
+def within_object_depth(depth_crop: np.ndarray, bounds: tuple[int, int, int, int], K: np.ndarray) -> np.ndarray:
+    """Pixels of a box whose depth lies within half the box's metric width of the median depth
+    of its centre 3x3 cells: an object is about as deep as it is wide, so what lies further
+    (the table behind a cup, the wall behind a chair) is another surface."""
+    cx1, cy1, cx2, cy2 = grid_cells((0, 0, depth_crop.shape[1], depth_crop.shape[0]), 1, 3)
+    centre = depth_crop[cy1:cy2, cx1:cx2]
+    centre = centre[centre > 0]
+    if centre.size == 0:
+        return depth_crop > 0
+    d0 = float(np.median(centre))
+    band = max(MIN_DEPTH_BAND, 0.5 * (bounds[2] - bounds[0]) / K[0, 0] * d0)
+    return (depth_crop > 0) & (np.abs(depth_crop - d0) <= band)
 
 
 def object_colour(frame: Frame, box: Box, label: Optional[str] = None) -> tuple[colour_model.ColourReading, float]:
