@@ -207,7 +207,7 @@ MIN_MASK_SHARE = 0.25
 # The object's own depths lie within half its box's metric width, at least this, of its centre's.
 MIN_DEPTH_BAND = 0.05
 # Frames are sampled every this many pixels to estimate their colour cast.
-CAST_STRIDE = 8
+CAST_STRIDE = 16
 
 
 def colour_pixels(frame: Frame, bounds: tuple[int, int, int, int], screen: bool = False) -> tuple[np.ndarray, int]:
