@@ -78,8 +78,11 @@ BORDER_WEIGHT = 0.3
 MAX_GAIN = 1.4
 MAX_BLACK = 40
 CAST_METHOD = "white-patch"
-# A second colour is kept when the views agree it covers at least this share of the object.
-SECOND_MIN_SHARE = 0.2
+# A second colour is kept when the views agree it covers at least this share of the object
+# (a quarter: a clear part, not the noise at its edges) and it is not merely a shade of the
+# first: light and shadow move a surface between neighbouring achromatic terms.
+SECOND_MIN_SHARE = 0.25
+SHADES = {frozenset(("white", "grey")), frozenset(("grey", "black"))}
 LUT_LEVELS = 32
 # Camera pixels of surfaces are duller than the survey's colours, which people named on
 # screens: a pixel's chroma is scaled by CHROMA_GAIN before the nearest survey colour is found
@@ -310,7 +313,7 @@ def vote(readings: Sequence[ColourReading], weights: Optional[Sequence[float]] =
 
     Each view's term shares are averaged with its weight (how well it sees the object); the
     largest mean share names the object, the next one is its second colour when it covers at
-    least SECOND_MIN_SHARE. Confidence: the weighted share of views whose own colour is the
+    least SECOND_MIN_SHARE and is not a shade of the first (SHADES). Confidence: the weighted share of views whose own colour is the
     winner (1.0 when every good view agrees)."""
     if not readings:
         return "grey", None, 0.0
@@ -320,6 +323,7 @@ def vote(readings: Sequence[ColourReading], weights: Optional[Sequence[float]] =
     shares = np.array([r.shares for r in readings], np.float64)
     mean = (w[:, None] * shares).sum(axis=0) / w.sum()
     first, second = np.argsort(-mean, kind="stable")[:2]
-    name = COLOUR_NAMES[first]
+    name, other = COLOUR_NAMES[first], COLOUR_NAMES[second]
     confidence = float(sum(wi for wi, r in zip(w, readings) if r.name == name) / w.sum())
-    return name, COLOUR_NAMES[second] if mean[second] >= SECOND_MIN_SHARE else None, confidence
+    keep = mean[second] >= SECOND_MIN_SHARE and frozenset((name, other)) not in SHADES
+    return name, other if keep else None, confidence

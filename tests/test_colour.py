@@ -95,3 +95,13 @@ def test_name_pixels_is_a_lookup_over_any_pixel_array():
     assert names.shape == (1200,) and names.min() >= 0 and names.max() < len(COLOUR_NAMES)
     assert COLOUR_NAMES[C.name_pixels(np.array([[0, 0, 0]], np.uint8))[0]] == "black"
     assert COLOUR_NAMES[C.name_pixels(np.array([[0, 0, 200]], np.uint8))[0]] == "red"
+
+
+def test_a_shade_of_the_first_colour_is_no_second_colour():
+    def reading(**shares):
+        v = tuple(shares.get(c, 0.0) for c in COLOUR_NAMES)
+        order = sorted(shares, key=lambda c: -shares[c])
+        return C.ColourReading(order[0], order[1], shares[order[0]], shares[order[1]], 100, v)
+    assert C.vote([reading(white=0.55, grey=0.45)])[:2] == ("white", None)      # a shaded white
+    assert C.vote([reading(black=0.55, white=0.45)])[:2] == ("black", "white")  # a black-and-white magazine
+    assert C.vote([reading(white=0.8, red=0.2)])[:2] == ("white", None)         # too little to name
