@@ -6,7 +6,7 @@ people made, it is already installed, and it covers the dark, washed-out and tin
 real camera pixels that a hand-picked hue wheel names badly. Each survey name is given one of the
 11 basic terms of `COLOUR_NAMES` by `basic_term` (its head word), and a pixel takes the basic term
 of the survey colour nearest to it in CIELAB (CIE76 distance; cv2's sRGB -> Lab conversion).
-Naming is a table look-up: every 8-level RGB cell (32^3 cells) is named once at import.
+Naming is a table look-up: every 8-level RGB cell (32^3 cells) is named once, on first use.
 
 Before naming, a frame's colour cast is divided out (`frame_cast`, white-patch by default: measured best of the four) and a
 reading drops what is not the object's own surface colour (`surface_pixels`: specular highlights;
@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import re
 from dataclasses import dataclass
+from functools import lru_cache
 from typing import Optional, Sequence
 
 import cv2
@@ -182,14 +183,19 @@ def build_lut(levels: int = LUT_LEVELS, chroma_gain: float = CHROMA_GAIN, chroma
     return term[nearest]
 
 
-_LUT = build_lut()
 _SHIFT = int(np.log2(256 // LUT_LEVELS))
+
+
+@lru_cache(maxsize=1)
+def survey_lut() -> np.ndarray:
+    """The default `build_lut`, built once, on first use (~40 ms)."""
+    return build_lut()
 
 
 def name_pixels(bgr: np.ndarray) -> np.ndarray:
     """COLOUR_NAMES index of every BGR uint8 pixel (N x 3 or H x W x 3), via the survey LUT."""
     q = (np.asarray(bgr, np.uint8).reshape(-1, 3) >> _SHIFT).astype(np.int32)
-    return _LUT[(q[:, 0] * LUT_LEVELS + q[:, 1]) * LUT_LEVELS + q[:, 2]]
+    return survey_lut()[(q[:, 0] * LUT_LEVELS + q[:, 1]) * LUT_LEVELS + q[:, 2]]
 
 
 @dataclass(frozen=True)
