@@ -8,9 +8,9 @@ real camera pixels that a hand-picked hue wheel names badly. Each survey name is
 of the survey colour nearest to it in CIELAB (CIE76 distance; cv2's sRGB -> Lab conversion).
 Naming is a table look-up: every 8-level RGB cell (32^3 cells) is named once, on first use.
 
-Before naming, a frame's colour cast is divided out (`frame_cast`, white-patch by default: measured best of the four) and a
-reading drops what is not the object's own surface colour (`surface_pixels`: specular highlights;
-for screens the light they emit). `read_colour` names one view's pixels; `vote` combines views.
+Before naming, a frame's colour cast is divided out (`frame_cast`; white-patch by default, the
+best of the four methods measured on two rooms) and a reading drops what is not the object's own
+surface colour (`surface_pixels`: specular highlights; for screens the light they emit). `read_colour` names one view's pixels; `vote` combines views.
 """
 from __future__ import annotations
 
@@ -62,8 +62,8 @@ SPECULAR_MIN = 200
 SPECULAR_CLIP = 245
 SPECULAR_MAX_SHARE = 0.25
 # A screen's own colour is its frame and its dark glass; what it shows is light it emits. Of a
-# screen's pixels those brighter than this luma (0-255) are dropped, unless nearly all are
-# (then the screen itself is light-coloured).
+# screen's pixels those brighter than this luma (0-255) are dropped, unless under
+# SCREEN_MIN_KEPT of them would remain (then the screen itself is light-coloured).
 SCREEN_MAX_LUMA = 90
 SCREEN_MIN_KEPT = 0.1
 # Labels whose objects are screens (what they show is not their colour).
@@ -86,9 +86,9 @@ SECOND_MIN_SHARE = 0.25
 SHADES = {frozenset(("white", "grey")), frozenset(("grey", "black"))}
 LUT_LEVELS = 32
 # Camera pixels of surfaces are duller than the survey's colours, which people named on
-# screens: a pixel's chroma is scaled by CHROMA_GAIN before the nearest survey colour is found
-# (at 1.0 wooden chairs and tables read grey). Lightness differences are divided by
-# LIGHTNESS_WEIGHT (CMC l:c uses 2 for surfaces; measured here, 2 turns black TVs grey).
+# screens: before the nearest survey colour is found a pixel's chroma is raised CHROMA_GAIN
+# times, to at most CHROMA_CAP unless it is already more vivid (`boost_chroma`; without it
+# wooden chairs and tables read grey).
 CHROMA_GAIN = 2.0
 CHROMA_CAP = 40.0
 # Survey colours were named as light from a screen (black L* 0, white 100); a camera sees
@@ -97,7 +97,6 @@ CHROMA_CAP = 40.0
 # the screen's before naming: a black TV frame at L* 21 is black, not the survey's "dark grey".
 SURFACE_BLACK_L = 20.0
 SURFACE_WHITE_L = 96.0
-LIGHTNESS_WEIGHT = 1.0
 
 
 def basic_term(xkcd_name: str) -> Optional[str]:
@@ -163,12 +162,11 @@ def surface_lightness(lab: np.ndarray, black: float = SURFACE_BLACK_L, white: fl
 
 
 def build_lut(levels: int = LUT_LEVELS, chroma_gain: float = CHROMA_GAIN, chroma_cap: float = CHROMA_CAP,
-              lightness_weight: float = LIGHTNESS_WEIGHT, black: float = SURFACE_BLACK_L,
-              white: float = SURFACE_WHITE_L) -> np.ndarray:
+              black: float = SURFACE_BLACK_L, white: float = SURFACE_WHITE_L) -> np.ndarray:
     """Basic term index for every RGB cell of a levels^3 grid (B-major: index = (b * levels + g)
     * levels + r, the order of BGR pixels), from the nearest survey colour in CIELAB to the cell's
     colour read as a surface (`surface_lightness` from `black` and `white`) with its chroma
-    boosted (`boost_chroma`), lightness differences divided by `lightness_weight`."""
+    boosted (`boost_chroma`)."""
     from scipy.spatial import cKDTree
 
     rgb, term = survey_colours()
@@ -176,10 +174,8 @@ def build_lut(levels: int = LUT_LEVELS, chroma_gain: float = CHROMA_GAIN, chroma
     centres = (np.arange(levels) * step + step // 2).astype(np.uint8)
     b, g, r = np.meshgrid(centres, centres, centres, indexing="ij")
     cells = np.stack([r.ravel(), g.ravel(), b.ravel()], axis=1)
-    scale = np.array([1.0 / lightness_weight, 1.0, 1.0], np.float32)
-    survey = rgb_to_lab(rgb) * scale
-    pixels = boost_chroma(surface_lightness(rgb_to_lab(cells), black, white), chroma_gain, chroma_cap) * scale
-    _, nearest = cKDTree(survey).query(pixels)
+    pixels = boost_chroma(surface_lightness(rgb_to_lab(cells), black, white), chroma_gain, chroma_cap)
+    _, nearest = cKDTree(rgb_to_lab(rgb)).query(pixels)
     return term[nearest]
 
 
