@@ -14,9 +14,9 @@ Boxes are (x1, y1, x2, y2) in colour pixels, x2/y2 exclusive, clipped to the ima
   (width, depth, height), the frame relations reason in.
 - Colour histogram (Eq. 9): HSV, HIST_BINS per axis (OpenCV ranges H 0-180, S and V 0-256),
   counts (sums to the number of box pixels).
-- Colour (`object_colour`): the object's own pixels (the depth surface connected to the box
-  centre, as for the size; the box's inner region when depth covers too little of it), with the
-  frame's colour cast divided out, named by `ingest.colour.read_colour`; the view's weight for
+- Colour (`object_colour`): the object's own pixels (the box's inner region on the depth surface
+  connected to the centre, as for the size, and at the object's own depth; the whole inner
+  region when depth covers too little of it; a screen's whole box), the frame's cast divided out, named by `ingest.colour.read_colour`; the view's weight for
   the vote across views (`ingest.colour.view_weight`) from its size, sharpness and whether the
   image border cuts the box.
 - Thumbnail: JPEG bytes of the box, longest side at most 128 px.
