@@ -14,9 +14,11 @@ Boxes are (x1, y1, x2, y2) in colour pixels, x2/y2 exclusive, clipped to the ima
   (width, depth, height), the frame relations reason in.
 - Colour histogram (Eq. 9): HSV, HIST_BINS per axis (OpenCV ranges H 0-180, S and V 0-256),
   counts (sums to the number of box pixels).
-- Dominant colour: each pixel of the box's inner region (20 % margin cut on every side, which
-  is mostly background for rounded objects) is named from its HSV value with the fixed palette
-  COLOUR_NAMES; the most frequent name wins.
+- Colour (`object_colour`): the object's own pixels (the box's inner region on the depth surface
+  connected to the centre, as for the size, and at the object's own depth; the whole inner
+  region when depth covers too little of it; a screen's whole box), the frame's cast divided out, named by `ingest.colour.read_colour`; the view's weight for
+  the vote across views (`ingest.colour.view_weight`) from its size, sharpness and whether the
+  image border cuts the box.
 - Thumbnail: JPEG bytes of the box, longest side at most 128 px.
 """
 from __future__ import annotations
@@ -27,6 +29,7 @@ from typing import Optional, Sequence
 import cv2
 import numpy as np
 
+from ingest import colour as colour_model
 from ingest.frames import Frame
 from ingest.model import COLOUR_NAMES, HIST_BINS
 from ingest.relations import horizontal_basis
@@ -196,45 +199,79 @@ def hsv_histogram(image: np.ndarray, box: Optional[Box] = None, bins: int = HIST
     return hist.reshape(-1).astype(np.float64)
 
 
-def colour_names(hsv: np.ndarray) -> np.ndarray:
-    """Index into COLOUR_NAMES for every pixel of an OpenCV HSV array (H 0-179, S/V 0-255).
-
-    Achromatic first (dark -> black, unsaturated -> white/grey by brightness); brown is the
-    red-to-yellow hues when dark or washed out (wood, leather, cardboard), which saturated
-    bright reds, oranges and yellows are not."""
-    h = hsv[..., 0].astype(np.int16).ravel()
-    s = hsv[..., 1].astype(np.int16).ravel()
-    v = hsv[..., 2].astype(np.int16).ravel()
-    idx = {name: i for i, name in enumerate(COLOUR_NAMES)}
-    out = np.full(h.shape, idx["grey"], np.int16)
-    red_hue = (h < 5) | (h >= 168)
-    warm = (h >= 5) & (h < 30)
-    out[red_hue] = idx["red"]
-    out[red_hue & (s < 110) & (v >= 150)] = idx["pink"]
-    out[red_hue & (v < 90) & (s < 150)] = idx["brown"]
-    out[warm & (h < 18)] = idx["orange"]
-    out[warm & (h >= 18)] = idx["yellow"]
-    out[warm & ((v < 180) | (s < 140))] = idx["brown"]
-    out[(h >= 30) & (h < 85)] = idx["green"]
-    out[(h >= 85) & (h < 128)] = idx["blue"]
-    out[(h >= 128) & (h < 150)] = idx["purple"]
-    out[(h >= 150) & (h < 168)] = idx["pink"]
-    grey = s < 40
-    out[grey] = idx["grey"]
-    out[grey & (v >= 180)] = idx["white"]
-    out[v < 45] = idx["black"]
-    return out
+# A box's colour is read from its inner region (this margin cut on every side: the corners of a
+# box around a rounded object are background) where depth shows the object's surface...
+INNER_MARGIN = 0.2
+# ... and from the whole inner region when that surface covers under this share of it.
+MIN_MASK_SHARE = 0.25
+# The object's own depths lie within half its box's metric width, at least this, of its centre's.
+MIN_DEPTH_BAND = 0.05
+# Frames are sampled every this many pixels to estimate their colour cast.
+CAST_STRIDE = 16
 
 
-def dominant_colour(image: np.ndarray, box: Optional[Box] = None, margin: float = 0.2) -> str:
-    """The most frequent COLOUR_NAMES name over the box's inner region."""
+def colour_pixels(frame: Frame, bounds: tuple[int, int, int, int], screen: bool = False) -> tuple[np.ndarray, int]:
+    """(BGR pixels N x 3, their sampling stride) that show the object in a box: the samples of
+    the box's inner region (INNER_MARGIN) on the surface `object_mask` connects to the centre and
+    at the object's own depth (`within_object_depth`), or the whole inner region when those are
+    under MIN_MASK_SHARE of it (black and glossy surfaces return little depth). A screen's box is
+    read whole: its frame lies at the box's edge and its glass returns little depth."""
+    stride = sample_stride(bounds)
+    x1, y1, x2, y2 = bounds
+    crop = frame.color[y1:y2:stride, x1:x2:stride]
+    if screen:
+        return crop.reshape(-1, 3), stride
+    h, w = crop.shape[:2]
+    my, mx = int(h * INNER_MARGIN), int(w * INNER_MARGIN)
+    inner = np.zeros((h, w), bool)
+    inner[my:max(h - my, my + 1), mx:max(w - mx, mx + 1)] = True
+    mask = object_mask(frame.depth, bounds, stride) & inner
+    mask &= within_object_depth(frame.depth[y1:y2:stride, x1:x2:stride], bounds, frame.K)
+    if mask.sum() >= max(3, MIN_MASK_SHARE * inner.sum()):
+        return crop[mask], stride
+    return crop[inner], stride
+
+
+def within_object_depth(depth_crop: np.ndarray, bounds: tuple[int, int, int, int], K: np.ndarray) -> np.ndarray:
+    """Pixels of a box whose depth lies within half the box's metric width of the median depth
+    of its centre 3x3 cells: an object is about as deep as it is wide, so what lies further
+    (the table behind a cup, the wall behind a chair) is another surface."""
+    cx1, cy1, cx2, cy2 = grid_cells((0, 0, depth_crop.shape[1], depth_crop.shape[0]), 1, 3)
+    centre = depth_crop[cy1:cy2, cx1:cx2]
+    centre = centre[centre > 0]
+    if centre.size == 0:
+        return depth_crop > 0
+    d0 = float(np.median(centre))
+    band = max(MIN_DEPTH_BAND, 0.5 * (bounds[2] - bounds[0]) / K[0, 0] * d0)
+    return (depth_crop > 0) & (np.abs(depth_crop - d0) <= band)
+
+
+def object_colour(frame: Frame, box: Box, label: Optional[str] = None) -> tuple[colour_model.ColourReading, float]:
+    """(colour reading, view weight) of a boxed object in one frame: its own pixels
+    (`colour_pixels`) read with the frame's cast (`ingest.colour.frame_cast` on a sample of the
+    frame) divided out, as a screen when `label` is one; the weight from the pixels' area, the
+    crop's sharpness and whether the box touches the image border."""
+    w, h = frame.size
+    bounds = clip_box(box, w, h)
+    screen = colour_model.is_screen(label)
+    pixels, stride = colour_pixels(frame, bounds, screen)
+    cast = colour_model.frame_cast(frame.color[::CAST_STRIDE, ::CAST_STRIDE])
+    reading = colour_model.read_colour(pixels, cast, screen=screen)
+    x1, y1, x2, y2 = bounds
+    grey = frame.gray[y1:y2:stride, x1:x2:stride]
+    sharpness = float(cv2.Laplacian(grey, cv2.CV_32F).var()) if min(grey.shape) >= 3 else 0.0
+    cut = x1 <= 1 or y1 <= 1 or x2 >= w - 1 or y2 >= h - 1
+    return reading, colour_model.view_weight(len(pixels) * stride * stride, sharpness, cut)
+
+
+def dominant_colour(image: np.ndarray, box: Optional[Box] = None, margin: float = INNER_MARGIN) -> str:
+    """The colour of the box's inner region (`margin` cut on every side) of an image without
+    depth, named by `ingest.colour.read_colour` as it is (no cast estimate from one crop)."""
     x1, y1, x2, y2 = clip_box(box if box is not None else (0, 0, image.shape[1], image.shape[0]),
                               image.shape[1], image.shape[0])
     mx, my = int((x2 - x1) * margin), int((y2 - y1) * margin)
     inner = image[y1 + my:max(y2 - my, y1 + my + 1), x1 + mx:max(x2 - mx, x1 + mx + 1)]
-    hsv = cv2.cvtColor(np.ascontiguousarray(inner), cv2.COLOR_BGR2HSV)
-    counts = np.bincount(colour_names(hsv), minlength=len(COLOUR_NAMES))
-    return COLOUR_NAMES[int(np.argmax(counts))]
+    return colour_model.read_colour(inner.reshape(-1, 3)).name
 
 
 def thumbnail(image: np.ndarray, box: Optional[Box] = None, max_side: int = THUMBNAIL_SIDE,
@@ -265,14 +302,19 @@ class ObjectAttributes:
     colour: str
     thumbnail: bytes
     centre: tuple[float, float, float]   # centre of the 3-D box (mean is the centre patch's)
+    colour_reading: Optional[colour_model.ColourReading] = None   # None: only `colour` is known
+    view_weight: float = 1.0             # how well this view shows the object's colour
 
 
-def measure_object(frame: Frame, box: Box, up: Optional[Sequence[float]] = None) -> Optional[ObjectAttributes]:
-    """All attributes of a boxed object in a frame; None when the box has no usable depth."""
+def measure_object(frame: Frame, box: Box, up: Optional[Sequence[float]] = None,
+                   label: Optional[str] = None) -> Optional[ObjectAttributes]:
+    """All attributes of a boxed object (detected as `label`, if given) in a frame; None when
+    the box has no usable depth."""
     pos = position_gaussian(frame, box)
     if pos is None:
         return None
     centre, size = object_box(frame, box, up) or (pos.mean, (0.0, 0.0, 0.0))
     image = frame.color
+    reading, weight = object_colour(frame, box, label)
     return ObjectAttributes(pos.mean, pos.var, pos.n_points, size, hsv_histogram(image, box),
-                            dominant_colour(image, box), thumbnail(image, box), centre)
+                            reading.name, thumbnail(image, box), centre, reading, weight)

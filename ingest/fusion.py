@@ -19,12 +19,12 @@ tiles (two chairs cannot share floor space), a TV's corner a tile called "book".
 
 Each hypothesis accumulates label evidence over all its sightings (`fuse_labels`:
 the label the detector repeats wins over one it said once with a high score), its position
-Gaussian (pooled Eq. 8 moments), a robust union box, the summed HSV histogram, the most frequent
-colour name and the best-scored view's thumbnail.
+Gaussian (pooled Eq. 8 moments), a robust union box, the summed HSV histogram, the colour voted
+over the views that see it well (and a second colour) and the best-scored view's thumbnail.
 """
 from __future__ import annotations
 
-from collections import Counter, defaultdict
+from collections import defaultdict
 from dataclasses import dataclass, field
 from functools import cached_property
 from typing import Iterable, Optional, Sequence
@@ -33,6 +33,7 @@ import numpy as np
 from scipy.optimize import linear_sum_assignment
 
 from ingest.attributes import ObjectAttributes
+from ingest.colour import ColourReading, vote
 from ingest.detect import Detection
 from ingest.model import TOP_K, ObjectObservation
 from ingest.moments import combine_gaussians
@@ -316,14 +317,16 @@ def consolidate(hyps: Sequence[Hypothesis]) -> list[Hypothesis]:
 def fuse(local_id: str, h: Hypothesis, basis: np.ndarray, labels: Optional[Sequence[str]] = None,
          scores: Optional[Sequence[float]] = None) -> ObjectObservation:
     """One object from all the sightings of a hypothesis: pooled position Gaussian (Eq. 8
-    moments), the robust union box, summed histogram (Eq. 9 counts), majority colour, accumulated
+    moments), the robust union box, summed histogram (Eq. 9 counts), the colour and second colour
+    voted over the views weighted by how well they see it (`ingest.colour.vote`), accumulated
     label evidence (or the given `labels`/`scores`) and the best-scored view's thumbnail."""
     first = h.sightings[0].attrs
     mean, var, n = np.asarray(first.mean, float), np.asarray(first.var, float), first.n_points
     for s in h.sightings[1:]:
         mean, var, n = combine_gaussians(mean, var, n, s.attrs.mean, s.attrs.var, s.attrs.n_points)
     best = max(h.sightings, key=lambda s: s.detection.score)
-    colours = Counter(s.attrs.colour for s in h.sightings)
+    colour, colour2, _ = vote([s.attrs.colour_reading or ColourReading.single(s.attrs.colour) for s in h.sightings],
+                              [s.attrs.view_weight for s in h.sightings])
     lo, hi = object_box(h)
     centre = basis.T @ ((lo + hi) / 2)
     return ObjectObservation(
@@ -332,5 +335,5 @@ def fuse(local_id: str, h: Hypothesis, basis: np.ndarray, labels: Optional[Seque
         mean=tuple(float(v) for v in mean), var=tuple(float(v) for v in var), n_points=int(n),
         size=tuple(float(v) for v in (hi - lo)), box_centre=tuple(float(v) for v in centre),
         hist=np.sum([s.attrs.hist for s in h.sightings], axis=0),
-        colour=colours.most_common(1)[0][0], thumbnail=best.attrs.thumbnail,
+        colour=colour, colour2=colour2, thumbnail=best.attrs.thumbnail,
         first_frame=h.frames[0], last_frame=h.frames[-1], n_frames=h.n_frames)

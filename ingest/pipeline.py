@@ -196,7 +196,7 @@ def _detect(seq, chosen: list[int], detector: Detector, up, basis, settings: Set
             dets = reject_irrelevant(dets)
         t0 = time.perf_counter()
         for det in dets:
-            attrs = measure_object(frame, det.box, up)
+            attrs = measure_object(frame, det.box, up, det.label)
             if attrs is not None:
                 sightings.append(fusion.Sighting.of(i, det, attrs, basis))
         views.append(existence.View.of(frame))

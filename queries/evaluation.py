@@ -1,6 +1,7 @@
 """`sg3d eval`: a stored scene graph against hand-annotated ground truth.
 
-Report: node precision/recall with spurious, missing and duplicate nodes (eval_match), edge
+Report: node precision/recall with spurious, missing and duplicate nodes (eval_match), colour
+agreement of matched nodes (`colour_agreement`), edge
 precision/recall (eval_edges), VQA accuracy (eval_vqa). GT objects a COCO detector cannot name,
 or that carry no position, are listed apart instead of as misses; recall is given both over every
 COCO object and over those the annotator counted as `sure`.
@@ -76,7 +77,22 @@ def node_metrics(gt: GroundTruth, nodes: list[Node], m: Matching) -> dict:
         "not_detectable": [_gt_row(g) for g in gt.objects if g.coco is None],
         "unlocated": [_gt_row(g) for g in gt.objects if g.coco is not None and g.position is None],
         "hedged_category": [g.id for g in gt.objects if g.coco_hedged],
+        "colour": colour_agreement(gt, by_node, m),
     }
+
+
+def colour_agreement(gt: GroundTruth, by_node: dict, m: Matching) -> dict:
+    """Matched nodes whose GT object carries a colour: how many the node's colour names the same
+    (`agree` of `with_colour`), and each pair with both colours."""
+    rows = []
+    for n, g, _ in m.pairs:
+        want = gt.by_id[g].colour
+        if want:
+            got = by_node[n].colour
+            rows.append({"node": n, "gt": g, "colour": got, "gt_colour": want,
+                         "agree": (got or "").strip().lower() == want.strip().lower()})
+    agree = sum(r["agree"] for r in rows)
+    return {"agree": agree, "with_colour": len(rows), "agreement": _ratio(agree, len(rows)), "pairs": rows}
 
 
 def _nearest_same_category(node: Node, gt: GroundTruth) -> dict:

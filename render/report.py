@@ -32,6 +32,7 @@ def metric_rows(report: dict) -> list[tuple[str, str]]:
         ("unsure objects found", f"{n['unsure_found']} of {n['gt_unsure']}"),
         ("spurious nodes", len(n["spurious"])),
         ("duplicate nodes", len(n["duplicates"])),
+        ("colour agreement (matched)", f"{pct(n['colour']['agreement'])} ({n['colour']['agree']} of {n['colour']['with_colour']})"),
         ("missing nodes", len(n["missing"])),
         ("not detectable by a COCO detector", len(n["not_detectable"])),
         ("no GT position", len(n["unlocated"])),

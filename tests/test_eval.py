@@ -236,3 +236,20 @@ def test_eval_reads_labels_with_the_vocabulary_of_ask_and_plan():
     gt = parse_gt({"objects": [{"id": "g1", "category": "cup", "coco_category": "cup", "world_position": [0, 0, 1]}]})
     m = match([Node("n1", "mug", (0.02, 0.0, 1.0))], gt.objects, same_category=same)
     assert m.gt_to_node == {"g1": "n1"}
+
+
+def test_colour_agreement_counts_matched_nodes_whose_gt_has_a_colour(store):
+    nodes = build_room(store)
+    coloured = json.loads(json.dumps(GT))
+    colours = {"T": "brown", "C": "white", "H": "red", "B": "blue"}   # B has no node: not counted
+    for o in coloured["objects"]:
+        if o["id"] in colours:
+            o["colour"] = colours[o["id"]]
+    report = evaluate(store, parse_gt(coloured, COCO), room_id(BUILDING, ROOM), room=ROOM, building=BUILDING,
+                      with_vqa=False)
+    c = report["nodes"]["colour"]
+    assert (c["agree"], c["with_colour"]) == (2, 3) and c["agreement"] == pytest.approx(2 / 3)
+    by_gt = {p["gt"]: p for p in c["pairs"]}
+    assert by_gt["H"] == {"node": nodes["chair@3.2"], "gt": "H", "colour": "black", "gt_colour": "red", "agree": False}
+    plain = evaluate(store, parse_gt(GT, COCO), room_id(BUILDING, ROOM), room=ROOM, building=BUILDING, with_vqa=False)
+    assert plain["nodes"]["colour"] == {"agree": 0, "with_colour": 0, "agreement": None, "pairs": []}
