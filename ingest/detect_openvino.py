@@ -88,7 +88,7 @@ def ssd_detection_output(boxes_yx: np.ndarray, scores: np.ndarray,
     """SSD's detection output (Liu et al. 2016, as OpenCV's DetectionOutput layer computes it):
     for every class but the background, the anchors scoring above `confidence_threshold`, best
     `top_k` first, go through greedy NMS at `nms_iou`; of all survivors the best `keep_top_k`
-    remain, listed class by class, best first within a class.
+    remain, best first.
 
     `boxes_yx` [A, 4] ymin xmin ymax xmax, `scores` [A, classes]; returns x1 y1 x2 y2 boxes
     (normalised, unclipped), class ids and scores."""
@@ -112,9 +112,8 @@ def ssd_detection_output(boxes_yx: np.ndarray, scores: np.ndarray,
     valid[row, rank] = True
     keep = greedy_nms_per_class(padded, valid, nms_iou)[row, rank]
     row, anchor, score = row[keep], anchor[keep], score[keep]
-    if len(score) > keep_top_k:
-        best = np.sort(np.argsort(-score, kind="stable")[:keep_top_k])   # back in class order
-        row, anchor, score = row[best], anchor[best], score[best]
+    best = np.argsort(-score, kind="stable")[:keep_top_k]
+    row, anchor, score = row[best], anchor[best], score[best]
     return boxes[anchor], (classes[row] + 1).astype(np.float32), score
 
 
