@@ -31,7 +31,7 @@ from ingest import coverage, existence, fusion, rescan
 from ingest.abir import ABIR
 from ingest.attributes import measure_object
 from ingest.detect import Detector
-from ingest.frames import FrameError
+from ingest.frames import FrameError, decoded_ahead
 from ingest.kge import KeyframeGrouper
 from ingest.model import KnownObject, LocalGraph, ObjectObservation, RelationObservation, ScanInfo
 from ingest.relations import (ObjectGeometry, horizontal_basis, side_by_side_on_one_support,
@@ -175,14 +175,25 @@ def _select(seq, a: int, b: int, settings: Settings, stats: PipelineStats,
     return chosen
 
 
+def _lazy_frames(seq, chosen: list[int]):
+    for i in chosen:
+        try:
+            yield seq.frame(i, lazy=True)
+        except FrameError:
+            continue                      # recorded in seq.skipped
+
+
 def _detect(seq, chosen: list[int], detector: Detector, up, basis, settings: Settings,
             stats: PipelineStats, progress: Optional[ProgressFn]):
     """Sightings and visibility views of the chosen frames."""
     sightings: list[fusion.Sighting] = []
     views: list[existence.View] = []
-    for n, i in enumerate(chosen):
+    position = {i: n for n, i in enumerate(chosen)}
+    # the next frame's images are decoded on a reader thread while this one is detected
+    for frame in decoded_ahead(_lazy_frames(seq, chosen), ("color", "depth"), ahead=2):
+        i, n = frame.index, position[frame.index]
         try:
-            frame = seq.frame(i)
+            frame.load()
         except FrameError:
             continue                      # recorded in seq.skipped
         t0 = time.perf_counter()
