@@ -6,9 +6,8 @@ lists need: the network gives the decoded box of every anchor and every class's 
 and `ssd_detection_output` picks the candidates the way OpenCV's DetectionOutput layer does for
 the same graph, so both backends feed `detections_from_candidates` the same rows.
 
-Converting the graph takes ~10-30 s, so the converted model is kept in the sg3d cache directory
-(SG3D_CACHE, else SG3D_HOME/sg3d-cache, else the user cache directory), keyed by the weights'
-SHA-256 and the OpenVINO version, written atomically and rebuilt when it does not load or does
+Converting the graph takes ~10-30 s, so the converted model is kept in the user cache directory
+(or SG3D_CACHE), keyed by the weights' SHA-256 and the OpenVINO version, written atomically and rebuilt when it does not load or does
 not match its manifest. Nothing is downloaded. Inference runs in fp32: the CPU plugin's default
 bf16 on recent CPUs moves scores by up to 0.03.
 """
@@ -46,14 +45,12 @@ def openvino_available() -> bool:
 
 
 def sg3d_cache_dir() -> Path:
-    """SG3D_CACHE, else SG3D_HOME/sg3d-cache, else the user cache directory (the same place as the
-    label embeddings' cache)."""
+    """SG3D_CACHE, else the user cache directory: one converted model per machine, shared by
+    every store (SG3D_HOME) on it."""
     from platformdirs import user_cache_dir
 
     if os.environ.get("SG3D_CACHE"):
         return Path(os.environ["SG3D_CACHE"]).expanduser()
-    if os.environ.get("SG3D_HOME"):
-        return Path(os.environ["SG3D_HOME"]).expanduser() / "sg3d-cache"
     return Path(user_cache_dir("sg3d", appauthor=False))
 
 

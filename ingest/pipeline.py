@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import hashlib
 import json
+import threading
 import time
 from collections import Counter, defaultdict
 from dataclasses import asdict, dataclass, field, fields
@@ -175,6 +176,19 @@ def _select(seq, a: int, b: int, settings: Settings, stats: PipelineStats,
     return chosen
 
 
+def _prepare_in_background(detector: Detector) -> threading.Thread:
+    """Load the detector's network on a thread while frames are selected (a failure to load is
+    raised by the first detection, where it was raised before)."""
+    def prepare():
+        try:
+            getattr(detector, "prepare", lambda: None)()
+        except Exception:   # noqa: BLE001 - re-raised by detect() on the build's own thread
+            pass
+    thread = threading.Thread(target=prepare, name="sg3d-detector-load", daemon=True)
+    thread.start()
+    return thread
+
+
 def _lazy_frames(seq, chosen: list[int]):
     for i in chosen:
         try:
@@ -282,7 +296,9 @@ def chunk_graph(seq, a: int, b: int, detector: Detector, up, settings: Settings,
     basis = np.stack(horizontal_basis(up))
     stats.chunks += 1
     stats.frames += b - a
+    loading = _prepare_in_background(detector)
     chosen = _select(seq, a, b, settings, stats, progress)
+    loading.join()
     sightings, views = _detect(seq, chosen, detector, up, basis, settings, stats, progress)
     t0 = time.perf_counter()
     if method.three_d:
