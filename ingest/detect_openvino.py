@@ -7,8 +7,8 @@ and `ssd_detection_output` picks the candidates the way OpenCV's DetectionOutput
 the same graph, so both backends feed `detections_from_candidates` the same rows.
 
 Converting the graph takes ~10-30 s, so the converted model is kept in the user cache directory
-(or SG3D_CACHE), keyed by the weights' SHA-256 and the OpenVINO version, written atomically and rebuilt when it does not load or does
-not match its manifest. Nothing is downloaded. Inference runs in fp32: the CPU plugin's default
+(or SG3D_CACHE), keyed by the weights' SHA-256 and the OpenVINO version, written atomically, and
+rebuilt when it does not load or does not match its manifest. Nothing is downloaded. Inference runs in fp32: the CPU plugin's default
 bf16 on recent CPUs moves scores by up to 0.03.
 """
 from __future__ import annotations
@@ -56,20 +56,19 @@ def sg3d_cache_dir() -> Path:
 
 # --------------------------------------------------------------------------- candidate selection
 
-def greedy_nms_per_class(boxes: np.ndarray, valid: np.ndarray, iou: float) -> np.ndarray:
-    """Greedy NMS run independently in every row of `boxes` [C, K, 4] (x1 y1 x2 y2, each row's
-    candidates best first, `valid` [C, K] marking real ones): a candidate is kept unless a kept,
-    better candidate of its row overlaps it by more than `iou`. OpenCV's batched NMS does the
-    work (rows as classes, rank as score): ~6x faster than the same loop in NumPy."""
-    rows, ranks = np.nonzero(valid)
-    keep = np.zeros(valid.shape, dtype=bool)
-    if len(rows) == 0:
+def greedy_nms_per_class(boxes: np.ndarray, classes: np.ndarray, rank: np.ndarray, iou: float) -> np.ndarray:
+    """Greedy NMS within each class: candidates (`boxes` [N, 4] x1 y1 x2 y2) in the order of their
+    `rank` in their class (0 = best), each kept unless a kept, better-ranked candidate of its class
+    overlaps it by more than `iou`. Returns a keep mask. OpenCV's batched NMS does the work (the
+    rank as the score): ~6x faster than the same loop in NumPy."""
+    keep = np.zeros(len(boxes), dtype=bool)
+    if len(boxes) == 0:
         return keep
-    corners = boxes[rows, ranks].astype(np.float64)
+    corners = np.asarray(boxes, dtype=np.float64).reshape(-1, 4)
     xywh = np.hstack([corners[:, :2], corners[:, 2:] - corners[:, :2]])
-    order_score = (1.0 - ranks / (valid.shape[1] + 1.0)).astype(np.float32)
-    kept = np.asarray(cv2.dnn.NMSBoxesBatched(xywh, order_score, rows.astype(np.int32), 0.0, float(iou))).reshape(-1)
-    keep[rows[kept], ranks[kept]] = True
+    order_score = (1.0 - np.asarray(rank) / (np.max(rank) + 2.0)).astype(np.float32)
+    kept = cv2.dnn.NMSBoxesBatched(xywh, order_score, np.asarray(classes, dtype=np.int32), 0.0, float(iou))
+    keep[np.asarray(kept, dtype=int).reshape(-1)] = True
     return keep
 
 
@@ -92,21 +91,15 @@ def ssd_detection_output(boxes_yx: np.ndarray, scores: np.ndarray,
     score = per_class[cls, anchor]
     order = np.lexsort((anchor, -score, cls))        # by class, best first, ties by anchor (stable)
     cls, anchor, score = cls[order], anchor[order], score[order]
-    classes, start, count = np.unique(cls, return_index=True, return_counts=True)
+    _, start, count = np.unique(cls, return_index=True, return_counts=True)
     rank = np.arange(len(cls)) - np.repeat(start, count)
     top = rank < top_k
-    row = np.repeat(np.arange(len(classes)), count)[top]
-    rank, anchor, score = rank[top], anchor[top], score[top]
-    width = int(rank.max()) + 1
-    padded = np.zeros((len(classes), width, 4), np.float32)
-    padded[row, rank] = boxes[anchor]
-    valid = np.zeros((len(classes), width), bool)
-    valid[row, rank] = True
-    keep = greedy_nms_per_class(padded, valid, nms_iou)[row, rank]
-    row, anchor, score = row[keep], anchor[keep], score[keep]
+    cls, anchor, score = cls[top], anchor[top], score[top]
+    keep = greedy_nms_per_class(boxes[anchor], cls, rank[top], nms_iou)
+    cls, anchor, score = cls[keep], anchor[keep], score[keep]
     best = np.argsort(-score, kind="stable")[:keep_top_k]
-    row, anchor, score = row[best], anchor[best], score[best]
-    return boxes[anchor], (classes[row] + 1).astype(np.float32), score
+    cls, anchor, score = cls[best], anchor[best], score[best]
+    return boxes[anchor], (cls + 1).astype(np.float32), score
 
 
 # --------------------------------------------------------------------------- converted model cache

@@ -58,10 +58,11 @@ def test_detection_output_keeps_the_best_overall_and_the_per_class_top_k():
 
 
 def test_greedy_nms_keeps_a_chain_link_whose_suppressor_was_suppressed():
-    boxes = np.array([[[0, 0, 10, 10], [3, 0, 13, 10], [6, 0, 16, 10]]], np.float32)
-    keep = greedy_nms_per_class(boxes, np.ones((1, 3), bool), 0.4)
-    # 1 overlaps 0 by 0.54 -> gone; 2 overlaps 0 by 0.25 only, and 1 no longer counts
-    assert keep.tolist() == [[True, False, True]]
+    boxes = np.array([[6, 0, 16, 10], [0, 0, 10, 10], [3, 0, 13, 10], [3, 0, 13, 10]], np.float32)
+    keep = greedy_nms_per_class(boxes, classes=[5, 5, 5, 9], rank=[2, 0, 1, 0], iou=0.4)
+    # rank 1 overlaps rank 0 by 0.54 -> gone; rank 2 overlaps rank 0 by 0.25 only, and the gone
+    # one no longer counts; the same box in another class is untouched
+    assert keep.tolist() == [True, True, False, True]
 
 
 def test_detection_output_of_nothing_is_empty():
