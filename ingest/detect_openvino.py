@@ -155,20 +155,22 @@ def converted_model(pb: Path, cache_root: Optional[Path] = None):
     if model is not None:
         return model
     model = _cut_graph(pb)
+    tmp: Optional[Path] = None
     try:
         root.joinpath("openvino").mkdir(parents=True, exist_ok=True)
         tmp = Path(tempfile.mkdtemp(prefix=".tmp-", dir=root / "openvino"))
         ov.save_model(model, str(tmp / "model.xml"), compress_to_fp16=False)
         files = {name: _sha256(tmp / name) for name in ("model.xml", "model.bin")}
+        # the manifest is written last and checked on every load: a torn entry is never used
         (tmp / MANIFEST).write_text(json.dumps(dict(expected, files=files), indent=1), encoding="utf-8")
-        if folder.exists():
-            shutil.rmtree(folder, ignore_errors=True)   # a corrupt or stale entry
-        try:
-            os.replace(tmp, folder)                     # a whole folder appears, or none
-        except OSError:                                 # another process won the race
+        if folder.exists() and _read_cached(folder, expected) is None:
+            shutil.rmtree(folder, ignore_errors=True)   # corrupt (another process's good one stays)
+        os.replace(tmp, folder)                         # a whole folder appears, or none
+    except (OSError, RuntimeError):
+        pass   # another process won the race, or the cache is not writable: only time is lost
+    finally:
+        if tmp is not None and tmp.exists():
             shutil.rmtree(tmp, ignore_errors=True)
-    except OSError:
-        pass   # a read-only cache only costs the conversion next time
     return model
 
 
