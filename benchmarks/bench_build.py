@@ -20,8 +20,9 @@ REPO = Path(__file__).resolve().parents[1]
 DEFAULT_SEQ = REPO.parent / "shared" / "data" / "7scenes-redkitchen"
 
 
-def run_build(seq: Path, preset: str, home: Path, runtime: str = "") -> tuple[dict, float]:
-    """One build's --json summary and its peak resident memory in MiB."""
+def run_build(seq: Path, preset: str, home: Path, runtime: str = "") -> tuple[dict, float, float]:
+    """One build's --json summary, its peak resident memory in MiB and the CPU seconds it used
+    (user + system, all threads: unlike wall time, barely moved by other work on the machine)."""
     env = dict(os.environ, SG3D_HOME=str(home))
     env.pop("SG3D_URI", None)
     if runtime:
@@ -37,7 +38,7 @@ def run_build(seq: Path, preset: str, home: Path, runtime: str = "") -> tuple[di
         out.seek(0), err.seek(0)
         if proc.returncode != 0:
             raise SystemExit(err.read())
-        return json.loads(out.read()), usage.ru_maxrss / 1024.0
+        return json.loads(out.read()), usage.ru_maxrss / 1024.0, usage.ru_utime + usage.ru_stime
 
 
 def main() -> None:
@@ -62,12 +63,13 @@ def main() -> None:
                     rows.append((method, runtime or "auto", *run_build(args.sequence, method, Path(home), runtime)))
         finally:
             EmbeddedServer(Path(home)).stop()
-    stages = sorted({k for _, _, s, _ in rows for k in s["seconds"]} - {"total"})
-    print(f"{'method':<14}{'runtime':>9}{'frames':>7}{'detected':>9}{'objects':>8}{'fps':>8}{'total s':>9}{'peak MiB':>9}  "
-          + "  ".join(stages))
-    for method, runtime, s, peak in rows:
+    stages = sorted({k for _, _, s, _, _ in rows for k in s["seconds"]} - {"total"})
+    print(f"load {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores")
+    print(f"{'method':<14}{'runtime':>9}{'frames':>7}{'detected':>9}{'objects':>8}{'fps':>8}{'total s':>9}{'cpu s':>7}"
+          f"{'peak MiB':>9}  " + "  ".join(stages))
+    for method, runtime, s, peak, cpu in rows:
         print(f"{method:<14}{runtime:>9}{s['frames']['in_range']:>7}{s['frames']['detected']:>9}{s['graph']['room_objects']:>8}"
-              f"{s['input_frames_per_second']:>8.1f}{s['seconds']['total']:>9.2f}{peak:>9.0f}  "
+              f"{s['input_frames_per_second']:>8.1f}{s['seconds']['total']:>9.2f}{cpu:>7.1f}{peak:>9.0f}  "
               + "  ".join(f"{s['seconds'].get(k, 0.0):.2f}" for k in stages))
 
 
