@@ -17,6 +17,7 @@ import time
 STEPS = [
     ("frames: read + ABIR + KGE vs decode floor", ["benchmarks/bench_frames.py", "--repeat", "1"], None),
     ("build: whole pipeline per preset", ["-m", "benchmarks.bench_build", "--methods", "3d-full"], None),
+    ("detect: OpenCV DNN vs OpenVINO, frame by frame", ["-m", "benchmarks.bench_detect"], ["--frames", "30"]),
     ("store: upserts and merge latency", ["-m", "benchmarks.bench_store"], ["--objects", "2000", "--single", "50", "--graphs", "10"]),
     ("store: reference size, 1,000 rooms", ["-m", "benchmarks.bench_store", "--objects", "100000", "--rooms", "1000"],
      ["--objects", "10000", "--rooms", "100", "--single", "50", "--graphs", "10"]),

@@ -204,6 +204,10 @@ class _DnnDetector:
     def _load(self):
         raise NotImplementedError
 
+    def prepare(self) -> None:
+        """Load the network now (a build does it while frames are being selected)."""
+        _ = self.net
+
     def _candidates(self, image_bgr) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         raise NotImplementedError
 
@@ -365,6 +369,9 @@ class TiledDetector:
     @property
     def score_threshold(self) -> float:
         return self.base.score_threshold
+
+    def prepare(self) -> None:
+        self.base.prepare()
 
     def detect(self, image_bgr: np.ndarray) -> list[Detection]:
         if image_bgr is None or image_bgr.ndim != 3:

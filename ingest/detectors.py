@@ -10,15 +10,39 @@ This module composes `ingest.detect` and `ingest.recognize`; neither imports the
 from __future__ import annotations
 
 import importlib.util
+import os
 from pathlib import Path
 from typing import Any, Mapping, Optional, Union
 
 from ingest.detect import SCORE_THRESHOLD, Detector, OnnxDetector, SsdMobilenetDetector, TiledDetector, packaged_model_dir
+from ingest.detect_openvino import OpenVinoSsdDetector, openvino_available
 from ingest.recognize import CLASSIFIER_FILE, RecognizingDetector
 
 DEFAULT_DETECTOR = "ssd-mobilenet-v2-coco"
 _SSD_NAMES = {"ssd", "ssd-mobilenet", "ssd-mobilenet-v2", DEFAULT_DETECTOR, "default"}
 RECOGNIZERS = ("efficientnet",)
+# Which runtime runs the packaged SSD: both give the same detections, OpenVINO ~3x faster.
+RUNTIME_ENV = "SG3D_DETECTOR_RUNTIME"
+RUNTIMES = ("openvino", "opencv")
+
+
+def ssd_runtime() -> str:
+    """"openvino" when it is installed, else "opencv"; SG3D_DETECTOR_RUNTIME=opencv|openvino
+    picks one (the graph does not depend on it)."""
+    asked = os.environ.get(RUNTIME_ENV, "").strip().lower()
+    if asked and asked not in RUNTIMES:
+        raise ValueError(f"{RUNTIME_ENV}={asked!r}: use one of {', '.join(RUNTIMES)}")
+    if asked == "openvino" and not openvino_available():
+        raise ValueError(f"{RUNTIME_ENV}=openvino but the openvino package is not installed")
+    if asked:
+        return asked
+    return "openvino" if openvino_available() else "opencv"
+
+
+def ssd_detector(**options) -> SsdMobilenetDetector:
+    """The packaged SSD on the runtime `ssd_runtime` names."""
+    cls = OpenVinoSsdDetector if ssd_runtime() == "openvino" else SsdMobilenetDetector
+    return cls(**options)
 
 
 def with_recognizer(detector_name: Optional[str], recognizer: Optional[str]) -> str:
@@ -61,7 +85,7 @@ def detector_for(name: Optional[str] = None, score_threshold: float = SCORE_THRE
     pass (the high-recall preset). Nothing is loaded yet: bad names and missing files fail here."""
     base, recognizer = _split(str(name or DEFAULT_DETECTOR))
     if base.lower() in _SSD_NAMES:
-        detector = SsdMobilenetDetector(score_threshold=score_threshold)
+        detector = ssd_detector(score_threshold=score_threshold)
     elif base.lower().endswith(".onnx"):
         path = Path(base)
         detector = OnnxDetector(path, _onnx_labels(path), score_threshold=score_threshold)
@@ -91,7 +115,7 @@ def make_detector(config: Union[None, str, Mapping[str, Any]] = None) -> Detecto
     recognize = bool(options.pop("recognize", False))
     kind = str(options.pop("kind", DEFAULT_DETECTOR)).lower()
     if kind in _SSD_NAMES:
-        detector: Detector = SsdMobilenetDetector(**options)
+        detector: Detector = ssd_detector(**options)
     elif kind == "onnx":
         detector = OnnxDetector(**options)
     else:

@@ -7,7 +7,9 @@ in-memory sequences) pass them straight in and no source is needed.
 """
 from __future__ import annotations
 
-from typing import Callable, Optional, Protocol
+from collections import deque
+from concurrent.futures import ThreadPoolExecutor
+from typing import Callable, Iterable, Iterator, Optional, Protocol
 
 import cv2
 import numpy as np
@@ -124,6 +126,28 @@ class Frame:
                 self._size = (self.color.shape[1], self.color.shape[0])
         return self._size
 
+    def decode_quietly(self, what: Iterable[str]) -> dict[str, np.ndarray]:
+        """Decode the named images ("color", "depth", "gray") that are not decoded yet, without
+        keeping them or reporting a failure (a failed one is left out): the work a reader thread
+        can do ahead; `keep` hands the result back to the frame."""
+        out: dict[str, np.ndarray] = {}
+        if self._source is None:
+            return out
+        for name in what:
+            if getattr(self, "_" + name) is not None or (name == "gray" and self._color is not None):
+                continue
+            try:
+                out[name] = getattr(self._source, name)()
+            except FrameError:
+                pass   # raised and reported again when the frame's user asks for it
+        return out
+
+    def keep(self, decoded: dict[str, np.ndarray]) -> None:
+        """Take images decoded by `decode_quietly` (those not decoded here in the meantime)."""
+        for name, img in decoded.items():
+            if getattr(self, "_" + name) is None:
+                setattr(self, "_" + name, img)
+
     def load(self) -> "Frame":
         """Decode colour and depth now (raises FrameError); returns self."""
         _ = self.color, self.depth
@@ -133,3 +157,22 @@ class Frame:
         """Drop decoded pixels that can be decoded again (keeps in-memory frames intact)."""
         if self._source is not None:
             self._color = self._depth = self._gray = None
+
+
+def decoded_ahead(frames: Iterable[Frame], what: tuple[str, ...], ahead: int = 4) -> Iterator[Frame]:
+    """`frames` in order, with their `what` images decoded on a reader thread up to `ahead` frames
+    before the caller reaches them (JPEG and PNG decoding release the GIL, so decoding overlaps
+    the caller's work). Nothing else changes: a frame whose decoding failed comes back without
+    that image, and the failure is raised and reported when the caller asks for it."""
+    window: deque = deque()
+    with ThreadPoolExecutor(max_workers=1, thread_name_prefix="sg3d-decode") as pool:
+        for frame in frames:
+            window.append((frame, pool.submit(frame.decode_quietly, what)))
+            if len(window) > ahead:
+                ready, decoded = window.popleft()
+                ready.keep(decoded.result())
+                yield ready
+        while window:
+            ready, decoded = window.popleft()
+            ready.keep(decoded.result())
+            yield ready

@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import hashlib
 import json
+import threading
 import time
 from collections import Counter, defaultdict
 from dataclasses import asdict, dataclass, field, fields
@@ -31,7 +32,7 @@ from ingest import coverage, discovery, existence, fusion, rescan
 from ingest.abir import ABIR
 from ingest.attributes import measure_object
 from ingest.detect import Detector
-from ingest.frames import FrameError
+from ingest.frames import FrameError, decoded_ahead
 from ingest.kge import KeyframeGrouper
 from ingest.model import KnownObject, LocalGraph, ObjectObservation, RelationObservation, ScanInfo
 from ingest.relations import (ObjectGeometry, horizontal_basis, side_by_side_on_one_support,
@@ -178,14 +179,38 @@ def _select(seq, a: int, b: int, settings: Settings, stats: PipelineStats,
     return chosen
 
 
+def _prepare_in_background(detector: Detector) -> threading.Thread:
+    """Load the detector's network on a thread while frames are selected (a failure to load is
+    raised by the first detection, where it was raised before)."""
+    def prepare():
+        try:
+            getattr(detector, "prepare", lambda: None)()
+        except Exception:   # noqa: BLE001 - re-raised by detect() on the build's own thread
+            pass
+    thread = threading.Thread(target=prepare, name="sg3d-detector-load", daemon=True)
+    thread.start()
+    return thread
+
+
+def _lazy_frames(seq, chosen: list[int]):
+    for i in chosen:
+        try:
+            yield seq.frame(i, lazy=True)
+        except FrameError:
+            continue                      # recorded in seq.skipped
+
+
 def _detect(seq, chosen: list[int], detector: Detector, up, basis, settings: Settings,
             stats: PipelineStats, progress: Optional[ProgressFn]):
     """Sightings and visibility views of the chosen frames."""
     sightings: list[fusion.Sighting] = []
     views: list[existence.View] = []
-    for n, i in enumerate(chosen):
+    position = {i: n for n, i in enumerate(chosen)}
+    # the next frame's images are decoded on a reader thread while this one is detected
+    for frame in decoded_ahead(_lazy_frames(seq, chosen), ("color", "depth"), ahead=2):
+        i, n = frame.index, position[frame.index]
         try:
-            frame = seq.frame(i)
+            frame.load()
         except FrameError:
             continue                      # recorded in seq.skipped
         t0 = time.perf_counter()
@@ -304,7 +329,9 @@ def chunk_graph(seq, a: int, b: int, detector: Detector, up, settings: Settings,
     basis = np.stack(horizontal_basis(up))
     stats.chunks += 1
     stats.frames += b - a
+    loading = _prepare_in_background(detector)
     chosen = _select(seq, a, b, settings, stats, progress)
+    loading.join()
     sightings, views = _detect(seq, chosen, detector, up, basis, settings, stats, progress)
     t0 = time.perf_counter()
     if method.three_d:

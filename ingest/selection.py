@@ -11,7 +11,7 @@ from dataclasses import asdict, dataclass, field
 from typing import Callable, Iterator, Optional
 
 from ingest.abir import ABIR, AbirDecision
-from ingest.frames import Frame, FrameError
+from ingest.frames import Frame, FrameError, decoded_ahead
 from ingest.kge import KeyframeGroup, KeyframeGrouper
 from ingest.readers import Sequence
 
@@ -65,7 +65,7 @@ class FrameSelector:
         stop = len(seq) if stop is None else min(stop, len(seq))
         stats.frames += len(range(start, stop, step))
         try:
-            for frame in seq.frames(start, stop, step, lazy=True):
+            for frame in decoded_ahead(seq.frames(start, stop, step, lazy=True), ("gray",)):
                 try:
                     decision = self.abir.update(frame)
                     stats.read += 1
