@@ -19,6 +19,7 @@ from dataclasses import dataclass, field
 from typing import Callable, Optional
 
 import numpy as np
+from scipy.spatial.transform import Rotation
 
 from ingest.frames import FrameError
 from ingest.poses.graph import optimise_pose_graph
@@ -32,12 +33,13 @@ LOOP_MIN_OVERLAP = 0.5       # a loop closure sees at least this share of the ot
 LOOP_MIN_AGREEMENT = 0.85    # and this share of that agrees within 3 cm
 MAX_MISSES = 6               # unplaced frames in a row that end a segment
 MIN_SEGMENT_FRAMES = 10      # a shorter segment is not trusted on its own
-KEYFRAME_M, KEYFRAME_DEG = 0.2, 15.0
+KEYFRAME_M, KEYFRAME_DEG = 0.15, 12.0
 LOOP_RADIUS_M, LOOP_AXIS_DEG = 0.6, 35.0
 LOOP_SKIP_KEYFRAMES = 3      # the newest keyframes are neighbours, not loops
 LOOP_CANDIDATES = 2
 LOOP_MAX_GAP_M, LOOP_MAX_GAP_DEG = 0.3, 15.0
 LINK_CANDIDATES = 4
+KEYFRAME_NEIGHBOURS = 2      # a new keyframe is fitted to this many previous ones
 
 Loader = Callable[[int], tuple[np.ndarray, np.ndarray]]   # index -> (depth metres, grey image)
 
@@ -47,6 +49,7 @@ class _Segment:
     start: int
     processed: list[int] = field(default_factory=list)
     keyframes: list[View] = field(default_factory=list)
+    last: Optional[View] = None
 
     @property
     def span(self) -> int:
@@ -103,6 +106,9 @@ class _Estimator:
             cur = self.view(j)
             self.processed += 1
             if cur is None:
+                if ref is not None and stride > 1 and j - ref.index > 1:   # try the frames in between
+                    stride, fine_until, j = 1, j, ref.index + 1
+                    continue
                 if ref is not None:
                     misses += 1
                     if misses >= MAX_MISSES:
@@ -145,14 +151,29 @@ class _Estimator:
         self.unplaced.pop(view.index, None)
         self.poses[view.index] = pose
         seg.processed.append(view.index)
+        seg.last = view
         if ref is not None:
             self.edges.append((ref, view.index, motion, False))
         last = seg.keyframes[-1] if seg.keyframes else None
         if last is None or _far(self.poses[last.index], pose, KEYFRAME_M, KEYFRAME_DEG):
+            self._link_keyframes(seg, view)
             self._close_loops(seg, view)
             seg.keyframes.append(view)
 
-    # -- 2. loop closures ----------------------------------------------------------------------
+    # -- 2. keyframe edges and loop closures --------------------------------------------------------
+    def _link_keyframes(self, seg: _Segment, view: View) -> None:
+        """Fit a new keyframe straight to the last few keyframes (from the chained estimate): one
+        measurement over the span of several odometry steps, so drift grows per keyframe, not per
+        tracked frame."""
+        pose = self.poses[view.index]
+        for kf in seg.keyframes[-KEYFRAME_NEIGHBOURS:]:
+            predicted = np.linalg.inv(self.poses[kf.index]) @ pose
+            fit = self.odometry.fit_from(view, kf, predicted, LOOP_MIN_OVERLAP, LOOP_MIN_AGREEMENT)
+            if fit.ok:
+                gap_m, gap_deg = motion_gap(predicted, fit.motion)
+                if gap_m < LOOP_MAX_GAP_M and gap_deg < LOOP_MAX_GAP_DEG:
+                    self.edges.append((kf.index, view.index, fit.motion, True))
+
     def _close_loops(self, seg: _Segment, view: View) -> None:
         pose = self.poses[view.index]
         old = seg.keyframes[:-LOOP_SKIP_KEYFRAMES] if len(seg.keyframes) > LOOP_SKIP_KEYFRAMES else []
@@ -179,7 +200,7 @@ class _Estimator:
         kept = []
         for seg in self.segments:
             if seg.span < MIN_SEGMENT_FRAMES:
-                for i in seg.processed:
+                for i in self._frames_of(seg):
                     self.poses.pop(i, None)
                     self.unplaced[i] = (f"tracking lost: only {seg.span} frames from here could be tracked together "
                                         f"(at least {MIN_SEGMENT_FRAMES} are needed to trust them)")
@@ -196,8 +217,8 @@ class _Estimator:
 
         self.linked = 0
         for b in range(1, len(kept)):
-            for a in range(b):
-                if root(a) != root(b) and self._link(kept[a], kept[b]):
+            for a in range(b - 1, -1, -1):
+                if root(a) != root(b) and self._link(kept[a], kept[b], resumed=a == b - 1):
                     group[root(b)] = root(a)
                     self.linked += 1
         sizes: dict[int, int] = {}
@@ -207,26 +228,57 @@ class _Estimator:
         chosen = [seg for k, seg in enumerate(kept) if root(k) == main]
         for k, seg in enumerate(kept):
             if root(k) != main:
-                for i in seg.processed:
+                for i in self._frames_of(seg):
                     self.poses.pop(i, None)
                     self.unplaced[i] = (f"tracking lost before frame {seg.start} and the {seg.span} frames from "
                                         f"there could not be linked to the main track")
         return chosen
 
-    def _link(self, a: _Segment, b: _Segment) -> bool:
-        """Fit b's first and last keyframes to a's keyframes that look most alike; on success move
-        b's poses into a's frame and record the link edge."""
+    def _frames_of(self, seg: _Segment) -> list[int]:
+        """Every frame a segment spans that has no reason of its own for being unplaced."""
+        span = range(seg.processed[0], seg.processed[-1] + 1)
+        return [i for i in span if i in seg.processed or i not in self.unplaced]
+
+    def _extrapolate(self, seg: _Segment, t: int) -> np.ndarray:
+        """The pose at frame t if the camera kept the mean velocity of the segment's last steps."""
+        idx = seg.processed
+        a, b = idx[max(0, len(idx) - 6)], idx[-1]
+        if a == b:
+            return self.poses[b]
+        rel = np.linalg.inv(self.poses[a]) @ self.poses[b]
+        scale = (t - b) / (b - a)
+        step = np.eye(4)
+        step[:3, :3] = Rotation.from_rotvec(Rotation.from_matrix(rel[:3, :3]).as_rotvec() * scale).as_matrix()
+        step[:3, 3] = rel[:3, 3] * scale
+        return self.poses[b] @ step
+
+    def _link(self, a: _Segment, b: _Segment, resumed: bool = False) -> bool:
+        """Place segment b in segment a's frame: when b follows a (`resumed`), fit b's first view
+        to a's last one from where a's motion would have taken the camera (or from where it
+        stood); then b's first and last keyframes to a's keyframes that look most alike. On
+        success move b's poses into a's frame and record the link edge."""
+        if resumed and a.last is not None and b.keyframes:
+            query = b.keyframes[0]
+            for guess in (self._extrapolate(a, query.index), self.poses[a.last.index]):
+                predicted = np.linalg.inv(self.poses[a.last.index]) @ guess
+                fit = self.odometry.fit_from(query, a.last, predicted, LOOP_MIN_OVERLAP, LOOP_MIN_AGREEMENT)
+                if fit.ok:
+                    self._move(b, query, a.last, fit.motion)
+                    return True
         for query in {id(v): v for v in (b.keyframes[:2] + b.keyframes[-2:])}.values():
             ranked = sorted(a.keyframes, key=lambda kf: -similarity(query, kf))[:LINK_CANDIDATES]
             for kf in ranked:
                 fit = self.odometry.fit(query, kf, LOOP_MIN_INLIERS)
                 if fit.ok:
-                    move = self.poses[kf.index] @ fit.motion @ np.linalg.inv(self.poses[query.index])
-                    for i in b.processed:
-                        self.poses[i] = move @ self.poses[i]
-                    self.edges.append((kf.index, query.index, fit.motion, True))
+                    self._move(b, query, kf, fit.motion)
                     return True
         return False
+
+    def _move(self, b: _Segment, query: View, anchor: View, motion: np.ndarray) -> None:
+        move = self.poses[anchor.index] @ motion @ np.linalg.inv(self.poses[query.index])
+        for i in b.processed:
+            self.poses[i] = move @ self.poses[i]
+        self.edges.append((anchor.index, query.index, motion, True))
 
     # -- 4. optimisation and interpolation ---------------------------------------------------------
     def finish(self, segments: list[_Segment], times: list[float]) -> dict[int, np.ndarray]:
