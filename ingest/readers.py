@@ -18,7 +18,7 @@ Layouts (auto-detected by `open_sequence`):
   (``fx fy cx cy`` [depth units per metre, 1000 = millimetres]); no poses.
 
 A sequence without poses (the plain layout, 7-Scenes without ``.pose.txt`` files, Open3D without
-``trajectory.log``) opens with `Sequence.has_poses()` false; `ingest.poses` estimates them and
+``trajectory.log``, TUM without ``groundtruth.txt``) opens with `Sequence.has_poses()` false; `ingest.poses` estimates them and
 `Sequence.use_poses` hands them to the frames.
 
 Depth is delivered as float32 metres registered to the colour image (see `ingest.registration`),
@@ -375,13 +375,14 @@ class TumSequence(Sequence):
     @classmethod
     def open(cls, path: Path, registration: Optional[Registration] = None,
              max_dt: float = 0.02) -> "TumSequence":
-        for name in ("rgb.txt", "depth.txt", "groundtruth.txt"):
-            if not (path / name).is_file():
-                raise SequenceError(f"missing {path / name} (TUM RGB-D layout)")
+        missing = [name for name in ("rgb.txt", "depth.txt") if not (path / name).is_file()]
+        if missing:
+            raise SequenceError(f"missing {', '.join(str(path / n) for n in missing)} (TUM RGB-D layout)")
+        posed = (path / "groundtruth.txt").is_file()   # without it the poses are estimated
         K = cls._intrinsics(path)
         rgb = _read_list(path / "rgb.txt", 2)
         depth = _read_list(path / "depth.txt", 2)
-        gt = _read_list(path / "groundtruth.txt", 8)
+        gt = _read_list(path / "groundtruth.txt", 8) if posed else []
         t_rgb = np.array([float(r[0]) for r in rgb])
         t_depth = np.array([float(r[0]) for r in depth])
         t_gt = np.array([float(r[0]) for r in gt])
@@ -393,6 +394,9 @@ class TumSequence(Sequence):
             name = Path(row[1]).stem
             if ddt[k] > max_dt:
                 skipped.append((name, f"no depth image within {max_dt} s of {row[1]} in depth.txt"))
+                continue
+            if not posed:
+                entries.append(_Entry(name, path / row[1], path / depth[di[k]][1], float(t_rgb[k])))
                 continue
             if gdt[k] > max_dt:
                 skipped.append((name, f"no pose within {max_dt} s of {row[1]} in groundtruth.txt"))

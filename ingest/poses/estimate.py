@@ -4,9 +4,11 @@
    fails, the frames in between are tried one by one, and a frame no neighbour confirms is left
    unplaced with the reason. After `MAX_MISSES` unplaced frames in a row the track is lost and a
    new segment starts (a lost track never chains a wrong motion into the map);
-2. keyframes (every ~0.2 m or 15 degrees) and loop closures: a keyframe near an older one of the
-   same track (by the current estimate) is fitted to it; the closure is accepted when most of its
-   depth agrees and the fit is consistent with the drift the odometry can have;
+2. keyframes (every ~0.15 m or 12 degrees), each fitted straight to the previous two (drift then
+   grows per keyframe, not per tracked frame), and loop closures: a keyframe near an older one of
+   the same track (by the current estimate) is fitted to it, starting from the estimate. A fit
+   is accepted when half of the depth overlaps the other view, 85 % of that agrees within 3 cm,
+   and it is consistent with the drift the odometry can have;
 3. segments are linked by fitting their first and last keyframes to the keyframes of the others
    that look most alike; the largest linked group is the map, the rest is left unplaced;
 4. the pose graph (odometry + closure + link edges) is optimised (GTSAM), and the frames between
