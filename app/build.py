@@ -40,6 +40,8 @@ def validate(req: BuildRequest) -> None:
         raise BuildError("room and building names must be non-empty and contain no '/'")
     if sum(map(bool, (req.transform_file, req.align_to, req.shared_frame))) > 1:
         raise BuildError("give at most one of --transform, --align-to and --shared-frame")
+    if req.trajectory_out is not None and not Path(req.trajectory_out).expanduser().parent.is_dir():
+        raise BuildError(f"--trajectory-out {req.trajectory_out}: no such folder {Path(req.trajectory_out).parent}")
     if req.start < 0 or (req.stop is not None and req.stop <= req.start):
         raise BuildError(f"empty frame range: --start {req.start} --stop {req.stop} "
                          f"(stop must be greater than start, start at least 0)")

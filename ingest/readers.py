@@ -546,8 +546,9 @@ class PlainSequence(Sequence):
 
     @staticmethod
     def looks_like(path: Path) -> bool:
-        return ((path / "color").is_dir() and (path / "depth").is_dir() and not (path / "intrinsic").is_dir()
-                and not (path / "pose").is_dir() and any((path / n).is_file() for n in PLAIN_INTRINSICS))
+        """A color/ folder without ScanNet's intrinsic/ and pose/ (what else is missing is
+        reported when it is opened)."""
+        return (path / "color").is_dir() and not (path / "intrinsic").is_dir() and not (path / "pose").is_dir()
 
     @classmethod
     def open(cls, path: Path, registration: Optional[Registration] = None) -> "PlainSequence":

@@ -149,7 +149,7 @@ def test_shuffled_stretch_is_never_merged_with_a_wrong_pose(kitchen_dir, tmp_pat
 def test_plain_folder_names_every_missing_piece(tmp_path):
     (tmp_path / "color").mkdir()
     with pytest.raises(SequenceError) as err:
-        open_sequence(tmp_path, layout="plain")
+        open_sequence(tmp_path)
     msg = str(err.value)
     assert "depth/" in msg and "intrinsics.txt" in msg and "color/" not in msg.split("missing", 1)[1]
 
@@ -162,6 +162,10 @@ def test_trajectory_out_needs_estimated_poses(kitchen_dir, tmp_path):
     with pytest.raises(BuildError, match="--estimate-poses"):
         place_cameras(seq, req, len(seq))
     assert place_cameras(seq, BuildRequest(kitchen_dir, "k"), len(seq)) == {"source": "given"}
+    from app.build import validate
+
+    with pytest.raises(BuildError, match="no such folder"):
+        validate(BuildRequest(kitchen_dir, "k", trajectory_out=tmp_path / "absent" / "t.txt"))
 
 
 # -- a RealSense-style bag without poses, end to end ----------------------------------------------

@@ -141,6 +141,11 @@ def build(settings, sequence: Path, room: str, building: str, method: str, quali
     build merges nothing twice; after Ctrl-C or a crash, the same command (or --resume) merges
     exactly what is missing.
 
+    A recording without camera poses (a plain color/ + depth/ + intrinsics.txt folder, a bag
+    without a pose topic or /tf) is built on poses estimated from its images (--estimate-poses
+    does that for any recording); the summary says how far the camera went, the loop closures
+    accepted and which frames could not be placed.
+
     Rooms of one building: the first room placed in a building is its reference frame; place
     the others with --shared-frame, --transform FILE or --align-to ROOM (see `sg3d rooms`).
     """
