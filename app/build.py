@@ -114,7 +114,9 @@ def build_room(store, req: BuildRequest, settings, detector=None, embedding=None
 
     t0 = time.perf_counter()
     try:
-        up = estimate_gravity(sample_frames(seq, 20)).up
+        # estimated poses exist only for the build's frames
+        window = (req.start, stop) if poses["source"] == "estimated" else (0, None)
+        up = estimate_gravity(sample_frames(seq, 20, *window)).up
     except ValueError:
         raise BuildError(f"no frame of {req.sequence} has usable depth")
     t_gravity = time.perf_counter() - t0

@@ -205,3 +205,22 @@ def test_bag_missing_pieces_are_named_at_once(kitchen_dir, tmp_path):
     with pytest.raises(SequenceError) as err:
         open_sequence(bag)
     assert "depth image topic" in str(err.value) and "aligned_depth_to_color" in str(err.value)
+
+
+def test_estimate_poses_replaces_given_ones_and_the_summary_says_so(kitchen_dir):
+    from ingest.poses.sequence import estimate_summary
+    from sg3d.commands.build import _poses_text
+
+    seq = open_sequence(kitchen_dir)
+    given = seq.frame(100, lazy=True).pose
+    est = estimate_sequence_poses(seq, 60, 160)          # only the build's range is estimated
+    assert set(est.poses) == set(range(60, 160))
+    np.testing.assert_allclose(seq.frame(100, lazy=True).pose, est.poses[100])
+    assert np.abs(seq.frame(100, lazy=True).pose - given).max() > 0.01   # another world frame
+    from ingest.gravity import sample_frames
+
+    assert len(sample_frames(seq, 20, 60, 160)) == 20 and seq.skipped == []   # gravity stays in the range
+    summary = estimate_summary(seq, est, "t.txt")
+    assert summary["placed"] == 100 and summary["unplaced_frames"] == []
+    text = _poses_text(summary)
+    assert f"{summary['trajectory_m']:.2f} m travelled" in text and "trajectory in t.txt" in text
