@@ -54,7 +54,9 @@ def _poses_text(poses: dict) -> str:
     text = (f"estimated: {poses['trajectory_m']:.2f} m travelled, {poses['loop_closures']} loop closures, "
             f"{poses['placed']} frames placed, {poses['unplaced']} not placed")
     if poses["segments"] > 1:
-        text += f"; tracking lost {poses['segments'] - 1} times, {poses['segments_linked']} segments linked back"
+        lost, linked = poses["segments"] - 1, poses["segments_linked"]
+        text += (f"; tracking lost {'once' if lost == 1 else f'{lost} times'}, {linked} "
+                 f"segment{'' if linked == 1 else 's'} found again")
     if poses["unplaced_frames"]:
         shown = "; ".join(f"{u['frame']}: {u['reason']}" for u in poses["unplaced_frames"][:3])
         more = len(poses["unplaced_frames"]) - 3
