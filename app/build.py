@@ -31,6 +31,8 @@ class BuildRequest:
     align_to: Optional[str] = None
     shared_frame: bool = False
     bag_options: Optional[dict] = None  # ROS bags: `ingest.bags.BagOptions` fields
+    estimate_poses: bool = False        # ignore the recording's poses and estimate them
+    trajectory_out: Optional[Path] = None  # write the estimated trajectory here (TUM format)
 
 
 def validate(req: BuildRequest) -> None:
@@ -38,6 +40,8 @@ def validate(req: BuildRequest) -> None:
         raise BuildError("room and building names must be non-empty and contain no '/'")
     if sum(map(bool, (req.transform_file, req.align_to, req.shared_frame))) > 1:
         raise BuildError("give at most one of --transform, --align-to and --shared-frame")
+    if req.trajectory_out is not None and not Path(req.trajectory_out).expanduser().parent.is_dir():
+        raise BuildError(f"--trajectory-out {req.trajectory_out}: no such folder {Path(req.trajectory_out).parent}")
     if req.start < 0 or (req.stop is not None and req.stop <= req.start):
         raise BuildError(f"empty frame range: --start {req.start} --stop {req.stop} "
                          f"(stop must be greater than start, start at least 0)")
@@ -100,14 +104,19 @@ def build_room(store, req: BuildRequest, settings, detector=None, embedding=None
     if req.start >= len(seq):
         raise BuildError(f"--start {req.start} is past the end of the sequence ({len(seq)} frames)")
     stop = len(seq) if req.stop is None else min(req.stop, len(seq))
+    poses = place_cameras(seq, req, stop, progress)
     store.ensure_schema()
     rid = room_id(req.building, req.room)
-    run = run_key(str(Path(req.sequence).resolve()), len(seq), settings, req.room, req.building)
+    # a build on estimated poses is another build than one on the recording's own poses
+    identity = str(Path(req.sequence).resolve()) + (" (estimated poses)" if poses["source"] == "estimated" else "")
+    run = run_key(identity, len(seq), settings, req.room, req.building)
     done = merged_keys(store, run + ":")
 
     t0 = time.perf_counter()
     try:
-        gravity = estimate_gravity(sample_frames(seq, 20))
+        # estimated poses exist only for the build's frames
+        window = (req.start, stop) if poses["source"] == "estimated" else (0, None)
+        gravity = estimate_gravity(sample_frames(seq, 20, *window))
         up = gravity.up
     except ValueError:
         raise BuildError(f"no frame of {req.sequence} has usable depth")
@@ -173,11 +182,35 @@ def build_room(store, req: BuildRequest, settings, detector=None, embedding=None
             "skipped": len(skipped), "skipped_frames": skipped},
         "hypotheses": hyp,
         "graph": {**totals, "room_objects": room_objects, "room_relations": room_relations},
-        "seconds": {k: round(v, 3) for k, v in {"gravity": t_gravity, **stats.seconds,
+        "seconds": {k: round(v, 3) for k, v in {**({"poses": poses["seconds"]} if "seconds" in poses else {}),
+                                                "gravity": t_gravity, **stats.seconds,
                                                 "merge": merge_seconds, "total": wall}.items()},
         "input_frames_per_second": round(counts["frames"] / wall, 2) if wall > 0 and counts["frames"] else 0.0,
-        "key": run, "scan": scan_id, "placement": placed,
+        "key": run, "scan": scan_id, "placement": placed, "poses": poses,
     }
+
+
+def place_cameras(seq, req: BuildRequest, stop: int, progress: Optional[ProgressFn] = None) -> dict:
+    """Camera poses for the build: the recording's own, or estimated from its images when it has
+    none or `req.estimate_poses` asks; the summary's "poses" section."""
+    if not req.estimate_poses and seq.has_poses():
+        if req.trajectory_out is not None:
+            raise BuildError(f"--trajectory-out writes estimated poses, and {req.sequence} has its own; "
+                             f"add --estimate-poses to estimate them anyway")
+        return {"source": "given"}
+    from ingest.poses.sequence import estimate_sequence_poses, estimate_summary, write_trajectory
+
+    est = estimate_sequence_poses(seq, req.start, stop,
+                                  progress=(lambda done, total: progress("poses", done, total)) if progress else None)
+    if not est.poses:
+        raise BuildError(f"no camera pose could be estimated for {req.sequence}: "
+                         + "; ".join(sorted({why for why in est.unplaced.values()})[:3]))
+    if req.trajectory_out is not None:
+        try:
+            write_trajectory(req.trajectory_out, seq, est)
+        except OSError as exc:
+            raise BuildError(f"cannot write --trajectory-out {req.trajectory_out}: {exc.strerror}")
+    return estimate_summary(seq, est, str(req.trajectory_out) if req.trajectory_out else None)
 
 
 def scan_key(run: str, start: int, stop: int) -> str:

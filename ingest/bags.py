@@ -12,7 +12,8 @@ a bare ``.mcap`` or ``.db3`` file.
 - poses (camera-to-world of the optical frame: z forward, x right, y down): a
   ``geometry_msgs/PoseStamped``, ``PoseWithCovarianceStamped`` or ``nav_msgs/Odometry`` topic,
   or ``/tf`` + ``/tf_static`` from the camera frame (default: the colour images' frame_id) up to
-  the world frame (default: the root of the camera frame's tree).
+  the world frame (default: the root of the camera frame's tree). Without either, the frames
+  carry no pose and `ingest.poses` estimates them.
 
 A topic role with one candidate is picked; several candidates without a choice, or none, is a
 `SequenceError` listing the topics and their types. Every colour message is a frame: depth and
@@ -399,6 +400,21 @@ def _open_reader(path: Path):
     return reader
 
 
+def _refuse_missing(path: Path, conns, colour, depth, infos) -> None:
+    """One error naming every piece the bag lacks and what would supply it."""
+    missing = []
+    if not colour:
+        missing.append("a colour image topic (sensor_msgs/Image rgb8/bgr8 or CompressedImage; realsense-ros: "
+                       "/camera/color/image_raw)")
+    if not depth:
+        missing.append("a depth image topic (Image 16UC1 mm or 32FC1 m, registered to colour; realsense-ros: "
+                       "/camera/aligned_depth_to_color/image_raw, recorded with align_depth enabled)")
+    if not infos:
+        missing.append("a sensor_msgs/CameraInfo topic for the intrinsics (realsense-ros: /camera/color/camera_info)")
+    if missing:
+        raise SequenceError(f"{path} lacks " + "; ".join(missing) + f"; topics: {_topics_line(conns) or 'none'}")
+
+
 def _first(reader, conns):
     for conn, _, raw in reader.messages(conns):
         return conn, reader.deserialize(raw, conn.msgtype)
@@ -434,11 +450,13 @@ def _index(reader, path: Path, opts: BagOptions, registration) -> BagSequence:
     conns = list(reader.connections)
     images = [c for c in conns if c.msgtype in (IMAGE, COMPRESSED)]
     kinds = {} if opts.color_topic and opts.depth_topic else {c.topic: _image_kind(reader, c) for c in images}
-    colour = _pick("colour image", "--color-topic", [c for c in images if kinds.get(c.topic) == "colour"],
-                   opts.color_topic, conns, path)
-    depth = _pick("depth image", "--depth-topic", [c for c in images if kinds.get(c.topic) == "depth"],
-                  opts.depth_topic, conns, path)
+    colour_candidates = [c for c in images if kinds.get(c.topic) == "colour"]
+    depth_candidates = [c for c in images if kinds.get(c.topic) == "depth"]
     infos = [c for c in conns if c.msgtype == CAMERA_INFO]
+    _refuse_missing(path, conns, colour_candidates if opts.color_topic is None else [1],
+                    depth_candidates if opts.depth_topic is None else [1], infos if opts.info_topic is None else [1])
+    colour = _pick("colour image", "--color-topic", colour_candidates, opts.color_topic, conns, path)
+    depth = _pick("depth image", "--depth-topic", depth_candidates, opts.depth_topic, conns, path)
     beside = [c for c in infos if c.topic.rsplit("/", 1)[0] == colour[0].topic.rsplit("/", 1)[0]]
     info = _pick("camera info", "--info-topic", beside or infos, opts.info_topic, conns, path)
 
@@ -455,10 +473,8 @@ def _index(reader, path: Path, opts: BagOptions, registration) -> BagSequence:
     use_tf = (opts.pose_topic or "").lower() == "tf" or (
         opts.pose_topic is None and (opts.camera_frame or opts.world_frame or not pose_conns) and tf_conns)
     pose_topic = None
-    if not use_tf:
-        if not pose_conns and opts.pose_topic is None:
-            raise SequenceError(f"no pose source in {path}: no PoseStamped/Odometry topic and no /tf; "
-                                f"topics: {_topics_line(conns)}")
+    no_poses = not use_tf and not pose_conns and opts.pose_topic is None   # poses are estimated then
+    if not use_tf and not no_poses:
         pose_topic = _pick("pose", "--pose-topic", pose_conns, opts.pose_topic, conns, path)
         if pose_topic[0].msgtype not in POSE_TYPES:
             raise SequenceError(f"--pose-topic {pose_topic[0].topic} is a {pose_topic[0].msgtype}, not one of "
@@ -483,7 +499,7 @@ def _index(reader, path: Path, opts: BagOptions, registration) -> BagSequence:
         if use_tf:
             for conn, _, raw in reader.messages(tf_conns):
                 tree.add(reader.deserialize(raw, conn.msgtype), static=conn.topic.endswith("tf_static"))
-        else:
+        elif pose_topic:      # (messages([]) would mean every topic)
             for conn, bag_ns, raw in reader.messages(pose_topic):
                 msg = reader.deserialize(raw, conn.msgtype)
                 pose = msg.pose.pose if hasattr(msg.pose, "pose") else msg.pose
@@ -516,7 +532,9 @@ def _index(reader, path: Path, opts: BagOptions, registration) -> BagSequence:
             skipped.append((name, f"no depth on {depth[0].topic} within {max_dt:g} s of t={t / 1e9:.6f}"))
             continue
         d_ref = refs["depth"][int(order[min(near, key=lambda j: abs(int(depth_sorted[j]) - t))])]
-        if use_tf:
+        if no_poses:
+            pose = None
+        elif use_tf:
             try:
                 pose = tree.lookup(world, camera, t, tol)
             except LookupError as exc:
@@ -532,7 +550,7 @@ def _index(reader, path: Path, opts: BagOptions, registration) -> BagSequence:
         reasons = defaultdict(int)
         for _, why in skipped:
             reasons[why.split(" within ")[0].split(" of t=")[0]] += 1
-        raise SequenceError(f"no colour frame of {path} has depth and a pose: "
+        raise SequenceError(f"no colour frame of {path} has depth{'' if no_poses else ' and a pose'}: "
                             + "; ".join(f"{n}x {why}" for why, n in reasons.items()))
     width, height = int(info_msg.width), int(info_msg.height)
     if width <= 0 or height <= 0:
@@ -543,7 +561,8 @@ def _index(reader, path: Path, opts: BagOptions, registration) -> BagSequence:
             raise SequenceError(f"{path}: CameraInfo has no image size and {exc}") from None
         width, height = img.shape[1], img.shape[0]
     sources = {"color": _topics_line(colour[:1]), "depth": _topics_line(depth[:1]), "intrinsics": info[0].topic,
-               "poses": (f"/tf: {camera} in {world}" if use_tf else _topics_line(pose_topic[:1])),
+               "poses": ("none (estimated from the images)" if no_poses else
+                         f"/tf: {camera} in {world}" if use_tf else _topics_line(pose_topic[:1])),
                "max_dt": max_dt, "colour_messages": len(refs["colour"]), "depth_messages": len(refs["depth"])}
     return BagSequence(path, reader, entries, K, registration, skipped, (width, height), sources)
 

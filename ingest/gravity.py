@@ -152,10 +152,12 @@ def estimate_up(frames: Iterable[Frame], stride: int = GRID_STRIDE) -> np.ndarra
     return np.asarray(estimate_gravity(frames, stride).up)
 
 
-def sample_frames(seq, n: int = 20) -> list[Frame]:
-    """n readable frames spread evenly over a sequence (for estimate_gravity)."""
+def sample_frames(seq, n: int = 20, start: int = 0, stop: Optional[int] = None) -> list[Frame]:
+    """n readable frames spread evenly over a sequence, or over its frames [start, stop) (for
+    estimate_gravity)."""
     out = []
-    for i in np.linspace(0, len(seq) - 1, min(n, len(seq))).round().astype(int):
+    stop = len(seq) if stop is None else min(stop, len(seq))
+    for i in np.linspace(start, stop - 1, min(n, stop - start)).round().astype(int):
         try:
             out.append(seq.frame(int(i)))
         except FrameError:

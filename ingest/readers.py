@@ -13,6 +13,13 @@ Layouts (auto-detected by `open_sequence`):
   (mm, registered to colour), ``trajectory.log`` (a line ``i j n`` then the 4x4 camera-to-world
   pose of frame i, one block per frame) and an intrinsics JSON (Open3D
   ``PinholeCameraIntrinsic``: ``width``, ``height``, column-major ``intrinsic_matrix``).
+- ``plain`` (your own recording): ``color/*.png|jpg`` and ``depth/*.png`` (uint16, registered to
+  colour, paired by file name or else by order) and a one-line ``intrinsics.txt``
+  (``fx fy cx cy`` [depth units per metre, 1000 = millimetres]); no poses.
+
+A sequence without poses (the plain layout, 7-Scenes without ``.pose.txt`` files, Open3D without
+``trajectory.log``, TUM without ``groundtruth.txt``) opens with `Sequence.has_poses()` false; `ingest.poses` estimates them and
+`Sequence.use_poses` hands them to the frames.
 
 Depth is delivered as float32 metres registered to the colour image (see `ingest.registration`),
 raw 0 and 65535 read as 0 = invalid. A bad frame (missing or corrupt image, non-finite or
@@ -29,12 +36,12 @@ from typing import Iterator, Optional, Union
 import cv2
 import numpy as np
 
-from ingest.frames import Frame, FrameError
+from ingest.frames import Frame, FrameError, FrameSource
 from ingest.registration import DepthRegistrar, Registration
 
-LAYOUTS = ("7scenes", "tum", "scannet", "open3d")
+LAYOUTS = ("7scenes", "tum", "scannet", "open3d", "plain")
 _ALIASES = {"3dmatch": "7scenes", "7-scenes": "7scenes", "tum-rgbd": "tum", "sens": "scannet",
-            "redwood": "open3d"}
+            "redwood": "open3d", "folder": "plain"}
 
 # Published calibration of the TUM RGB-D Freiburg cameras (fx, fy, cx, cy).
 TUM_FREIBURG = {
@@ -78,11 +85,12 @@ def _jpeg_complete(path: Path, tail: int = 64) -> bool:
 class _FileSource:
     """Decodes one frame's files; every failure names the file."""
 
-    __slots__ = ("entry", "seq")
+    __slots__ = ("entry", "seq", "registered")
 
-    def __init__(self, entry: _Entry, seq: "Sequence"):
+    def __init__(self, entry: _Entry, seq: "Sequence", registered: bool = True):
         self.entry = entry
         self.seq = seq
+        self.registered = registered  # False: depth in the depth camera's own pixels
 
     def _read(self, path: Path, flags: int) -> np.ndarray:
         if not path.is_file():
@@ -125,7 +133,7 @@ class _FileSource:
         depth = raw.astype(np.float32)
         depth *= np.float32(1.0 / self.seq.depth_scale)
         depth[raw == 65535] = 0.0  # the sensor's "no reading" marker, like 0
-        return self.seq.registrar(depth)
+        return self.seq.registrar(depth) if self.registered else depth
 
 
 def _parse_pose(entry: _Entry) -> np.ndarray:
@@ -183,6 +191,39 @@ class Sequence:
     def skip(self, name: str, reason: str) -> None:
         self._skipped.setdefault(name, reason)
 
+    def has_poses(self) -> bool:
+        """Whether the recording carries camera poses (some frame has a pose or a pose file)."""
+        return any(e.pose is not None or (e.pose_file is not None and e.pose_file.is_file())
+                   for e in self._entries)
+
+    def name_of(self, i: int) -> str:
+        return self._entries[i].name
+
+    def timestamp_of(self, i: int) -> float:
+        return self._entries[i].timestamp
+
+    def pixels(self, i: int, registered: bool = True) -> FrameSource:
+        """What decodes frame i's colour, depth and grey image (no pose needed); with
+        `registered=False` the depth stays in the depth camera's pixels (see `depth_K`)."""
+        source = self._source(self._entries[i])
+        if not registered and isinstance(source, _FileSource):
+            source.registered = False
+        return source
+
+    @property
+    def depth_K(self) -> np.ndarray:
+        """Intrinsics of the depth camera's own image: the given matrix unless the layout ships a
+        separate one (7-Scenes' camera-intrinsics.txt is the depth camera's calibration)."""
+        return getattr(self, "_depth_K", self.K)
+
+    def use_poses(self, poses: dict[int, np.ndarray], unplaced: dict[int, str]) -> None:
+        """Replace the frames' poses by estimated ones (frame index -> camera-to-world); a frame
+        in `unplaced` is skipped with its reason when reached."""
+        for i, entry in enumerate(self._entries):
+            entry.pose = poses.get(i)
+            entry.pose_file = None
+        self._unplaced = {i: why for i, why in unplaced.items() if i not in poses}
+
     def _source(self, entry) -> "_FileSource":
         """What decodes one entry's pixels (a bag reader decodes messages instead of files)."""
         return _FileSource(entry, self)
@@ -220,6 +261,10 @@ class Sequence:
         """One frame by position (raises FrameError when it is bad, after recording it in
         `skipped`)."""
         entry = self._entries[i]
+        unplaced = getattr(self, "_unplaced", {})
+        if i in unplaced:
+            self.skip(entry.name, unplaced[i])
+            raise FrameError(entry.name, unplaced[i])
         try:
             pose = _parse_pose(entry)
         except FrameError as exc:
@@ -330,13 +375,14 @@ class TumSequence(Sequence):
     @classmethod
     def open(cls, path: Path, registration: Optional[Registration] = None,
              max_dt: float = 0.02) -> "TumSequence":
-        for name in ("rgb.txt", "depth.txt", "groundtruth.txt"):
-            if not (path / name).is_file():
-                raise SequenceError(f"missing {path / name} (TUM RGB-D layout)")
+        missing = [name for name in ("rgb.txt", "depth.txt") if not (path / name).is_file()]
+        if missing:
+            raise SequenceError(f"missing {', '.join(str(path / n) for n in missing)} (TUM RGB-D layout)")
+        posed = (path / "groundtruth.txt").is_file()   # without it the poses are estimated
         K = cls._intrinsics(path)
         rgb = _read_list(path / "rgb.txt", 2)
         depth = _read_list(path / "depth.txt", 2)
-        gt = _read_list(path / "groundtruth.txt", 8)
+        gt = _read_list(path / "groundtruth.txt", 8) if posed else []
         t_rgb = np.array([float(r[0]) for r in rgb])
         t_depth = np.array([float(r[0]) for r in depth])
         t_gt = np.array([float(r[0]) for r in gt])
@@ -348,6 +394,9 @@ class TumSequence(Sequence):
             name = Path(row[1]).stem
             if ddt[k] > max_dt:
                 skipped.append((name, f"no depth image within {max_dt} s of {row[1]} in depth.txt"))
+                continue
+            if not posed:
+                entries.append(_Entry(name, path / row[1], path / depth[di[k]][1], float(t_rgb[k])))
                 continue
             if gdt[k] > max_dt:
                 skipped.append((name, f"no pose within {max_dt} s of {row[1]} in groundtruth.txt"))
@@ -408,7 +457,10 @@ class ScanNetSequence(Sequence):
                                   pose_file=path / "pose" / f"{color.stem}.txt"))
         if not entries:
             raise SequenceError(f"no color/N.jpg with a depth/N.png in {path}")
-        return cls(path, entries, K, registration, skipped)
+        seq = cls(path, entries, K, registration, skipped)
+        if (path / "intrinsic" / "intrinsic_depth.txt").is_file():
+            seq._depth_K = _read_matrix(path / "intrinsic" / "intrinsic_depth.txt")
+        return seq
 
 
 # -- Open3D reconstruction system (Redwood) ---------------------------------------------------
@@ -460,9 +512,9 @@ class Open3dSequence(Sequence):
             raise SequenceError(f"missing intrinsics JSON in {path} (Open3D PinholeCameraIntrinsic "
                                 f"with 'intrinsic_matrix', e.g. camera_primesense.json)")
         K = _open3d_intrinsics(intrinsics[0])
-        if not (path / "trajectory.log").is_file():
-            raise SequenceError(f"missing {path / 'trajectory.log'} (Open3D/Redwood camera trajectory)")
-        poses = read_trajectory_log(path / "trajectory.log")
+        # without trajectory.log the poses are estimated (see ingest.poses)
+        posed = (path / "trajectory.log").is_file()
+        poses = read_trajectory_log(path / "trajectory.log") if posed else {}
         colour_dir = path / "image" if (path / "image").is_dir() else path / "color"
         entries, skipped = [], []
         for number, color in _numbered_images(colour_dir):
@@ -470,13 +522,102 @@ class Open3dSequence(Sequence):
             if not depth.is_file():
                 skipped.append((color.stem, f"missing depth/{depth.name}"))
                 continue
-            if number not in poses:
+            if posed and number not in poses:
                 skipped.append((color.stem, f"no pose for frame {number} in trajectory.log"))
                 continue
-            entries.append(_Entry(color.stem, color, depth, timestamp=number / 30.0, pose=poses[number]))
+            entries.append(_Entry(color.stem, color, depth, timestamp=number / 30.0, pose=poses.get(number)))
         if not entries:
             raise SequenceError(f"no {colour_dir.name}/NNNNN.jpg with a depth/NNNNN.png and a pose in {path}")
         return cls(path, entries, K, registration, skipped)
+
+
+# -- a plain folder: your own recording ----------------------------------------------------------
+
+PLAIN_INTRINSICS = ("intrinsics.txt", "camera-intrinsics.txt")
+_IMAGE_SUFFIXES = (".png", ".jpg", ".jpeg")
+
+
+class PlainSequence(Sequence):
+    """``color/`` + ``depth/`` + a one-line ``intrinsics.txt``: what a RealSense or any RGB-D
+    camera's recorder gives once the frames are saved as images. No poses."""
+
+    layout = "plain"
+    depth_scale = 1000.0
+
+    @staticmethod
+    def looks_like(path: Path) -> bool:
+        """A color/ folder without ScanNet's intrinsic/ and pose/ (what else is missing is
+        reported when it is opened)."""
+        return (path / "color").is_dir() and not (path / "intrinsic").is_dir() and not (path / "pose").is_dir()
+
+    @classmethod
+    def open(cls, path: Path, registration: Optional[Registration] = None) -> "PlainSequence":
+        intr = next((path / n for n in PLAIN_INTRINSICS if (path / n).is_file()), None)
+        missing = []
+        if not (path / "color").is_dir():
+            missing.append("color/ (the colour images, .png or .jpg)")
+        if not (path / "depth").is_dir():
+            missing.append("depth/ (16-bit .png depth registered to colour, e.g. RealSense aligned depth)")
+        if intr is None:
+            missing.append("intrinsics.txt (one line: fx fy cx cy [depth units per metre]; from the "
+                           "camera's calibration, e.g. `rs-enumerate-devices -c` for a RealSense)")
+        if missing:
+            raise SequenceError(f"{path} is missing " + "; ".join(missing))
+        K, scale = _plain_intrinsics(intr)
+        colours = sorted(p for p in (path / "color").iterdir() if p.suffix.lower() in _IMAGE_SUFFIXES)
+        depths = sorted(p for p in (path / "depth").iterdir() if p.suffix.lower() == ".png")
+        by_stem = {p.stem: p for p in depths}
+        if colours and all(c.stem in by_stem for c in colours[:5]):
+            pairs = [(c, by_stem.get(c.stem)) for c in colours]
+        elif len(colours) == len(depths):
+            pairs = list(zip(colours, depths))      # named differently: paired in order
+        else:
+            raise SequenceError(f"cannot pair {len(colours)} colour and {len(depths)} depth images in {path}: "
+                                f"name them alike (color/000123.png with depth/000123.png) or give as many of each")
+        entries, skipped = [], []
+        for k, (color, depth) in enumerate(pairs):
+            if depth is None:
+                skipped.append((color.stem, f"missing depth/{color.stem}.png"))
+                continue
+            stamp = float(color.stem) if _is_number(color.stem) and len(color.stem) > 6 else k / 30.0
+            entries.append(_Entry(color.stem, color, depth, timestamp=stamp))
+        if not entries:
+            raise SequenceError(f"no colour image in {path / 'color'} has a depth image")
+        seq = cls(path, entries, K, registration, skipped)
+        seq.depth_scale = scale
+        return seq
+
+
+def _is_number(text: str) -> bool:
+    try:
+        float(text)
+    except ValueError:
+        return False
+    return True
+
+
+def _plain_intrinsics(path: Path) -> tuple[np.ndarray, float]:
+    """`fx fy cx cy [depth scale]` (or a 3x3 matrix) -> (K, depth units per metre)."""
+    try:
+        values = np.array(path.read_text().split(), dtype=np.float64)
+    except ValueError:
+        raise SequenceError(f"{path} is not a list of numbers (expected: fx fy cx cy [depth units per metre])") from None
+    scale = 1000.0
+    if values.size == 5:
+        values, scale = values[:4], float(values[4])
+        if not np.isfinite(scale) or scale <= 0:
+            raise SequenceError(f"{path}: the depth scale (5th number) must be positive, e.g. 1000 for millimetres")
+    if values.size not in (4, 9):
+        raise SequenceError(f"{path} holds {values.size} numbers; expected fx fy cx cy [depth units per metre]")
+    return _read_matrix_values(values, path), scale
+
+
+def _read_matrix_values(values: np.ndarray, path: Path) -> np.ndarray:
+    K = values.reshape(3, 3) if values.size == 9 else np.array(
+        [[values[0], 0, values[2]], [0, values[1], values[3]], [0, 0, 1]])
+    if not np.all(np.isfinite(K)) or K[0, 0] <= 0 or K[1, 1] <= 0:
+        raise SequenceError(f"{path} does not hold valid intrinsics (focal lengths must be positive)")
+    return K
 
 
 # -- entry point -----------------------------------------------------------------------------
@@ -487,13 +628,18 @@ def detect_layout(path: Path) -> str:
         return "tum"
     if (path / "trajectory.log").is_file() and (path / "depth").is_dir():
         return "open3d"
+    if PlainSequence.looks_like(path):
+        return "plain"
+    if (path / "image").is_dir() and (path / "depth").is_dir() and any(path.glob("*.json")):
+        return "open3d"
     if (path / "color").is_dir() and ((path / "intrinsic").is_dir() or (path / "depth").is_dir()):
         return "scannet"
     if (path / "camera-intrinsics.txt").is_file() or any(_SEVEN.match(p.name) for p in path.iterdir()):
         return "7scenes"
     raise SequenceError(f"cannot tell the layout of {path}: expected 7-Scenes (frame-NNNNNN.color.jpg), "
                         f"TUM RGB-D (rgb.txt, depth.txt), ScanNet (color/, depth/, pose/, intrinsic/) or "
-                        f"Open3D (image/, depth/, trajectory.log, intrinsics JSON)")
+                        f"Open3D (image/, depth/, trajectory.log, intrinsics JSON) or a plain folder "
+                        f"(color/, depth/, intrinsics.txt)")
 
 
 def open_sequence(path: Union[str, Path], layout: Optional[str] = None,
@@ -514,7 +660,7 @@ def open_sequence(path: Union[str, Path], layout: Optional[str] = None,
         raise SequenceError(f"sequence folder not found: {path}")
     name = detect_layout(path) if layout is None else _ALIASES.get(layout.lower(), layout.lower())
     readers = {"7scenes": SevenScenesSequence, "tum": TumSequence, "scannet": ScanNetSequence,
-               "open3d": Open3dSequence}
+               "open3d": Open3dSequence, "plain": PlainSequence}
     if name not in readers:
         raise SequenceError(f"unknown layout {layout!r}; choose one of {', '.join(LAYOUTS)}")
     return readers[name].open(path, registration=registration)

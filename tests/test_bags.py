@@ -118,7 +118,7 @@ def test_bad_bags_are_one_line_and_exit_2(tmp_path, frames):
     r = _cli("frames", good, "--pose-topic", "/nothing")
     assert r.returncode == 2 and "--pose-topic /nothing: no such topic" in r.stderr
     r = _cli("frames", write_bag(tmp_path / "nodepth.bag", frames[:3], kind="ros1", depth=False))
-    assert r.returncode == 2 and len(r.stderr.strip().splitlines()) == 1 and "no depth image topic in" in r.stderr and "/camera/color/image_raw" in r.stderr
+    assert r.returncode == 2 and len(r.stderr.strip().splitlines()) == 1 and "lacks a depth image topic" in r.stderr and "/camera/color/image_raw" in r.stderr
     r = _cli("frames", write_bag(tmp_path / "nopose", frames[:3], kind="sqlite3", poses="none"))
     assert r.returncode == 2 and len(r.stderr.strip().splitlines()) == 1 and "no pose source in" in r.stderr
     r = _cli("frames", tmp_path / "absent.mcap")

@@ -39,11 +39,31 @@ def _summary_table(summary: dict):
         t.add_row("speed", f"{summary['input_frames_per_second']:.1f} input frames/s")
     if summary.get("placement"):
         t.add_row("in building", _placement_text(summary["placement"]))
+    poses = summary.get("poses") or {}
+    if poses.get("source") == "estimated":
+        t.add_row("poses", _poses_text(poses))
     if f["skipped_frames"]:
         shown = "; ".join(f"{s['frame']}: {s['reason']}" for s in f["skipped_frames"][:5])
         more = len(f["skipped_frames"]) - 5
         t.add_row("skipped frames", shown + (f"; and {more} more (--json lists all)" if more > 0 else ""))
     return t
+
+
+def _poses_text(poses: dict) -> str:
+    """The estimated trajectory in words: length, loop closures, frames that could not be placed."""
+    text = (f"estimated: {poses['trajectory_m']:.2f} m travelled, {poses['loop_closures']} loop closures, "
+            f"{poses['placed']} frames placed, {poses['unplaced']} not placed")
+    if poses["segments"] > 1:
+        lost, linked = poses["segments"] - 1, poses["segments_linked"]
+        text += (f"; tracking lost {'once' if lost == 1 else f'{lost} times'}, {linked} "
+                 f"segment{'' if linked == 1 else 's'} found again")
+    if poses["unplaced_frames"]:
+        shown = "; ".join(f"{u['frame']}: {u['reason']}" for u in poses["unplaced_frames"][:3])
+        more = len(poses["unplaced_frames"]) - 3
+        text += f" ({shown}{f'; and {more} more, --json lists all' if more > 0 else ''})"
+    if poses.get("trajectory_file"):
+        text += f"; trajectory in {poses['trajectory_file']}"
+    return text
 
 
 def _placement_text(placement: dict) -> str:
@@ -67,7 +87,7 @@ def _placement_text(placement: dict) -> str:
 @click.option("--quality", type=click.Choice(["default", "high"]), default="default", show_default=True,
               help="high: the detector also runs on 3x2 overlapping tiles of each chosen frame "
                    "(finds smaller and farther objects, ~6x slower).")
-@click.option("--layout", type=click.Choice(["7scenes", "3dmatch", "tum", "scannet", "open3d"]), default=None,
+@click.option("--layout", type=click.Choice(["7scenes", "3dmatch", "tum", "scannet", "open3d", "plain"]), default=None,
               help="Sequence layout (default: detected).")
 @click.option("--start", type=int, default=0, show_default=True, help="First frame index.")
 @click.option("--stop", type=int, default=None, help="Stop before this frame index.")
@@ -99,6 +119,11 @@ def _placement_text(placement: dict) -> str:
               help="Place the room in the building by aligning its objects to ROOM's (RANSAC + Kabsch).")
 @click.option("--shared-frame", is_flag=True,
               help="The sequence shares the building's world frame (identity transform).")
+@click.option("--estimate-poses", is_flag=True,
+              help="Estimate the camera poses from the images (RGB-D odometry, loop closures, pose graph) "
+                   "even when the recording has its own; recordings without poses get this anyway.")
+@click.option("--trajectory-out", type=click.Path(dir_okay=False, path_type=Path), default=None,
+              help="Write the estimated camera trajectory to this file (TUM format: t tx ty tz qx qy qz qw).")
 @click.option("--json", "as_json", is_flag=True, help="Print the summary as JSON (no progress bar).")
 @bag_options
 @click.pass_obj
@@ -107,7 +132,8 @@ def build(settings, sequence: Path, room: str, building: str, method: str, quali
           score_threshold: float,
           detect_fraction: Optional[float], chunk_frames: Optional[int], abir_gain: Optional[float],
           t_key: Optional[float], t_anchor: Optional[float], transform_file: Optional[Path], align_to: Optional[str],
-          shared_frame: bool, as_json: bool, bag: dict) -> None:
+          shared_frame: bool, estimate_poses: bool, trajectory_out: Optional[Path], as_json: bool,
+          bag: dict) -> None:
     """Build (or extend) the 3-D scene graph of ROOM from the RGB-D SEQUENCE folder or ROS bag
     (ROS1 .bag, ROS2 bag folder, .mcap; topics are picked when unambiguous, see the --*-topic options).
 
@@ -116,6 +142,11 @@ def build(settings, sequence: Path, room: str, building: str, method: str, quali
     (SDR), and merges the result into the store, one transaction per chunk. Re-running the same
     build merges nothing twice; after Ctrl-C or a crash, the same command (or --resume) merges
     exactly what is missing.
+
+    A recording without camera poses (a plain color/ + depth/ + intrinsics.txt folder, a bag
+    without a pose topic or /tf) is built on poses estimated from its images (--estimate-poses
+    does that for any recording); the summary says how far the camera went, the loop closures
+    accepted and which frames could not be placed.
 
     Rooms of one building: the first room placed in a building is its reference frame; place
     the others with --shared-frame, --transform FILE or --align-to ROOM (see `sg3d rooms`).
@@ -130,7 +161,7 @@ def build(settings, sequence: Path, room: str, building: str, method: str, quali
     from ingest.pipeline import DEFAULT_CHUNK_FRAMES, METHODS, Settings
 
     request = BuildRequest(sequence, room, building, layout, start, stop, transform_file, align_to, shared_frame,
-                           bag_options=bag)
+                           bag_options=bag, estimate_poses=estimate_poses, trajectory_out=trajectory_out)
     selection = {"--abir-gain": abir_gain, "--t-key": t_key, "--t-anchor": t_anchor}
     given = [flag for flag, value in selection.items() if value is not None]
     tuned = {k: v for k, v in (("t_key", t_key), ("t_anchor", t_anchor)) if v is not None}

@@ -59,6 +59,9 @@ def frames_command(sequence: Path, layout: Optional[str], abir_gain, abir_offset
         seq = open_sequence(sequence, layout=layout, **bag)
     except SequenceError as exc:
         raise UserError(str(exc)) from None
+    if not seq.has_poses():     # keyframe groups compare camera poses
+        raise UserError(f"no pose source in {sequence}: keyframe groups need camera poses; "
+                        f"`sg3d build` estimates them from the images")
     sources = getattr(seq, "sources", None)  # what a ROS bag reader picked
     stop = len(seq) if limit is None else min(len(seq), limit * step)
     selector = FrameSelector(abir, grouper)
