@@ -114,9 +114,9 @@ def build_room(store, req: BuildRequest, settings, detector=None, embedding=None
 
     t0 = time.perf_counter()
     try:
-        # estimated poses exist only for the build's frames
-        window = (req.start, stop) if poses["source"] == "estimated" else (0, None)
-        gravity = estimate_gravity(sample_frames(seq, 20, *window))
+        # gravity and the floor from the frames being built (estimated poses exist only for
+        # those; and a recording cut from a longer one gives the same room)
+        gravity = estimate_gravity(sample_frames(seq, 20, req.start, stop))
         up = gravity.up
     except ValueError:
         raise BuildError(f"no frame of {req.sequence} has usable depth")

@@ -35,7 +35,7 @@ from graphdb.tally import create_objects_and_tallies
 from graphdb.update import (combine_boxes, combine_gaussians, combine_histograms, combine_labels,
                             incoming_has_best_label)
 from ingest.embedding import LabelEmbedding, default_embedding
-from ingest.model import HIST_SIZE, RELATION_TYPES, LocalGraph, ObjectObservation, ScanInfo
+from ingest.model import HIST_SIZE, RELATION_TYPES, UNNAMED_LABEL, LocalGraph, ObjectObservation, ScanInfo
 
 
 @dataclass
@@ -131,7 +131,10 @@ def _position_arrays(objects: list[ObjectObservation], near: list[dict]) -> dict
         "box_o": np.array([c["box_centre"] or [c["x"], c["y"], c["z"]] for c in near], float)[None, :, :],
         "box_c": np.array([_box_centre(o) for o in objects], float)[:, None, :],
         "size_c": np.array([o.size for o in objects], float)[:, None, :],
-        "same_kind": shared_labels([o.labels for o in objects], [c["labels"] for c in near]) > 0,
+        # unnamed objects are no kind: two of them are one place only by the plain Gaussian test
+        "same_kind": (shared_labels([o.labels for o in objects], [c["labels"] for c in near]) > 0)
+        & np.array([o.label != UNNAMED_LABEL for o in objects])[:, None]
+        & np.array([c["label"] != UNNAMED_LABEL for c in near])[None, :],
     }
 
 
@@ -162,16 +165,34 @@ def _position_scores(objects: list[ObjectObservation], near: list[dict], params:
     Partial views of one big object: its σ is floored at a fraction of its extent, and
     overlapping 3-D boxes count as the same place. Only between views of one kind of thing: a
     chair tucked under a table, or a cup on it, sits inside the table's extent and is not it.
+    Layers never mix (a shelf's surface is not the book on it), and structure (floors, walls,
+    counters: big, thin boxes whose Gaussians say little) is the same place only where the
+    boxes overlap (`structure_position_similarity`).
     """
     a = _position_arrays(objects, near)
     s_pos = position_similarity(a["mean_o"], a["var_o"], a["mean_c"], params.sigma_floor, params.sigma_cap)
+    s_box = None
     if a["same_kind"].any():
         s_wide = position_similarity(a["mean_o"], a["var_o"], a["mean_c"], _wide_floor(a, params),
                                      params.sigma_cap)
         s_box = box_position_similarity(a["box_o"], a["size_o"], a["box_c"], a["size_c"], basis,
                                         params.sigma_floor)
         s_pos = np.where(a["same_kind"], np.maximum(s_pos, np.maximum(s_wide, s_box)), s_pos)
-    return s_pos
+    return structure_position_similarity(objects, near, s_pos, s_box, a["same_kind"])
+
+
+def structure_position_similarity(objects: list[ObjectObservation], near: list[dict], s_pos: np.ndarray,
+                                  s_box: Optional[np.ndarray], same_kind: np.ndarray) -> np.ndarray:
+    """Rule "layers do not mix": s_position 0 between a structure node and an object; between two
+    structure nodes of one kind the box term alone (overlapping boxes), else 0."""
+    local = np.array([o.layer == "structure" for o in objects])[:, None]
+    stored = np.array([(c.get("layer") or "object") == "structure" for c in near])[None, :]
+    out = np.where(local != stored, 0.0, s_pos)
+    both = local & stored
+    if both.any():
+        box = s_box if s_box is not None else np.zeros_like(s_pos)
+        out = np.where(both, np.where(same_kind, box, 0.0), out)
+    return out
 
 
 def _pair_scores(objects: list[ObjectObservation], cands: list[dict], s_pos: np.ndarray,
@@ -200,7 +221,8 @@ def match_nodes(objects: list[ObjectObservation], cands: list[dict], s_pos: np.n
 
     The second map: when a new observation passes the threshold against several stored nodes
     that nothing else claims, those nodes were one object all along (a table first seen as two
-    ends, linked by a view of its middle), so they are folded into the matched one.
+    ends, linked by a view of its middle), so they are folded into the matched one; not for an
+    unnamed or structure observation, whose label is no evidence that they are one thing.
     """
     scores = _pair_scores(objects, cands, s_pos, embedding, params)
     if scores.size == 0:
@@ -210,6 +232,8 @@ def match_nodes(objects: list[ObjectObservation], cands: list[dict], s_pos: np.n
     claimed = set(matches.values())
     absorbed: dict[int, int] = {}
     for i, j in matches.items():
+        if objects[i].label == UNNAMED_LABEL or objects[i].layer == "structure":
+            continue        # nothing names what links them: two segments (or walls) stay two
         for k in np.flatnonzero(scores[i] >= params.threshold):
             if int(k) not in claimed and int(k) not in absorbed:
                 absorbed[int(k)] = j
@@ -239,6 +263,7 @@ def _new_props(obj: ObjectObservation, rid: str, now: float, scan: ScanInfo) -> 
         "box_centre": [float(v) for v in _box_centre(obj)],
         "hist": pack_hist(obj.hist), "colour": obj.colour, "colour2": obj.colour2,
         "layer": obj.layer, "shape": obj.shape,
+        "surface": None if obj.surface is None else [float(v) for v in obj.surface],
         "thumbnail": obj.thumbnail or b"",
         "first_frame": int(obj.first_frame), "last_frame": int(obj.last_frame),
         "observations": 1, "n_frames": int(obj.n_frames), "updated_at": now,
@@ -265,6 +290,8 @@ def _updated_props(cand: dict, obj: ObjectObservation, now: float, basis: np.nda
         # a structure node stays structure; a shape word is kept until a view says another
         "layer": "structure" if "structure" in (cand.get("layer"), obj.layer) else "object",
         "shape": obj.shape or cand.get("shape"),
+        # (null would remove the property: a view without surface points keeps the stored ones)
+        **({} if obj.surface is None else {"surface": [float(v) for v in obj.surface]}),
         "first_frame": min(int(cand["first_frame"]), int(obj.first_frame)),
         "last_frame": max(int(cand["last_frame"]), int(obj.last_frame)),
         "observations": int(cand["observations"]) + 1,

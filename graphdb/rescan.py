@@ -143,5 +143,7 @@ def known_objects(store, rid: str) -> list[KnownObject]:
         if not r.get("size") or r.get("x") is None:     # an imported node without a box: not judged
             continue
         centre = r["box_centre"] or [r["x"], r["y"], r["z"]]
-        out.append(KnownObject(r["id"], tuple(float(v) for v in centre), tuple(float(v) for v in r["size"])))
+        surface = tuple(float(v) for v in r["surface"]) if r.get("surface") else None
+        out.append(KnownObject(r["id"], tuple(float(v) for v in centre), tuple(float(v) for v in r["size"]),
+                               surface))
     return out

@@ -21,7 +21,10 @@ from typing import Callable, Optional, Sequence
 
 import numpy as np
 
-from ingest.attributes import dominant_colour, hsv_histogram, thumbnail
+import cv2
+
+from ingest import colour as colour_model
+from ingest.attributes import CAST_STRIDE, hsv_histogram, thumbnail
 from ingest.model import HIST_SIZE, UNNAMED_LABEL, ObjectObservation
 from ingest.relations import FLOOR_STANDING_LABELS
 from ingest.room_cloud import RoomCloud
@@ -51,6 +54,10 @@ FLAT_RATIO = 0.25
 TALL_RATIO = 2.0
 BOX_RATIO = 2.5
 VOXEL_VAR_FLOOR = 0.01 ** 2
+# Surface points kept per unnamed object for re-scans (`ingest.rescan.surface_seen_empty`).
+SURFACE_SAMPLE = 32
+# The half-width a voxel covers, for marking a segment's own pixels.
+VOXEL_DISC_M = 0.0125
 
 
 def gravity_box(obj: ObjectObservation, cloud: RoomCloud) -> tuple[np.ndarray, np.ndarray]:
@@ -149,15 +156,44 @@ def _pixels(seg: Segment, cloud: RoomCloud, view) -> Optional[tuple[int, int, in
     return x1, y1, x2, y2
 
 
+def surface_sample(world: np.ndarray, n: int = SURFACE_SAMPLE) -> tuple[float, ...]:
+    """Up to `n` of a segment's voxel centres (world frame, evenly through their order), flat:
+    the points a re-scan tests for free space."""
+    pick = world[np.linspace(0, len(world) - 1, min(n, len(world))).round().astype(int)]
+    return tuple(round(float(v), 4) for v in pick.reshape(-1))
+
+
+def segment_colour(world: np.ndarray, view, image: np.ndarray) -> tuple[str, Optional[str]]:
+    """(colour, second colour) of a segment from its own pixels in one view: its voxel centres
+    projected, each marking the disc a voxel covers there, read with the frame's cast divided
+    out (`ingest.colour.read_colour`, `vote` for the second colour's rule)."""
+    w2c = np.linalg.inv(view.pose)
+    cam = world @ w2c[:3, :3].T + w2c[:3, 3]
+    cam = cam[cam[:, 2] > 0.1]
+    h, w = image.shape[:2]
+    mask = np.zeros((h, w), np.uint8)
+    K = view.K
+    for x, y, z in cam:
+        r = max(1, int(round(K[0, 0] * VOXEL_DISC_M / z)))
+        cv2.circle(mask, (int(round(K[0, 0] * x / z + K[0, 2])), int(round(K[1, 1] * y / z + K[1, 2]))), r, 1, -1)
+    pixels = image[mask > 0]
+    if len(pixels) == 0:
+        return "grey", None
+    cast = colour_model.frame_cast(image[::CAST_STRIDE, ::CAST_STRIDE])
+    name, second, _ = colour_model.vote([colour_model.read_colour(pixels, cast)])
+    return name, second
+
+
 def unnamed_object(local_id: str, seg: Segment, cloud: RoomCloud,
                    colour_image: Callable[[int], Optional[np.ndarray]]) -> ObjectObservation:
     """A node for a segment no detector named: label UNNAMED_LABEL, its voxels' Gaussian (Eq. 8
-    moments over the surface it showed), its box, and the colour, histogram (Eq. 9) and
-    thumbnail of the view that saw it best; score = the share of looks that hit it."""
+    moments over the surface it showed), its box, the colour of its own pixels and the histogram
+    (Eq. 9) and thumbnail of its box in the view that saw it best; score = the share of its
+    voxels that are solid (`ingest.segments.depth_evidence`)."""
     world = cloud.to_world(seg.voxels)
     mean = world.mean(axis=0)
     var = np.maximum(world.var(axis=0), VOXEL_VAR_FLOOR)
-    hist, colour, thumb = np.zeros(HIST_SIZE), "grey", None
+    hist, colour, colour2, thumb = np.zeros(HIST_SIZE), "grey", None, None
     frames = [int(cloud.views[k].index) for k in seg.frames]
     if seg.best_view >= 0:
         view = cloud.views[seg.best_view]
@@ -165,15 +201,15 @@ def unnamed_object(local_id: str, seg: Segment, cloud: RoomCloud,
         image = colour_image(view.index) if box is not None else None
         if image is not None:
             hist = hsv_histogram(image, box)
-            colour = dominant_colour(image, box)
+            colour, colour2 = segment_colour(world, view, image)
             thumb = thumbnail(image, box)
     return ObjectObservation(
         local_id=local_id, labels=[UNNAMED_LABEL], scores=[round(seg.hit_ratio, 3)],
         mean=tuple(float(v) for v in mean), var=tuple(float(v) for v in var), n_points=len(seg.voxels),
-        size=tuple(float(v) for v in seg.size), hist=hist, colour=colour, thumbnail=thumb,
+        size=tuple(float(v) for v in seg.size), hist=hist, colour=colour, colour2=colour2, thumbnail=thumb,
         first_frame=min(frames) if frames else 0, last_frame=max(frames) if frames else 0,
         n_frames=max(1, seg.seen_views), box_centre=tuple(float(v) for v in cloud.to_world((seg.lo + seg.hi) / 2)),
-        shape=shape_word(seg.size))
+        shape=shape_word(seg.size), surface=surface_sample(world))
 
 
 def structure_node(local_id: str, el: Element, cloud: RoomCloud) -> ObjectObservation:

@@ -60,6 +60,9 @@ class ObjectObservation:
     layer: str = "object"                  # one of LAYERS
     shape: Optional[str] = None            # one of SHAPE_WORDS, for unnamed objects; None: not said
     colour2: Optional[str] = None          # a second colour from COLOUR_NAMES (two-coloured objects)
+    # a sample of points seen on the object's surface, world frame, flat (x, y, z, x, y, z, ...):
+    # what a re-scan tests for free space where the box alone cannot tell (unnamed segments)
+    surface: Optional[tuple[float, ...]] = None
 
     @property
     def label(self) -> str:
@@ -91,6 +94,7 @@ class KnownObject:
     id: str
     box_centre: tuple[float, float, float]   # world frame
     size: tuple[float, float, float]         # extent along the room's gravity axes e1, e2, up
+    surface: Optional[tuple[float, ...]] = None   # points seen on it, flat x, y, z (ObjectObservation)
 
 
 @dataclass(frozen=True)

@@ -33,6 +33,8 @@ MIN_RAYS = 6
 # saw the object standing there (measured on the kitchen: at most 3 of 38 for objects still there,
 # every one of 53 for the painted-out cup).
 EMPTY_SHARE = 0.5
+# Depth noise grows with range: a surface point is still hit within this share of its distance.
+SURFACE_NOISE_REL = 0.02
 # Objects larger than this are not judged (a table's box is mostly free space under its top).
 MAX_JUDGED_EXTENT_M = 1.5
 
@@ -48,6 +50,39 @@ def _slab(origin: np.ndarray, direction: np.ndarray, lo: np.ndarray, hi: np.ndar
     return np.minimum(t1, t2).max(axis=-1), np.maximum(t1, t2).min(axis=-1)
 
 
+def surface_seen_empty(obj: KnownObject, view: View) -> Optional[bool]:
+    """Rule "surface seen through", for objects that carry points seen on their surface (found
+    from depth, whose box is no solid: an L-shaped or thin segment): each point in view, in front
+    of the camera within MAX_RANGE_M, with depth measured at its pixel, tells: passed when the
+    depth lies beyond it by more than PASS_TOLERANCE_M plus the depth noise
+    (SURFACE_NOISE_REL of the range), stopped when it lies within that of it; nearer depth is an
+    occluder (no evidence). True when at least MIN_RAYS points told and EMPTY_FRACTION of them
+    passed, False when fewer passed, None when too few told."""
+    pts = np.asarray(obj.surface, float).reshape(-1, 3)
+    w2c = np.linalg.inv(view.pose)
+    cam = pts @ w2c[:3, :3].T + w2c[:3, 3]
+    z = cam[:, 2]
+    ok = (z > 0.1) & (z <= MAX_RANGE_M)
+    if not ok.any():
+        return None
+    K, (w, h) = view.K, view.size
+    zs = np.where(ok, z, 1.0)
+    u = K[0, 0] * cam[:, 0] / zs + K[0, 2]
+    v = K[1, 1] * cam[:, 1] / zs + K[1, 2]
+    ok &= (u >= 0) & (u < w) & (v >= 0) & (v < h)
+    dh, dw = view.depth.shape
+    du = np.clip((u[ok] / DEPTH_FACTOR).astype(int), 0, dw - 1)
+    dv = np.clip((v[ok] / DEPTH_FACTOR).astype(int), 0, dh - 1)
+    d = view.depth[dv, du].astype(float)
+    zi = z[ok]
+    tol = PASS_TOLERANCE_M + SURFACE_NOISE_REL * zi
+    passed = int(((d > 0) & (d > zi + tol)).sum())
+    stopped = int(((d > 0) & (np.abs(d - zi) <= tol)).sum())
+    if passed + stopped < MIN_RAYS:
+        return None
+    return passed >= EMPTY_FRACTION * (passed + stopped)
+
+
 def place_seen_empty(obj: KnownObject, basis: np.ndarray, view: View) -> Optional[bool]:
     """Rule "place seen empty": the frame looked at the object's place and saw free space there.
 
@@ -60,7 +95,10 @@ def place_seen_empty(obj: KnownObject, basis: np.ndarray, view: View) -> Optiona
         stopped                 otherwise (something stands in the core).
     True when the centre projects inside the image (BORDER_MARGIN) within MAX_RANGE_M, at least
     MIN_RAYS rays passed or stopped, and at least EMPTY_FRACTION of them passed; False when they
-    did not; None when the frame could not tell (out of view, occluded, too few rays, too big)."""
+    did not; None when the frame could not tell (out of view, occluded, too few rays, too big).
+    An object with surface points is tested on them instead (`surface_seen_empty`)."""
+    if obj.surface:
+        return surface_seen_empty(obj, view)
     size = np.asarray(obj.size, float)
     if float(size.max()) > MAX_JUDGED_EXTENT_M:
         return None

@@ -112,3 +112,34 @@ def test_shape_words_and_surface_names():
     assert surface_name(0.9, np.array([0, 0, 0]), np.array([2.0, 0.6, 0])) == "counter"
     assert surface_name(1.5, np.array([0, 0, 0]), np.array([1.5, 0.3, 0])) == "shelf"
     assert surface_name(0.72, np.array([0, 0, 0]), np.array([1.2, 0.7, 0])) == "surface"
+
+
+def _structure(local_id, label, centre, size):
+    from dataclasses import replace
+
+    from tests.factories import obj
+
+    return replace(obj(local_id, label, centre, size=size, var=tuple((np.asarray(size) / 4) ** 2)),
+                   layer="structure", hist=np.ones(512))
+
+
+def test_structure_merges_where_boxes_overlap_and_never_with_objects(store):
+    """Two scans of a room with a wall and a cabinet front 0.4 m before it and a floor, the second
+    seeing only the wall: the two stay two (one wall's view does not fold the other in), the floor
+    is one, and a shelf-top surface never absorbs the book lying on it."""
+    from graphdb.merge import merge_local_graph
+    from tests.factories import graph, obj
+
+    def scan(key, dx, both=True):
+        return graph([_structure("w1", "wall", (0.0 + dx, 0.0, 1.0), (0.05, 3.0, 2.0))]
+                     + ([_structure("w2", "wall", (0.4 + dx, 0.0, 1.0), (0.05, 3.0, 2.0))] if both else []) + [
+                      _structure("f", "floor", (0.75 + dx, 0.0, 0.0), (1.5, 3.0, 0.01)),
+                      _structure("s", "shelf", (0.7, 0.0, 1.2 + dx), (0.3, 1.0, 0.03)),
+                      obj("b", "book", (0.7, 0.0, 1.23 + dx), size=(0.2, 0.15, 0.03))], key=key)
+
+    merge_local_graph(store, scan("a", 0.0))
+    merge_local_graph(store, scan("b", 0.02, both=False))
+    _, rows = store.run_raw("MATCH (o:Object) RETURN o.label, o.layer, o.observations", {})
+    got = sorted((r[0], r[1], r[2]) for r in rows)
+    assert got == [("book", "object", 2), ("floor", "structure", 2), ("shelf", "structure", 2),
+                   ("wall", "structure", 1), ("wall", "structure", 2)]

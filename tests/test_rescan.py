@@ -70,6 +70,21 @@ def test_place_seen_empty_tells_free_space_from_the_object_and_from_an_occluder(
     assert place_seen_empty(MUG_BOX, np.eye(3), view(4, camera_at((3.0, 0.0, 0.85)))) is None
 
 
+def test_an_unnamed_object_is_judged_on_its_own_surface_points():
+    """An L-shaped thing (a board standing on the table with a foot): its box's core is free space
+    while it stands there, so the box rule would call it gone; its surface points tell."""
+    # the upright part stands at the back of the box, the foot reaches forward along the table
+    board = ((0.0, 0.19, 0.95), (0.3, 0.02, 0.3))
+    xs, zs = np.meshgrid(np.linspace(-0.14, 0.14, 6), np.linspace(0.82, 1.08, 5))
+    points = np.stack([xs.ravel(), np.full(xs.size, 0.18), zs.ravel()], 1)
+    seg = KnownObject("b", (0.0, 0.1, 0.95), (0.3, 0.2, 0.3), tuple(points.ravel()))
+    pose = camera_at((0.0, 0.0, 0.95))
+    assert place_seen_empty(KnownObject("b", seg.box_centre, seg.size), np.eye(3), view(1, pose, [board])) is True
+    assert place_seen_empty(seg, np.eye(3), view(1, pose, [board])) is False
+    assert place_seen_empty(seg, np.eye(3), view(2, pose)) is True
+    assert place_seen_empty(seg, np.eye(3), view(3, camera_at((3.0, 0.0, 0.85)))) is None
+
+
 def tallies(store) -> Counter:
     _, rows = store.run_raw("MATCH (t:Tally) WHERE t.n <> 0 AND t.colour = '' RETURN t.label, t.n")
     return Counter({r[0]: r[1] for r in rows})
