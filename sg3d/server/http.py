@@ -11,6 +11,7 @@ from __future__ import annotations
 from typing import Literal, Optional
 
 from fastapi import Depends, FastAPI, HTTPException, Query, Request
+from fastapi.exceptions import RequestValidationError
 from fastapi.responses import JSONResponse, Response
 from pydantic import BaseModel, ConfigDict, Field
 
@@ -18,11 +19,13 @@ from app import ask as app_ask
 from app import graph as app_graph
 from app import ingest as app_ingest
 from app import plan as app_plan
+from app import bounds
 from app import rooms as app_rooms
 from app.errors import AppError, NotFound, Refused
 from app.stores import StoreHandle
 from sg3d import __version__
 from sg3d.server.auth import token_matches
+from sg3d.server.guard import TOKEN_HINT, Guard
 
 
 class Viewpoint(BaseModel):
@@ -45,7 +48,8 @@ class AskBody(BaseModel):
 class PlanBody(BaseModel):
     model_config = ConfigDict(extra="forbid")
     command: Optional[str] = Field(None, max_length=2000, examples=["clean up the table"])
-    goal: Optional[str] = Field(None, max_length=2000, description="a PDDL goal instead of a command")
+    goal: Optional[str] = Field(None, max_length=2000, description="a PDDL goal instead of a command "
+                                                                   f"(parentheses nested at most {bounds.MAX_GOAL_DEPTH} deep)")
     room: str = Field(min_length=1, description="room name or id (building/room)")
     building: Optional[str] = None
     start: Optional[str] = Field(None, description="where the robot starts (a surface or receptacle name)")
@@ -64,21 +68,34 @@ def _near(text: Optional[str]):
         raise AppError("near must be x,y,z (three numbers, metres)") from None
 
 
-def create_app(settings, token: str, handle: Optional[StoreHandle] = None) -> FastAPI:
-    """The FastAPI application for `settings`' store; `token` is the bearer token callers send."""
+def validation_details(errors) -> list[dict]:
+    """Pydantic's errors naming each field and the rule it broke, never the value it was sent
+    (a 100 MB question must not come back as a 100 MB answer)."""
+    return [{"loc": list(e.get("loc", ())), "msg": str(e.get("msg", ""))[:300], "type": e.get("type", "")}
+            for e in list(errors)[:20]]
+
+
+def create_app(settings, token: str, handle: Optional[StoreHandle] = None,
+               max_body: int = bounds.DEFAULT_MAX_BODY) -> FastAPI:
+    """The FastAPI application for `settings`' store; `token` is the bearer token callers send;
+    request bodies above `max_body` bytes are refused (413) before they are read."""
     stores = handle or StoreHandle(settings)
     api = FastAPI(title="sg3d", version=__version__,
                   description="3-D scene graphs of rooms: ask, plan, list rooms and objects, export, ingest.")
+    api.add_middleware(Guard, token=token, max_body=max_body)
 
     def authorised(request: Request) -> None:
+        # the Guard has checked already; this keeps the requirement visible in the OpenAPI document
         if not token_matches(token, request.headers.get("authorization")):
-            raise HTTPException(401, "missing or wrong token: send Authorization: Bearer <token> "
-                                     "(the token is in $SG3D_HOME/api-token)",
-                                headers={"WWW-Authenticate": "Bearer"})
+            raise HTTPException(401, TOKEN_HINT, headers={"WWW-Authenticate": "Bearer"})
 
     @api.exception_handler(AppError)
     def _app_error(request: Request, exc: AppError):
         return JSONResponse({"detail": str(exc)}, status_code=_status(exc))
+
+    @api.exception_handler(RequestValidationError)
+    def _invalid(request: Request, exc: RequestValidationError):
+        return JSONResponse({"detail": validation_details(exc.errors())}, status_code=422)
 
     @api.exception_handler(Exception)
     def _store_error(request: Request, exc: Exception):
