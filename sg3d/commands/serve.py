@@ -5,6 +5,8 @@ import errno
 
 import click
 
+from app.bounds import DEFAULT_MAX_BODY
+
 
 @click.command()
 @click.option("--host", default="127.0.0.1", show_default=True,
@@ -12,8 +14,11 @@ import click
 @click.option("--port", type=click.IntRange(1, 65535), default=8765, show_default=True,
               help="TCP port to listen on; a port in use is refused.")
 @click.option("--access-log", is_flag=True, help="Log every request.")
+@click.option("--max-body", type=click.IntRange(min=1024), default=DEFAULT_MAX_BODY, show_default=True,
+              metavar="BYTES", help="Largest request body accepted; a larger one is refused (413) before it is "
+                                    "read, and a request without the token (401) before its body is read.")
 @click.pass_obj
-def serve(settings, host: str, port: int, access_log: bool) -> None:
+def serve(settings, host: str, port: int, access_log: bool, max_body: int) -> None:
     """Serve the scene graph over HTTP: /ask, /plan, /rooms, /graph, /ingest (OpenAPI at /docs).
 
     Callers send `Authorization: Bearer <token>`; the token is generated into
@@ -29,7 +34,7 @@ def serve(settings, host: str, port: int, access_log: bool) -> None:
     if not is_loopback(host):
         click.echo(f"warning: binding {host}: the API is reachable from other machines; anyone with the "
                    f"token can read and ingest (put TLS in front of it on an untrusted network)", err=True)
-    api = create_app(settings, token)
+    api = create_app(settings, token, max_body=max_body)
     api.state.stores.get()          # start or find the store now, not on the first request
     click.echo(f"sg3d serving http://{host}:{port} (docs at /docs); token in {token_path(home)}", err=True)
     config = uvicorn.Config(api, host=host, port=port, log_level="warning", access_log=access_log)
