@@ -21,16 +21,20 @@ from app.bounds import DEFAULT_MAX_BODY
 def serve(settings, host: str, port: int, access_log: bool, max_body: int) -> None:
     """Serve the scene graph over HTTP: /ask, /plan, /rooms, /graph, /ingest (OpenAPI at /docs).
 
-    Callers send `Authorization: Bearer <token>`; the token is generated into
-    $SG3D_HOME/api-token (mode 0600) on first start."""
+    Callers send `Authorization: Bearer <token>`; the token is generated into api-token (mode
+    0600) in the store's private directory on first start (`sg3d db status` names it)."""
     import uvicorn
 
-    from sg3d.server.auth import ensure_token, token_path
+    from sg3d.errors import UserError
+    from sg3d.server.auth import TokenError, ensure_token, token_path
     from sg3d.server.http import create_app, is_loopback
 
     sock = _bind(host, port)       # a taken port or unknown host: one line, before the store starts
     home = settings.embedded_home()
-    token = ensure_token(home)
+    try:
+        token = ensure_token(home)
+    except TokenError as exc:
+        raise UserError(str(exc)) from None
     if not is_loopback(host):
         click.echo(f"warning: binding {host}: the API is reachable from other machines; anyone with the "
                    f"token can read and ingest (put TLS in front of it on an untrusted network)", err=True)
