@@ -31,9 +31,22 @@ MAX_JSON_DEPTH = 32
 MAX_GOAL_DEPTH = 16
 # Request bodies (bytes); `sg3d serve --max-body` changes it.
 DEFAULT_MAX_BODY = 32 * 1024 * 1024
-# Read-only Cypher statements (characters) and their server-side time limit (s).
+# A user's own Cypher statement (MCP `cypher`, `sg3d cypher`, `sg3d shell`): characters.
 MAX_STATEMENT_CHARS = 20_000
-QUERY_TIMEOUT_S = 10.0
+# The embedded store stops any single statement (sg3d's own included) after this many seconds
+# (ArcadeDB's arcadedb.command.timeout); SG3D_STORE_TIMEOUT_S changes it when the store starts.
+STORE_TIMEOUT_S = 30.0
+
+
+def store_timeout_s() -> float:
+    """The statement time limit the embedded store is started with (> 0, seconds)."""
+    import os
+
+    try:
+        value = float(os.environ.get("SG3D_STORE_TIMEOUT_S", STORE_TIMEOUT_S))
+    except ValueError:
+        return STORE_TIMEOUT_S
+    return value if math.isfinite(value) and value > 0 else STORE_TIMEOUT_S
 
 _SEPARATORS = ("/", "\\")
 

@@ -21,6 +21,7 @@ from graphdb.embedded import (DATABASE, READER_GROUP, WRITER_GROUP, Credentials,
 CLOSED_SETTINGS = {
     "arcadedb.opencypher.loadCsv.allowFileUrls": False,
     "arcadedb.opencypher.loadCsv.allowRemoteUrls": False,
+    "arcadedb.command.timeout": 3000,
 }
 
 # ArcadeDB's per-database groups (server-groups.json). The reader may read records and nothing
@@ -35,10 +36,15 @@ GROUPS = {
 
 
 def close_engine_settings() -> None:
+    """The engine settings above, and the time limit of every statement (a query an agent
+    abandoned stops there instead of keeping a core busy until `sg3d db stop`)."""
     import jpype
 
+    from app.bounds import store_timeout_s
+
     config = jpype.JClass("com.arcadedb.GlobalConfiguration")
-    for key, value in CLOSED_SETTINGS.items():
+    settings = {**CLOSED_SETTINGS, "arcadedb.command.timeout": int(store_timeout_s() * 1000)}
+    for key, value in settings.items():
         setting = config.findByKey(key)
         if setting is not None:
             setting.setValue(value)
