@@ -66,9 +66,12 @@ def start(settings) -> None:
 @db.command()
 @click.pass_obj
 def stop(settings) -> None:
-    """Stop the embedded store cleanly."""
+    """Stop the embedded store cleanly. It stays stopped for `sg3d serve` and `sg3d mcp` (they
+    answer "the store was stopped") until `sg3d db start` or another command starts it."""
     server = _server(settings)
-    click.echo("stopped" if server.stop() else "not running")  # EmbeddedStoreError: says why it cannot
+    stopped = server.stop()          # EmbeddedStoreError: says why it cannot
+    server.mark_stopped()
+    click.echo("stopped" if stopped else "not running")
 
 
 @db.command()

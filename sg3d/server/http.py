@@ -8,6 +8,7 @@ also survives a restart of the embedded store.
 """
 from __future__ import annotations
 
+from pathlib import Path
 from typing import Literal, Optional
 
 from fastapi import Depends, FastAPI, HTTPException, Query, Request
@@ -59,6 +60,28 @@ def _status(exc: AppError) -> int:
     return 404 if isinstance(exc, NotFound) else 403 if isinstance(exc, Refused) else 400
 
 
+RETRY_AFTER_S = "2"
+
+
+def store_failure(exc: Exception, settings) -> tuple[int, str, dict]:
+    """Status, detail and headers for a failure that is not the caller's: an explicit stop is 503
+    with the way out; a store that is restarting or briefly unreachable is 503 with Retry-After;
+    a full disk is 507 naming it; anything else 500 with the exception's type only."""
+    from neo4j.exceptions import AuthError, ServiceUnavailable, SessionExpired, TransientError
+
+    from graphdb.embedded import EmbeddedStoreError, StoreStopped, disk_full_message, store_dir
+
+    if isinstance(exc, StoreStopped):
+        return 503, str(exc), {}
+    if getattr(settings, "embedded", False):
+        full = disk_full_message(store_dir(Path(settings.embedded_home()).expanduser().resolve()))
+        if full:
+            return 507, full, {}
+    if isinstance(exc, (ServiceUnavailable, SessionExpired, TransientError, AuthError, EmbeddedStoreError)):
+        return 503, "the graph store is unreachable or restarting; retry shortly", {"Retry-After": RETRY_AFTER_S}
+    return 500, f"internal error: {type(exc).__name__}", {}
+
+
 def _near(text: Optional[str]):
     if text is None:
         return None
@@ -99,11 +122,8 @@ def create_app(settings, token: str, handle: Optional[StoreHandle] = None,
 
     @api.exception_handler(Exception)
     def _store_error(request: Request, exc: Exception):
-        from neo4j.exceptions import ServiceUnavailable, SessionExpired
-
-        if isinstance(exc, (ServiceUnavailable, SessionExpired)):
-            return JSONResponse({"detail": "the graph store is unreachable"}, status_code=503)
-        return JSONResponse({"detail": f"internal error: {type(exc).__name__}"}, status_code=500)
+        status, detail, headers = store_failure(exc, settings)
+        return JSONResponse({"detail": detail}, status_code=status, headers=headers)
 
     read = stores.call
 
@@ -112,10 +132,10 @@ def create_app(settings, token: str, handle: Optional[StoreHandle] = None,
         """Whether the store is reachable, and the version. No token needed."""
         try:
             read(lambda s: s.driver.verify_connectivity())
-            ok = True
-        except Exception:  # noqa: BLE001 - any failure means not reachable; the detail is in the server log
-            ok = False
-        return JSONResponse({"status": "ok" if ok else "store unreachable", "store": ok, "version": __version__},
+            ok, status = True, "ok"
+        except Exception as exc:  # noqa: BLE001 - any failure means not reachable; the detail is in the server log
+            ok, status = False, store_failure(exc, settings)[1]
+        return JSONResponse({"status": status, "store": ok, "version": __version__},
                             status_code=200 if ok else 503)
 
     auth = [Depends(authorised)]
