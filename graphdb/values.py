@@ -50,3 +50,14 @@ def finite_rows(rows: list[dict], source: str) -> list[dict]:
             "skipped %d stored record(s) of %s holding NaN or Infinity; `sg3d db check --repair` removes them",
             len(rows) - len(good), source)
     return good
+
+
+def finite_or_none(value: Any) -> Any:
+    """`value` with every NaN or +-Infinity float replaced by None (JSON has no such numbers)."""
+    if isinstance(value, float):
+        return value if math.isfinite(value) else None
+    if isinstance(value, (list, tuple)):
+        return [finite_or_none(v) for v in value]
+    if isinstance(value, dict):
+        return {k: finite_or_none(v) for k, v in value.items()}
+    return value

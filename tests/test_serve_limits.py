@@ -110,3 +110,33 @@ def test_serve_help_documents_max_body():
 
     out = CliRunner().invoke(cli, ["serve", "--help"]).output
     assert "--max-body" in out and "413" in out
+
+
+def test_served_connections_do_not_wait_for_delayed_acks():
+    """The listening socket says it is TCP, so asyncio turns Nagle's algorithm off on every
+    accepted connection (with proto 0 each small response waited ~40 ms for the client's ACK)."""
+    import asyncio
+
+    from graphdb.embedded import free_port
+    from sg3d.commands.serve import _bind
+
+    sock = _bind("127.0.0.1", free_port())
+    seen = {}
+
+    async def run():
+        async def handle(reader, writer):
+            seen["nodelay"] = writer.get_extra_info("socket").getsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY)
+            writer.close()
+
+        server = await asyncio.start_server(handle, sock=sock)
+        port = sock.getsockname()[1]
+        _, w = await asyncio.open_connection("127.0.0.1", port)
+        for _ in range(100):
+            if seen:
+                break
+            await asyncio.sleep(0.01)
+        w.close()
+        server.close()
+
+    asyncio.run(run())
+    assert seen.get("nodelay") == 1

@@ -82,6 +82,30 @@ def store_failure(exc: Exception, settings) -> tuple[int, str, dict]:
     return 500, f"internal error: {type(exc).__name__}", {}
 
 
+def _json_default(value):
+    """numpy scalars and arrays, and anything else `graphdb.values.jsonable` knows."""
+    if hasattr(value, "tolist"):
+        return value.tolist()
+    from graphdb.values import jsonable
+
+    return jsonable(value)
+
+
+def json_response(data, status_code: int = 200) -> Response:
+    """`data` as a JSON response, encoded once by the standard library's C encoder (FastAPI's own
+    path walks the whole answer through `jsonable_encoder` first, the largest cost of a small
+    request); a NaN that slipped through becomes null rather than invalid JSON."""
+    import json
+
+    try:
+        body = json.dumps(data, separators=(",", ":"), ensure_ascii=False, allow_nan=False, default=_json_default)
+    except ValueError:
+        from graphdb.values import finite_or_none
+
+        body = json.dumps(finite_or_none(data), separators=(",", ":"), ensure_ascii=False, default=_json_default)
+    return Response(body.encode(), status_code=status_code, media_type="application/json")
+
+
 def _near(text: Optional[str]):
     if text is None:
         return None
@@ -147,19 +171,19 @@ def create_app(settings, token: str, handle: Optional[StoreHandle] = None,
         viewpoint = body.viewpoint.model_dump(exclude_none=True) if body.viewpoint else None
         if viewpoint is not None and len(viewpoint) != 1:
             raise AppError("viewpoint takes exactly one of pose, position and object")
-        return read(lambda s: app_ask.ask(s, body.question, room=body.room, building=body.building,
-                                          viewpoint=viewpoint).to_json(inline_thumbnail=True))
+        return json_response(read(lambda s: app_ask.ask(s, body.question, room=body.room, building=body.building,
+                                                        viewpoint=viewpoint).to_json(inline_thumbnail=True)))
 
     @api.post("/plan", dependencies=auth, tags=["read"])
     def plan(body: PlanBody):
         """A validated plan: steps in words and as PDDL actions, the goal, domain and problem PDDL."""
-        return read(lambda s: app_plan.plan_json(s, body.command, goal=body.goal, room=body.room,
-                                                 building=body.building, start=body.start))
+        return json_response(read(lambda s: app_plan.plan_json(s, body.command, goal=body.goal, room=body.room,
+                                                               building=body.building, start=body.start)))
 
     @api.get("/rooms", dependencies=auth, tags=["read"])
     def rooms(building: Optional[str] = None):
         """Rooms (of one building, or all) with object counts, transforms and adjacent rooms."""
-        return read(lambda s: app_rooms.list_rooms(s, building))
+        return json_response(read(lambda s: app_rooms.list_rooms(s, building)))
 
     @api.get("/rooms/{building}/{room}/objects", dependencies=auth, tags=["read"])
     def objects(building: str, room: str, label: Optional[str] = None, colour: Optional[str] = None,
@@ -167,8 +191,8 @@ def create_app(settings, token: str, handle: Optional[StoreHandle] = None,
                 radius: Optional[float] = Query(None, description="metres from `near`")):
         """A room's objects with readable names, filtered by label, colour and distance to a point."""
         point = _near(near)
-        return read(lambda s: app_rooms.room_objects(s, building, room, label=label, colour=colour,
-                                                     near=point, radius=radius))
+        return json_response(read(lambda s: app_rooms.room_objects(s, building, room, label=label, colour=colour,
+                                                                   near=point, radius=radius)))
 
     @api.get("/graph", dependencies=auth, tags=["read"])
     def graph(building: str = "default", room: Optional[str] = None,
@@ -180,7 +204,7 @@ def create_app(settings, token: str, handle: Optional[StoreHandle] = None,
         g = read(lambda s: app_graph.fetch_named_graph(s, building, room, thumbnails, histograms or spark,
                                                        room_transforms=spark))
         if format == "json":
-            return g
+            return json_response(g)
         return Response(app_graph.render_graph(g, format),
                         media_type="application/graphml+xml" if format == "graphml" else "application/json")
 
@@ -188,7 +212,7 @@ def create_app(settings, token: str, handle: Optional[StoreHandle] = None,
     def ingest(body: app_ingest.IngestRequest):
         """Merge a robot's local scene graph (same-node detection, one transaction); the same
         observation_id is merged once. A body that does not validate is a 422 naming the field."""
-        return stores.call(lambda s: app_ingest.ingest_graph(s, body), write=True)
+        return json_response(stores.call(lambda s: app_ingest.ingest_graph(s, body), write=True))
 
     api.state.stores = stores
     return api
