@@ -23,8 +23,12 @@ def _summary_table(summary: dict):
     chosen = f["keyframes"] + f["anchors"] + f["coverage"]
     detected = (f"{f['detected']} of {chosen} chosen frames" if interrupted and f["detected"] < chosen
                 else f"{f['detected']} frames")
+    # detections are counted when a chunk's detection pass ends: after Ctrl-C the frames detected
+    # in the chunk that was cut short are in `detected` but their detections are not
+    detections = (f"{f['detections']} detections in the finished chunks" if interrupted
+                  else f"{f['detections']} detections")
     t.add_row("detected", f"{detected} ({f['keyframes']} keyframes + {f['anchors']} anchors + "
-                          f"{f['coverage']} for new viewpoints), {f['detections']} detections")
+                          f"{f['coverage']} for new viewpoints), {detections}")
     h = summary["hypotheses"]
     rejected = ", ".join(f"{n} {why}" for why, n in h["rejected"].items()) or "none"
     t.add_row("objects found", f"{h['formed']} candidates, {h['kept']} kept (rejected: {rejected})")
