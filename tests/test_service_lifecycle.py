@@ -62,3 +62,20 @@ def test_a_full_disk_is_named_and_start_fails_fast(tmp_path, monkeypatch):
         embedded.EmbeddedServer(tmp_path / "home").start()
     assert time.monotonic() - t0 < 5
     assert str(tmp_path / "home") in embedded.disk_full_message(tmp_path / "home")
+
+
+def test_serve_on_an_unusable_home_is_one_line_exit_2(tmp_path):
+    """A home that cannot hold the store (here: below a file, which even root cannot write into)."""
+    import subprocess
+    import sys
+
+    from graphdb.embedded import free_port
+
+    blocker = tmp_path / "file"
+    blocker.write_text("x")
+    env = {k: v for k, v in __import__("os").environ.items() if k != "SG3D_URI"}
+    out = subprocess.run([sys.executable, "-m", "sg3d", "--home", str(blocker / "home"), "serve",
+                          "--port", str(free_port())], capture_output=True, text=True, env=env, timeout=120)
+    assert out.returncode == 2, out.stderr
+    lines = out.stderr.strip().splitlines()
+    assert len(lines) == 1 and "cannot use the store directory" in lines[0] and "Traceback" not in out.stderr
