@@ -25,11 +25,15 @@ def jsonable(value: Any) -> Any:
 def _finite_value(value: Any) -> bool:
     if isinstance(value, float):
         return math.isfinite(value)
-    if isinstance(value, (list, tuple)) and value and isinstance(value[0], (int, float)):
-        try:
-            return math.isfinite(math.fsum(value))       # one C pass; any NaN/inf (or overflow) fails
-        except (OverflowError, TypeError):
-            return False
+    if isinstance(value, (list, tuple)):
+        if value and isinstance(value[0], (int, float)):
+            try:
+                return math.isfinite(math.fsum(value))   # one C pass; any NaN/inf (or overflow) fails
+            except OverflowError:
+                return False
+            except TypeError:
+                pass                                     # a mixed list: its floats one by one
+        return all(math.isfinite(v) for v in value if isinstance(v, float))
     if isinstance(value, dict):
         return all(_finite_value(v) for v in value.values())
     return True
