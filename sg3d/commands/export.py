@@ -1,6 +1,7 @@
 """`sg3d export`: a room's or a building's graph as JSON (the paper's format) or GraphML."""
 from __future__ import annotations
 
+import sys
 from pathlib import Path
 from typing import Optional
 
@@ -55,7 +56,7 @@ def export(settings, room: Optional[str], building: str, fmt: str, out: Optional
     if out:
         out.write_text(text)
         click.echo(f"wrote {len(graph['nodes'])} nodes and {len(graph['edges'])} edges to {out}", err=True)
-    elif to_stdout or not click.get_text_stream("stdout").isatty():
+    elif to_stdout or not sys.stdout.isatty():
         click.echo(text)
     else:   # a terminal would get one line of many kilobytes
         click.echo(f"{len(graph['nodes'])} nodes and {len(graph['edges'])} edges ({fmt}, {len(text):,} characters); "
