@@ -270,6 +270,7 @@ def import_spark_dsg(store, path, building: Optional[str] = None, room: Optional
             req = IngestRequest.model_validate(body)
         except ValidationError as exc:
             first = exc.errors()[0]
-            raise Refused(f"{path}: room {target!r}: {'.'.join(map(str, first['loc']))}: {first['msg']}") from None
+            raise Refused(f"{path}: room {target[:60]!r}: {'.'.join(map(str, first['loc']))}: "
+                          f"{str(first['msg'])[:200]}") from None
         reports.append({"from_rooms": g["sources"], **ingest_graph(store, req, embedding)})
     return {"file": str(path), "building": building, "layers": data["layers"], "rooms": reports}
