@@ -32,20 +32,7 @@ MAX_GOAL_DEPTH = 16
 DEFAULT_MAX_BODY = 32 * 1024 * 1024
 # A user's own Cypher statement (MCP `cypher`, `sg3d cypher`, `sg3d shell`): characters.
 MAX_STATEMENT_CHARS = 20_000
-# The embedded store stops any single statement (sg3d's own included) after this many seconds
-# (ArcadeDB's arcadedb.command.timeout); SG3D_STORE_TIMEOUT_S changes it when the store starts.
-STORE_TIMEOUT_S = 30.0
-
-
-def store_timeout_s() -> float:
-    """The statement time limit the embedded store is started with (> 0, seconds)."""
-    import os
-
-    try:
-        value = float(os.environ.get("SG3D_STORE_TIMEOUT_S", STORE_TIMEOUT_S))
-    except ValueError:
-        return STORE_TIMEOUT_S
-    return value if math.isfinite(value) and value > 0 else STORE_TIMEOUT_S
+# The embedded store's statement time limit lives with the store: graphdb.embedded.STORE_TIMEOUT_S.
 
 _SEPARATORS = ("/", "\\")
 

@@ -135,7 +135,7 @@ _WORD = re.compile(r"(?<![.$\w])([A-Za-z_]\w*)")
 def check_statement(statement: str) -> None:
     """Refuse a user's statement before it reaches the store: longer than
     `bounds.MAX_STATEMENT_CHARS`, or calling a sleep function (the store's statement time limit,
-    `bounds.store_timeout_s`, does not interrupt one)."""
+    `graphdb.embedded.store_timeout_s`, does not interrupt one)."""
     from app.bounds import MAX_STATEMENT_CHARS
 
     if not isinstance(statement, str):

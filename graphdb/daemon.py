@@ -15,7 +15,7 @@ import time
 from pathlib import Path
 
 from graphdb.embedded import (DATABASE, READER_GROUP, WRITER_GROUP, Credentials, EmbeddedServer, daemon_pids,
-                              free_port)
+                              free_port, store_timeout_s)
 
 # sg3d never reads files or URLs through LOAD CSV: the engine is told so, whoever logs in
 CLOSED_SETTINGS = {
@@ -39,8 +39,6 @@ def close_engine_settings() -> None:
     """The engine settings above, and the time limit of every statement (a query an agent
     abandoned stops there instead of keeping a core busy until `sg3d db stop`)."""
     import jpype
-
-    from app.bounds import store_timeout_s
 
     config = jpype.JClass("com.arcadedb.GlobalConfiguration")
     settings = {**CLOSED_SETTINGS, "arcadedb.command.timeout": int(store_timeout_s() * 1000)}

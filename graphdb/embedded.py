@@ -47,6 +47,22 @@ class StoreStopped(EmbeddedStoreError):
     """The store was stopped with `sg3d db stop`; long-running services do not restart it."""
 
 
+# The embedded store stops any single statement (sg3d's own included) after this many seconds
+# (ArcadeDB's arcadedb.command.timeout); SG3D_STORE_TIMEOUT_S changes it when the store starts.
+STORE_TIMEOUT_S = 30.0
+
+
+def store_timeout_s() -> float:
+    """The statement time limit the embedded store is started with (> 0, seconds)."""
+    import math
+
+    try:
+        value = float(os.environ.get("SG3D_STORE_TIMEOUT_S", STORE_TIMEOUT_S))
+    except ValueError:
+        return STORE_TIMEOUT_S
+    return value if math.isfinite(value) and value > 0 else STORE_TIMEOUT_S
+
+
 MIN_FREE_MB = 64          # the store refuses to start with less free space on its disk
 STOPPED_FILE = "stopped"  # written by `sg3d db stop`, removed by the next start
 

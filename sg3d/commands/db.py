@@ -92,7 +92,7 @@ def reset(settings, yes: bool) -> None:
 def check(settings, repair: bool, as_json: bool) -> None:
     """Find stored values no reader can use (NaN, Infinity, positions beyond the world extent, an
     up that is no direction); --repair removes such objects and clears such up directions."""
-    from graphdb.check import check_store
+    from app.check import check_store
 
     store = settings.store()
     store.ensure_schema()

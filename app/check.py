@@ -1,4 +1,4 @@
-"""`sg3d db check`: find stored values no reader can use (NaN, Infinity, coordinates beyond the
+"""`sg3d db check` (the store against `app.bounds`): find stored values no reader can use (NaN, Infinity, coordinates beyond the
 world extent, an `up` that is not a direction) and repair them: such an object is removed (with
 its Appearance and edges, tallies recounted), such an `up` is cleared."""
 from __future__ import annotations
