@@ -40,8 +40,8 @@ def _finite_value(value: Any) -> bool:
 
 
 def has_bad_number(row: dict) -> bool:
-    """Whether a stored row holds a number no reader can use: NaN, +-Infinity (a store written
-    before ingest bounds were checked); rows of such values are skipped, see `finite_rows`."""
+    """Whether a stored row holds a number no reader can use: NaN, +-Infinity (written around the
+    ingest bounds, e.g. by a user's own Cypher); rows of such values are skipped, see `finite_rows`."""
     return not all(_finite_value(v) for v in row.values())
 
 

@@ -76,7 +76,7 @@ def _all_routes_answer(c):
 @pytest.mark.parametrize("name", list(POISON))
 def test_an_out_of_bounds_ingest_is_422_and_every_route_still_answers(client, store, name):
     body = _edit(POISON[name])
-    for _ in range(2):      # the audit sent each poison twice (the second merges into the first)
+    for _ in range(2):      # twice: a second copy would merge into the first if the first got in
         text = json.dumps(body)
         r = client.post("/ingest", content=text, headers={"content-type": "application/json"})
         assert r.status_code == 422, (name, r.status_code, r.text[:300])
@@ -126,7 +126,7 @@ def test_layer_shape_and_second_colour_are_stored(client, store):
 
 
 def _plant_bad_values(store):
-    """Values a store written without these bounds can hold (the audit's poisoned room)."""
+    """Values a store written without these bounds can hold."""
     store.run_raw("MATCH (o:Object) WHERE o.room = 'home/kitchen' WITH o ORDER BY o.id LIMIT 1 "
                   "SET o.x = $inf, o.var = [$nan, $nan, $nan], o.volume = $inf",
                   {"inf": float("inf"), "nan": float("nan")}, write=True)
