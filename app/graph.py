@@ -122,8 +122,28 @@ WRITE_WORDS = frozenset({"CREATE", "MERGE", "DELETE", "DETACH", "SET", "REMOVE",
                          "CALL", "PROFILE", "EXPLAIN", "USE"})
 # Steps of ArcadeDB's EXPLAIN text ("+ CREATE", "+ SET (1 items)") that write.
 _PLAN_WRITE = re.compile(r"^\s*\+\s*(CREATE|MERGE|SET|DELETE|DETACH|REMOVE|FOREACH|CALL)\b", re.M | re.I)
-_STRINGS = re.compile(r"'(?:\\.|[^'\\])*'|\"(?:\\.|[^\"\\])*\"|`[^`]*`|//[^\n]*|/\*.*?\*/", re.S)
+# Strings, `names` and comments; one left open runs to the end of the text, so every opener
+# matches where it stands and the scan stays linear (an unclosed "/*" repeated cannot make it
+# search to the end again and again).
+_STRINGS = re.compile(r"'(?:\\.|[^'\\])*(?:'|\Z)|\"(?:\\.|[^\"\\])*(?:\"|\Z)|`[^`]*(?:`|\Z)|//[^\n]*"
+                      r"|/\*(?:[^*]|\*(?!/))*(?:\*/|\Z)", re.S)
+# Functions that hold a worker without doing work, which no statement limit interrupts.
+_BLOCKING = re.compile(r"(?<![\w$])sleep\s*\(", re.I)
 _WORD = re.compile(r"(?<![.$\w])([A-Za-z_]\w*)")
+
+
+def check_statement(statement: str) -> None:
+    """Refuse a user's statement before it reaches the store: longer than
+    `bounds.MAX_STATEMENT_CHARS`, or calling a sleep function (the store's statement time limit,
+    `graphdb.embedded.store_timeout_s`, does not interrupt one)."""
+    from app.bounds import MAX_STATEMENT_CHARS
+
+    if not isinstance(statement, str):
+        raise AppError("the statement must be a text")
+    if len(statement) > MAX_STATEMENT_CHARS:
+        raise AppError(f"the statement is longer than {MAX_STATEMENT_CHARS} characters")
+    if _BLOCKING.search(_STRINGS.sub(" ", statement)):
+        raise Refused("sleep functions are not allowed here")
 
 
 def write_words(statement: str) -> list[str]:
@@ -182,6 +202,7 @@ def read_only_cypher(store, statement: str, params: Optional[dict] = None, limit
 
     if params is not None and not isinstance(params, dict):
         raise AppError("params must be an object of parameter names to values")
+    check_statement(statement)
     try:
         check_read_only(store, statement)
         return run_rolled_back(store, statement.strip().rstrip(";"), params or {}, limit, timeout_s)
@@ -249,6 +270,7 @@ def import_spark_dsg(store, path, building: Optional[str] = None, room: Optional
             req = IngestRequest.model_validate(body)
         except ValidationError as exc:
             first = exc.errors()[0]
-            raise Refused(f"{path}: room {target!r}: {'.'.join(map(str, first['loc']))}: {first['msg']}") from None
+            raise Refused(f"{path}: room {target[:60]!r}: {'.'.join(map(str, first['loc']))}: "
+                          f"{str(first['msg'])[:200]}") from None
         reports.append({"from_rooms": g["sources"], **ingest_graph(store, req, embedding)})
     return {"file": str(path), "building": building, "layers": data["layers"], "rooms": reports}

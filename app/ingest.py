@@ -14,45 +14,71 @@ from typing import Literal, Optional
 
 from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
 
-from ingest.model import COLOUR_NAMES, HIST_SIZE, RELATION_TYPES
+from app import bounds
+from ingest.model import COLOUR_NAMES, HIST_SIZE, LAYERS, RELATION_TYPES, SHAPE_WORDS
 
-NAME_PATTERN = r"^[^/]+$"          # room and building names: non-empty, no '/' (ids are building/room)
 MAX_OBJECTS = 5000
+MAX_RELATIONS = 50_000
 MAX_LABELS = 20
 
 Vec3 = tuple[float, float, float]
+# floats refuse NaN and +-Infinity (as numbers and as the JSON literals); ints are bounded below
+STRICT = ConfigDict(extra="forbid", allow_inf_nan=False)
 
 
-def _finite(values, what: str):
-    if values is not None and not all(math.isfinite(v) for v in values):
-        raise ValueError(f"{what} must be finite numbers")
-    return values
+def _frames(v: list[int]) -> list[int]:
+    if len(v) > bounds.MAX_FRAMES:
+        raise ValueError(f"at most {bounds.MAX_FRAMES} frame numbers")
+    if not all(0 <= f <= bounds.MAX_FRAME for f in v):
+        raise ValueError(f"frame numbers must lie in [0, {bounds.MAX_FRAME}]")
+    return v
+
+
+def _checked(problem):
+    if problem:
+        raise ValueError(problem)
 
 
 class ObjectIn(BaseModel):
     """One object of the local graph (the paper's vertex): world-frame metres."""
 
-    model_config = ConfigDict(extra="forbid")
-    id: str = Field(min_length=1, max_length=200, description="local id, unique in this graph; relations use it")
+    model_config = STRICT
+    id: str = Field(min_length=1, max_length=bounds.MAX_ID_CHARS,
+                    description="local id, unique in this graph; relations use it")
     labels: list[str] = Field(min_length=1, max_length=MAX_LABELS, description="top-k labels, best first")
     scores: list[float] = Field(min_length=1, max_length=MAX_LABELS, description="their scores in [0, 1]")
     mean: Vec3 = Field(description="Gaussian position mean x, y, z (Eq. 8)")
     var: Vec3 = Field(description="per-axis position variance (m^2, >= 0)")
-    n_points: int = Field(ge=1, description="3-D points behind mean and var")
+    n_points: int = Field(ge=1, le=bounds.MAX_POINTS, description="3-D points behind mean and var")
     size: Vec3 = Field(description="box extent: width, depth, height (m, >= 0)")
     box_centre: Optional[Vec3] = Field(None, description="centre of the 3-D box; default: mean")
     hist: list[float] = Field(min_length=HIST_SIZE, max_length=HIST_SIZE,
                               description=f"HSV histogram, 8x8x8 = {HIST_SIZE} non-negative values (Eq. 9)")
     colour: Literal[COLOUR_NAMES] = "grey"
+    colour2: Optional[Literal[COLOUR_NAMES]] = Field(None, description="a second colour (two-coloured objects)")
+    layer: Literal[LAYERS] = Field("object", description="object: a thing in the room; structure: floor, "
+                                                         "walls, large horizontal surfaces")
+    shape: Optional[Literal[SHAPE_WORDS]] = Field(None, description="a shape word for objects no detector named")
     thumbnail: Optional[str] = Field(None, description="base64 JPEG crop of the object")
     frames: list[int] = Field(default_factory=list, description="frame numbers that saw the object")
+
+    @field_validator("id")
+    @classmethod
+    def _id(cls, v):
+        _checked(bounds.id_problem(v))
+        return v
 
     @field_validator("labels")
     @classmethod
     def _labels(cls, v):
-        if any(not s.strip() for s in v):
-            raise ValueError("labels must be non-empty words")
+        for s in v:
+            _checked(bounds.label_problem(s))
         return [s.strip().lower() for s in v]
+
+    @field_validator("frames")
+    @classmethod
+    def _object_frames(cls, v):
+        return _frames(v)
 
     @field_validator("scores")
     @classmethod
@@ -64,20 +90,29 @@ class ObjectIn(BaseModel):
     @field_validator("mean", "box_centre")
     @classmethod
     def _position(cls, v):
-        return _finite(v, "positions")
+        if v is not None and not bounds.within_world(v):
+            raise ValueError(f"positions must lie within +-{bounds.WORLD_EXTENT_M:g} m")
+        return v
 
-    @field_validator("var", "size")
+    @field_validator("var")
     @classmethod
-    def _non_negative(cls, v):
-        if not all(math.isfinite(x) and x >= 0 for x in v):
-            raise ValueError("must be three finite numbers >= 0")
+    def _variance(cls, v):
+        if not all(0 <= x <= bounds.MAX_VAR_M2 for x in v):
+            raise ValueError(f"variances must lie in [0, {bounds.MAX_VAR_M2:g}] m^2")
+        return v
+
+    @field_validator("size")
+    @classmethod
+    def _size(cls, v):
+        if not all(0 < x <= bounds.MAX_SIZE_M for x in v):
+            raise ValueError(f"sizes must lie in (0, {bounds.MAX_SIZE_M:g}] m")
         return v
 
     @field_validator("hist")
     @classmethod
     def _hist(cls, v):
-        if not all(math.isfinite(x) and x >= 0 for x in v):
-            raise ValueError("histogram values must be finite and >= 0")
+        if not all(0 <= x < 1e12 for x in v):
+            raise ValueError("histogram values must lie in [0, 1e12)")
         return v
 
     @field_validator("thumbnail")
@@ -103,47 +138,68 @@ class ObjectIn(BaseModel):
 class RelationIn(BaseModel):
     """A directed edge subject -[predicate]-> object between objects of this graph."""
 
-    model_config = ConfigDict(extra="forbid")
-    subject: str = Field(min_length=1)
+    model_config = STRICT
+    subject: str = Field(min_length=1, max_length=bounds.MAX_ID_CHARS)
     predicate: Literal[RELATION_TYPES]
-    object: str = Field(min_length=1)
+    object: str = Field(min_length=1, max_length=bounds.MAX_ID_CHARS)
     score: float = Field(1.0, ge=0.0, le=1.0)
 
 
 class LocalGraphIn(BaseModel):
     """A local 3-D scene graph: objects, relations among them, the frames it came from."""
 
-    model_config = ConfigDict(extra="forbid")
+    model_config = STRICT
     objects: list[ObjectIn] = Field(min_length=1, max_length=MAX_OBJECTS)
-    relations: list[RelationIn] = Field(default_factory=list)
+    relations: list[RelationIn] = Field(default_factory=list, max_length=MAX_RELATIONS)
     frames: list[int] = Field(default_factory=list)
-    up: Optional[Vec3] = Field(None, description="the room's up direction in the world frame")
+    up: Optional[Vec3] = Field(None, description="the room's up direction in the world frame (a unit vector)")
+
+    @field_validator("frames")
+    @classmethod
+    def _graph_frames(cls, v):
+        return _frames(v)
+
+    @field_validator("up")
+    @classmethod
+    def _up(cls, v):
+        return None if v is None else bounds.unit_up(v)
 
     @model_validator(mode="after")
     def _ids(self):
         ids = [o.id for o in self.objects]
         dup = sorted({i for i in ids if ids.count(i) > 1})
         if dup:
-            raise ValueError(f"object ids must be unique: {', '.join(dup[:5])}")
+            raise ValueError(f"object ids must be unique ({len(dup)} repeated)")
         known = set(ids)
         for n, r in enumerate(self.relations):
             for end in ("subject", "object"):
                 if getattr(r, end) not in known:
-                    raise ValueError(f"relations[{n}].{end} {getattr(r, end)!r} is no object id of this graph")
+                    raise ValueError(f"relations[{n}].{end} is no object id of this graph")
             if r.subject == r.object:
-                raise ValueError(f"relations[{n}] relates {r.subject!r} to itself")
+                raise ValueError(f"relations[{n}] relates an object to itself")
         return self
 
 
 class IngestRequest(BaseModel):
     """`POST /ingest`: one observation of a room, merged once per `observation_id`."""
 
-    model_config = ConfigDict(extra="forbid")
-    building: str = Field("default", pattern=NAME_PATTERN, max_length=200)
-    room: str = Field(pattern=NAME_PATTERN, max_length=200)
-    observation_id: str = Field(min_length=1, max_length=200,
+    model_config = STRICT
+    building: str = Field("default", max_length=bounds.MAX_NAME_CHARS)
+    room: str = Field(max_length=bounds.MAX_NAME_CHARS)
+    observation_id: str = Field(min_length=1, max_length=bounds.MAX_ID_CHARS,
                                 description="the caller's id of this observation: the same id is merged once")
     graph: LocalGraphIn
+
+    @field_validator("building", "room")
+    @classmethod
+    def _name(cls, v, info):
+        return bounds.check_name(v, info.field_name)
+
+    @field_validator("observation_id")
+    @classmethod
+    def _observation(cls, v):
+        _checked(bounds.id_problem(v, "observation_id"))
+        return v
 
 
 def merge_key(req: IngestRequest) -> str:
@@ -164,7 +220,8 @@ def to_local_graph(req: IngestRequest):
             n_points=o.n_points, size=o.size, hist=np.asarray(o.hist, dtype=float), colour=o.colour,
             thumbnail=base64.b64decode(o.thumbnail) if o.thumbnail else None,
             first_frame=frames[0] if frames else 0, last_frame=frames[-1] if frames else 0,
-            n_frames=max(1, len(set(frames))), box_centre=o.box_centre))
+            n_frames=max(1, len(set(frames))), box_centre=o.box_centre, layer=o.layer, shape=o.shape,
+            colour2=o.colour2))
     relations = [RelationObservation(r.subject, r.predicate, r.object, r.score) for r in req.graph.relations]
     return LocalGraph(room=req.room, building=req.building, objects=objects, relations=relations,
                       key=merge_key(req), frames=sorted(set(req.graph.frames)), up=req.graph.up)

@@ -7,6 +7,7 @@ import tempfile
 from pathlib import Path
 from typing import Optional
 
+from app import bounds
 from app.errors import AppError
 
 PLANNERS = ("pyperplan", "fast-downward")
@@ -21,6 +22,8 @@ def plan(store, command: Optional[str] = None, *, goal: Optional[str] = None, ro
 
     if command and goal:
         raise AppError("give a command or --goal, not both")
+    if goal and bounds.paren_depth(goal) > bounds.MAX_GOAL_DEPTH:
+        raise AppError(f"the goal nests parentheses deeper than {bounds.MAX_GOAL_DEPTH} levels")
     if planner not in PLANNERS:
         raise AppError(f"unknown planner {planner!r} (choose from {', '.join(PLANNERS)})")
     try:

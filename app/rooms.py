@@ -71,3 +71,27 @@ def room_objects(store, building: str, room: str, label: Optional[str] = None, c
     if point is not None:
         out.sort(key=lambda o: o["distance"])
     return out
+
+
+DELETE_BATCH = 2000   # objects removed per transaction when a room is deleted
+
+
+def delete_room(store, building: str, room: str) -> dict:
+    """Remove one room: its objects (with their Appearance nodes and edges), tallies, merge logs,
+    scans and the room node; nothing of any other room. NotFound when it is not in the store.
+    Returns what was removed: {room, objects}."""
+    from graphdb.merge import room_id
+
+    rid = room_id(building, room)
+    if not store.read("building_room_get", room=rid):
+        raise NotFound(f"no room {rid!r} in the store")
+    objects = 0
+    while True:
+        n = store.write("room_delete_objects", room=rid, batch=DELETE_BATCH)[0]["n"]
+        objects += n
+        if n < DELETE_BATCH:
+            break
+    for template in ("room_delete_tallies", "room_delete_merge_logs", "room_delete_scans", "room_delete_node"):
+        store.write(template, room=rid)
+    store.rooms_known.discard(rid)
+    return {"room": rid, "objects": objects}

@@ -9,6 +9,7 @@ until then they use the normal store. Every read in `app/` and the servers comes
 from __future__ import annotations
 
 import threading
+from pathlib import Path
 from typing import Any, Callable, Optional, TypeVar
 
 T = TypeVar("T")
@@ -49,6 +50,7 @@ class StoreHandle:
         self._lock = threading.Lock()
         self._stores: dict[str, Any] = {}
         self._stamp = self._server_stamp()
+        self._stopped_path: Optional[Path] = None
 
     def _server_stamp(self) -> Optional[tuple]:
         if not getattr(self.settings, "embedded", False):
@@ -59,8 +61,20 @@ class StoreHandle:
         except OSError:
             return None
 
+    def _check_not_stopped(self) -> None:
+        """StoreStopped after an explicit `sg3d db stop`: a service must not undo it."""
+        if not getattr(self.settings, "embedded", False):
+            return
+        from graphdb.embedded import STOPPED_FILE, StoreStopped, store_dir
+
+        if self._stopped_path is None:
+            self._stopped_path = store_dir(Path(self.settings.embedded_home()).expanduser().resolve()) / STOPPED_FILE
+        if self._stopped_path.exists():
+            raise StoreStopped("the store was stopped; `sg3d db start`")
+
     def get(self, write: bool = False):
         kind = "writer" if write else "reader"
+        self._check_not_stopped()
         with self._lock:
             stamp = self._server_stamp()
             if stamp != self._stamp and self._stores:

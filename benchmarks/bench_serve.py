@@ -1,5 +1,6 @@
-"""`sg3d serve` under load: p50/p95 latency of POST /ask (room-scoped questions, one client), then
-C concurrent clients x Q questions each (errors, requests/s).
+"""`sg3d serve` under load: p50/p95 latency of POST /ask (room-scoped questions, one client), the
+same questions answered in this process through `app.ask` (the service's overhead is the ratio,
+measured in the same run), then C concurrent clients x Q questions each (errors, requests/s).
 
     python -m benchmarks.bench_serve                       # scratch store, builds the real kitchen
     python -m benchmarks.bench_serve --home DIR --room kitchen   # a store you built already
@@ -70,6 +71,27 @@ def latency(url: str, token: str, room: str, repeat: int) -> list[float]:
     return ms
 
 
+def in_process(home: Path, room: str, repeat: int) -> list[float]:
+    """The same questions through the application layer in this process (the reader store, the
+    JSON the route returns, thumbnail inlined): what the service adds is the rest."""
+    from app import ask as app_ask
+    from sg3d.settings import Settings
+
+    store = Settings(home=home).reader()
+    ms = []
+    try:
+        for q in QUESTIONS:       # warm-up, as for the service
+            app_ask.ask(store, q, room=room).to_json(inline_thumbnail=True)
+        for _ in range(repeat):
+            for q in QUESTIONS:
+                t0 = time.perf_counter()
+                app_ask.ask(store, q, room=room).to_json(inline_thumbnail=True)
+                ms.append((time.perf_counter() - t0) * 1000)
+    finally:
+        store.close()
+    return ms
+
+
 async def crowd(url: str, token: str, room: str, clients: int, per_client: int) -> tuple[int, int, float, list[float]]:
     errors, done, ms = 0, 0, []
 
@@ -119,7 +141,9 @@ def main() -> None:
             print(f"building the kitchen into a scratch store ...", flush=True)
             sg3d(home, "build", str(KITCHEN), "--room", args.room, "--json", stdout=subprocess.DEVNULL)
         server = start_server(home, port)
-        url, token = f"http://127.0.0.1:{port}", (home / "api-token").read_text().strip()
+        from sg3d.server.auth import token_path
+
+        url, token = f"http://127.0.0.1:{port}", token_path(home).read_text().strip()
         if args.tiny:
             sys.path.insert(0, str(REPO))
             from tests.serve_helpers import kitchen_body
@@ -127,8 +151,13 @@ def main() -> None:
             httpx.post(url + "/ingest", json=kitchen_body(building="default", room=args.room),
                        headers={"Authorization": f"Bearer {token}"}, timeout=120).raise_for_status()
         ms = latency(url, token, args.room, args.repeat)
+        local = in_process(home, args.room, args.repeat)
+        ms_again = latency(url, token, args.room, args.repeat)     # interleaved: load drifts between them
+        ms += ms_again
         print(f"POST /ask, room-scoped, one client: {len(ms)} requests, p50 {pct(ms, 50):.1f} ms, "
               f"p95 {pct(ms, 95):.1f} ms")
+        print(f"the same questions in process: p50 {pct(local, 50):.1f} ms, p95 {pct(local, 95):.1f} ms; "
+              f"service / in-process p50 = {pct(ms, 50) / pct(local, 50):.2f}")
         done, errors, wall, cms = asyncio.run(crowd(url, token, args.room, args.clients, args.per_client))
         print(f"{args.clients} concurrent clients x {args.per_client} questions: {done} requests, {errors} errors, "
               f"{done / wall:.1f} requests/s, p50 {pct(cms, 50):.0f} ms, p95 {pct(cms, 95):.0f} ms")

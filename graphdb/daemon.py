@@ -15,12 +15,13 @@ import time
 from pathlib import Path
 
 from graphdb.embedded import (DATABASE, READER_GROUP, WRITER_GROUP, Credentials, EmbeddedServer, daemon_pids,
-                              free_port)
+                              free_port, store_timeout_s)
 
 # sg3d never reads files or URLs through LOAD CSV: the engine is told so, whoever logs in
 CLOSED_SETTINGS = {
     "arcadedb.opencypher.loadCsv.allowFileUrls": False,
     "arcadedb.opencypher.loadCsv.allowRemoteUrls": False,
+    "arcadedb.command.timeout": 3000,
 }
 
 # ArcadeDB's per-database groups (server-groups.json). The reader may read records and nothing
@@ -35,10 +36,13 @@ GROUPS = {
 
 
 def close_engine_settings() -> None:
+    """The engine settings above, and the time limit of every statement (a query an agent
+    abandoned stops there instead of keeping a core busy until `sg3d db stop`)."""
     import jpype
 
     config = jpype.JClass("com.arcadedb.GlobalConfiguration")
-    for key, value in CLOSED_SETTINGS.items():
+    settings = {**CLOSED_SETTINGS, "arcadedb.command.timeout": int(store_timeout_s() * 1000)}
+    for key, value in settings.items():
         setting = config.findByKey(key)
         if setting is not None:
             setting.setValue(value)

@@ -43,6 +43,53 @@ class EmbeddedStoreError(RuntimeError):
     pass
 
 
+class StoreStopped(EmbeddedStoreError):
+    """The store was stopped with `sg3d db stop`; long-running services do not restart it."""
+
+
+# The embedded store stops any single statement (sg3d's own included) after this many seconds
+# (ArcadeDB's arcadedb.command.timeout); SG3D_STORE_TIMEOUT_S changes it when the store starts.
+STORE_TIMEOUT_S = 30.0
+
+
+def store_timeout_s() -> float:
+    """The statement time limit the embedded store is started with (> 0, seconds)."""
+    import math
+
+    try:
+        value = float(os.environ.get("SG3D_STORE_TIMEOUT_S", STORE_TIMEOUT_S))
+    except ValueError:
+        return STORE_TIMEOUT_S
+    return value if math.isfinite(value) and value > 0 else STORE_TIMEOUT_S
+
+
+MIN_FREE_MB = 64          # the store refuses to start with less free space on its disk
+STOPPED_FILE = "stopped"  # written by `sg3d db stop`, removed by the next start
+
+
+def free_mb(path: Path) -> float:
+    """Free space (MiB) on the disk holding `path` (or its nearest existing parent)."""
+    import shutil
+
+    path = Path(path)
+    while not path.exists() and path != path.parent:
+        path = path.parent
+    return shutil.disk_usage(path).free / 2 ** 20
+
+
+def disk_full_message(path: Path, minimum_mb: Optional[float] = None) -> Optional[str]:
+    """'the disk holding PATH is full (N MB free)' when it has less than `minimum_mb` (default
+    MIN_FREE_MB) free, else None."""
+    minimum_mb = MIN_FREE_MB if minimum_mb is None else minimum_mb
+    try:
+        free = free_mb(path)
+    except OSError:
+        return None
+    if free >= minimum_mb:
+        return None
+    return f"the disk holding {path} is full ({free:.0f} MB free; the store needs at least {minimum_mb} MB)"
+
+
 def default_home() -> Path:
     env = os.environ.get("SG3D_HOME")
     if env:
@@ -350,8 +397,24 @@ class EmbeddedServer:
         except OSError as exc:
             raise EmbeddedStoreError(f"cannot use the store directory {self.home}: {exc.strerror or exc}") from None
 
+    @property
+    def stopped_path(self) -> Path:
+        return self.home / STOPPED_FILE
+
+    def mark_stopped(self) -> None:
+        """Record an explicit stop: services (`sg3d serve`, `sg3d mcp`) leave the store stopped."""
+        if self.home.is_dir():
+            self.stopped_path.touch(mode=0o600)
+
+    def was_stopped(self) -> bool:
+        return self.stopped_path.exists()
+
     def _start(self) -> ServerInfo:
         self.ensure_home()
+        full = disk_full_message(self.home)
+        if full:
+            raise EmbeddedStoreError(full)
+        self.stopped_path.unlink(missing_ok=True)
         with _flock(self.home / "start.lock", blocking=True, timeout=START_TIMEOUT_S) as got:
             if not got:
                 raise EmbeddedStoreError(f"another sg3d is still starting the store in {self.home}")

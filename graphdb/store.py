@@ -7,6 +7,7 @@ from typing import Any, Callable, Optional
 from neo4j import GraphDatabase, ManagedTransaction
 
 from graphdb import cypher
+from graphdb.values import finite_rows
 
 # 2: an Object's histogram and thumbnail live on its (:Appearance {id}) node (cypher/schema.cypher)
 SCHEMA_VERSION = 3
@@ -62,10 +63,12 @@ class Store:
 
     # -- running templates -----------------------------------------------------------------
     def read(self, name: str, **params: Any) -> list[dict]:
-        """Run template `name` in a read transaction; rows as dicts."""
+        """Run template `name` in a read transaction; rows as dicts, without rows holding a stored
+        NaN or Infinity (skipped with a warning: `graphdb.values.finite_rows`)."""
         text = cypher.load(name)
         with self.session() as s:
-            return s.execute_read(lambda tx: tx.run(text, params).data())
+            rows = s.execute_read(lambda tx: tx.run(text, params).data())
+        return finite_rows(rows, name)
 
     def writer(self) -> "Store":
         """The store sg3d's own writes go to: itself, or the writer behind a read-only store."""

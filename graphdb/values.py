@@ -1,6 +1,8 @@
 """Store values as JSON: the one conversion the Cypher front ends and the eval report share."""
 from __future__ import annotations
 
+import logging
+import math
 from typing import Any
 
 
@@ -18,3 +20,48 @@ def jsonable(value: Any) -> Any:
     if hasattr(value, "iso_format"):          # neo4j temporal types
         return value.iso_format()
     return str(value)
+
+
+def _finite_value(value: Any) -> bool:
+    if isinstance(value, float):
+        return math.isfinite(value)
+    if isinstance(value, (list, tuple)):
+        if value and isinstance(value[0], (int, float)):
+            try:
+                return math.isfinite(math.fsum(value))   # one C pass; any NaN/inf (or overflow) fails
+            except OverflowError:
+                return False
+            except TypeError:
+                pass                                     # a mixed list: its floats one by one
+        return all(math.isfinite(v) for v in value if isinstance(v, float))
+    if isinstance(value, dict):
+        return all(_finite_value(v) for v in value.values())
+    return True
+
+
+def has_bad_number(row: dict) -> bool:
+    """Whether a stored row holds a number no reader can use: NaN, +-Infinity (written around the
+    ingest bounds, e.g. by a user's own Cypher); rows of such values are skipped, see `finite_rows`."""
+    return not all(_finite_value(v) for v in row.values())
+
+
+def finite_rows(rows: list[dict], source: str) -> list[dict]:
+    """`rows` without those holding a non-finite number, with one warning naming how many were
+    skipped and how to repair the store."""
+    good = [r for r in rows if not has_bad_number(r)]
+    if len(good) != len(rows):
+        logging.getLogger("sg3d.store").warning(
+            "skipped %d stored record(s) of %s holding NaN or Infinity; `sg3d db check --repair` removes them",
+            len(rows) - len(good), source)
+    return good
+
+
+def finite_or_none(value: Any) -> Any:
+    """`value` with every NaN or +-Infinity float replaced by None (JSON has no such numbers)."""
+    if isinstance(value, float):
+        return value if math.isfinite(value) else None
+    if isinstance(value, (list, tuple)):
+        return [finite_or_none(v) for v in value]
+    if isinstance(value, dict):
+        return {k: finite_or_none(v) for k, v in value.items()}
+    return value

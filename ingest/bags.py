@@ -70,6 +70,19 @@ class BagOptions:
     max_dt: Optional[float] = None       # association tolerance in seconds [0.02]
 
 
+BAG_MAGIC = (b"#ROSBAG V2.0", b"\x89MCAP", b"SQLite format 3\x00")
+
+
+def has_bag_magic(path: Path) -> bool:
+    """Whether a file starts like a ROS1 bag, an MCAP file or a ROS2 SQLite bag."""
+    try:
+        with open(path, "rb") as f:
+            head = f.read(16)
+    except OSError:
+        return False
+    return head.startswith(BAG_MAGIC)
+
+
 def is_bag(path: Path) -> bool:
     """A ROS bag file (by its suffix) or a ROS2 bag folder (it holds metadata.yaml)."""
     path = Path(path)
@@ -359,8 +372,14 @@ class BagSequence(Sequence):
 
 def _why(exc: BaseException) -> str:
     """One line from an exception of rosbags (whose args are sometimes tuples)."""
-    parts = [str(a[0] if isinstance(a, tuple) and len(a) == 1 else a) for a in exc.args]
-    return " ".join(" ".join(parts).split()) or type(exc).__name__
+    parts = []
+    for a in exc.args:
+        a = a[0] if isinstance(a, tuple) and len(a) == 1 else a
+        parts.append(f"<{len(a)} bytes>" if isinstance(a, (bytes, bytearray)) else str(a))
+    text = " ".join(" ".join(parts).split())
+    if not text.isprintable() or "\\x" in text or len(text) > 200:   # raw bytes of a damaged file: never echoed
+        return f"{type(exc).__name__} (the file is damaged or not a ROS bag)"
+    return text or type(exc).__name__
 
 
 def _topics_line(conns) -> str:

@@ -13,6 +13,8 @@ import numpy as np
 HIST_BINS = 8  # per HSV axis; the paper's c (Sec. V-B), 8**3 = 512 values
 HIST_SIZE = HIST_BINS ** 3
 TOP_K = 5
+# Coordinates (m) a room or building can have, for camera poses and object positions alike.
+WORLD_EXTENT_M = 10_000.0
 
 # The fixed whitelist of relation types. Cypher cannot take a relation type as a parameter,
 # so every type that reaches a statement must be one of these.

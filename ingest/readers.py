@@ -37,6 +37,8 @@ import cv2
 import numpy as np
 
 from ingest.frames import Frame, FrameError, FrameSource
+from ingest.image_checks import image_problem
+from ingest.pose_check import pose_problem
 from ingest.registration import DepthRegistrar, Registration
 
 LAYOUTS = ("7scenes", "tum", "scannet", "open3d", "plain")
@@ -70,18 +72,6 @@ class _Entry:
 cv2.utils.logging.setLogLevel(cv2.utils.logging.LOG_LEVEL_ERROR)
 
 
-def _jpeg_complete(path: Path, tail: int = 64) -> bool:
-    """A JPEG file ends with the EOI marker FF D9 (a few padding bytes after it are tolerated)."""
-    try:
-        with open(path, "rb") as f:
-            f.seek(0, 2)
-            size = f.tell()
-            f.seek(max(0, size - tail))
-            return b"\xff\xd9" in f.read()
-    except OSError:
-        return False
-
-
 class _FileSource:
     """Decodes one frame's files; every failure names the file."""
 
@@ -95,10 +85,14 @@ class _FileSource:
     def _read(self, path: Path, flags: int) -> np.ndarray:
         if not path.is_file():
             raise FrameError(self.entry.name, f"missing {path.name}")
-        if path.suffix.lower() in (".jpg", ".jpeg") and not _jpeg_complete(path):
-            # libjpeg would decode the missing rest as grey and print a warning on stderr
-            raise FrameError(self.entry.name, f"{path.name} is truncated (no JPEG end marker)")
-        img = cv2.imread(str(path), flags)
+        try:
+            data = path.read_bytes()
+        except OSError as exc:
+            raise FrameError(self.entry.name, f"cannot read {path.name}: {exc.strerror or exc}") from None
+        problem = image_problem(data, path.suffix)
+        if problem:   # libjpeg/libpng would print their own complaint on stderr
+            raise FrameError(self.entry.name, f"{path.name} {problem}")
+        img = cv2.imdecode(np.frombuffer(data, np.uint8), flags)
         if img is None:
             raise FrameError(self.entry.name, f"cannot decode {path.name} (corrupt or not an image)")
         return img
@@ -151,13 +145,9 @@ def _parse_pose(entry: _Entry) -> np.ndarray:
             raise FrameError(entry.name, f"{path.name} holds {values.size} numbers, a 4x4 pose needs 16")
         pose = values.reshape(4, 4)
     source = entry.pose_file.name if entry.pose_file else "its pose"
-    if not np.all(np.isfinite(pose)):
-        raise FrameError(entry.name, f"{source} is not finite (tracking lost)")
-    R = pose[:3, :3]
-    if np.abs(R.T @ R - np.eye(3)).max() > 1e-3 or np.abs(pose[3] - (0, 0, 0, 1)).max() > 1e-6:
-        raise FrameError(entry.name, f"{source} is not a rigid transform")
-    if np.linalg.det(R) < 0:  # orthonormal but mirrored: no camera moves like that
-        raise FrameError(entry.name, f"{source} is a reflection (determinant -1), not a rotation")
+    problem = pose_problem(pose, source)
+    if problem:
+        raise FrameError(entry.name, problem)
     return pose
 
 
@@ -235,9 +225,12 @@ class Sequence:
 
         sizes: Counter = Counter()
         for entry in self._entries[:50]:
-            ok = entry.color.is_file() and (entry.color.suffix.lower() not in (".jpg", ".jpeg")
-                                            or _jpeg_complete(entry.color))
-            img = cv2.imread(str(entry.color), cv2.IMREAD_GRAYSCALE) if ok else None
+            try:
+                data = entry.color.read_bytes() if entry.color.is_file() else b""
+            except OSError:
+                data = b""
+            ok = bool(data) and image_problem(data, entry.color.suffix) is None
+            img = cv2.imdecode(np.frombuffer(data, np.uint8), cv2.IMREAD_GRAYSCALE) if ok else None
             if img is not None:
                 sizes[(img.shape[1], img.shape[0])] += 1
                 if sum(sizes.values()) >= probes:
@@ -651,11 +644,15 @@ def open_sequence(path: Union[str, Path], layout: Optional[str] = None,
     from ingest import bags
 
     path = Path(path).expanduser()
-    if (layout or "").lower() in bags.LAYOUT_NAMES or (layout is None and bags.is_bag(path)):
+    if (layout or "").lower() in bags.LAYOUT_NAMES or (layout is None and (
+            bags.is_bag(path) or (path.is_file() and bags.has_bag_magic(path)))):
         return bags.open_bag(path, registration=registration, **bag_options)
     if any(v is not None for v in bag_options.values()):
         raise SequenceError(f"{', '.join(k for k, v in bag_options.items() if v is not None)}: "
                             f"only for ROS bags, and {path} is not one")
+    if path.is_file():
+        raise SequenceError(f"{path} is a file, not a sequence folder or a ROS bag (.bag, .mcap, .db3, "
+                            f"or a ROS2 bag folder)")
     if not path.is_dir():
         raise SequenceError(f"sequence folder not found: {path}")
     name = detect_layout(path) if layout is None else _ALIASES.get(layout.lower(), layout.lower())

@@ -146,3 +146,22 @@ def load_gt(path, coco_names: Optional[set[str]] = None) -> GroundTruth:
     if not isinstance(data, dict):
         raise ValueError(f"ground truth {path}: expected a JSON object with objects/relations/questions")
     return parse_gt(data, coco_names)
+
+
+def outside_extent(gt: GroundTruth, objects: list[dict], margin_m: float = 1.0) -> tuple[int, int]:
+    """(GT objects with a position outside the room's extent, GT objects with a position). The
+    extent is the axis-aligned box around the stored objects' boxes (`x, y, z, size` rows of
+    cypher/eval_objects.cypher), grown by `margin_m`: ground truth of another sequence falls
+    mostly outside it."""
+    import numpy as np
+
+    placed = [o.position for o in gt.objects if o.position is not None]
+    if not placed or not objects:
+        return 0, len(placed)
+    centres = np.array([[o["x"], o["y"], o["z"]] for o in objects], dtype=float)
+    halves = np.array([o.get("size") or (0.0, 0.0, 0.0) for o in objects], dtype=float) / 2
+    low = (centres - halves).min(axis=0) - margin_m
+    high = (centres + halves).max(axis=0) + margin_m
+    points = np.array(placed, dtype=float)
+    outside = ~np.all((points >= low) & (points <= high), axis=1)
+    return int(outside.sum()), len(placed)

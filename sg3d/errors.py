@@ -13,7 +13,8 @@ class UserError(click.ClickException):
 
 
 def run_cli(group: click.Group) -> int:
-    from neo4j.exceptions import AuthError, CypherSyntaxError, ClientError, ServiceUnavailable
+    from neo4j.exceptions import (AuthError, ClientError, CypherSyntaxError, DatabaseError, ServiceUnavailable,
+                                  TransientError)
 
     from graphdb.embedded import EmbeddedStoreError
     from graphdb.store import ReadOnlyStoreError
@@ -38,8 +39,9 @@ def run_cli(group: click.Group) -> int:
     except AuthError as exc:
         click.echo(f"error: the graph store refused the credentials: {_first_line(exc)}", err=True)
         return 2
-    except (CypherSyntaxError, ClientError) as exc:
-        click.echo(f"error: {describe_store_error(exc)}", err=True)
+    except (CypherSyntaxError, ClientError, DatabaseError, TransientError) as exc:
+        full = _disk_full()
+        click.echo(f"error: {full or describe_store_error(exc)}", err=True)
         return 2
     except (EmbeddedStoreError, ReadOnlyStoreError) as exc:
         click.echo(f"error: {exc}", err=True)
@@ -52,6 +54,17 @@ def run_cli(group: click.Group) -> int:
             raise
         click.echo(f"error: {type(exc).__name__}: {_first_line(exc)} (SG3D_DEBUG=1 for the traceback)", err=True)
         return 1
+
+
+def _disk_full():
+    """The full-disk line for the embedded store's disk, or None (a commit that failed for lack of
+    space reaches the driver only as a transaction error)."""
+    from graphdb.embedded import default_home, disk_full_message, store_dir
+
+    try:
+        return disk_full_message(store_dir(default_home().resolve()))
+    except OSError:
+        return None
 
 
 def describe_store_error(exc) -> str:

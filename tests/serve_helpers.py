@@ -21,14 +21,15 @@ def kitchen_body(observation_id: str = "obs-1", building: str = "home", room: st
 
 
 @contextmanager
-def running_server(settings, token: str):
-    """Serve `create_app(settings, token)` with uvicorn on a free loopback port; yields the base URL."""
+def running_server(settings, token: str, **app_options):
+    """Serve `create_app(settings, token, **app_options)` with uvicorn on a free loopback port;
+    yields the base URL."""
     import uvicorn
 
     from graphdb.embedded import free_port
     from sg3d.server.http import create_app
 
-    api = create_app(settings, token)
+    api = create_app(settings, token, **app_options)
     port = free_port()
     server = uvicorn.Server(uvicorn.Config(api, host="127.0.0.1", port=port, log_level="warning"))
     thread = threading.Thread(target=server.run, daemon=True)

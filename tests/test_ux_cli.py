@@ -67,6 +67,7 @@ def test_an_interrupted_summary_says_so_and_how_far_detection_got(walk_builds):
     out = console.export_text()
     assert "interrupted" in out.splitlines()[0]
     assert f"{chosen - 2} of {chosen} chosen frames" in out
+    assert "detections in the finished chunks" in out   # the cut chunk's are not counted: not "0 detections"
     assert "input frames/s" not in out   # a speed over an interrupted run means nothing
 
 

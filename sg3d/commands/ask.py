@@ -19,14 +19,14 @@ import click
                    "world frame or an object name (or say 'as seen from the sink' in the question).")
 @click.option("--out", type=click.Path(dir_okay=False), default=None,
               help="Where an answer with a picture ('which cup is the biggest', 'show me the cup closest "
-                   "to the sink') writes it: .png or .jpg/.jpeg (default: a temporary .png).")
+                   "to the sink') writes it: .png or .jpg/.jpeg (without --out no file is written).")
 @click.pass_obj
 def ask(settings, question: str, room, building, explain: bool, as_json: bool, viewpoint, out) -> None:
     """Answer QUESTION from the scene graph, e.g. sg3d ask "how many red chairs are there?"
 
     Counting (simple, by group: furniture/cutlery/..., by colour, big/small, in a room, on/under/
     next to an object), existence, yes/no about relations, listing, colour/size lookup, where,
-    and "which cup is the biggest" (writes its picture). Objects are named, not numbered by id.
+    and "which cup is the biggest" (its picture goes to --out). Objects are named, not numbered by id.
     """
     from app.ask import ask as ask_question, parse_viewpoint
     from app.errors import AppError
@@ -37,8 +37,8 @@ def ask(settings, question: str, room, building, explain: bool, as_json: bool, v
         raise UserError(f"--out {out}: the folder {Path(out).expanduser().absolute().parent} does not exist")
     try:
         point_of_view = parse_viewpoint(viewpoint)     # a bad one is refused before the store starts
-        asked = ask_question(reader(settings), question, room=room, building=building, picture=True, out=out,
-                             viewpoint=point_of_view)
+        asked = ask_question(reader(settings), question, room=room, building=building, picture=out is not None,
+                             out=out, viewpoint=point_of_view)
     except AppError as exc:
         raise UserError(str(exc)) from exc
     result, path = asked.answer, asked.picture
@@ -48,6 +48,8 @@ def ask(settings, question: str, room, building, explain: bool, as_json: bool, v
         click.echo(result.text if result.ok else f"cannot answer: {result.text}", err=not result.ok)
         if path:
             click.echo(f"picture: {path}")
+        elif result.ok and result.thumbnail:
+            click.echo("(this answer has a picture: add --out FILE.png to write it)", err=True)
     if explain and not as_json:
         for line in result.explain_lines():
             click.echo(line, err=True)

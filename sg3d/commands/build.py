@@ -8,6 +8,7 @@ from typing import Optional
 import click
 
 from sg3d.commands.bag_options import bag_options
+from sg3d.commands.names import checked_name
 from sg3d.errors import UserError
 
 
@@ -22,8 +23,12 @@ def _summary_table(summary: dict):
     chosen = f["keyframes"] + f["anchors"] + f["coverage"]
     detected = (f"{f['detected']} of {chosen} chosen frames" if interrupted and f["detected"] < chosen
                 else f"{f['detected']} frames")
+    # detections are counted when a chunk's detection pass ends: after Ctrl-C the frames detected
+    # in the chunk that was cut short are in `detected` but their detections are not
+    detections = (f"{f['detections']} detections in the finished chunks" if interrupted
+                  else f"{f['detections']} detections")
     t.add_row("detected", f"{detected} ({f['keyframes']} keyframes + {f['anchors']} anchors + "
-                          f"{f['coverage']} for new viewpoints), {f['detections']} detections")
+                          f"{f['coverage']} for new viewpoints), {detections}")
     h = summary["hypotheses"]
     rejected = ", ".join(f"{n} {why}" for why, n in h["rejected"].items()) or "none"
     t.add_row("objects found", f"{h['formed']} candidates, {h['kept']} kept (rejected: {rejected})")
@@ -80,8 +85,11 @@ def _placement_text(placement: dict) -> str:
 
 @click.command()
 @click.argument("sequence", type=click.Path(path_type=Path))
-@click.option("--room", required=True, help="Room name; the graph of this room is created or extended.")
-@click.option("--building", default="default", show_default=True, help="Building the room belongs to.")
+@click.option("--room", required=True, callback=checked_name,
+              help="Room name (printable, any script; no '/', '\\' or '..'); the graph of this room is "
+                   "created or extended.")
+@click.option("--building", default="default", show_default=True, callback=checked_name,
+              help="Building the room belongs to (same rule as --room).")
 @click.option("--method", type=click.Choice(["2d-basic", "2d-efficient", "3d-basic", "3d-efficient", "3d-full"]),
               default="3d-full", show_default=True, help="Modules to run (the paper's Table I presets).")
 @click.option("--quality", type=click.Choice(["default", "high"]), default="default", show_default=True,

@@ -7,6 +7,9 @@ from pathlib import Path
 
 import click
 
+from app.errors import AppError
+from app.graph import check_statement
+
 
 def _cell(value) -> str:
     if isinstance(value, (bytes, bytearray)):
@@ -62,9 +65,22 @@ def cypher_command(settings, statement: str, param, write: bool, as_json: bool) 
         except ValueError:
             params[name] = raw
     from app.stores import reader
+    from sg3d.errors import UserError
 
+    try:
+        check_statement(statement)
+    except AppError as exc:
+        raise UserError(str(exc)) from None
     keys, rows = (settings.store() if write else reader(settings)).run_raw(statement, params, write=write)
     print_result(keys, rows, as_json)
+
+
+def checked_runner(store, write: bool):
+    """The shell's way to run a statement: `app.graph.check_statement` first, then the store."""
+    def run(text: str, params: dict):
+        check_statement(text)
+        return store.run_raw(text, params, write=write)
+    return run
 
 
 SHELL_HELP = """\
@@ -139,6 +155,8 @@ class Shell:
             self.echo("^C statement cancelled")
         except Neo4jError as exc:
             self.echo(f"error: {describe_store_error(exc)}", err=True)
+        except AppError as exc:
+            self.echo(f"error: {exc}", err=True)
         return True
 
     def command(self, text: str) -> bool:
@@ -197,7 +215,7 @@ def shell(settings, write: bool) -> None:
     click.echo(f"connected to {store.uri} database {store.database}"
                f" ({'read-write' if write else 'read-only'}); end statements with ';', :help for help, :exit to quit")
     try:
-        Shell(lambda text, params: store.run_raw(text, params, write=write), input).loop()
+        Shell(checked_runner(store, write), input).loop()
     finally:
         if history is not None:
             try:

@@ -1,4 +1,4 @@
-"""`sg3d db start|stop|status|reset|rebuild-tallies`: the store's lifecycle and repair."""
+"""`sg3d db start|stop|status|reset|check|rebuild-tallies`: the store's lifecycle and repair."""
 from __future__ import annotations
 
 import json
@@ -66,9 +66,12 @@ def start(settings) -> None:
 @db.command()
 @click.pass_obj
 def stop(settings) -> None:
-    """Stop the embedded store cleanly."""
+    """Stop the embedded store cleanly. It stays stopped for `sg3d serve` and `sg3d mcp` (they
+    answer "the store was stopped") until `sg3d db start` or another command starts it."""
     server = _server(settings)
-    click.echo("stopped" if server.stop() else "not running")  # EmbeddedStoreError: says why it cannot
+    stopped = server.stop()          # EmbeddedStoreError: says why it cannot
+    server.mark_stopped()
+    click.echo("stopped" if stopped else "not running")
 
 
 @db.command()
@@ -80,6 +83,36 @@ def reset(settings, yes: bool) -> None:
         click.confirm(f"delete the whole graph in {settings.uri or 'the embedded store'}?", abort=True)
     settings.store().wipe()
     click.echo("store emptied")
+
+
+@db.command()
+@click.option("--repair", is_flag=True, help="Remove the unusable objects and clear unusable up directions.")
+@click.option("--json", "as_json", is_flag=True, help="Machine-readable output.")
+@click.pass_obj
+def check(settings, repair: bool, as_json: bool) -> None:
+    """Find stored values no reader can use (NaN, Infinity, positions beyond the world extent, an
+    up that is no direction); --repair removes such objects and clears such up directions."""
+    from app.check import check_store
+
+    store = settings.store()
+    store.ensure_schema()
+    report = check_store(store, repair=repair)
+    data = {"objects": [{"id": i, "room": r} for i, r in report.objects], "rooms": report.rooms,
+            "repaired": report.repaired}
+    if as_json:
+        click.echo(json.dumps(data))
+        return
+    if report.clean:
+        click.echo("the store holds no unusable values")
+        return
+    verb = "removed" if report.repaired else "found"
+    click.echo(f"{verb} {len(report.objects)} object(s) with unusable numbers, "
+               f"{'cleared' if report.repaired else 'found'} {len(report.rooms)} unusable room up direction(s)"
+               + ("" if report.repaired else "; `sg3d db check --repair` fixes them"))
+    for object_id, room in report.objects[:20]:
+        click.echo(f"  object {object_id} (room {room})")
+    for room in report.rooms[:20]:
+        click.echo(f"  room {room}: up")
 
 
 @db.command("rebuild-tallies")

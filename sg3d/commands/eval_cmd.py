@@ -98,6 +98,12 @@ def eval_command(settings, gt_path: Path, room: str, building: str, tolerance: O
     rid = room_id(building, room)
     if not store.read("eval_room_exists", room=rid):
         raise UserError(f"no room {room!r} in building {building!r} (build it with `sg3d build`)")
+    from queries.eval_gt import outside_extent
+
+    outside, placed = outside_extent(gt, store.read("eval_objects", room=rid))
+    if placed and outside > placed / 2:
+        click.echo(f"warning: {outside} of {placed} ground-truth objects lie outside the extent of room {rid!r}; "
+                   f"is {gt_path.name} the ground truth of another sequence?", err=True)
     report = evaluate(store, gt, rid, room=room, building=building,
                       tolerance=DEFAULT_TOLERANCE if tolerance is None else tolerance, with_vqa=not no_vqa)
     if report_dir is not None:

@@ -1,6 +1,7 @@
 """`sg3d export`: a room's or a building's graph as JSON (the paper's format) or GraphML."""
 from __future__ import annotations
 
+import sys
 from pathlib import Path
 from typing import Optional
 
@@ -16,7 +17,8 @@ from sg3d.errors import UserError
               show_default=True, help="json: the paper's form; graphml; spark-dsg: Hydra's JSON (--out must end "
                                       "in .json); 3dssg: objects.json + relationships.json.")
 @click.option("--out", type=click.Path(path_type=Path), default=None,
-              help="Write to this file (default: standard output); 3dssg: a folder for objects.json and "
+              help="Write to this file, or '-' for standard output (default: standard output when it is a "
+                   "pipe or file; on a terminal only a summary); 3dssg: a folder for objects.json and "
                    "relationships.json.")
 @click.option("--thumbnails", is_flag=True, help="--format json only: include thumbnails as base64 JPEG.")
 @click.option("--histograms", is_flag=True,
@@ -31,6 +33,8 @@ def export(settings, room: Optional[str], building: str, fmt: str, out: Optional
     from app.graph import fetch_named_graph, render_graph, write_3dssg
     from app.stores import reader
 
+    to_stdout = out is not None and str(out) == "-"
+    out = None if to_stdout else out
     _check_options(fmt, out, thumbnails, histograms)   # before the store starts
     try:
         spark = fmt == "spark-dsg"  # loads in spark_dsg.DynamicSceneGraph.load(); re-imports losslessly
@@ -52,8 +56,11 @@ def export(settings, room: Optional[str], building: str, fmt: str, out: Optional
     if out:
         out.write_text(text)
         click.echo(f"wrote {len(graph['nodes'])} nodes and {len(graph['edges'])} edges to {out}", err=True)
-    else:
+    elif to_stdout or not sys.stdout.isatty():
         click.echo(text)
+    else:   # a terminal would get one line of many kilobytes
+        click.echo(f"{len(graph['nodes'])} nodes and {len(graph['edges'])} edges ({fmt}, {len(text):,} characters); "
+                   f"add --out FILE to write them, or --out - to print them here")
 
 
 def _check_options(fmt: str, out: Optional[Path], thumbnails: bool, histograms: bool) -> None:

@@ -7,6 +7,7 @@ from typing import Optional
 
 import click
 
+from sg3d.commands.names import checked_name
 from sg3d.errors import UserError
 
 
@@ -14,8 +15,10 @@ from sg3d.errors import UserError
 @click.argument("file", type=click.Path(path_type=Path))
 @click.option("--format", "fmt", type=click.Choice(["spark-dsg"]), default="spark-dsg", show_default=True,
               help="File format: spark_dsg JSON (Hydra, Clio, `sg3d export --format spark-dsg`).")
-@click.option("--building", default=None, help="Building to merge into (default: the file's building, else 'default').")
-@click.option("--room", default=None, help="Merge every object into this room (default: one room per room of the file).")
+@click.option("--building", default=None, callback=checked_name,
+              help="Building to merge into (default: the file's building, else 'default').")
+@click.option("--room", default=None, callback=checked_name,
+              help="Merge every object into this room (default: one room per room of the file).")
 @click.option("--json", "as_json", is_flag=True, help="Print the merge report as JSON.")
 @click.pass_obj
 def import_command(settings, file: Path, fmt: str, building: Optional[str], room: Optional[str], as_json: bool) -> None:

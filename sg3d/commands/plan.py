@@ -18,7 +18,7 @@ PLANNER_CHOICES = ("pyperplan", "fast-downward")
 @click.option("--building", help="Building of --room.")
 @click.option("--start", metavar="NAME", help="Where the robot starts (a surface or receptacle name). Default: the first surface.")
 @click.option("--out", "out_dir", type=click.Path(file_okay=False, path_type=Path),
-              help="Directory for domain.pddl and problem.pddl. Default: a new temporary directory.")
+              help="Directory for domain.pddl and problem.pddl (without --out they are not kept).")
 @click.option("--planner", type=click.Choice(PLANNER_CHOICES), default="pyperplan", show_default=True,
               help="pyperplan: greedy best-first + FF heuristic; fast-downward needs unified-planning + up-fast-downward.")
 @click.option("--json", "as_json", is_flag=True, help="The plan as JSON (for scripts).")
@@ -30,19 +30,31 @@ def plan(settings, command, goal, room, building, start, out_dir, planner, as_js
     or another table, electronics stay) and prints the rule.
 
     The plan is checked by simulating it against the domain before it is printed."""
+    import shutil
+    import tempfile
+
     from app.errors import AppError
     from app.plan import plan as plan_task
     from app.stores import reader
 
+    scratch = None if out_dir else Path(tempfile.mkdtemp(prefix="sg3d-plan-"))
     try:
         outcome = plan_task(reader(settings), command, goal=goal, room=room, building=building,
-                            out_dir=out_dir, planner=planner, start=start)
+                            out_dir=out_dir or scratch, planner=planner, start=start)
     except AppError as exc:
         raise UserError(str(exc)) from exc
+    finally:
+        if scratch is not None:
+            shutil.rmtree(scratch, ignore_errors=True)
     if as_json:
-        click.echo(json.dumps(outcome.to_json()))
+        data = outcome.to_json()
+        if scratch is not None:
+            data["domain"] = data["problem"] = None    # removed: --out keeps them
+        click.echo(json.dumps(data))
         return
-    click.echo(f"room {outcome.room}; PDDL in {outcome.out_dir} (domain.pddl, problem.pddl)")
+    where = f"PDDL in {outcome.out_dir} (domain.pddl, problem.pddl)" if scratch is None else \
+        "add --out DIR to keep domain.pddl and problem.pddl"
+    click.echo(f"room {outcome.room}; {where}")
     click.echo("goal: " + " ".join("(" + " ".join(a) + ")" for a in outcome.goal))
     for line in outcome.placement_lines():
         click.echo(f"  {line}")

@@ -1,4 +1,5 @@
-"""`sg3d rooms`: a building's rooms; `sg3d rooms link A B`: align two rooms and link them."""
+"""`sg3d rooms`: a building's rooms; `sg3d rooms link A B`: align two rooms and link them;
+`sg3d rooms delete ROOM`: remove one room."""
 from __future__ import annotations
 
 import json
@@ -18,7 +19,7 @@ from sg3d.errors import UserError
 def rooms(ctx: click.Context, building: str, as_json: bool) -> None:
     """List the building's rooms: object counts, whether each has a transform, adjacent rooms.
 
-    With a subcommand (`link`), that subcommand runs instead.
+    With a subcommand (`link`, `delete`), that subcommand runs instead.
     """
     if ctx.invoked_subcommand is not None:
         return
@@ -84,6 +85,34 @@ def link(ctx: click.Context, room_a: str, room_b: str, building: Optional[str], 
     click.echo(format_matrix(report.T))
     click.echo(f"residual: {'n/a' if residual is None else f'{residual:.4f} m'}  pairs: {report.pairs}  "
                f"SAME_AS links: {len(report.same_as)}")
+
+
+@rooms.command("delete")
+@click.argument("room")
+@click.option("--building", default=None,
+              help="Building of the room (default: `sg3d rooms --building`, else 'default').")
+@click.option("--yes", is_flag=True, help="Do not ask.")
+@click.pass_context
+def delete(ctx: click.Context, room: str, building: Optional[str], yes: bool) -> None:
+    """Remove ROOM: its objects with their edges, its tallies, merge logs and scans, and the room
+    itself; every other room stays as it is (asks first)."""
+    from app.errors import NotFound
+    from app.rooms import delete_room
+    from graphdb.merge import room_id
+
+    building = building or ctx.parent.params["building"]
+    rid = room_id(building, room)
+    store = ctx.obj.store()
+    if not store.read("building_room_get", room=rid):
+        raise UserError(f"no room {rid!r} in the store (see `sg3d rooms --building {building}`)")
+    if not yes:
+        n = store.read("object_count", room=rid)[0]["n"]
+        click.confirm(f"delete room {rid} and its {n} objects?", abort=True)
+    try:
+        done = delete_room(store, building, room)
+    except NotFound as exc:
+        raise UserError(str(exc)) from None
+    click.echo(f"deleted room {done['room']} ({done['objects']} objects)")
 
 
 commands = [rooms]

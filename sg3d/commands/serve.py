@@ -5,6 +5,8 @@ import errno
 
 import click
 
+from app.bounds import DEFAULT_MAX_BODY
+
 
 @click.command()
 @click.option("--host", default="127.0.0.1", show_default=True,
@@ -12,24 +14,31 @@ import click
 @click.option("--port", type=click.IntRange(1, 65535), default=8765, show_default=True,
               help="TCP port to listen on; a port in use is refused.")
 @click.option("--access-log", is_flag=True, help="Log every request.")
+@click.option("--max-body", type=click.IntRange(min=1024), default=DEFAULT_MAX_BODY, show_default=True,
+              metavar="BYTES", help="Largest request body accepted; a larger one is refused (413) before it is "
+                                    "read, and a request without the token (401) before its body is read.")
 @click.pass_obj
-def serve(settings, host: str, port: int, access_log: bool) -> None:
+def serve(settings, host: str, port: int, access_log: bool, max_body: int) -> None:
     """Serve the scene graph over HTTP: /ask, /plan, /rooms, /graph, /ingest (OpenAPI at /docs).
 
-    Callers send `Authorization: Bearer <token>`; the token is generated into
-    $SG3D_HOME/api-token (mode 0600) on first start."""
+    Callers send `Authorization: Bearer <token>`; the token is generated into api-token (mode
+    0600) in the store's private directory on first start (`sg3d db status` names it)."""
     import uvicorn
 
-    from sg3d.server.auth import ensure_token, token_path
+    from sg3d.errors import UserError
+    from sg3d.server.auth import TokenError, ensure_token, token_path
     from sg3d.server.http import create_app, is_loopback
 
     sock = _bind(host, port)       # a taken port or unknown host: one line, before the store starts
     home = settings.embedded_home()
-    token = ensure_token(home)
+    try:
+        token = ensure_token(home)
+    except TokenError as exc:
+        raise UserError(str(exc)) from None
     if not is_loopback(host):
         click.echo(f"warning: binding {host}: the API is reachable from other machines; anyone with the "
                    f"token can read and ingest (put TLS in front of it on an untrusted network)", err=True)
-    api = create_app(settings, token)
+    api = create_app(settings, token, max_body=max_body)
     api.state.stores.get()          # start or find the store now, not on the first request
     click.echo(f"sg3d serving http://{host}:{port} (docs at /docs); token in {token_path(home)}", err=True)
     config = uvicorn.Config(api, host=host, port=port, log_level="warning", access_log=access_log)
@@ -43,8 +52,11 @@ def _bind(host: str, port: int):
 
     from sg3d.errors import UserError
 
-    sock = socket.socket(socket.AF_INET6 if ":" in host else socket.AF_INET)
+    # proto IPPROTO_TCP: asyncio turns Nagle's algorithm off (TCP_NODELAY) only on sockets that
+    # say they are TCP; with proto 0 every small response waited ~40 ms for the client's delayed ACK
+    sock = socket.socket(socket.AF_INET6 if ":" in host else socket.AF_INET, socket.SOCK_STREAM, socket.IPPROTO_TCP)
     sock.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
+    sock.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
     try:
         sock.bind((host, port))
     except OSError as exc:

@@ -1,5 +1,9 @@
-"""The API token: generated once into `$SG3D_HOME/api-token` (mode 0600), sent by callers as
-`Authorization: Bearer <token>`."""
+"""The API token: generated once into `api-token` inside the store's private directory (the
+one that holds its passwords, mode 0700, see `graphdb.embedded.store_dir`), sent by callers as
+`Authorization: Bearer <token>`.
+
+The file is opened without following a symlink and refused unless this user owns it and no one
+else may read or write it: in a shared SG3D_HOME another user cannot plant a token."""
 from __future__ import annotations
 
 import os
@@ -10,24 +14,59 @@ from pathlib import Path
 TOKEN_FILE = "api-token"
 
 
+class TokenError(RuntimeError):
+    """The token file cannot be trusted or made; the message says why and what to do."""
+
+
 def token_path(home: Path) -> Path:
-    return Path(home) / TOKEN_FILE
+    """Where the token of SG3D_HOME=`home` lives: in the store's private directory."""
+    from graphdb.embedded import store_dir
+
+    return store_dir(Path(home).expanduser().resolve()) / TOKEN_FILE
+
+
+def _private_dir(home: Path) -> Path:
+    from graphdb.embedded import EmbeddedServer, EmbeddedStoreError
+
+    server = EmbeddedServer(home)
+    try:
+        server.ensure_home()
+    except EmbeddedStoreError as exc:
+        raise TokenError(str(exc)) from None
+    return server.home
+
+
+def read_trusted(path: Path) -> str:
+    """The text of a secret file that this user owns and only it may read or write; never through
+    a symlink. TokenError otherwise (nothing is chmod-ed: a file sg3d did not make is not adopted)."""
+    try:
+        fd = os.open(path, os.O_RDONLY | os.O_NOFOLLOW | getattr(os, "O_CLOEXEC", 0))
+    except OSError as exc:
+        reason = "it is a symbolic link" if exc.errno in (40, 31) else (exc.strerror or str(exc))
+        raise TokenError(f"refusing the token file {path}: {reason}; delete it and start again") from None
+    with os.fdopen(fd) as f:
+        st = os.fstat(f.fileno())
+        if not stat.S_ISREG(st.st_mode):
+            raise TokenError(f"refusing the token file {path}: it is not a regular file")
+        if st.st_uid != os.getuid():
+            raise TokenError(f"refusing the token file {path}: another user owns it; delete it and start again")
+        if stat.S_IMODE(st.st_mode) & 0o077:
+            raise TokenError(f"refusing the token file {path}: others may read or write it (mode "
+                             f"{stat.S_IMODE(st.st_mode):o}); delete it, or `chmod 600` it if you made it")
+        return f.read(4096).strip()
 
 
 def ensure_token(home: Path) -> str:
-    """The token of this home, created (0600, 256 random bits) on first use; a token file others
-    can read is tightened to 0600."""
-    path = token_path(home)
-    path.parent.mkdir(parents=True, exist_ok=True)
+    """The token of this home, created (0600, 256 random bits) on first use in the store's
+    private directory; an existing token file is used only when it can be trusted (`read_trusted`)."""
+    path = _private_dir(home) / TOKEN_FILE
     try:
-        fd = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o600)
+        fd = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_EXCL | os.O_NOFOLLOW, 0o600)
     except FileExistsError:
-        if stat.S_IMODE(path.stat().st_mode) & 0o077:
-            path.chmod(0o600)
-        token = path.read_text().strip()
+        token = read_trusted(path)
         if token:
             return token
-        fd = os.open(path, os.O_WRONLY | os.O_TRUNC)
+        fd = os.open(path, os.O_WRONLY | os.O_TRUNC | os.O_NOFOLLOW)
     token = secrets.token_urlsafe(32)
     with os.fdopen(fd, "w") as f:
         f.write(token + "\n")

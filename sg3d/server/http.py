@@ -8,9 +8,11 @@ also survives a restart of the embedded store.
 """
 from __future__ import annotations
 
+from pathlib import Path
 from typing import Literal, Optional
 
 from fastapi import Depends, FastAPI, HTTPException, Query, Request
+from fastapi.exceptions import RequestValidationError
 from fastapi.responses import JSONResponse, Response
 from pydantic import BaseModel, ConfigDict, Field
 
@@ -18,11 +20,13 @@ from app import ask as app_ask
 from app import graph as app_graph
 from app import ingest as app_ingest
 from app import plan as app_plan
+from app import bounds
 from app import rooms as app_rooms
 from app.errors import AppError, NotFound, Refused
 from app.stores import StoreHandle
 from sg3d import __version__
 from sg3d.server.auth import token_matches
+from sg3d.server.guard import TOKEN_HINT, Guard
 
 
 class Viewpoint(BaseModel):
@@ -45,7 +49,8 @@ class AskBody(BaseModel):
 class PlanBody(BaseModel):
     model_config = ConfigDict(extra="forbid")
     command: Optional[str] = Field(None, max_length=2000, examples=["clean up the table"])
-    goal: Optional[str] = Field(None, max_length=2000, description="a PDDL goal instead of a command")
+    goal: Optional[str] = Field(None, max_length=2000, description="a PDDL goal instead of a command "
+                                                                   f"(parentheses nested at most {bounds.MAX_GOAL_DEPTH} deep)")
     room: str = Field(min_length=1, description="room name or id (building/room)")
     building: Optional[str] = None
     start: Optional[str] = Field(None, description="where the robot starts (a surface or receptacle name)")
@@ -53,6 +58,52 @@ class PlanBody(BaseModel):
 
 def _status(exc: AppError) -> int:
     return 404 if isinstance(exc, NotFound) else 403 if isinstance(exc, Refused) else 400
+
+
+RETRY_AFTER_S = "2"
+
+
+def store_failure(exc: Exception, settings) -> tuple[int, str, dict]:
+    """Status, detail and headers for a failure that is not the caller's: an explicit stop is 503
+    with the way out; a store that is restarting or briefly unreachable is 503 with Retry-After;
+    a full disk is 507 naming it; anything else 500 with the exception's type only."""
+    from neo4j.exceptions import AuthError, ServiceUnavailable, SessionExpired, TransientError
+
+    from graphdb.embedded import EmbeddedStoreError, StoreStopped, disk_full_message, store_dir
+
+    if isinstance(exc, StoreStopped):
+        return 503, str(exc), {}
+    if getattr(settings, "embedded", False):
+        full = disk_full_message(store_dir(Path(settings.embedded_home()).expanduser().resolve()))
+        if full:
+            return 507, full, {}
+    if isinstance(exc, (ServiceUnavailable, SessionExpired, TransientError, AuthError, EmbeddedStoreError)):
+        return 503, "the graph store is unreachable or restarting; retry shortly", {"Retry-After": RETRY_AFTER_S}
+    return 500, f"internal error: {type(exc).__name__}", {}
+
+
+def _json_default(value):
+    """numpy scalars and arrays, and anything else `graphdb.values.jsonable` knows."""
+    if hasattr(value, "tolist"):
+        return value.tolist()
+    from graphdb.values import jsonable
+
+    return jsonable(value)
+
+
+def json_response(data, status_code: int = 200) -> Response:
+    """`data` as a JSON response, encoded once by the standard library's C encoder (FastAPI's own
+    path walks the whole answer through `jsonable_encoder` first, the largest cost of a small
+    request); a NaN that slipped through becomes null rather than invalid JSON."""
+    import json
+
+    try:
+        body = json.dumps(data, separators=(",", ":"), ensure_ascii=False, allow_nan=False, default=_json_default)
+    except ValueError:
+        from graphdb.values import finite_or_none
+
+        body = json.dumps(finite_or_none(data), separators=(",", ":"), ensure_ascii=False, default=_json_default)
+    return Response(body.encode(), status_code=status_code, media_type="application/json")
 
 
 def _near(text: Optional[str]):
@@ -64,29 +115,40 @@ def _near(text: Optional[str]):
         raise AppError("near must be x,y,z (three numbers, metres)") from None
 
 
-def create_app(settings, token: str, handle: Optional[StoreHandle] = None) -> FastAPI:
-    """The FastAPI application for `settings`' store; `token` is the bearer token callers send."""
+def validation_details(errors) -> list[dict]:
+    """Pydantic's errors naming each field and the rule it broke, never the value it was sent
+    (a 100 MB question must not come back as a 100 MB answer)."""
+    return [{"loc": list(e.get("loc", ())), "msg": str(e.get("msg", ""))[:300], "type": e.get("type", "")}
+            for e in list(errors)[:20]]
+
+
+def create_app(settings, token: str, handle: Optional[StoreHandle] = None,
+               max_body: int = bounds.DEFAULT_MAX_BODY) -> FastAPI:
+    """The FastAPI application for `settings`' store; `token` is the bearer token callers send;
+    request bodies above `max_body` bytes are refused (413) before they are read."""
     stores = handle or StoreHandle(settings)
     api = FastAPI(title="sg3d", version=__version__,
                   description="3-D scene graphs of rooms: ask, plan, list rooms and objects, export, ingest.")
+    api.add_middleware(Guard, token=token, max_body=max_body)
 
-    def authorised(request: Request) -> None:
+    async def authorised(request: Request) -> None:
+        # the Guard has checked already; this keeps the requirement visible in the OpenAPI document
+        # (async: a plain function dependency would cost every request a second thread-pool hop)
         if not token_matches(token, request.headers.get("authorization")):
-            raise HTTPException(401, "missing or wrong token: send Authorization: Bearer <token> "
-                                     "(the token is in $SG3D_HOME/api-token)",
-                                headers={"WWW-Authenticate": "Bearer"})
+            raise HTTPException(401, TOKEN_HINT, headers={"WWW-Authenticate": "Bearer"})
 
     @api.exception_handler(AppError)
     def _app_error(request: Request, exc: AppError):
         return JSONResponse({"detail": str(exc)}, status_code=_status(exc))
 
+    @api.exception_handler(RequestValidationError)
+    def _invalid(request: Request, exc: RequestValidationError):
+        return JSONResponse({"detail": validation_details(exc.errors())}, status_code=422)
+
     @api.exception_handler(Exception)
     def _store_error(request: Request, exc: Exception):
-        from neo4j.exceptions import ServiceUnavailable, SessionExpired
-
-        if isinstance(exc, (ServiceUnavailable, SessionExpired)):
-            return JSONResponse({"detail": "the graph store is unreachable"}, status_code=503)
-        return JSONResponse({"detail": f"internal error: {type(exc).__name__}"}, status_code=500)
+        status, detail, headers = store_failure(exc, settings)
+        return JSONResponse({"detail": detail}, status_code=status, headers=headers)
 
     read = stores.call
 
@@ -95,10 +157,10 @@ def create_app(settings, token: str, handle: Optional[StoreHandle] = None) -> Fa
         """Whether the store is reachable, and the version. No token needed."""
         try:
             read(lambda s: s.driver.verify_connectivity())
-            ok = True
-        except Exception:  # noqa: BLE001 - any failure means not reachable; the detail is in the server log
-            ok = False
-        return JSONResponse({"status": "ok" if ok else "store unreachable", "store": ok, "version": __version__},
+            ok, status = True, "ok"
+        except Exception as exc:  # noqa: BLE001 - any failure means not reachable; the detail is in the server log
+            ok, status = False, store_failure(exc, settings)[1]
+        return JSONResponse({"status": status, "store": ok, "version": __version__},
                             status_code=200 if ok else 503)
 
     auth = [Depends(authorised)]
@@ -110,19 +172,19 @@ def create_app(settings, token: str, handle: Optional[StoreHandle] = None) -> Fa
         viewpoint = body.viewpoint.model_dump(exclude_none=True) if body.viewpoint else None
         if viewpoint is not None and len(viewpoint) != 1:
             raise AppError("viewpoint takes exactly one of pose, position and object")
-        return read(lambda s: app_ask.ask(s, body.question, room=body.room, building=body.building,
-                                          viewpoint=viewpoint).to_json(inline_thumbnail=True))
+        return json_response(read(lambda s: app_ask.ask(s, body.question, room=body.room, building=body.building,
+                                                        viewpoint=viewpoint).to_json(inline_thumbnail=True)))
 
     @api.post("/plan", dependencies=auth, tags=["read"])
     def plan(body: PlanBody):
         """A validated plan: steps in words and as PDDL actions, the goal, domain and problem PDDL."""
-        return read(lambda s: app_plan.plan_json(s, body.command, goal=body.goal, room=body.room,
-                                                 building=body.building, start=body.start))
+        return json_response(read(lambda s: app_plan.plan_json(s, body.command, goal=body.goal, room=body.room,
+                                                               building=body.building, start=body.start)))
 
     @api.get("/rooms", dependencies=auth, tags=["read"])
     def rooms(building: Optional[str] = None):
         """Rooms (of one building, or all) with object counts, transforms and adjacent rooms."""
-        return read(lambda s: app_rooms.list_rooms(s, building))
+        return json_response(read(lambda s: app_rooms.list_rooms(s, building)))
 
     @api.get("/rooms/{building}/{room}/objects", dependencies=auth, tags=["read"])
     def objects(building: str, room: str, label: Optional[str] = None, colour: Optional[str] = None,
@@ -130,8 +192,8 @@ def create_app(settings, token: str, handle: Optional[StoreHandle] = None) -> Fa
                 radius: Optional[float] = Query(None, description="metres from `near`")):
         """A room's objects with readable names, filtered by label, colour and distance to a point."""
         point = _near(near)
-        return read(lambda s: app_rooms.room_objects(s, building, room, label=label, colour=colour,
-                                                     near=point, radius=radius))
+        return json_response(read(lambda s: app_rooms.room_objects(s, building, room, label=label, colour=colour,
+                                                                   near=point, radius=radius)))
 
     @api.get("/graph", dependencies=auth, tags=["read"])
     def graph(building: str = "default", room: Optional[str] = None,
@@ -143,7 +205,7 @@ def create_app(settings, token: str, handle: Optional[StoreHandle] = None) -> Fa
         g = read(lambda s: app_graph.fetch_named_graph(s, building, room, thumbnails, histograms or spark,
                                                        room_transforms=spark))
         if format == "json":
-            return g
+            return json_response(g)
         return Response(app_graph.render_graph(g, format),
                         media_type="application/graphml+xml" if format == "graphml" else "application/json")
 
@@ -151,7 +213,7 @@ def create_app(settings, token: str, handle: Optional[StoreHandle] = None) -> Fa
     def ingest(body: app_ingest.IngestRequest):
         """Merge a robot's local scene graph (same-node detection, one transaction); the same
         observation_id is merged once. A body that does not validate is a 422 naming the field."""
-        return stores.call(lambda s: app_ingest.ingest_graph(s, body), write=True)
+        return json_response(stores.call(lambda s: app_ingest.ingest_graph(s, body), write=True))
 
     api.state.stores = stores
     return api

@@ -32,9 +32,11 @@ def build_server(settings, handle: Optional[StoreHandle] = None):
     server = MCPServer("sg3d", version=__version__, instructions=INSTRUCTIONS, log_level="WARNING")
 
     def read(fn):
+        from graphdb.embedded import EmbeddedStoreError
+
         try:
             return stores.call(fn)
-        except AppError as exc:
+        except (AppError, EmbeddedStoreError) as exc:
             raise ToolError(str(exc)) from exc
 
     @server.tool()
