@@ -9,7 +9,8 @@ Mapping (also in the README):
   dominant colour name; node metadata ``sg3d``: id, room, labels, scores, var, n_points, colour,
   observations, frames and the 512-bin HSV histogram (so an import loses nothing).
 - layer 1 (structure): the room's floor, walls and surfaces, symbol ``S<k>``, attributes as
-  objects; objects' ON edges reach them (an import reads the objects layer only).
+  objects; objects' ON edges reach them (an import reads them back when they carry sg3d's
+  metadata; another tool's layer 1 is not read).
 - layer ROOMS (4): one node per room, symbol ``R<k>``, position = mean of its objects, box =
   their extent; an interlayer edge to each of its objects.
 - layer BUILDINGS (5): one node ``B0`` (the building), an interlayer edge to each room.
@@ -85,7 +86,8 @@ def to_spark(graph: dict, room_transforms: Optional[dict] = None):
         meta = {"id": n["id"], "room": room, "labels": n.get("labels") or [n.get("label")],
                 "scores": n.get("scores") or [], "var": n.get("var"), "n_points": n.get("n_points"),
                 "colour": n.get("colour"), "observations": n.get("observations"),
-                "first_frame": n.get("first_frame"), "last_frame": n.get("last_frame")}
+                "first_frame": n.get("first_frame"), "last_frame": n.get("last_frame"),
+                "layer": n.get("layer"), "shape": n.get("shape"), "colour2": n.get("colour2")}
         if n.get("hist") is not None:
             meta["hist"] = [float(v) for v in n["hist"]]
         a.metadata.set({"sg3d": {k2: v for k2, v in meta.items() if v is not None}})
@@ -209,7 +211,9 @@ def read_spark(path) -> dict:
             break
     rooms: dict[str, dict] = {}
     where: dict[str, str] = {}
-    for node in G.get_layer(OBJECTS).nodes:
+    ours_structure = [node for node in (G.get_layer(STRUCTURE).nodes if G.has_layer(STRUCTURE) else [])
+                      if ((node.attributes.metadata.get() or {}).get("sg3d") or {}).get("layer") == "structure"]
+    for node in list(G.get_layer(OBJECTS).nodes) + ours_structure:
         a = node.attributes
         meta = (a.metadata.get() or {}).get("sg3d") or {}
         parent = node.get_parent()
@@ -227,6 +231,9 @@ def read_spark(path) -> dict:
                "n_points": int(meta.get("n_points") or 100), "size": size,
                "hist": meta.get("hist") or colour_hist(rgb),
                "colour": meta.get("colour") or _nearest_colour(rgb)}
+        for key in ("layer", "shape", "colour2"):      # sg3d's own export: nothing lost
+            if meta.get(key):
+                obj[key] = meta[key]
         rooms.setdefault(room, {"objects": [], "relations": []})["objects"].append(obj)
         where[node.id.value] = (room, oid)
     for edge in G.edges:

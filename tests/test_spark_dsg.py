@@ -12,7 +12,7 @@ import pytest
 
 dsg = pytest.importorskip("spark_dsg", reason="spark-dsg (PyPI) has no wheel for this platform")
 
-from graphdb.spark import BUILDINGS, OBJECTS, ROOMS  # noqa: E402  (layer ids 2, 4, 5)
+from graphdb.spark import BUILDINGS, OBJECTS, ROOMS, STRUCTURE  # noqa: E402  (layer ids 2, 4, 5, 1)
 
 
 def sg3d(home, *args):
@@ -50,14 +50,17 @@ def test_export_loads_in_spark_dsg_and_imports_back(home, tmp_path):
 
     G = dsg.DynamicSceneGraph.load(str(out))
     layers = {k.layer: G.get_layer(k.layer).num_nodes() for k in G.layer_keys}
-    assert layers[OBJECTS] == len(ours["nodes"])
+    structure = [n for n in ours["nodes"] if n.get("layer") == "structure"]
+    assert structure, "the kitchen build found no floor, wall or surface"
+    assert layers[OBJECTS] == len(ours["nodes"]) - len(structure)
+    assert layers[STRUCTURE] == len(structure)
     assert layers[ROOMS] == 1 and layers[BUILDINGS] == 1
     names = G.get_labelspace(2, 0).labels_to_names
     by_id = {n["id"]: n for n in ours["nodes"]}
     room = next(iter(G.get_layer(ROOMS).nodes))
     assert room.attributes.name == "kitchen"
     assert room.get_parent() == next(iter(G.get_layer(BUILDINGS).nodes)).id.value
-    for node in G.get_layer(OBJECTS).nodes:
+    for node in list(G.get_layer(OBJECTS).nodes) + list(G.get_layer(STRUCTURE).nodes):
         a = node.attributes
         mine = by_id[a.metadata.get()["sg3d"]["id"]]
         assert names[a.semantic_label] == mine["label"]
