@@ -9,6 +9,10 @@ not tell the objects of one label in one room apart:
     3. colour + label + support     "white cup on the dining table"  (the object it is ON/IN)
     4. label + number               "chair 2"
 
+An unnamed object (label "object", found from geometry) is called by what it looks like:
+"flat white object" (shape, colour), and lists add its size ("about 30x22 cm");
+steps 3 and 4 apply among unnamed objects that look alike ("object 2").
+
 Numbers count the objects of the label in the room in a stable order: the frame that first saw
 the object, then its position (rounded to centimetres), never the id (a hash). Re-building the
 same data gives the same names; extending a room appends later-seen objects at the end. When one
@@ -49,6 +53,26 @@ def supports_from_edges(edges: Iterable[dict], labels: dict[str, str]) -> dict[s
     return {k: v for k, (_, v) in out.items()}
 
 
+def looks(o: dict) -> str:
+    """What an unnamed object looks like: "flat white object" (shape word, colour)."""
+    return " ".join(x for x in (o.get("shape"), o.get("colour"), "object") if x)
+
+
+def describe_unnamed(o: dict, with_size: bool = True) -> str:
+    """"flat white object about 30x22 cm": its look and its two largest box sides."""
+    size = sorted((float(v) for v in (o.get("size") or [])), reverse=True)[:2]
+    if not with_size or len(size) < 2:
+        return looks(o)
+    dims = "x".join(f"{v * 100:.0f}" for v in size)
+    return f"{looks(o)} about {dims} cm"
+
+
+def _kind(o: dict) -> str:
+    """Objects are named among those of one kind: their label, or for unnamed ones their look."""
+    label = o.get("label") or "object"
+    return looks(o) if label == "object" else label
+
+
 def object_names(objects: Iterable[dict], supports: Optional[dict[str, str]] = None) -> dict[str, str]:
     """{id: readable name} for every object given (dicts with id, label and, when known, colour,
     room, x/y/z, first_frame and support: "on the <label>" for what it is ON/IN). Pass every object of the
@@ -60,7 +84,7 @@ def object_names(objects: Iterable[dict], supports: Optional[dict[str, str]] = N
             supports[o["id"]] = o["support"]
     groups: dict[tuple[str, str], list[dict]] = {}
     for o in objs:
-        groups.setdefault((o.get("room") or "", o.get("label") or "object"), []).append(o)
+        groups.setdefault((o.get("room") or "", _kind(o)), []).append(o)
     names: dict[str, str] = {}
     for (_, label), group in groups.items():
         group.sort(key=stable_key)
@@ -73,7 +97,10 @@ def object_names(objects: Iterable[dict], supports: Optional[dict[str, str]] = N
         placed = [(o.get("colour"), supports.get(o["id"])) for o in ambiguous]
         for i, o in enumerate(group, 1):
             colour, support = o.get("colour"), supports.get(o["id"])
-            if o not in ambiguous:
+            if label.endswith(" object"):     # unnamed: the look already says the colour
+                names[o["id"]] = f"{label} {support}" if len(ambiguous) > 1 and support and \
+                    [supports.get(x["id"]) for x in group].count(support) == 1 else f"{label} {i}"
+            elif o not in ambiguous:
                 names[o["id"]] = f"{colour} {label}"
             elif len(ambiguous) > 1 and support and placed.count((colour, support)) == 1:
                 names[o["id"]] = " ".join(x for x in (colour, label, support) if x)
@@ -100,7 +127,8 @@ def names_in_store(read, objects: Iterable[dict]) -> dict[str, str]:
     everyone: dict[str, dict] = {}
     edges = []
     for r in rows:
-        everyone.setdefault(r["id"], {k: r.get(k) for k in ("id", "label", "colour", "room", "x", "y", "z", "first_frame")})
+        everyone.setdefault(r["id"], {k: r.get(k) for k in ("id", "label", "colour", "room", "x", "y", "z",
+                                                            "first_frame", "shape", "size")})
         if r.get("support_type"):
             edges.append({"s": r["id"], "type": r["support_type"], "o": r["support_label"],
                           "score": r.get("support_score")})

@@ -258,4 +258,4 @@ def test_where_is_names_relations_and_room(store, house):
     a = ask(store, "where are the tvs?")
     assert {o["room"] for o in a.value} == {"home/kitchen", "home/living room"}
     a = answer(store, "where is the toaster?")     # an answer (there is none), not a refusal
-    assert a.value == [] and "no toaster" in a.text
+    assert a.value == [] and "I have not found a toaster" in a.text and a.absent_evidence
