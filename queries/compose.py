@@ -391,7 +391,7 @@ class Answerer:
             name = the(named[o["id"]])
             if o["label"] == UNNAMED_LABEL:
                 dims = describe_unnamed(o, with_size=True)
-                name = f"{the(named[o['id']])} ({dims.split(' about ')[-1]})" if " about " in dims else name
+                name = f"{the(named[o['id']])} (about {dims.split(' about ')[-1]})" if " about " in dims else name
             parts.append(name)
         more = [f"{len(rows) - LIST_SHOWN} more"] if len(rows) > LIST_SHOWN else []
         return _join(parts + more) if parts else ""
@@ -663,7 +663,7 @@ def op_room_most(a: Answerer, form: Form):
 
 
 def op_rooms_next_to(a: Answerer, form: Form):
-    r = a.ev.resolved(_head(form))
+    r = a.ev.resolved(_head(form), may_be_room=True)
     if r.kind != "room":
         raise Unanswerable(f"'{_head(form).text()}' is not a room in the store")
     ids = r.room_ids
@@ -706,16 +706,18 @@ OPS = {"count": op_count, "exists": op_exists, "at_least": op_at_least, "compare
 SIMPLE_OPS = ("count", "exists", "list", "where", "attribute", "rooms")
 # words the per-form reader (queries/parse.py) would pass over: a question holding one that the
 # grammar cannot read is refused, naming it, rather than answered without it
-UNREAD = ("not", "than", "between", "more", "fewer", "less", "except", "without", "farther",
-          "further", "closer", "within", "apart", "distance", "far", "nor")
+UNREAD = ("not", "between", "more", "fewer", "less", "except", "without", "farther", "further",
+          "closer", "nearer", "within", "apart", "distance", "far", "nor", "than")
 
 
 def unread_word(text: str) -> Optional[str]:
-    """The first word of `text` that only the grammar reads (a number, a unit, 'not', 'than')."""
-    for w in text.split():
-        if w in UNREAD or any(c.isdigit() for c in w) and not w.isalpha():
-            return w
-    return None
+    """The word of `text` that only the grammar reads (a number, 'not', 'closer'), the one
+    that leads ("closer ... than": closer) where there are several."""
+    words = text.split()
+    hits = [w for w in words if w in UNREAD or any(c.isdigit() for c in w)]
+    if not hits:
+        return None
+    return next((w for w in hits if w != "than"), hits[0])
 
 
 def room_filters(form: Form, ev: Evaluator) -> list[Resolved]:
@@ -912,7 +914,9 @@ def compile_question(run, text: str, room: Optional[str], building: Optional[str
         q_room = found[0].room if found else None
         if q_room and room and q_room.lower() != room.lower():
             return Outcome("refuse", f"the question says '{q_room}' but --room is '{room}'", form=logical)
-        if is_simple(form, ev):
+        # the per-form reader knows plain ASCII room names only ("küche", "my room" are ours)
+        plain_room = q_room is None or (q_room.isascii() and q_room.split()[0] not in ("my", "our", "this"))
+        if plain_room and is_simple(form, ev):
             return Outcome("simple", text, form=logical, room=q_room)
         ev.load(scope(q_room or room))
         label = q_room or room

@@ -112,6 +112,7 @@ class _Run:
         self.steps: list[dict] = []
         self.viewpoint, self.seen_from = viewpoint, seen_from     # see queries/viewpoint.py
         self._names: dict[str, str] = {}
+        self.notes: list[str] = []                 # what the answer must say it did (main colour)
         # one answer reads its candidates once: the count, then its provenance, reuse them
         self.candidates: dict[tuple, list[dict]] = {}
         self.rows_by_id: dict[str, dict] = {}      # candidate rows that carry provenance fields
@@ -299,7 +300,22 @@ def _read_candidates(run: _Run, q: Query, rooms) -> list[dict]:
         rows = unique
     else:
         rows = run.read(_variant("vqa_objects", rooms, q.target.labels), limit=ROW_LIMIT, **_filters(q, rooms))
+        rows = _main_colour(run, q, rows)
     return _by_size(run, rows, q.size)
+
+
+def _main_colour(run: _Run, q: Query, rows: list[dict]) -> list[dict]:
+    """A colour word means the main colour: rows that have it as their second colour only are
+    left out, and the answer says how many (run.notes)."""
+    if q.colour is None:
+        return rows
+    second = [r for r in rows if r.get("colour") != q.colour]
+    if second:
+        noun = plural(second[0]["label"], len(second)) if len({r["label"] for r in second}) == 1 else \
+            ("object" if len(second) == 1 else "objects")
+        run.notes.append(f"by main colour; {len(second)} more {noun} {'has' if len(second) == 1 else 'have'} "
+                         f"{q.colour} as a second colour")
+    return [r for r in rows if r.get("colour") == q.colour]
 
 
 def _brief(r: dict) -> dict:
@@ -527,7 +543,7 @@ def answer(store, question: str, room: Optional[str] = None, building: Optional[
     result.provenance = _provenance(run, result, q, rooms)
     _honest_absence(run, result, q, rooms)
     result.steps = run.steps
-    result.text += _understood(q, notes)
+    result.text += _understood(q, notes + run.notes)
     return result
 
 
