@@ -37,6 +37,8 @@ from graphdb import cypher
 from ingest.relation_rules import SYMMETRIC, VIEWPOINT
 from queries import viewpoint as views
 from queries import compose
+from queries.answers import row_value
+from queries.sets import ABSENT
 from queries.naming import names_in_store
 from queries.parse import ParseError, Query, parse, refusal
 from queries.viewpoint import split_viewpoint
@@ -569,7 +571,7 @@ def _composed(question: str, o, notes: list[str], run: _Run) -> Answer:
     """An answer of the compiler (queries/compose.py) as an Answer."""
     extra = notes + o.notes
     text = o.text + (f" [{'; '.join(extra)}]" if extra else "")
-    objects = [compose._value(r, run.names([r]).get(r["id"], r["label"])) for r in o.rows[:PROVENANCE_MAX]] \
+    objects = [row_value(r, run.names([r]).get(r["id"], r["label"])) for r in o.rows[:PROVENANCE_MAX]] \
         if o.rows else []
     a = Answer(question, True, text, o.op, o.value, objects, steps=run.steps, logical=o.form,
                absent_evidence=o.absent, thumbnail=bytes(o.thumbnail) if o.thumbnail else None)
@@ -601,7 +603,7 @@ def _honest_absence(run: _Run, a: Answer, q: Query, rooms) -> None:
     what = " or ".join(q.target.names) or q.target.phrase
     article = "an" if what[:1] in "aeiou" else "a"
     place = f" in the {q.room}" if q.room else ""
-    a.text = f"I have not found {article} {what}{place} ({compose.ABSENT})"
+    a.text = f"I have not found {article} {what}{place} ({ABSENT})"
     a.absent_evidence = True
 
 
