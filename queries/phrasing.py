@@ -26,6 +26,10 @@ _EMBEDDED = re.compile(r"^(where|what|which|how many \w+(?: \w+)?|how far|how ta
                        r"(the [\w\s-]+?|[\w\s-]+?) (is|are)$")
 _EMBEDDED_THERE = re.compile(r"^how many (.+?) there (?:is|are)$")
 
+# "in the room", "here": the scope given by --room (or the whole store); "my room" may be a
+# room's name and is left to the room look-up
+HERE = re.compile(r"\b(?:(?:in|inside|within) (?:the|this|our) (?:room|place|space|area)|in here|here)\b")
+
 CONTRACTIONS = {
     "what's": "what is", "whats": "what is", "where's": "where is", "wheres": "where is",
     "there's": "there is", "theres": "there is", "which's": "which is", "that's": "that is",
@@ -123,6 +127,7 @@ def tidy(question: str) -> Phrased:
     text = " ".join(text.split())
     text = strip_frames(text)
     text = reorder_embedded(text)
+    text = HERE.sub(" ", text)
     text = _numbers(text)
     return Phrased(" ".join(text.split()), dropped=dropped)
 
