@@ -123,8 +123,16 @@ def op_exists(a: Answerer, form: Form):
         named = a.names(rows[:LIST_SHOWN])
         text = f"yes, {n} {a.phrase(np, n, form.filters)}{a.where}: " + _join(sorted(named[o['id']] for o in rows[:LIST_SHOWN]))
     else:
-        text = a.absence() or f"no: I have not found {a.phrase(np, 1, form.filters)}{a.where} ({ABSENT})"
+        text = a.absence() or f"no: I have not found {_what_not_found(a, np, form)}{a.where} ({ABSENT})"
     return text, n > 0, rows
+
+
+def _what_not_found(a: "Answerer", np: NP, form: Form) -> str:
+    """"a cup on the table", or "anything next to the sink" when no kind was asked."""
+    if np.words and a.ev.resolved(np).kind != "any" or np.alternatives:
+        what = a.phrase(np, 1, form.filters)
+        return f"{'an' if what[:1] in 'aeiou' else 'a'} {what}"
+    return "anything " + " ".join(_filter_text(a, f) for f in list(np.filters) + list(form.filters))
 
 
 def op_at_least(a: Answerer, form: Form):
@@ -150,9 +158,8 @@ def op_list(a: Answerer, form: Form):
     n = len(rows)
     what = a.phrase(np, n, form.filters)
     if not rows:
-        what = a.phrase(np, 1, form.filters) if np.words or np.alternatives else \
-            "anything " + " ".join(_filter_text(a, f) for f in list(np.filters) + list(form.filters))
-        return (a.absence() or f"nothing found: I have not found {what}{a.where} ({ABSENT})"), [], rows
+        return (a.absence() or f"nothing found: I have not found {_what_not_found(a, np, form)}{a.where} "
+                               f"({ABSENT})"), [], rows
     named = a.names(rows)
     return f"{n} {what}{a.where}: {a.listing(rows)}", [row_value(o, named[o["id"]]) for o in rows], rows
 

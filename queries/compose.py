@@ -134,6 +134,23 @@ def _simple_extreme(form: Form, ev: Evaluator) -> bool:
                for f in head.filters)
 
 
+# common English words a question may hold around its object words: never "fixed" into one
+COMMON_WORDS = frozenset("""
+with without from for into onto upon about after before again against along also always among
+another anyone anybody because been being both could each either else even ever every except
+here hers his how however into itself just like made make maybe might mine more most much must
+near neither never none nothing now often only other others otherwise ours ourselves over own
+perhaps quite rather really same shall should since such than that their theirs them themselves
+then there these they this those though through thus till together too toward towards under
+until very want wants want was were what whatever when whenever where wherever whether which
+while who whom whose why will would yet your yours yourself want need needs look looking see
+seen show tell know think thought wonder said say give given take taken keep kept leave left
+right front back side sides part parts other inside outside middle center centre corner edge
+white black made using used have having had does done doing going gone come comes came
+glaze painted wooden metal plastic glass paper colour colours colored coloured
+""".split())
+
+
 def typo_vocabulary() -> frozenset:
     """Every word a question may use: the grammar's, the object nouns (singular and plural),
     colours, sizes, shapes, structure, affordance verbs and common question words."""
@@ -159,6 +176,7 @@ def _vocabulary() -> frozenset:
               "sorts", "ones", "visible", "present", "stored", "there", "up", "down", "yes", "no",
               "left", "right", "front", "behind", "seen", "as", "bigger", "smaller", "larger",
               "size", "sizes", "hello", "thanks", "thank", "get", "where", "on", "top", "something"}
+    words |= COMMON_WORDS
     nouns = set(vocabulary()) | set(Taxonomy.load().names)
     data = json.loads(SYNONYMS.read_text())
     nouns |= set(data["words"]) | set(data["any"])

@@ -50,20 +50,26 @@ exists: be _there np preds
       | be np preds
 at_least: be _there MORELESS "than" NUMBER np preds
 compare: be _there MORELESS np "than" np preds
+       | "do" ("we" | "you") "have" MORELESS np "than" np preds
 listing: WHAT np? be _there? preds
+       | WHAT np? ("can" | "do") "you" "see" _there? preds
        | LIST "me"? np preds
 where: "where" be np preds
      | "where" "can" "i" "find" np preds
 attribute: WHAT "color" be np preds                        -> colour_of
          | WHAT be "the" "color" "of" np preds         -> colour_of
+         | "the" "color" "of" np preds                 -> colour_of
+         | WHAT be "the" MEASURE "of" np preds        -> measure_named
+         | "the" MEASURE "of" np preds                -> measure_named
          | WHAT "size" be np preds                       -> size_of
          | "how" ATTR be np preds                          -> measure_of
 extreme: WHAT np? be _det? SUPER np? preds
-       | WHAT np be DSUPER _tofrom np
+       | WHAT np be _det? DSUPER _tofrom np
 distance: "how" "far" be np _tofrom np
         | "how" "far" "apart" be np
         | WHAT be "the" "distance" "between" np_one "and" np_one
-room_count: "how" "many" "rooms" be? _there? ("in" _det? WORD+)?
+        | WHAT be "the" "distance" "from" np_one "to" np_one
+room_count: "how" "many" "rooms" be? _there? ("in" _det? WORD+)? (("do" | "does") ("you" | WORD) WORD*)?
 rooms_with: WHAT "rooms" ("have" | "has" | "contain" | "hold") np preds
           | "in" WHAT "rooms" be _there? np preds
 room_most: WHAT "room" ("has" | "have" | "holds" | "contains") _det? MOSTFEW np preds
@@ -101,6 +107,7 @@ LIST: "list" | "show" | "name" | "find"
 NOT: "not"
 MORELESS: "more" | "fewer" | "less"
 MOSTFEW: "most" | "fewest" | "least"
+MEASURE: "height" | "width" | "length" | "size"
 ATTR: "big" | "large" | "tall" | "high" | "wide" | "long"
 SUPER: "biggest" | "largest" | "smallest" | "tiniest" | "tallest" | "shortest" | "highest" | "lowest"
 DSUPER: "closest" | "nearest" | "farthest" | "furthest"
@@ -119,7 +126,7 @@ RESERVED = sorted({
     "to", "adjacent", "on", "top", "onto", "inside", "under", "underneath", "beneath", "below",
     "above", "over", "by", "close", "nearby", "around", "within", "closer", "nearer", "less",
     "away", "farther", "further", "more", "from", "list", "show", "name", "not", "fewer",
-    "most", "fewest", "least", "me", "big", "large", "tall", "high", "wide", "long", "m", "cm", "mm",
+    "most", "fewest", "least", "me", "we", "height", "width", "length", "big", "large", "tall", "high", "wide", "long", "m", "cm", "mm",
     "ft", "inch", *SUPERLATIVES, *DISTANCE_SUPERLATIVES,
 }, key=lambda w: (-len(w), w))
 
@@ -266,6 +273,12 @@ class _ToForm(Transformer):
 
     def size_of(self, items):
         return self._op("attribute", items, attribute="size")
+
+    def measure_named(self, items):
+        word = next(str(t) for t in items if isinstance(t, Token) and t.type == "MEASURE")
+        # "the height of the table" is its own height (the box), as "how tall"
+        return self._op("attribute", items, attribute={"height": "tall", "width": "width", "length": "length",
+                                                       "size": "size"}[word])
 
     def measure_of(self, items):
         word = next(str(t) for t in items if isinstance(t, Token) and t.type == "ATTR")

@@ -24,7 +24,7 @@ _TAIL_RE = re.compile(r"[ ,]*\b(?:please|thanks|thank you)$")
 # "tell me where the sink is" -> "where is the sink": the embedded question's verb moves back
 _EMBEDDED = re.compile(r"^(where|what|which|how many \w+(?: \w+)?|how far|how tall|how high|how big) "
                        r"(the [\w\s-]+?|[\w\s-]+?) (is|are)$")
-_EMBEDDED_THERE = re.compile(r"^how many (.+?) there (?:is|are)$")
+_EMBEDDED_THERE = re.compile(r"^how many (.+?) there (?:is|are)\b(.*)$")
 
 # "in the room", "here": the scope given by --room (or the whole store); "my room" may be a
 # room's name and is left to the room look-up
@@ -34,8 +34,23 @@ CONTRACTIONS = {
     "what's": "what is", "whats": "what is", "where's": "where is", "wheres": "where is",
     "there's": "there is", "theres": "there is", "which's": "which is", "that's": "that is",
     "how's": "how is", "it's": "it is", "isn't": "is not", "aren't": "are not", "don't": "do not",
-    "doesn't": "does not", "arent": "are not", "isnt": "is not", "whos": "who is",
+    "doesn't": "does not", "arent": "are not", "isnt": "is not", "whos": "who is", "r": "are",
+    "u": "you", "pls": "please", "plz": "please",
 }
+# posture verbs say nothing the graph stores beyond the relation after them: "what sits on X"
+_REL_AHEAD = r"(?= (?:on|under|in|inside|above|below|next|near|beside|by|over|underneath|beneath|close)\b)"
+POSTURE = [
+    (re.compile(r"\b(is|are) (?:mounted|placed|located|sitting|standing|lying|hanging|kept|stored|resting|put|"
+                r"positioned|found|situated|set|lieing)\b"), r"\1"),
+    (re.compile(r"\b(?:lies|sits|stands|rests|hangs|stays)\b" + _REL_AHEAD), "is"),
+    (re.compile(r"\b(?:lie|sit|stand|rest|hang)\b" + _REL_AHEAD), "are"),
+    (re.compile(r" (?:lying|sitting|standing|resting|hanging|placed|located|kept|stored|positioned|situated|"
+                r"mounted|found|put)\b" + _REL_AHEAD), ""),
+]
+# "is there somewhere i can sit" -> "where can i sit"
+_PLACE_TO = re.compile(r"^(?:is there|do you know|do you have) (?:somewhere|anywhere|a place|any place|something|"
+                       r"anything)(?: where| that| which)? i (?:can|could) (.+)$")
+_TRAILING = re.compile(r"\b(?:anywhere|at all|around here|in here|here)$")
 
 # number words the grammar reads as numbers
 NUMBER_WORDS = {
@@ -71,8 +86,11 @@ def _contractions(text: str) -> str:
 
 
 def _numbers(text: str) -> str:
-    """Number words -> digits ("half a metre" -> "0.5 m"), units glued to numbers split
-    ("50cm" -> "50 cm") and unit words made one spelling."""
+    """Number words -> digits ("half a metre" -> "0.5 m", "one and a half" -> "1.5"), units
+    glued to numbers split ("50cm" -> "50 cm") and unit words made one spelling."""
+    for word, digit in (("one", "1"), ("two", "2"), ("three", "3"), ("four", "4"), ("five", "5")):
+        text = re.sub(rf"\b{word} and a half\b", f"{digit}.5", text)
+    text = re.sub(r"\b(\d+) and a half\b", r"\1.5", text)
     for k in sorted(NUMBER_WORDS, key=len, reverse=True):
         if k == "one":      # also a pronoun ("the red one"): a number only before a unit
             text = re.sub(r"\bone(?= (?:" + "|".join(UNITS) + r")\b)", "1", text)
@@ -86,7 +104,7 @@ def reorder_embedded(text: str) -> str:
     """'where the sink is' -> 'where is the sink' (what is left of 'can you tell me where ...')."""
     m = _EMBEDDED_THERE.match(text)
     if m:
-        return f"how many {m.group(1)} are there"
+        return f"how many {m.group(1)} are there{m.group(2)}"
     m = _EMBEDDED.match(text)
     if m and not re.search(r"\b(is|are)\b", m.group(2)):
         return f"{m.group(1)} {m.group(3)} {m.group(2)}"
@@ -126,6 +144,10 @@ def tidy(question: str) -> Phrased:
     text = text.replace("\u2024", ".").replace("\u2010", "-").replace("'", "")
     text = " ".join(text.split())
     text = strip_frames(text)
+    for regex, repl in POSTURE:
+        text = regex.sub(repl, text)
+    text = _PLACE_TO.sub(r"where can i \1", text)
+    text = _TRAILING.sub("", text).strip()
     text = reorder_embedded(text)
     text = HERE.sub(" ", text)
     text = _numbers(text)

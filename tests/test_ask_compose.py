@@ -198,3 +198,32 @@ def test_explain_prints_the_logical_form_and_templates(store, flat):
     assert "template: cypher/vqa_scene_objects_in_rooms.cypher" in r.output
     r = runner.invoke(ask_cmd, ["is there a keyboard", "--room", "kitchen", "--json"], obj=Settings(store))
     assert json.loads(r.output)["absent_evidence"] is True
+
+
+@pytest.mark.parametrize("question, same_as", [
+    ("Could you tell me how many chairs there are within one and a half metres of the table, please?",
+     "how many chairs are within 1.5 m of the table?"),
+    ("What's the distance from the pink book to the white mug?", "how far is the pink book from the white cup?"),
+    ("Do we have more chairs than cups?", "are there more chairs than cups?"),
+    ("Tell me the colour of the smallest chair", "what colour is the smallest chair?"),
+    ("What sits on the table next to the white cup?", "what is on the table next to the white cup?"),
+    ("Is the pink book lying on the table?", "is the pink book on the table?"),
+    ("Is there somewhere I can sit?", "where can I sit?"),
+    ("What can you see on the counter?", "what is on the counter?"),
+    ("Which mug is the furthest from the tv", "which cup is farthest from the tv?"),
+    ("How many rooms do you know?", "how many rooms are there?"),
+    ("What is the height of the table?", "how tall is the table?"),
+])
+def test_phrasings_read_as_the_plain_question(store, flat, question, same_as):
+    a, b = ask(store, question, room="kitchen"), ask(store, same_as, room="kitchen")
+    assert (a.form, a.value) == (b.form, b.value), (a.text, b.text)
+
+
+def test_common_words_are_not_read_as_typos():
+    from queries.phrasing import fix_typos, tidy
+    from queries.compose import typo_vocabulary
+
+    text, notes = fix_typos(tidy("how many mugs with a white glaze are there").text, typo_vocabulary())
+    assert notes == [] and "with" in text.split()
+    text, notes = fix_typos(tidy("how many tabels are there").text, typo_vocabulary())
+    assert notes == ["read 'tabels' as 'tables'"]
