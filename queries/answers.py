@@ -293,7 +293,7 @@ def op_rooms(a: Answerer, form: Form):
 def op_room_most(a: Answerer, form: Form):
     np = _head(form)
     rows = _all_rows(a.ev, form, np)
-    rooms = {r["id"]: r for r in a.run.read("vqa_rooms_all", building=None)}
+    rooms = {r["id"]: r for r in a.run.read("vqa_rooms_all", building=a.ev.building)}
     if a.scene.rooms is not None:
         rooms = {k: v for k, v in rooms.items() if k in a.scene.rooms}
     per = {rid: 0 for rid in rooms}
@@ -326,7 +326,7 @@ def op_rooms_next_to(a: Answerer, form: Form):
 
 
 def op_room_count(a: Answerer, form: Form):
-    rows = a.run.read("vqa_rooms_all", building=None)
+    rows = a.run.read("vqa_rooms_all", building=a.ev.building)
     names = sorted({r["name"] for r in rows})
     return f"{len(rows)} room{'s' if len(rows) != 1 else ''}: " + _join(names) if rows else "0 rooms", len(rows), []
 

@@ -254,7 +254,7 @@ def compile_question(run, text: str, room: Optional[str], building: Optional[str
     if form.op == "list" and form.sets and form.sets[0].superlative:
         form.op = "extreme"          # "show me the biggest bowl"
     logical = form.form()
-    ev = Evaluator(run, rows_of, embedding, use_embedding)
+    ev = Evaluator(run, rows_of, embedding, use_embedding, building)
     try:
         found = room_filters(form, ev)
         q_room = found[0].room if found else None

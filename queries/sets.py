@@ -203,8 +203,9 @@ def colour_match(o: dict, colour: Optional[str]) -> Optional[str]:
 
 # -- evaluation ---------------------------------------------------------------------------------
 class Evaluator:
-    def __init__(self, run, is_room, embedding=None, use_embedding=True):
+    def __init__(self, run, is_room, embedding=None, use_embedding=True, building: Optional[str] = None):
         self.run, self.is_room = run, is_room
+        self.building = building.lower() if building else None     # rooms questions stay in it
         self.scene: Scene = None    # type: ignore[assignment]  # set by load() once the scope is known
         self.embedding, self.use_embedding = embedding, use_embedding
         self.notes: list[str] = []

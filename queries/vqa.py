@@ -516,9 +516,12 @@ def answer(store, question: str, room: Optional[str] = None, building: Optional[
     phrased, typos = _phrase(store, text, building)
     logical, notes = None, list(typos)
     if seen_from is None:
-        outcome = compose.compile_question(
-            run, phrased, room, building, room_rows, lambda: _room_names(store, building),
-            lambda name: _scope(run, name, building, seen), embedding, use_embedding)
+        try:
+            outcome = compose.compile_question(
+                run, phrased, room, building, room_rows, lambda: _room_names(store, building),
+                lambda name: _scope(run, name, building, seen), embedding, use_embedding)
+        except Refusal as exc:
+            return Answer(question, False, str(exc), steps=run.steps)
         if outcome.kind == "answer":
             return _composed(question, outcome, notes, run)
         if outcome.kind in ("refuse", "unread"):

@@ -170,6 +170,10 @@ def test_rooms(store, flat):
         room_id("home", n) for n in ("kitchen", "küche", "my room")}
     assert ask(store, "which room has the most chairs?").value["room"] == room_id("home", "kitchen")
     assert ask(store, "which rooms are next to the kitchen?").value == ["küche"]
+    assert ask(store, "which rooms are next to küche?").value == ["kitchen"]
+    assert ask(store, "how many rooms are there?", building="home").value == 3
+    a = answer(store, "how many chairs are within 1 m of the table?", building="elsewhere")
+    assert not a.ok and "no building 'elsewhere'" in a.text
 
 
 def test_affordances(store, flat):
