@@ -3,8 +3,9 @@
 A form whose every part is one of the simple forms (one kind of object, at most one stored
 relation to another kind, a room) is answered by the per-form templates of queries/vqa.py, which
 have index-chosen variants for large stores. Every other form is compiled here into two reads,
-`vqa_scene_objects` (the objects of the scope, or of the labels the question names) and
-`vqa_scene_relations` (their edges of the whitelisted types the form uses), and its sets are
+`vqa_scene_objects` (the scope's objects; only those of the labels the question names when it
+names no "objects"/"things") and `vqa_scene_relations` (their edges of the stored relation
+types, from the whitelist), and its sets are
 evaluated over those rows: relation filters, negation (the complement within the set), distance
 bands (box centre to box centre), extremes, name look-ups, counts and comparisons. One round trip
 each; no subqueries (their results on the embedded store are wrong).
@@ -20,6 +21,7 @@ Rules the answers follow (queries/sets.py, queries/answers.py; said in the answe
 """
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass, field
 from typing import Callable, Optional
 
@@ -112,6 +114,27 @@ def is_simple(form: Form, ev: Evaluator) -> bool:
     return True
 
 
+def labels_read(form: Form, ev: Evaluator) -> Optional[list[str]]:
+    """The labels whose objects the form needs (the floor too: "how high" stands on it); None
+    when a set is any object ("what is on the table") or the form is about rooms or
+    affordances."""
+    if form.op in ("affordance", "room_count", "rooms_next_to") or not form.sets:
+        return None         # no set named: "what is on the table" asks about any object
+    labels: set[str] = {"floor"}
+    pending = list(form.sets) + [f.other for f in form.filters]
+    while pending:
+        np = pending.pop()
+        if np.alternatives:
+            pending += np.alternatives
+            continue
+        r = ev.resolved(np)
+        if r.kind == "any":
+            return None
+        labels |= set(r.labels or [])
+        pending += [f.other for f in np.filters] + ([np.toward] if np.toward is not None else [])
+    return sorted(labels)
+
+
 def _simple_extreme(form: Form, ev: Evaluator) -> bool:
     """"which bowl is the biggest (on the table)", "the cup closest to the sink": the per-form
     'show' answers (with the winner's thumbnail), for named kinds only."""
@@ -157,7 +180,7 @@ def typo_vocabulary() -> frozenset:
     return _vocabulary()
 
 
-@__import__("functools").cache
+@functools.cache
 def _vocabulary() -> frozenset:
     import json
 
@@ -264,7 +287,7 @@ def compile_question(run, text: str, room: Optional[str], building: Optional[str
         plain_room = q_room is None or (q_room.isascii() and q_room.split()[0] not in ("my", "our", "this"))
         if plain_room and is_simple(form, ev):
             return Outcome("simple", text, form=logical, room=q_room)
-        ev.load(scope(q_room or room))
+        ev.load(scope(q_room or room), labels_read(form, ev))
         label = q_room or room
         answerer = Answerer(ev, label)
         value_text, value, rows = OPS[form.op](answerer, form)

@@ -212,8 +212,8 @@ class Evaluator:
         self.absent: list[Resolved] = []     # asked kinds with no object at all in scope
         self._resolved: dict[int, Resolved] = {}
 
-    def load(self, rooms: Optional[list[str]]) -> None:
-        self.scene = Scene(self.run, rooms)
+    def load(self, rooms: Optional[list[str]], labels: Optional[list[str]] = None) -> None:
+        self.scene = Scene(self.run, rooms, labels)
 
     def resolved(self, np: NP, may_be_room: bool = False) -> Resolved:
         if id(np) not in self._resolved:
