@@ -231,3 +231,36 @@ def test_common_words_are_not_read_as_typos():
     assert notes == [] and "with" in text.split()
     text, notes = fix_typos(tidy("how many tabels are there").text, typo_vocabulary())
     assert notes == ["read 'tabels' as 'tables'"]
+
+
+@pytest.mark.parametrize("text, band", [
+    ("how many cups are within 30 cm of the sink", (None, 0.3)),
+    ("how many cups are within 300 mm of the sink", (None, 0.3)),
+    ("how many cups are closer than 2 ft to the sink", (None, 0.6096)),
+    ("how many cups are farther than 1.5 m from the sink", (1.5, None)),
+    ("how many cups are more than 2 m away from the sink", (2.0, None)),
+    ("how many cups are less than 0.5 m from the sink", (None, 0.5)),
+    ("how many cups are between 1 and 2 m from the sink", (1.0, 2.0)),
+    ("how many cups are between 50 cm and 1 m from the sink", (0.5, 1.0)),
+])
+def test_the_grammar_reads_distances_with_units(text, band):
+    from queries.grammar import read
+
+    form = read(text)
+    (f,) = form.filters
+    assert f.kind == "distance"
+    for got, want in zip((f.low_m, f.high_m), band):
+        assert got == (None if want is None else pytest.approx(want))
+
+
+def test_the_grammar_reads_negation_conjunction_and_nesting():
+    from queries.grammar import read
+
+    form = read("how many chairs are not near the tv or the sink and next to the table")
+    assert form.op == "count" and [f.negated for f in form.filters] == [True, False]
+    assert [a.text() for a in form.filters[0].other.alternatives] == ["tv", "sink"]
+    form = read("what is on the table next to the pink book")
+    (on,) = form.filters
+    assert on.relation == "on" and on.other.filters[0].relation == "next to"
+    assert read("which cup is farthest from the tv").sets[0].toward.text() == "tv"
+    assert read("are there more books than tvs").compare == "more"
