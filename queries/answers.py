@@ -119,6 +119,13 @@ def op_exists(a: Answerer, form: Form):
     np = _head(form)
     rows = _all_rows(a.ev, form, np)
     n = len(rows)
+    if n and np.number is not None:         # "is chair 1 next to the table"
+        named = a.names(rows)
+        rest = " ".join(_filter_text(a, f) for f in list(np.filters) + list(form.filters))
+        return f"yes, {named[rows[0]['id']]} is {rest}".rstrip(), True, rows
+    if not n and np.number is not None and not a.absence():
+        rest = " ".join(_filter_text(a, f) for f in list(np.filters) + list(form.filters))
+        return f"no, {np.text()} is not {rest}".rstrip(), False, rows
     if n:
         named = a.names(rows[:LIST_SHOWN])
         text = f"yes, {n} {a.phrase(np, n, form.filters)}{a.where}: " + _join(sorted(named[o['id']] for o in rows[:LIST_SHOWN]))
@@ -263,7 +270,12 @@ def op_extreme(a: Answerer, form: Form):
 def op_distance(a: Answerer, form: Form):
     from queries.vqa import the
 
-    x, y = form.sets[0], form.sets[1]
+    if len(form.sets) == 1 and len(form.sets[0].alternatives) == 2:
+        x, y = form.sets[0].alternatives          # "how far apart are tv 1 and tv 2"
+    elif len(form.sets) == 2:
+        x, y = form.sets
+    else:
+        raise Unanswerable("a distance is between two things; ask e.g. 'how far is the cup from the sink'")
     rx, ry = a.ev.members(x), a.ev.members(y)
     if not rx or not ry:
         return (a.absence() or "I have not found both objects" + a.where + f" ({ABSENT})"), None, rx + ry

@@ -260,9 +260,10 @@ def read_question(text: str, room_rows: Callable[[str], list], all_room_names: C
 
 
 def compile_question(run, text: str, room: Optional[str], building: Optional[str], room_rows, all_room_names,
-                     scope: Callable, embedding=None, use_embedding=True) -> Outcome:
+                     scope: Callable, embedding=None, use_embedding=True, evaluate: bool = False) -> Outcome:
     """Read `text` (normalised, typos fixed) and answer it, or say that the per-form reader
-    should (a simple form), or refuse naming the word not read."""
+    should (a simple form; `evaluate`: answer it here all the same), or refuse naming the word
+    not read."""
     from queries.grammar import GrammarError
 
     try:
@@ -285,7 +286,7 @@ def compile_question(run, text: str, room: Optional[str], building: Optional[str
             return Outcome("refuse", f"the question says '{q_room}' but --room is '{room}'", form=logical)
         # the per-form reader knows plain ASCII room names only ("küche", "my room" are ours)
         plain_room = q_room is None or (q_room.isascii() and q_room.split()[0] not in ("my", "our", "this"))
-        if plain_room and is_simple(form, ev):
+        if plain_room and not evaluate and is_simple(form, ev):
             return Outcome("simple", text, form=logical, room=q_room)
         ev.load(scope(q_room or room), labels_read(form, ev))
         label = q_room or room

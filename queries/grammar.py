@@ -65,6 +65,8 @@ attribute: WHAT "color" be np preds                        -> colour_of
          | "how" ATTR be np preds                          -> measure_of
 extreme: WHAT np? be _det? SUPER np? preds
        | WHAT np be _det? DSUPER _tofrom np
+       | WHAT be np_closest
+np_closest: _det? DSUPER WORD+ _tofrom np_one
 distance: "how" "far" be np _tofrom np
         | "how" "far" "apart" be np
         | WHAT be "the" "distance" "between" np_one "and" np_one
@@ -83,6 +85,7 @@ _conj: "or" | "and" | "as" "well" "as"
 np_one: _det? SUPER? WORD+ NUMBER? postmod*
       | _det? SUPER postmod*
       | _det? SUPER? WORD+ NUMBER? DSUPER _tofrom np_one
+      | np_closest
 postmod: NOT? relation np_or                 -> rel_filter
        | NOT? band                          -> dist_filter
 preds: pred*
@@ -234,6 +237,9 @@ class _ToForm(Transformer):
     def np_or(self, items):
         return self.np(items)
 
+    def np_closest(self, items):
+        return self.np_one(items)
+
     def np(self, items):
         nps = [i for i in items if isinstance(i, NP)]
         if len(nps) == 1:
@@ -287,6 +293,8 @@ class _ToForm(Transformer):
     def extreme(self, items):
         sup = next((str(t) for t in items if isinstance(t, Token) and t.type in ("SUPER", "DSUPER")), None)
         form = self._op("extreme", items)
+        if sup is None:
+            return form                 # "what is the closest chair to the tv": the set says it
         if sup in DISTANCE_SUPERLATIVES:
             head, other = form.sets[0], form.sets[1]
             head.superlative, head.toward = sup, other

@@ -168,6 +168,11 @@ def _what(q: Query, n: int) -> str:
     return " ".join(bits + [noun])
 
 
+def _a(noun: str) -> str:
+    """The noun with its indefinite article: "a chair", "an orange cup"."""
+    return f"{'an' if noun[:1] in 'aeiou' else 'a'} {noun}"
+
+
 def _where(q: Query, rooms_asked: bool) -> str:
     out = ""
     if q.relation:
@@ -360,7 +365,7 @@ def exists(run: _Run, q: Query, rooms) -> Answer:
     a = count(run, q, rooms)
     n = a.value
     if n == 0:
-        text = f"no, there is no {_what(q, 1)}{_where(q, rooms is not None)}"
+        text = f"no, I have not found {_a(_what(q, 1))}{_where(q, rooms is not None)}"
     else:
         text = f"yes, {n} {_what(q, n)}{_where(q, rooms is not None)}"
     return Answer("", True, text, "exists", n > 0, a.objects, q)
@@ -381,7 +386,8 @@ def attribute(run: _Run, q: Query, rooms) -> Answer:
     """What colour / how big is the <object>: one value per matching object."""
     rows = _candidates(run, q, rooms)
     if not rows:
-        return Answer("", True, f"there is no {_what(q, 1)}{_where(q, rooms is not None)}", "attribute", None, query=q)
+        return Answer("", True, f"I have not found {_a(_what(q, 1))}{_where(q, rooms is not None)}", "attribute", None,
+                      query=q)
     if q.attribute == "colour":
         values = [r.get("colour") or "unknown" for r in rows]
     else:
@@ -414,7 +420,8 @@ def show(run: _Run, q: Query, rooms) -> Answer:
         how = "biggest" if q.superlative == "max" else "smallest"
     rel = f" {q.relation_word} the {' or '.join(q.anchor.names)}" if q.relation else ""
     if not rows:
-        return Answer("", True, f"there is no {_what(q, 1)}{rel}{' in the ' + q.room if q.room else ''}", "show", None, query=q)
+        return Answer("", True, f"I have not found {_a(_what(q, 1))}{rel}{' in the ' + q.room if q.room else ''}",
+                      "show", None, query=q)
     r = rows[0]
     if "thumbnail" in r:       # the extreme templates bring the winner's thumbnail along
         data = r["thumbnail"]
@@ -466,7 +473,8 @@ def where(run: _Run, q: Query, rooms) -> Answer:
     """Where is the <object>: per matching object, what it is on/in/next to, and its room."""
     rows = _candidates(run, q, rooms)
     if not rows:
-        return Answer("", True, f"there is no {_what(q, 1)}{_where(q, rooms is not None)}", "where", [], query=q)
+        return Answer("", True, f"I have not found {_a(_what(q, 1))}{_where(q, rooms is not None)}", "where", [],
+                      query=q)
     ids = [r["id"] for r in rows[:LIST_SHOWN]]
     rels: dict[str, list[dict]] = {i: [] for i in ids}
     placed: dict[str, list[dict]] = {i: [] for i in ids}    # with colour and score, for the sentence
@@ -516,10 +524,13 @@ def answer(store, question: str, room: Optional[str] = None, building: Optional[
     phrased, typos = _phrase(store, text, building)
     logical, notes = None, list(typos)
     if seen_from is None:
-        try:
-            outcome = compose.compile_question(
+        def compiled(evaluate: bool = False):
+            return compose.compile_question(
                 run, phrased, room, building, room_rows, lambda: _room_names(store, building),
-                lambda name: _scope(run, name, building, seen), embedding, use_embedding)
+                lambda name: _scope(run, name, building, seen), embedding, use_embedding, evaluate)
+
+        try:
+            outcome = compiled()
         except Refusal as exc:
             return Answer(question, False, str(exc), steps=run.steps)
         if outcome.kind == "answer":
@@ -531,6 +542,15 @@ def answer(store, question: str, room: Optional[str] = None, building: Optional[
     try:
         q = parse(text, is_room, embedding=embedding, use_embedding=use_embedding)
     except ParseError as exc:
+        if logical is not None:
+            # a simple form the per-form reader does not know in these words ("the closest
+            # chair to the tv"): the compiler answers it
+            try:
+                outcome = compiled(evaluate=True)
+            except Refusal as refused:
+                return Answer(question, False, str(refused), steps=run.steps)
+            if outcome.kind == "answer":
+                return _composed(question, outcome, notes, run)
         return Answer(question, False, refusal(str(exc), question), logical=logical)
     if q.target.how == "group" or (q.anchor is not None and q.anchor.how == "group"):
         _expand_groups(store, q)

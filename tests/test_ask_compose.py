@@ -124,6 +124,13 @@ def test_extremes(store, flat, question, key):
     assert ids_of(a) == {flat[key]}
 
 
+def test_yes_no_about_one_named_object(store, flat):
+    a = ask(store, "is the blue chair next to the table?", room="kitchen")
+    assert a.value is True and a.text.startswith("yes")
+    a = ask(store, "is the blue chair near the tv?", room="kitchen")
+    assert a.value is False and "I have not found" in a.text and not a.absent_evidence
+
+
 def test_compare_and_more_than(store, flat):
     assert ask(store, "are there more chairs than cups?", room="kitchen").value is True
     assert ask(store, "are there fewer chairs than cups?", room="kitchen").value is False
@@ -217,6 +224,8 @@ def test_explain_prints_the_logical_form_and_templates(store, flat):
     ("Which mug is the furthest from the tv", "which cup is farthest from the tv?"),
     ("How many rooms do you know?", "how many rooms are there?"),
     ("What is the height of the table?", "how tall is the table?"),
+    ("What's the closest chair to the red cup?", "which chair is closest to the red cup?"),
+    ("How far apart are the pink book and the white cup?", "how far is the pink book from the white cup?"),
 ])
 def test_phrasings_read_as_the_plain_question(store, flat, question, same_as):
     a, b = ask(store, question, room="kitchen"), ask(store, same_as, room="kitchen")
