@@ -103,16 +103,41 @@ def op_count(a: Answerer, form: Form):
 
     np = _head(form)
     rows = _all_rows(a.ev, form, np)
-    n = len(rows)
+    extra = extra_views(a, rows)
+    n = len(rows) - extra
     text = f"{n} {a.phrase(np, n, form.filters)}{a.where}"
     labels: dict[str, int] = {}
     for o in rows:
         labels[o["label"]] = labels.get(o["label"], 0) + 1
-    if len(labels) > 1:
+    if len(labels) > 1 and not extra:
         text += " (" + ", ".join(f"{v} {plural(k, v)}" for k, v in sorted(labels.items(), key=lambda kv: (-kv[1], kv[0]))) + ")"
+    if extra:
+        text += f" [{extra} seen from two rooms counted once]"
     if n == 0 and a.absence():
         text = f"0: {a.absence()}"
     return text, n, rows
+
+
+def extra_views(a: Answerer, rows: list[dict]) -> int:
+    """How many of `rows` are further views of one physical object stored in two rooms (linked
+    by SAME_AS): each connected group of them counts once. Only across rooms."""
+    if len({o["room"] for o in rows}) < 2 or not a.run.read("vqa_same_as_count")[0]["n"]:
+        return 0
+    ids = {o["id"] for o in rows}
+    parent: dict[str, str] = {}
+
+    def find(x: str) -> str:
+        while parent.setdefault(x, x) != x:
+            parent[x] = parent[parent[x]]
+            x = parent[x]
+        return x
+
+    for p in a.run.read("vqa_same_as", labels=None, rooms=a.scene.rooms, colour=None):
+        if p["a"] in ids and p["b"] in ids:
+            ra, rb = find(p["a"]), find(p["b"])
+            if ra != rb:
+                parent[max(ra, rb)] = min(ra, rb)
+    return sum(1 for x in parent if find(x) != x)
 
 
 def op_exists(a: Answerer, form: Form):
