@@ -107,7 +107,8 @@ def build_room(store, req: BuildRequest, settings, detector=None, embedding=None
 
     t0 = time.perf_counter()
     try:
-        up = estimate_gravity(sample_frames(seq, 20)).up
+        gravity = estimate_gravity(sample_frames(seq, 20))
+        up = gravity.up
     except ValueError:
         raise BuildError(f"no frame of {req.sequence} has usable depth")
     t_gravity = time.perf_counter() - t0
@@ -141,7 +142,7 @@ def build_room(store, req: BuildRequest, settings, detector=None, embedding=None
             known = known_objects(store, rid)
             scan = ScanInfo(scan_id, scan_at, closes=(a, b) == ranges[-1])
             graph = chunk_graph(seq, a, b, detector, up, settings, req.room, req.building, key, stats, progress,
-                                known=known, scan=scan)
+                                known=known, scan=scan, floor=gravity.floor_height)
             t0 = time.perf_counter()
             report = merge_local_graph(store, graph, embedding, params)
             merge_seconds += time.perf_counter() - t0

@@ -8,6 +8,8 @@ Mapping (also in the README):
   mean, ``bounding_box`` = axis-aligned box (size w, d, h around the mean), ``color`` = RGB of the
   dominant colour name; node metadata ``sg3d``: id, room, labels, scores, var, n_points, colour,
   observations, frames and the 512-bin HSV histogram (so an import loses nothing).
+- layer 1 (structure): the room's floor, walls and surfaces, symbol ``S<k>``, attributes as
+  objects; objects' ON edges reach them (an import reads the objects layer only).
 - layer ROOMS (4): one node per room, symbol ``R<k>``, position = mean of its objects, box =
   their extent; an interlayer edge to each of its objects.
 - layer BUILDINGS (5): one node ``B0`` (the building), an interlayer edge to each room.
@@ -29,6 +31,9 @@ import numpy as np
 from ingest.model import COLOUR_NAMES, HIST_SIZE, RELATION_TYPES
 
 OBJECTS, PLACES, ROOMS, BUILDINGS = 2, 3, 4, 5
+# The room's structure (floor, walls, counters, shelves) is a layer of its own, below the
+# objects that stand on it; `read_spark` reads the objects layer only.
+STRUCTURE = 1
 
 # sRGB of each colour name (the hue bands of ingest.attributes), for spark_dsg's node colour
 COLOUR_RGB = {"red": (220, 30, 30), "orange": (245, 140, 20), "yellow": (240, 220, 40), "green": (40, 170, 60),
@@ -84,8 +89,9 @@ def to_spark(graph: dict, room_transforms: Optional[dict] = None):
         if n.get("hist") is not None:
             meta["hist"] = [float(v) for v in n["hist"]]
         a.metadata.set({"sg3d": {k2: v for k2, v in meta.items() if v is not None}})
-        sym = dsg.NodeSymbol("O", k)
-        G.add_node(OBJECTS, sym, a)
+        structure = n.get("layer") == "structure"
+        sym = dsg.NodeSymbol("S" if structure else "O", k)
+        G.add_node(STRUCTURE if structure else OBJECTS, sym, a)
         symbols[n["id"]] = sym
         by_room[room].append(p)
         boxes[room].append((p - size / 2, p + size / 2))

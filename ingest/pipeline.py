@@ -27,7 +27,7 @@ from typing import Callable, Optional, Sequence
 
 import numpy as np
 
-from ingest import coverage, existence, fusion, rescan
+from ingest import coverage, discovery, existence, fusion, rescan
 from ingest.abir import ABIR
 from ingest.attributes import measure_object
 from ingest.detect import Detector
@@ -82,6 +82,7 @@ class Settings:
     detector: str = "ssd-mobilenet-v2-coco"
     score_threshold: float = 0.23
     quality: str = "default"                    # "high": full frame + tiles
+    discover: bool = True                       # 3d-full: unnamed objects and structure from depth
 
     def fingerprint(self) -> str:
         d = asdict(self)
@@ -104,6 +105,8 @@ class PipelineStats:
     kept: int = 0
     rejected: Counter = field(default_factory=Counter)   # reason -> hypotheses
     objects: int = 0
+    unnamed: int = 0             # objects found from depth that no detector named
+    structure: int = 0           # floor, walls and surfaces
     relations: int = 0
     seconds: dict = field(default_factory=lambda: defaultdict(float))
 
@@ -261,10 +264,40 @@ def _relations(hyps: dict[str, fusion.Hypothesis], objects: list[ObjectObservati
     return side_by_side_on_one_support(filter_relations(relations, labels, centres))
 
 
+def _discover(seq, views, objects: list[ObjectObservation], up, floor: Optional[float],
+              stats: PipelineStats) -> list[ObjectObservation]:
+    """The room's structure and its unnamed objects from the views' depth (`ingest.discovery`);
+    the named objects get their whole boxes in place."""
+    from ingest.room_cloud import room_cloud
+    from ingest.structure import room_structure
+
+    def colour_image(index: int):
+        try:
+            return seq.frame(index).color
+        except FrameError:
+            return None
+
+    cloud = room_cloud(views, up, floor)
+    structure = room_structure(cloud)
+    unnamed, nodes = discovery.discover(objects, cloud, structure, colour_image)
+    stats.unnamed += len(unnamed)
+    stats.structure += len(nodes)
+    return unnamed + nodes
+
+
+def _structure_relations(relations: list[RelationObservation], objects: list[ObjectObservation]) -> list[RelationObservation]:
+    """Structure takes part in relations only as what objects stand ON (walls in none)."""
+    layer = {o.local_id: o.layer for o in objects}
+    label = {o.local_id: o.label for o in objects}
+    return [r for r in relations
+            if (layer[r.subject] != "structure" and layer[r.object] != "structure")
+            or (r.predicate == "ON" and layer[r.subject] != "structure" and label[r.object] != "wall")]
+
+
 def chunk_graph(seq, a: int, b: int, detector: Detector, up, settings: Settings, room: str,
                 building: str, key: Optional[str], stats: PipelineStats,
                 progress: Optional[ProgressFn] = None, known: Sequence[KnownObject] = (),
-                scan: Optional[ScanInfo] = None) -> LocalGraph:
+                scan: Optional[ScanInfo] = None, floor: Optional[float] = None) -> LocalGraph:
     """The local 3-D scene graph of frames [a, b) of `seq`; with the room's `known` objects
     (a re-scan), also the frames that saw each one's place empty (`ingest.rescan`)."""
     method = settings.method
@@ -287,8 +320,14 @@ def chunk_graph(seq, a: int, b: int, detector: Detector, up, settings: Settings,
     by_id = {f"h{h.hid}": h for h, _, _ in kept}
     objects = [fusion.fuse(f"h{h.hid}", h, basis, labels, scores) for h, labels, scores in kept]
     stats.seconds["fusion"] += time.perf_counter() - t0
+    if method.sdr and settings.discover and views:
+        t0 = time.perf_counter()
+        objects += _discover(seq, views, objects, up, floor, stats)
+        stats.seconds["discovery"] += time.perf_counter() - t0
     t0 = time.perf_counter()
     relations = _relations(by_id, objects, up, method) if method.three_d else []
+    if method.sdr and settings.discover:
+        relations = _structure_relations(relations, objects)
     stats.seconds["relations"] += time.perf_counter() - t0
     stats.objects += len(objects)
     stats.relations += len(relations)

@@ -54,7 +54,7 @@ from typing import Optional, Sequence
 
 import numpy as np
 
-from ingest.model import ObjectObservation, RelationObservation
+from ingest.model import UNNAMED_LABEL, ObjectObservation, RelationObservation
 from ingest.relation_rules import edges_of, statement_of
 
 # -- support and stacking ----------------------------------------------------------------
@@ -393,7 +393,7 @@ def spatial_relations(objects: Sequence[ObjectGeometry], up: Sequence[float],
                 if score > 0:
                     emit(a.id, "NEAR", b.id, score)
                     fact = (a.id, "NEAR", b.id, score)
-        if fact is not None or a.label == b.label:
+        if fact is not None or (a.label == b.label and a.label != UNNAMED_LABEL):
             compared = comparison(a, b)
             if compared is not None:
                 big, small, score = compared

@@ -33,6 +33,7 @@ class Node:
     position: tuple[float, float, float]
     size: Optional[tuple[float, float, float]] = None
     colour: Optional[str] = None
+    layer: str = "object"
 
 
 @dataclass

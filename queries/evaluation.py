@@ -7,9 +7,10 @@ COCO object and over those the annotator counted as `sure`.
 """
 from __future__ import annotations
 
+from dataclasses import replace
 from typing import Callable, Optional
 
-from ingest.model import RELATION_TYPES
+from ingest.model import RELATION_TYPES, UNNAMED_LABEL
 from queries.eval_edges import edge_metrics
 from queries.eval_gt import GroundTruth
 from queries.eval_match import DEFAULT_TOLERANCE, Matching, Node, match
@@ -41,7 +42,8 @@ def read_nodes(store, room_id: str) -> list[Node]:
         if r["x"] is None:
             continue
         size = tuple(r["size"]) if r.get("size") else None
-        nodes.append(Node(r["id"], r["label"] or "", (r["x"], r["y"], r["z"]), size, r.get("colour")))
+        nodes.append(Node(r["id"], r["label"] or "", (r["x"], r["y"], r["z"]), size, r.get("colour"),
+                          r.get("layer") or "object"))
     return nodes
 
 
@@ -94,11 +96,50 @@ def _gt_row(g) -> dict:
     return {"gt": g.id, "category": g.category, "coco": g.coco, "sure": g.sure}
 
 
+# Furniture whose box height says whether whole-object boxes work (a table from the floor to
+# its top, a chair from the floor to its back).
+FURNITURE = ("dining table", "chair", "couch", "bed", "bench", "desk")
+
+
+def object_metrics(gt: GroundTruth, nodes: list[Node], tolerance: float) -> dict:
+    """Every object, named or not: object-layer nodes of ANY label matched one to one to ALL
+    located GT objects (whatever their category) within the tolerance."""
+    objects = [n for n in nodes if n.layer != "structure"]
+    located = [replace(g, coco=g.coco or g.category or g.id) for g in gt.objects if g.position is not None]
+    m = match(objects, located, tolerance, lambda a, b: True)
+    return {
+        "nodes": len(objects),
+        "unnamed_nodes": sum(n.label == UNNAMED_LABEL for n in objects),
+        "gt_located": len(located),
+        "matched": len(m.pairs),
+        "recall": _ratio(len(m.pairs), len(located)),
+        "precision": _ratio(len(m.pairs), len(objects)),
+        "duplicates": len(m.duplicates),
+        "spurious": len(m.spurious),
+        "missing": [_gt_row(gt.by_id[g]) for g in (g.id for g in located) if g not in m.gt_to_node],
+    }
+
+
+def structure_metrics(nodes: list[Node], named: list[Node], m: Matching) -> dict:
+    """The room's structure found (floor, walls, surfaces) and the box heights of matched furniture."""
+    structure = [n for n in nodes if n.layer == "structure"]
+    furniture = [{"node": n.id, "gt": m.node_to_gt[n.id], "label": n.label, "height_m": round(float(n.size[2]), 3)}
+                 for n in named if n.id in m.node_to_gt and n.label in FURNITURE and n.size]
+    return {
+        "floor": any(n.label == "floor" for n in structure),
+        "walls": sum(n.label == "wall" for n in structure),
+        "surfaces": sorted(n.label for n in structure if n.label not in ("floor", "wall")),
+        "furniture_heights": furniture,
+    }
+
+
 def evaluate(store, gt: GroundTruth, room_id: str, *, room: str, building: str,
              tolerance: float = DEFAULT_TOLERANCE, answerer: Optional[Callable] = None,
              with_vqa: bool = True) -> dict:
-    """The full report as a JSON-ready dict."""
-    nodes = read_nodes(store, room_id)
+    """The full report as a JSON-ready dict: COCO-named nodes against COCO-named GT objects
+    ("nodes", "edges"), every object against every located GT object ("objects"), structure."""
+    every = read_nodes(store, room_id)
+    nodes = [n for n in every if n.layer != "structure" and n.label != UNNAMED_LABEL]
     m = match(nodes, gt.objects, tolerance, category_matcher())
     edges = store.read("relation_all", room=room_id, types=list(RELATION_TYPES))
     report = {
@@ -106,6 +147,8 @@ def evaluate(store, gt: GroundTruth, room_id: str, *, room: str, building: str,
         "tolerance_m": tolerance,
         "nodes": node_metrics(gt, nodes, m),
         "edges": edge_metrics(gt.relations, edges, m),
+        "objects": object_metrics(gt, every, tolerance),
+        "structure": structure_metrics(every, nodes, m),
     }
     if with_vqa:
         report["vqa"] = vqa_metrics(store, gt, m, room, building, answerer)

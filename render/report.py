@@ -35,6 +35,22 @@ def metric_rows(report: dict) -> list[tuple[str, str]]:
         ("missing nodes", len(n["missing"])),
         ("not detectable by a COCO detector", len(n["not_detectable"])),
         ("no GT position", len(n["unlocated"])),
+    ]
+    o, st = report.get("objects"), report.get("structure")
+    if o is not None:
+        rows += [
+            ("every object: nodes (unnamed)", f"{o['nodes']} ({o['unnamed_nodes']})"),
+            ("every object: GT located", o["gt_located"]),
+            ("every object: matched", o["matched"]),
+            ("every object: precision", pct(o["precision"])),
+            ("every object: recall", pct(o["recall"])),
+            ("every object: duplicates", o["duplicates"]),
+        ]
+    if st is not None:
+        rows += [("structure: floor, walls", f"{'yes' if st['floor'] else 'no'}, {st['walls']}"),
+                 ("structure: surfaces", ", ".join(st["surfaces"]) or "none")]
+        rows += [(f"height of {f['label']} ({f['gt']})", f"{f['height_m']:.2f} m") for f in st["furniture_heights"]]
+    rows += [
         ("GT relations checked", f"{e['checked']} of {e['gt_relations']}"),
         ("edge precision", pct(e["precision"])),
         ("edge recall (checked)", pct(e["recall"])),

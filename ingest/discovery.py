@@ -1,0 +1,213 @@
+"""Every object in the room: the named objects' whole boxes, the unnamed segments, the structure.
+
+The detector names what it can; depth sees everything. After fusion (`ingest.fusion`) the
+chunk's named objects meet the room's cloud (`ingest.room_cloud`), its structure
+(`ingest.structure`) and its class-agnostic segments (`ingest.segments`):
+
+- `whole_object_box`: a named object's box spans the object, not the part the detector boxed
+  (rules "stands on the floor" and "owns its top");
+- `named_by`: a segment that lies inside a named object's whole box is that object (its name is
+  the detector's evidence, accumulated over views), and is not a node of its own;
+- `plane_remnant`: a thin strip left along a cut wall or front (a door edge) is not an object;
+- `unnamed_object`: any other segment becomes a node labelled UNNAMED_LABEL, with its size,
+  colour, thumbnail from the view that saw it best, and a shape word where the geometry says one
+  (`shape_word`); it is never given a class name;
+- `structure_node`: the floor, the walls and each surface no named object owns become
+  structure-layer nodes.
+"""
+from __future__ import annotations
+
+from typing import Callable, Optional, Sequence
+
+import numpy as np
+
+from ingest.attributes import dominant_colour, hsv_histogram, thumbnail
+from ingest.model import HIST_SIZE, UNNAMED_LABEL, ObjectObservation
+from ingest.relations import FLOOR_STANDING_LABELS
+from ingest.room_cloud import RoomCloud
+from ingest.segments import Segment, room_segments
+from ingest.structure import Element
+
+# Furniture whose top is a surface others stand on (a chair tucked under a table does not own
+# the table's top).
+TOP_OWNERS = ("dining table", "desk", "bench", "bed")
+# A named object owns a surface when the surface covers this share of the object's footprint
+# and lies within TOP_TOLERANCE_M of the object's box in height (a table and its top).
+OWN_FOOTPRINT_SHARE = 0.5
+TOP_TOLERANCE_M = 0.15
+# A segment is a named object's when this share of its voxels lies inside that object's whole
+# box grown by NAMED_MARGIN_M.
+NAMED_SHARE = 0.5
+NAMED_MARGIN_M = 0.02
+# A plane remnant: this share of its voxels within REMNANT_DISTANCE_M of a cut vertical plane,
+# and no thicker than REMNANT_THICKNESS_M across it.
+REMNANT_SHARE = 0.8
+REMNANT_DISTANCE_M = 0.06
+REMNANT_THICKNESS_M = 0.06
+# Shape words: flat when the height is at most FLAT_RATIO of the larger horizontal side; tall
+# when at least TALL_RATIO times it; box-shaped when the three sides are within BOX_RATIO of
+# each other and the points fill the box's faces.
+FLAT_RATIO = 0.25
+TALL_RATIO = 2.0
+BOX_RATIO = 2.5
+VOXEL_VAR_FLOOR = 0.01 ** 2
+
+
+def gravity_box(obj: ObjectObservation, cloud: RoomCloud) -> tuple[np.ndarray, np.ndarray]:
+    """An object's box in the cloud's gravity frame (h above the floor)."""
+    c = cloud.basis @ np.asarray(obj.box_centre if obj.box_centre is not None else obj.mean, float)
+    c[2] -= cloud.floor
+    half = np.asarray(obj.size, float) / 2
+    return c - half, c + half
+
+
+def owned_surface(lo: np.ndarray, hi: np.ndarray, surfaces: Sequence[Element]) -> Optional[Element]:
+    """Rule "owns its top": the horizontal surface covering OWN_FOOTPRINT_SHARE of the box's
+    footprint whose level lies within TOP_TOLERANCE_M of the box's height range (the most
+    covering one), or None."""
+    area = float(np.prod(np.maximum(hi[:2] - lo[:2], 1e-3)))
+    best, best_share = None, OWN_FOOTPRINT_SHARE
+    for e in surfaces:
+        if e.footprint is None or not (lo[2] - TOP_TOLERANCE_M <= e.height <= hi[2] + TOP_TOLERANCE_M):
+            continue
+        inter = np.clip(np.minimum(hi[:2], e.hi[:2]) - np.maximum(lo[:2], e.lo[:2]), 0, None)
+        share = float(np.prod(inter)) / area
+        if share >= best_share:
+            best, best_share = e, share
+    return best
+
+
+def whole_object_box(obj: ObjectObservation, cloud: RoomCloud, surfaces: Sequence[Element]) -> Optional[Element]:
+    """Rules "stands on the floor" and "owns its top": floor-standing furniture
+    (FLOOR_STANDING_LABELS: tables, chairs, couches ...) reaches down to the floor, and a
+    table, desk, bench or bed (TOP_OWNERS) whose footprint a horizontal surface covers has
+    that surface as its top (what stands on a table does not make it taller). Updates `obj.size`/`box_centre`
+    and returns the surface it owns (None when it owns none)."""
+    if obj.label not in FLOOR_STANDING_LABELS:
+        return None
+    lo, hi = gravity_box(obj, cloud)
+    lo[2] = 0.0
+    top = owned_surface(lo, hi, surfaces) if obj.label in TOP_OWNERS else None
+    if top is not None:
+        hi[2] = top.height
+    hi[2] = max(hi[2], lo[2] + 0.05)
+    obj.size = tuple(float(v) for v in hi - lo)
+    obj.box_centre = tuple(float(v) for v in cloud.to_world((lo + hi) / 2))
+    return top
+
+
+def named_by(seg: Segment, boxes: Sequence[tuple[np.ndarray, np.ndarray]]) -> bool:
+    """A segment with NAMED_SHARE of its voxels inside one named object's box (grown by
+    NAMED_MARGIN_M) is that object."""
+    for lo, hi in boxes:
+        inside = ((seg.voxels >= lo - NAMED_MARGIN_M) & (seg.voxels <= hi + NAMED_MARGIN_M)).all(axis=1)
+        if float(inside.mean()) >= NAMED_SHARE:
+            return True
+    return False
+
+
+def plane_remnant(seg: Segment, planes: Sequence[Element]) -> bool:
+    """A thin strip along a cut wall or front (door edges, frames): REMNANT_SHARE of its voxels
+    within REMNANT_DISTANCE_M of one plane and at most REMNANT_THICKNESS_M thick across it."""
+    for e in planes:
+        theta, rho = e.plane
+        off = seg.voxels[:, 0] * np.cos(theta) + seg.voxels[:, 1] * np.sin(theta) - rho
+        if float(np.mean(np.abs(off) <= REMNANT_DISTANCE_M)) >= REMNANT_SHARE and float(np.ptp(off)) <= REMNANT_THICKNESS_M:
+            return True
+    return False
+
+
+def shape_word(size: Sequence[float]) -> Optional[str]:
+    """Rule "shape word" from a gravity-aligned size (w, d, h): flat, tall or box-shaped (see
+    FLAT_RATIO, TALL_RATIO, BOX_RATIO); None when none fits. Roundness is not judged from a box."""
+    w, d, h = (float(v) for v in size)
+    side = max(w, d)
+    if h <= FLAT_RATIO * side:
+        return "flat"
+    if h >= TALL_RATIO * side:
+        return "tall"
+    if max(w, d, h) <= BOX_RATIO * max(min(w, d, h), 1e-3):
+        return "box-shaped"
+    return None
+
+
+def _pixels(seg: Segment, cloud: RoomCloud, view) -> Optional[tuple[int, int, int, int]]:
+    world = cloud.to_world(seg.voxels)
+    w2c = np.linalg.inv(view.pose)
+    cam = world @ w2c[:3, :3].T + w2c[:3, 3]
+    cam = cam[cam[:, 2] > 0.1]
+    if len(cam) == 0:
+        return None
+    K = view.K
+    u = K[0, 0] * cam[:, 0] / cam[:, 2] + K[0, 2]
+    v = K[1, 1] * cam[:, 1] / cam[:, 2] + K[1, 2]
+    w, h = view.size
+    x1, x2 = int(max(0, np.floor(u.min()))), int(min(w, np.ceil(u.max()) + 1))
+    y1, y2 = int(max(0, np.floor(v.min()))), int(min(h, np.ceil(v.max()) + 1))
+    if x2 - x1 < 2 or y2 - y1 < 2:
+        return None
+    return x1, y1, x2, y2
+
+
+def unnamed_object(local_id: str, seg: Segment, cloud: RoomCloud,
+                   colour_image: Callable[[int], Optional[np.ndarray]]) -> ObjectObservation:
+    """A node for a segment no detector named: label UNNAMED_LABEL, its voxels' Gaussian (Eq. 8
+    moments over the surface it showed), its box, and the colour, histogram (Eq. 9) and
+    thumbnail of the view that saw it best; score = the share of looks that hit it."""
+    world = cloud.to_world(seg.voxels)
+    mean = world.mean(axis=0)
+    var = np.maximum(world.var(axis=0), VOXEL_VAR_FLOOR)
+    hist, colour, thumb = np.zeros(HIST_SIZE), "grey", None
+    frames = [int(cloud.views[k].index) for k in seg.frames]
+    if seg.best_view >= 0:
+        view = cloud.views[seg.best_view]
+        box = _pixels(seg, cloud, view)
+        image = colour_image(view.index) if box is not None else None
+        if image is not None:
+            hist = hsv_histogram(image, box)
+            colour = dominant_colour(image, box)
+            thumb = thumbnail(image, box)
+    return ObjectObservation(
+        local_id=local_id, labels=[UNNAMED_LABEL], scores=[round(seg.hit_ratio, 3)],
+        mean=tuple(float(v) for v in mean), var=tuple(float(v) for v in var), n_points=len(seg.voxels),
+        size=tuple(float(v) for v in seg.size), hist=hist, colour=colour, thumbnail=thumb,
+        first_frame=min(frames) if frames else 0, last_frame=max(frames) if frames else 0,
+        n_frames=max(1, seg.seen_views), box_centre=tuple(float(v) for v in cloud.to_world((seg.lo + seg.hi) / 2)),
+        shape=shape_word(seg.size))
+
+
+def structure_node(local_id: str, el: Element, cloud: RoomCloud) -> ObjectObservation:
+    """A structure-layer node for a floor, wall or surface: its box, no colour evidence."""
+    centre = cloud.to_world((el.lo + el.hi) / 2)
+    size = np.maximum(el.hi - el.lo, 0.01)
+    return ObjectObservation(
+        local_id=local_id, labels=[el.label], scores=[1.0],
+        mean=tuple(float(v) for v in centre), var=tuple(float(v) for v in (size / 4) ** 2),
+        # a uniform histogram: structure is matched across views by place and name, not colour
+        n_points=max(1, el.n_points), size=tuple(float(v) for v in size), hist=np.ones(HIST_SIZE),
+        colour="grey", box_centre=tuple(float(v) for v in centre), n_frames=max(1, el.frames),
+        layer="structure")
+
+
+def discover(named: list[ObjectObservation], cloud: RoomCloud, structure: Sequence[Element],
+             colour_image: Callable[[int], Optional[np.ndarray]],
+             ) -> tuple[list[ObjectObservation], list[ObjectObservation]]:
+    """Give the named objects their whole boxes (in place); return the unnamed objects and the
+    structure nodes (the floor, walls, and the surfaces no named object owns). Small named
+    objects claim the points inside their boxes before segmentation; the whole boxes of
+    floor-standing furniture name the segments inside them (a chair tucked under a table
+    would be claimed by the table's box)."""
+    surfaces = [e for e in structure if e.footprint is not None]
+    owned = {id(e) for e in (whole_object_box(o, cloud, surfaces) for o in named) if e is not None}
+    boxes = [gravity_box(o, cloud) for o in named]
+    claims = [b for o, b in zip(named, boxes) if o.label not in FLOOR_STANDING_LABELS]
+    segments = room_segments(cloud, structure, claims)
+    planes = [e for e in structure if e.plane is not None]
+    unnamed = []
+    for seg in segments:
+        if named_by(seg, boxes) or plane_remnant(seg, planes):
+            continue
+        unnamed.append(unnamed_object(f"u{len(unnamed)}", seg, cloud, colour_image))
+    nodes = [structure_node(f"s{k}", e, cloud) for k, e in enumerate(
+        e for e in structure if e.label != "front" and id(e) not in owned)]
+    return unnamed, nodes
