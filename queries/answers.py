@@ -34,9 +34,8 @@ class Answerer:
         parts = []
         for o in sorted(rows[:LIST_SHOWN], key=lambda o: named[o["id"]]):
             name = the(named[o["id"]])
-            if o["label"] == UNNAMED_LABEL:
-                dims = describe_unnamed(o, with_size=True)
-                name = f"{the(named[o['id']])} (about {dims.split(' about ')[-1]})" if " about " in dims else name
+            if o["label"] == UNNAMED_LABEL and describe_unnamed(o):
+                name = f"{name} ({describe_unnamed(o)})"
             parts.append(name)
         more = [f"{len(rows) - LIST_SHOWN} more"] if len(rows) > LIST_SHOWN else []
         return _join(parts + more) if parts else ""
@@ -221,7 +220,10 @@ def op_where(a: Answerer, form: Form):
     for o in shown:
         said = views.describe_place(places[o["id"]], {k: the(v) for k, v in named.items()})
         room = (o.get("room") or "?").split("/", 1)[-1]
-        parts.append(f"{the(named[o['id']])} is " + (f"{said}, in the {room}" if said else f"in the {room}"))
+        from queries.vqa import _without_place
+
+        name = the(_without_place(named[o["id"]], said))
+        parts.append(f"{name} is " + (f"{said}, in the {room}" if said else f"in the {room}"))
     more = f"; ... {len(rows) - len(shown)} more" if len(rows) > len(shown) else ""
     value = [{**row_value(o, named[o["id"]]), "relations": [{"rel": p["rel"], "other_id": p["other_id"],
                                                           "other_label": p["other_label"]} for p in places[o["id"]]]}

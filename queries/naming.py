@@ -9,9 +9,10 @@ not tell the objects of one label in one room apart:
     3. colour + label + support     "white cup on the dining table"  (the object it is ON/IN)
     4. label + number               "chair 2"
 
-An unnamed object (label "object", found from geometry) is called by what it looks like:
-"flat white object" (shape, colour), and lists add its size ("about 30x22 cm");
-steps 3 and 4 apply among unnamed objects that look alike ("object 2").
+An unnamed object (label "object", found from geometry) is called by its colour, "white
+object", then steps 3 and 4 among unnamed objects of that colour ("white object on the dining
+table", "white object 2"); lists add its shape and size ("flat, about 30x22 cm"). The shape is
+not part of the name, so every caller (whatever fields it reads) prints the same name.
 
 Numbers count the objects of the label in the room in a stable order: the frame that first saw
 the object, then its position (rounded to centimetres), never the id (a hash). Re-building the
@@ -46,7 +47,8 @@ def supports_from_edges(edges: Iterable[dict], labels: dict[str, str]) -> dict[s
     {s, type, o, score} (the best-scored one; ties by label)."""
     out: dict[str, tuple[float, str]] = {}
     for e in edges:
-        if e.get("type") in SUPPORT_TYPES and e.get("o") in labels:
+        # "on the object" tells no one which: an unnamed support does not name what it holds
+        if e.get("type") in SUPPORT_TYPES and e.get("o") in labels and labels[e["o"]] != "object":
             cand = (float(e.get("score") or 0.0), support_phrase(e["type"], labels[e["o"]]))
             if e["s"] not in out or (cand[0], out[e["s"]][1]) > (out[e["s"]][0], cand[1]):
                 out[e["s"]] = cand
@@ -54,21 +56,21 @@ def supports_from_edges(edges: Iterable[dict], labels: dict[str, str]) -> dict[s
 
 
 def looks(o: dict) -> str:
-    """What an unnamed object looks like: "flat white object" (shape word, colour)."""
-    return " ".join(x for x in (o.get("shape"), o.get("colour"), "object") if x)
+    """The kind an unnamed object is named among: "white object" (its colour)."""
+    return " ".join(x for x in (o.get("colour"), "object") if x)
 
 
-def describe_unnamed(o: dict, with_size: bool = True) -> str:
-    """"flat white object about 30x22 cm": its look and its two largest box sides."""
+def describe_unnamed(o: dict) -> str:
+    """"flat, about 30x22 cm": an unnamed object's shape word and its two largest box sides."""
     size = sorted((float(v) for v in (o.get("size") or [])), reverse=True)[:2]
-    if not with_size or len(size) < 2:
-        return looks(o)
-    dims = "x".join(f"{v * 100:.0f}" for v in size)
-    return f"{looks(o)} about {dims} cm"
+    bits = [o["shape"]] if o.get("shape") else []
+    if len(size) == 2:
+        bits.append("about " + "x".join(f"{v * 100:.0f}" for v in size) + " cm")
+    return ", ".join(bits)
 
 
 def _kind(o: dict) -> str:
-    """Objects are named among those of one kind: their label, or for unnamed ones their look."""
+    """Objects are named among those of one kind: their label, or for unnamed ones their colour."""
     label = o.get("label") or "object"
     return looks(o) if label == "object" else label
 

@@ -266,7 +266,19 @@ class Evaluator:
             out = self.apply(f, out)
         if np.superlative:
             out = self.extreme(out, np)
-        return out
+        return self._printed_name(np, out)
+
+    def _printed_name(self, np: NP, rows: list[dict]) -> list[dict]:
+        """"the white object on the dining table": when a singular phrase, with its relation
+        words, is the printed name of exactly one of the rows, it means that object (the brown
+        cup on the table is also a brown object on the table, but not the one so named)."""
+        if len(rows) < 2 or np.number is not None or not np.words or lemma(np.words[-1]) != np.words[-1]:
+            return rows
+        said = " ".join([np.text()] + [f"{f.relation} the {f.other.text()}" for f in np.filters
+                                       if f.kind == "rel" and not f.negated and not f.other.alternatives])
+        named = self.run.names(rows)
+        exact = [o for o in rows if named.get(o["id"]) == said]
+        return exact if len(exact) == 1 else rows
 
     def _by_size(self, rows: list[dict], size: Optional[str]) -> list[dict]:
         if size is None:

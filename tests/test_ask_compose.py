@@ -82,7 +82,7 @@ def test_counts(store, flat, question, n):
 def test_unnamed_objects_are_listed_by_their_look(store, flat):
     a = ask(store, "what is on the table?", room="kitchen")
     assert ids_of(a) == {flat[k] for k in ("u1", "u2", "x1", "b1")}
-    assert a.text.startswith("4 things on the dining table") and "flat white object (about 30x22 cm)" in a.text
+    assert a.text.startswith("4 things on the dining table") and "white object (flat, about 30x22 cm)" in a.text
 
 
 def test_structure_answers_what_stands_on_it(store, flat):
