@@ -109,7 +109,8 @@ def op_count(a: Answerer, form: Form):
     for o in rows:
         labels[o["label"]] = labels.get(o["label"], 0) + 1
     if len(labels) > 1 and not extra:
-        text += " (" + ", ".join(f"{v} {plural(k, v)}" for k, v in sorted(labels.items(), key=lambda kv: (-kv[1], kv[0]))) + ")"
+        text += " (" + ", ".join(f"{v} {'unnamed ' if k == UNNAMED_LABEL else ''}{plural(k, v)}"
+                                 for k, v in sorted(labels.items(), key=lambda kv: (-kv[1], kv[0]))) + ")"
     if extra:
         text += f" [{extra} seen from two rooms counted once]"
     if n == 0 and a.absence():
