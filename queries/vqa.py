@@ -614,20 +614,23 @@ ABSENT_FORMS = ("count", "exists", "where", "list", "attribute", "show")
 
 
 def _honest_absence(run: _Run, a: Answer, q: Query, rooms) -> None:
-    """No object of the asked kind in scope at all: say it was not found (small or uncommon
-    things may be missed), never that there is none; --json carries absent_evidence."""
-    if not a.ok or a.form not in ABSENT_FORMS or not _nothing(a) or q.target.labels is None:
+    """No object of an asked kind (the object asked about, or the one it is related to) in
+    scope at all: say it was not found (small or uncommon things may be missed), never that
+    there is none; --json carries absent_evidence."""
+    if not a.ok or a.form not in ABSENT_FORMS or not _nothing(a):
         return
-    labels = q.target.labels
-    if labels:
-        name = "vqa_scene_objects_in_rooms" if _few_rooms(rooms) else "vqa_scene_objects"
-        if run.read(name, rooms=rooms, labels=labels, limit=1):
-            return
-    what = " or ".join(q.target.names) or q.target.phrase
-    article = "an" if what[:1] in "aeiou" else "a"
-    place = f" in the {q.room}" if q.room else ""
-    a.text = f"I have not found {article} {what}{place} ({ABSENT})"
-    a.absent_evidence = True
+    name = "vqa_scene_objects_in_rooms" if _few_rooms(rooms) else "vqa_scene_objects"
+    for t in (q.target, q.anchor):
+        if t is None or t.labels is None:
+            continue
+        if t.labels and run.read(name, rooms=rooms, labels=t.labels, limit=1):
+            continue
+        what = " or ".join(t.names) or t.phrase
+        article = "an" if what[:1] in "aeiou" else "a"
+        place = f" in the {q.room}" if q.room else ""
+        a.text = f"I have not found {article} {what}{place} ({ABSENT})"
+        a.absent_evidence = True
+        return
 
 
 def _nothing(a: Answer) -> bool:

@@ -102,7 +102,8 @@ def test_tall_is_the_box_and_high_is_above_the_floor(store, flat):
 
 def test_absence_is_worded_as_absence_of_evidence(store, flat):
     for q in ("is there a keyboard?", "how many keyboards are on the table?", "where is the keyboard?",
-              "how many walls are there?"):
+              "how many walls are there?", "which cup is closest to the keyboard?", "how many cups are on the shelf?",
+              "how many cups are near a keyboard?"):
         a = ask(store, q, room="kitchen")
         assert a.absent_evidence and "I have not found" in a.text and "there is no" not in a.text, q
         assert a.to_json()["absent_evidence"] is True
