@@ -13,11 +13,14 @@ from queries.grammar import DISTANCE_SUPERLATIVES, SUPERLATIVES
 from queries.logic import NP, Filter, Form, fmt_m
 from queries.sets import ABSENT, AFFORDANCES, LIST_SHOWN, Evaluator, Unanswerable, is_structure
 
+
 def _join(items: list[str]) -> str:
     return items[0] if len(items) == 1 else ", ".join(items[:-1]) + " and " + items[-1]
 
 
 class Answerer:
+    """What every operation needs: the evaluated sets, names, and how to say a set in words."""
+
     def __init__(self, ev: Evaluator, room_label: Optional[str]):
         self.ev, self.scene, self.run = ev, ev.scene, ev.run
         self.where = f" in the {room_label}" if room_label else ""

@@ -1,7 +1,7 @@
 """People's phrasing -> the plain text the grammar reads: frames, apostrophes, units, typos.
 
-Every rewrite that changes a word is reported (`Phrased.notes`), so an answer can say how it
-read the question ("read 'chiars' as 'chairs'"). Typos are fixed against a fixed vocabulary with
+Every rewrite that changes a word is reported (the notes of `fix_typos`, the asides in
+`Phrased.dropped`), so an answer can say how it read the question ("read 'chiars' as 'chairs'"). Typos are fixed against a fixed vocabulary with
 rapidfuzz (a small edit distance), never with the embedding model, so a typo costs no model load.
 """
 from __future__ import annotations
@@ -69,7 +69,6 @@ _UNIT_RE = re.compile(r"(\d+(?:\.\d+)?)\s*(" + "|".join(sorted(map(re.escape, UN
 @dataclass
 class Phrased:
     text: str
-    notes: list[str] = field(default_factory=list)      # "read 'chiars' as 'chairs'"
     dropped: list[str] = field(default_factory=list)    # asides not used ("(the big one)")
 
 

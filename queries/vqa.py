@@ -578,11 +578,13 @@ def _phrase(store, text: str, building: Optional[str]) -> tuple[str, list[str]]:
     from queries.phrasing import fix_typos, tidy
 
     tidied = tidy(text)
+    asides = [f"ignored: {', '.join(tidied.dropped)}"] if tidied.dropped else []
     vocab = compose.typo_vocabulary()
     if all(w in vocab or any(c.isdigit() for c in w) for w in tidied.text.split()):
-        return tidied.text, []
+        return tidied.text, asides
     rooms = {w for n in _room_names(store, building, with_buildings=True) for w in n.lower().split()}
-    return fix_typos(tidied.text, vocab, rooms)
+    fixed, notes = fix_typos(tidied.text, vocab, rooms)
+    return fixed, asides + notes
 
 
 def _room_names(store, building: Optional[str], with_buildings: bool = False) -> list[str]:
