@@ -46,10 +46,12 @@ count: "how" "many" np be? _there? preds
      | "count" np preds
      | WHAT be "the" "number" "of" np be? _there? preds
 exists: be _there np preds
+      | np_one                                          -> bare
       | "do" "you" ("have" | "see") np preds
       | be np preds
 at_least: be _there MORELESS "than" NUMBER np preds
 compare: be _there MORELESS np "than" np preds
+       | be "the" "number" "of" np COMPARE "than" "the" "number" "of" np preds
        | "do" ("we" | "you") "have" MORELESS np "than" np preds
 listing: WHAT np? be _there? preds
        | WHAT np? ("can" | "do") "you" "see" _there? preds
@@ -64,20 +66,20 @@ attribute: WHAT "color" be np preds                        -> colour_of
          | WHAT "size" be np preds                       -> size_of
          | "how" ATTR be np preds                          -> measure_of
 extreme: WHAT np? be _det? SUPER np? preds
-       | WHAT np be _det? DSUPER _tofrom np
+       | WHAT np be _det? DSUPER "away"? _tofrom np
        | WHAT be np_closest
 np_closest: _det? DSUPER WORD+ _tofrom np_one
 distance: "how" "far" be np _tofrom np
         | "how" "far" "apart" be np
         | WHAT be "the" "distance" "between" np_one "and" np_one
         | WHAT be "the" "distance" "from" np_one "to" np_one
-room_count: "how" "many" "rooms" be? _there? ("in" _det? WORD+)? (("do" | "does") ("you" | WORD) WORD*)?
+room_count: "how" "many" "rooms" be? _there? ("in" _det? WORD+)? (("do" | "does") _det? ("you" | WORD) WORD* ("have" | "has" | "hold" | "contain" | "see")?)?
 rooms_with: WHAT "rooms" ("have" | "has" | "contain" | "hold") np preds
           | "in" WHAT "rooms" be _there? np preds
 room_most: WHAT "room" ("has" | "have" | "holds" | "contains") _det? MOSTFEW np preds
 rooms_next: WHAT "rooms" be (_next_to | "near" | "beside") np_one
-afford: "where" "can" "i" WORD (_det | WORD)*
-      | WHAT "can" "i" WORD (_det | WORD)*
+afford: "where" ("can" | "could") "i" WORD (_det | WORD)*
+      | WHAT ("can" | "could") "i" WORD (_det | WORD)*
 
 np: np_one (_conj np_one)*
 np_or: np_one ("or" np_one)*
@@ -109,6 +111,7 @@ WHAT: "what" | "which"
 LIST: "list" | "show" | "name" | "find"
 NOT: "not"
 MORELESS: "more" | "fewer" | "less"
+COMPARE: "bigger" | "larger" | "greater" | "higher" | "smaller" | "lower"
 MOSTFEW: "most" | "fewest" | "least"
 MEASURE: "height" | "width" | "length" | "size"
 ATTR: "big" | "large" | "tall" | "high" | "wide" | "long"
@@ -129,7 +132,7 @@ RESERVED = sorted({
     "to", "adjacent", "on", "top", "onto", "inside", "under", "underneath", "beneath", "below",
     "above", "over", "by", "close", "nearby", "around", "within", "closer", "nearer", "less",
     "away", "farther", "further", "more", "from", "list", "show", "name", "not", "fewer",
-    "most", "fewest", "least", "me", "we", "height", "width", "length", "big", "large", "tall", "high", "wide", "long", "m", "cm", "mm",
+    "most", "fewest", "least", "me", "we", "could", "bigger", "larger", "greater", "higher", "smaller", "lower", "height", "width", "length", "big", "large", "tall", "high", "wide", "long", "m", "cm", "mm",
     "ft", "inch", *SUPERLATIVES, *DISTANCE_SUPERLATIVES,
 }, key=lambda w: (-len(w), w))
 
@@ -259,14 +262,25 @@ class _ToForm(Transformer):
     def exists(self, items):
         return self._op("exists", items)
 
+    def bare(self, items):
+        """A noun phrase alone: "the biggest bowl?" shows it, "anything on the counter?" asks
+        whether there is; a bare noun ("a joke about chairs") is no question."""
+        np = items[0]
+        if np.superlative:
+            return Form("extreme", sets=[np])
+        if not np.filters:
+            raise GrammarError("a noun alone is not a question")
+        return Form("exists", sets=[np])
+
     def at_least(self, items):
         word = next(str(t) for t in items if isinstance(t, Token) and t.type == "MORELESS")
         n = next(float(t) for t in items if isinstance(t, Token) and t.type == "NUMBER")
         return self._op("at_least", items, compare="more" if word == "more" else "fewer", number=n)
 
     def compare(self, items):
-        word = next(str(t) for t in items if isinstance(t, Token) and t.type == "MORELESS")
-        return self._op("compare", items, compare="more" if word == "more" else "fewer")
+        word = next(str(t) for t in items if isinstance(t, Token) and t.type in ("MORELESS", "COMPARE"))
+        more = word in ("more", "bigger", "larger", "greater", "higher")
+        return self._op("compare", items, compare="more" if more else "fewer")
 
     def listing(self, items):
         return self._op("list", items)

@@ -38,7 +38,8 @@ CONTRACTIONS = {
     "u": "you", "pls": "please", "plz": "please",
 }
 # posture verbs say nothing the graph stores beyond the relation after them: "what sits on X"
-_REL_AHEAD = r"(?= (?:on|under|in|inside|above|below|next|near|beside|by|over|underneath|beneath|close)\b)"
+_REL_AHEAD = (r"(?= (?:on|under|in|inside|above|below|next|near|beside|by|over|underneath|beneath|close|within|"
+              r"less|more|closer|nearer|farther|further|between)\b)")
 POSTURE = [
     (re.compile(r"\b(is|are) (?:mounted|placed|located|sitting|standing|lying|hanging|kept|stored|resting|put|"
                 r"positioned|found|situated|set|lieing)\b"), r"\1"),
@@ -50,7 +51,12 @@ POSTURE = [
 # "is there somewhere i can sit" -> "where can i sit"
 _PLACE_TO = re.compile(r"^(?:is there|do you know|do you have) (?:somewhere|anywhere|a place|any place|something|"
                        r"anything)(?: where| that| which)? i (?:can|could) (.+)$")
-_TRAILING = re.compile(r"\b(?:anywhere|at all|around here|in here|here)$")
+_TRAILING = re.compile(r"\b(?:anywhere|at all|around here|in here|here|located|situated|placed|kept|stored)$")
+# adverbs that change nothing the graph can answer
+_ADVERBS = re.compile(r"\b(?:exactly|precisely|actually|currently|roughly|approximately|really|just)\b ?")
+# "the closest one to the cup": "one" stands for the noun already said
+_ONE = re.compile(r"\b(closest|nearest|farthest|furthest|biggest|largest|smallest|tiniest|tallest|shortest|"
+                  r"highest|lowest) ones?\b")
 
 # number words the grammar reads as numbers
 NUMBER_WORDS = {
@@ -146,6 +152,8 @@ def tidy(question: str) -> Phrased:
     for regex, repl in POSTURE:
         text = regex.sub(repl, text)
     text = _PLACE_TO.sub(r"where can i \1", text)
+    text = _ADVERBS.sub("", text)
+    text = _ONE.sub(r"\1", text)
     text = _TRAILING.sub("", text).strip()
     text = reorder_embedded(text)
     text = HERE.sub(" ", text)

@@ -227,6 +227,14 @@ def test_explain_prints_the_logical_form_and_templates(store, flat):
     ("What is the height of the table?", "how tall is the table?"),
     ("What's the closest chair to the red cup?", "which chair is closest to the red cup?"),
     ("How far apart are the pink book and the white cup?", "how far is the pink book from the white cup?"),
+    ("How many mugs sit less than 50cm from a book?", "how many cups are within 0.5 m of the book?"),
+    ("Is the number of chairs bigger than the number of cups?", "are there more chairs than cups?"),
+    ("Which mug is furthest away from the TV?", "which cup is farthest from the tv?"),
+    ("How many rooms does the building have?", "how many rooms are there?"),
+    ("Anything on the counter?", "is there anything on the counter?"),
+    ("Where exactly is the tv located?", "where is the tv?"),
+    ("Where could I sit down?", "where can I sit?"),
+    ("Which chair is the closest one to the red mug?", "which chair is closest to the red cup?"),
 ])
 def test_phrasings_read_as_the_plain_question(store, flat, question, same_as):
     a, b = ask(store, question, room="kitchen"), ask(store, same_as, room="kitchen")
