@@ -54,6 +54,12 @@ _PLACE_TO = re.compile(r"^(?:is there|do you know|do you have) (?:somewhere|anyw
 _TRAILING = re.compile(r"\b(?:anywhere|at all|around here|in here|here|located|situated|placed|kept|stored)$")
 # adverbs that change nothing the graph can answer
 _ADVERBS = re.compile(r"\b(?:exactly|precisely|actually|currently|roughly|approximately|really|just)\b ?")
+# "the cups that are near the sink": a relative clause says what the set's filters say
+_RELATIVE = re.compile(r"(?<=\w) (?:that|which|who) (?:are|is) ")
+# "how many of the chairs": the chairs
+_OF_THE = re.compile(r"^how many of (?:the|these|those|all the) ")
+# "the smallest chair, what colour is it": the phrase goes where "it" stands
+_DISLOCATED = re.compile(r"^(.+?) (what color|what size|how big|how tall|how high|where) (is|are) (?:it|they|that)$")
 # "the closest one to the cup": "one" stands for the noun already said
 _ONE = re.compile(r"\b(closest|nearest|farthest|furthest|biggest|largest|smallest|tiniest|tallest|shortest|"
                   r"highest|lowest) ones?\b")
@@ -153,6 +159,9 @@ def tidy(question: str) -> Phrased:
         text = regex.sub(repl, text)
     text = _PLACE_TO.sub(r"where can i \1", text)
     text = _ADVERBS.sub("", text)
+    text = _RELATIVE.sub(" ", text)
+    text = _OF_THE.sub("how many ", text)
+    text = _DISLOCATED.sub(r"\2 \3 \1", text)
     text = _ONE.sub(r"\1", text)
     text = _TRAILING.sub("", text).strip()
     text = reorder_embedded(text)

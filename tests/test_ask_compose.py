@@ -235,6 +235,9 @@ def test_explain_prints_the_logical_form_and_templates(store, flat):
     ("Where exactly is the tv located?", "where is the tv?"),
     ("Where could I sit down?", "where can I sit?"),
     ("Which chair is the closest one to the red mug?", "which chair is closest to the red cup?"),
+    ("count the cups that are less than half a metre from a book", "how many cups are within 0.5 m of the book?"),
+    ("how many of the chairs are not next to the table?", "how many chairs are not next to the table?"),
+    ("the smallest chair, what colour is it?", "what colour is the smallest chair?"),
 ])
 def test_phrasings_read_as_the_plain_question(store, flat, question, same_as):
     a, b = ask(store, question, room="kitchen"), ask(store, same_as, room="kitchen")
