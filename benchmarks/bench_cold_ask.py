@@ -23,6 +23,8 @@ QUESTIONS = [
     "is there a kettle?",
     "how many cups are on the table?",
     "what objects are in the room?",
+    "how many tabels are there?",             # a typo: rapidfuzz against the vocabulary, no model
+    "how many chiars are within 1.5 m of the tv?",   # a typo in a compositional question
 ]
 
 

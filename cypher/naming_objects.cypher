@@ -9,6 +9,6 @@ WHERE o.label IN $labels
 OPTIONAL MATCH (o)-[e]->(s:Object)
 WHERE type(e) IN $support_types
 RETURN o.id AS id, o.label AS label, o.colour AS colour, o.room AS room, o.x AS x, o.y AS y,
-       o.z AS z, o.first_frame AS first_frame, type(e) AS support_type, s.label AS support_label,
+       o.z AS z, o.first_frame AS first_frame, o.shape AS shape, o.size AS size, type(e) AS support_type, s.label AS support_label,
        e.score AS support_score
 ORDER BY id

@@ -9,6 +9,11 @@ not tell the objects of one label in one room apart:
     3. colour + label + support     "white cup on the dining table"  (the object it is ON/IN)
     4. label + number               "chair 2"
 
+An unnamed object (label "object", found from geometry) is called by its colour, "white
+object", then steps 3 and 4 among unnamed objects of that colour ("white object on the dining
+table", "white object 2"); lists add its shape and size ("flat, about 30x22 cm"). The shape is
+not part of the name, so every caller (whatever fields it reads) prints the same name.
+
 Numbers count the objects of the label in the room in a stable order: the frame that first saw
 the object, then its position (rounded to centimetres), never the id (a hash). Re-building the
 same data gives the same names; extending a room appends later-seen objects at the end. When one
@@ -42,11 +47,32 @@ def supports_from_edges(edges: Iterable[dict], labels: dict[str, str]) -> dict[s
     {s, type, o, score} (the best-scored one; ties by label)."""
     out: dict[str, tuple[float, str]] = {}
     for e in edges:
-        if e.get("type") in SUPPORT_TYPES and e.get("o") in labels:
+        # "on the object" tells no one which: an unnamed support does not name what it holds
+        if e.get("type") in SUPPORT_TYPES and e.get("o") in labels and labels[e["o"]] != "object":
             cand = (float(e.get("score") or 0.0), support_phrase(e["type"], labels[e["o"]]))
             if e["s"] not in out or (cand[0], out[e["s"]][1]) > (out[e["s"]][0], cand[1]):
                 out[e["s"]] = cand
     return {k: v for k, (_, v) in out.items()}
+
+
+def looks(o: dict) -> str:
+    """The kind an unnamed object is named among: "white object" (its colour)."""
+    return " ".join(x for x in (o.get("colour"), "object") if x)
+
+
+def describe_unnamed(o: dict) -> str:
+    """"flat, about 30x22 cm": an unnamed object's shape word and its two largest box sides."""
+    size = sorted((float(v) for v in (o.get("size") or [])), reverse=True)[:2]
+    bits = [o["shape"]] if o.get("shape") else []
+    if len(size) == 2:
+        bits.append("about " + "x".join(f"{v * 100:.0f}" for v in size) + " cm")
+    return ", ".join(bits)
+
+
+def _kind(o: dict) -> str:
+    """Objects are named among those of one kind: their label, or for unnamed ones their colour."""
+    label = o.get("label") or "object"
+    return looks(o) if label == "object" else label
 
 
 def object_names(objects: Iterable[dict], supports: Optional[dict[str, str]] = None) -> dict[str, str]:
@@ -60,7 +86,7 @@ def object_names(objects: Iterable[dict], supports: Optional[dict[str, str]] = N
             supports[o["id"]] = o["support"]
     groups: dict[tuple[str, str], list[dict]] = {}
     for o in objs:
-        groups.setdefault((o.get("room") or "", o.get("label") or "object"), []).append(o)
+        groups.setdefault((o.get("room") or "", _kind(o)), []).append(o)
     names: dict[str, str] = {}
     for (_, label), group in groups.items():
         group.sort(key=stable_key)
@@ -73,7 +99,10 @@ def object_names(objects: Iterable[dict], supports: Optional[dict[str, str]] = N
         placed = [(o.get("colour"), supports.get(o["id"])) for o in ambiguous]
         for i, o in enumerate(group, 1):
             colour, support = o.get("colour"), supports.get(o["id"])
-            if o not in ambiguous:
+            if label.endswith(" object"):     # unnamed: the look already says the colour
+                names[o["id"]] = f"{label} {support}" if len(ambiguous) > 1 and support and \
+                    [supports.get(x["id"]) for x in group].count(support) == 1 else f"{label} {i}"
+            elif o not in ambiguous:
                 names[o["id"]] = f"{colour} {label}"
             elif len(ambiguous) > 1 and support and placed.count((colour, support)) == 1:
                 names[o["id"]] = " ".join(x for x in (colour, label, support) if x)
@@ -100,7 +129,8 @@ def names_in_store(read, objects: Iterable[dict]) -> dict[str, str]:
     everyone: dict[str, dict] = {}
     edges = []
     for r in rows:
-        everyone.setdefault(r["id"], {k: r.get(k) for k in ("id", "label", "colour", "room", "x", "y", "z", "first_frame")})
+        everyone.setdefault(r["id"], {k: r.get(k) for k in ("id", "label", "colour", "room", "x", "y", "z",
+                                                            "first_frame", "shape", "size")})
         if r.get("support_type"):
             edges.append({"s": r["id"], "type": r["support_type"], "o": r["support_label"],
                           "score": r.get("support_score")})

@@ -36,6 +36,9 @@ from typing import Any, Optional
 from graphdb import cypher
 from ingest.relation_rules import SYMMETRIC, VIEWPOINT
 from queries import viewpoint as views
+from queries import compose
+from queries.answers import row_value
+from queries.sets import ABSENT
 from queries.naming import names_in_store
 from queries.parse import ParseError, Query, parse, refusal
 from queries.viewpoint import split_viewpoint
@@ -63,10 +66,14 @@ class Answer:
     thumbnail: Optional[bytes] = None
     # the objects the answer rests on: id, name, label, score, observations, n_frames, last seen
     provenance: list[dict] = field(default_factory=list)
+    logical: Optional[dict] = None          # the logical form the grammar read (queries/logic.py)
+    # no object of an asked kind is in scope: the answer says it was not found, not that none is
+    absent_evidence: bool = False
 
     def to_json(self) -> dict:
         return {"question": self.question, "ok": self.ok, "form": self.form, "answer": self.text,
-                "value": self.value, "objects": self.objects,
+                "value": self.value, "objects": self.objects, "logical_form": self.logical,
+                "absent_evidence": self.absent_evidence,
                 "query": self.query.summary() if self.query else None, "steps": self.steps,
                 "templates": [s["template"] for s in self.steps], "provenance": self.provenance,
                 "thumbnail_bytes": len(self.thumbnail) if self.thumbnail else None}
@@ -77,6 +84,8 @@ class Answer:
         import json
 
         out = []
+        if self.logical is not None:
+            out.append(f"logical form: {json.dumps(self.logical)}")
         if self.query is not None:
             out.append(f"form: {json.dumps(self.query.summary())}")
             out += [f"read as: {m}" for m in self.query.mappings()]
@@ -105,6 +114,7 @@ class _Run:
         self.steps: list[dict] = []
         self.viewpoint, self.seen_from = viewpoint, seen_from     # see queries/viewpoint.py
         self._names: dict[str, str] = {}
+        self.notes: list[str] = []                 # what the answer must say it did (main colour)
         # one answer reads its candidates once: the count, then its provenance, reuse them
         self.candidates: dict[tuple, list[dict]] = {}
         self.rows_by_id: dict[str, dict] = {}      # candidate rows that carry provenance fields
@@ -158,6 +168,11 @@ def _what(q: Query, n: int) -> str:
     return " ".join(bits + [noun])
 
 
+def _a(noun: str) -> str:
+    """The noun with its indefinite article: "a chair", "an orange cup"."""
+    return f"{'an' if noun[:1] in 'aeiou' else 'a'} {noun}"
+
+
 def _where(q: Query, rooms_asked: bool) -> str:
     out = ""
     if q.relation:
@@ -168,8 +183,8 @@ def _where(q: Query, rooms_asked: bool) -> str:
     return out
 
 
-def _understood(q: Query) -> str:
-    notes = []
+def _understood(q: Query, extra: Optional[list] = None) -> str:
+    notes = list(extra or [])
     for t in (q.target, q.anchor):
         if t is not None and t.how == "unknown":
             notes.append(f"'{t.names[0]}' is not among the categories the detector stores")
@@ -292,7 +307,22 @@ def _read_candidates(run: _Run, q: Query, rooms) -> list[dict]:
         rows = unique
     else:
         rows = run.read(_variant("vqa_objects", rooms, q.target.labels), limit=ROW_LIMIT, **_filters(q, rooms))
+        rows = _main_colour(run, q, rows)
     return _by_size(run, rows, q.size)
+
+
+def _main_colour(run: _Run, q: Query, rows: list[dict]) -> list[dict]:
+    """A colour word means the main colour: rows that have it as their second colour only are
+    left out, and the answer says how many (run.notes)."""
+    if q.colour is None:
+        return rows
+    second = [r for r in rows if r.get("colour") != q.colour]
+    if second:
+        noun = plural(second[0]["label"], len(second)) if len({r["label"] for r in second}) == 1 else \
+            ("object" if len(second) == 1 else "objects")
+        run.notes.append(f"by main colour; {len(second)} more {noun} {'has' if len(second) == 1 else 'have'} "
+                         f"{q.colour} as a second colour")
+    return [r for r in rows if r.get("colour") == q.colour]
 
 
 def _brief(r: dict) -> dict:
@@ -335,7 +365,7 @@ def exists(run: _Run, q: Query, rooms) -> Answer:
     a = count(run, q, rooms)
     n = a.value
     if n == 0:
-        text = f"no, there is no {_what(q, 1)}{_where(q, rooms is not None)}"
+        text = f"no, I have not found {_a(_what(q, 1))}{_where(q, rooms is not None)}"
     else:
         text = f"yes, {n} {_what(q, n)}{_where(q, rooms is not None)}"
     return Answer("", True, text, "exists", n > 0, a.objects, q)
@@ -356,7 +386,8 @@ def attribute(run: _Run, q: Query, rooms) -> Answer:
     """What colour / how big is the <object>: one value per matching object."""
     rows = _candidates(run, q, rooms)
     if not rows:
-        return Answer("", True, f"there is no {_what(q, 1)}{_where(q, rooms is not None)}", "attribute", None, query=q)
+        return Answer("", True, f"I have not found {_a(_what(q, 1))}{_where(q, rooms is not None)}", "attribute", None,
+                      query=q)
     if q.attribute == "colour":
         values = [r.get("colour") or "unknown" for r in rows]
     else:
@@ -389,7 +420,8 @@ def show(run: _Run, q: Query, rooms) -> Answer:
         how = "biggest" if q.superlative == "max" else "smallest"
     rel = f" {q.relation_word} the {' or '.join(q.anchor.names)}" if q.relation else ""
     if not rows:
-        return Answer("", True, f"there is no {_what(q, 1)}{rel}{' in the ' + q.room if q.room else ''}", "show", None, query=q)
+        return Answer("", True, f"I have not found {_a(_what(q, 1))}{rel}{' in the ' + q.room if q.room else ''}",
+                      "show", None, query=q)
     r = rows[0]
     if "thumbnail" in r:       # the extreme templates bring the winner's thumbnail along
         data = r["thumbnail"]
@@ -441,7 +473,8 @@ def where(run: _Run, q: Query, rooms) -> Answer:
     """Where is the <object>: per matching object, what it is on/in/next to, and its room."""
     rows = _candidates(run, q, rooms)
     if not rows:
-        return Answer("", True, f"there is no {_what(q, 1)}{_where(q, rooms is not None)}", "where", [], query=q)
+        return Answer("", True, f"I have not found {_a(_what(q, 1))}{_where(q, rooms is not None)}", "where", [],
+                      query=q)
     ids = [r["id"] for r in rows[:LIST_SHOWN]]
     rels: dict[str, list[dict]] = {i: [] for i in ids}
     placed: dict[str, list[dict]] = {i: [] for i in ids}    # with colour and score, for the sentence
@@ -479,16 +512,46 @@ def answer(store, question: str, room: Optional[str] = None, building: Optional[
     run = _Run(store, viewpoint, seen_from)
     seen: dict[str, list[dict]] = {}
 
-    def is_room(name: str) -> bool:
+    def room_rows(name: str) -> list[dict]:
         # one indexed look-up per candidate name, not a read of every room (1,000 rooms: 10 ms)
         if name not in seen:
             seen[name] = _rooms_named(store, name, building)
-        return bool(seen[name])
+        return seen[name]
 
+    def is_room(name: str) -> bool:
+        return bool(room_rows(name))
+
+    phrased, typos = _phrase(store, text, building)
+    logical, notes = None, list(typos)
+    if seen_from is None:
+        def compiled(evaluate: bool = False):
+            return compose.compile_question(
+                run, phrased, room, building, room_rows, lambda: _room_names(store, building),
+                lambda name: _scope(run, name, building, seen), embedding, use_embedding, evaluate)
+
+        try:
+            outcome = compiled()
+        except Refusal as exc:
+            return Answer(question, False, str(exc), steps=run.steps)
+        if outcome.kind == "answer":
+            return _composed(question, outcome, notes, run)
+        if outcome.kind in ("refuse", "unread"):
+            return Answer(question, False, refusal(outcome.text, question) if outcome.kind == "unread"
+                          else outcome.text, logical=outcome.form, steps=run.steps)
+        logical, text = outcome.form, outcome.text
     try:
         q = parse(text, is_room, embedding=embedding, use_embedding=use_embedding)
     except ParseError as exc:
-        return Answer(question, False, refusal(str(exc), question))
+        if logical is not None:
+            # a simple form the per-form reader does not know in these words ("the closest
+            # chair to the tv"): the compiler answers it
+            try:
+                outcome = compiled(evaluate=True)
+            except Refusal as refused:
+                return Answer(question, False, str(refused), steps=run.steps)
+            if outcome.kind == "answer":
+                return _composed(question, outcome, notes, run)
+        return Answer(question, False, refusal(str(exc), question), logical=logical)
     if q.target.how == "group" or (q.anchor is not None and q.anchor.how == "group"):
         _expand_groups(store, q)
     if q.room and room and q.room.lower() != room.lower():
@@ -501,11 +564,75 @@ def answer(store, question: str, room: Optional[str] = None, building: Optional[
     if _nothing(result) and not run.read("object_total")[0]["n"]:
         return Answer(question, False, "the store holds no scene graph yet: build one first (sg3d build ...)",
                       query=q, steps=run.steps)
-    result.question, result.query = question, q
+    result.question, result.query, result.logical = question, q, logical
     result.provenance = _provenance(run, result, q, rooms)
+    _honest_absence(run, result, q, rooms)
     result.steps = run.steps
-    result.text += _understood(q)
+    result.text += _understood(q, notes + run.notes)
     return result
+
+
+def _phrase(store, text: str, building: Optional[str]) -> tuple[str, list[str]]:
+    """Frames, apostrophes, numbers and typos (queries/phrasing.py); room names are never
+    read as typos (they are looked up only when a word is outside the vocabulary)."""
+    from queries.phrasing import fix_typos, tidy
+
+    tidied = tidy(text)
+    asides = [f"ignored: {', '.join(tidied.dropped)}"] if tidied.dropped else []
+    vocab = compose.typo_vocabulary()
+    if all(w in vocab or any(c.isdigit() for c in w) for w in tidied.text.split()):
+        return tidied.text, asides
+    rooms = {w for n in _room_names(store, building, with_buildings=True) for w in n.lower().split()}
+    fixed, notes = fix_typos(tidied.text, vocab, rooms)
+    return fixed, asides + notes
+
+
+def _room_names(store, building: Optional[str], with_buildings: bool = False) -> list[str]:
+    rows = store.read("vqa_rooms_all", building=building.lower() if building else None)
+    return [r["name"] for r in rows] + ([r["building"] for r in rows] if with_buildings else [])
+
+
+def _composed(question: str, o, notes: list[str], run: _Run) -> Answer:
+    """An answer of the compiler (queries/compose.py) as an Answer."""
+    extra = notes + o.notes
+    text = o.text + (f" [{'; '.join(extra)}]" if extra else "")
+    objects = [row_value(r, run.names([r]).get(r["id"], r["label"])) for r in o.rows[:PROVENANCE_MAX]] \
+        if o.rows else []
+    a = Answer(question, True, text, o.op, o.value, objects, steps=run.steps, logical=o.form,
+               absent_evidence=o.absent, thumbnail=bytes(o.thumbnail) if o.thumbnail else None)
+    ids = [r["id"] for r in o.rows[:PROVENANCE_MAX]]
+    a.provenance = [{"id": i, "name": run.names([run.rows_by_id[i]]).get(i), "label": run.rows_by_id[i]["label"],
+                     "room": run.rows_by_id[i].get("room"), "score": run.rows_by_id[i].get("score"),
+                     "observations": run.rows_by_id[i].get("observations"),
+                     "n_frames": run.rows_by_id[i].get("n_frames"),
+                     "first_frame": run.rows_by_id[i].get("first_frame"),
+                     "last_frame": run.rows_by_id[i].get("last_frame"),
+                     "last_seen": _when(run.rows_by_id[i]["updated_at"]) if run.rows_by_id[i].get("updated_at") else None}
+                    for i in ids if i in run.rows_by_id]
+    return a
+
+
+ABSENT_FORMS = ("count", "exists", "where", "list", "attribute", "show")
+
+
+def _honest_absence(run: _Run, a: Answer, q: Query, rooms) -> None:
+    """No object of an asked kind (the object asked about, or the one it is related to) in
+    scope at all: say it was not found (small or uncommon things may be missed), never that
+    there is none; --json carries absent_evidence."""
+    if not a.ok or a.form not in ABSENT_FORMS or not _nothing(a):
+        return
+    name = "vqa_scene_objects_in_rooms" if _few_rooms(rooms) else "vqa_scene_objects"
+    for t in (q.target, q.anchor):
+        if t is None or t.labels is None:
+            continue
+        if t.labels and run.read(name, rooms=rooms, labels=t.labels, limit=1):
+            continue
+        what = " or ".join(t.names) or t.phrase
+        article = "an" if what[:1] in "aeiou" else "a"
+        place = f" in the {q.room}" if q.room else ""
+        a.text = f"I have not found {article} {what}{place} ({ABSENT})"
+        a.absent_evidence = True
+        return
 
 
 def _nothing(a: Answer) -> bool:

@@ -56,3 +56,11 @@ def test_which_room(linked):
     assert [r["room"] for r in ok(linked, "in which room is the couch?").value] == ["home/hall"]
     assert ok(linked, "which room has a toaster?").value == []
     assert not answer(linked, "which room has a chair?", building="elsewhere").ok
+
+
+def test_compositional_counts_also_count_one_physical_object_once(linked):
+    a = ok(linked, "how many objects are there?")             # any object: the compiler's count
+    assert a.value == 4 and "counted once" in a.text
+    a = ok(linked, "how many red things are there?")
+    assert a.value == 2 and "counted once" in a.text
+    assert ok(linked, "which rooms are next to the kitchen?").value == ["hall"]

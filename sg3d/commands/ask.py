@@ -11,8 +11,8 @@ import click
 @click.argument("question")
 @click.option("--room", default=None, help="Only this room (its name).")
 @click.option("--building", default=None, help="Only this building.")
-@click.option("--explain", is_flag=True, help="Also print how the question was read, the templates, "
-                                              "parameters and the objects the answer rests on (with ids).")
+@click.option("--explain", is_flag=True, help="Also print the logical form the question was read into, the "
+                                              "templates, parameters and the objects the answer rests on (with ids).")
 @click.option("--json", "as_json", is_flag=True, help="The answer as JSON (templates, parameters, ids, provenance).")
 @click.option("--viewpoint", default=None, metavar="X,Y,Z|OBJECT",
               help="Where 'in front of/behind/left of/right of' are seen from: a point in the room's "
@@ -24,9 +24,11 @@ import click
 def ask(settings, question: str, room, building, explain: bool, as_json: bool, viewpoint, out) -> None:
     """Answer QUESTION from the scene graph, e.g. sg3d ask "how many red chairs are there?"
 
-    Counting (simple, by group: furniture/cutlery/..., by colour, big/small, in a room, on/under/
-    next to an object), existence, yes/no about relations, listing, colour/size lookup, where,
-    and "which cup is the biggest" (its picture goes to --out). Objects are named, not numbered by id.
+    Counting (by group, colour, size, in a room, on/under/next to/near an object, within a
+    distance, not ...), yes/no, comparisons ("more books than tvs"), listing, colour/size/height,
+    where, extremes ("the smallest chair", "the cup farthest from the tv"; its picture goes to --out),
+    distances ("how far is the cup from the sink"), rooms ("which room has the most chairs").
+    Typos are fixed and said. Objects are named ("chair 2"), and the names are accepted back.
     """
     from app.ask import ask as ask_question, parse_viewpoint
     from app.errors import AppError

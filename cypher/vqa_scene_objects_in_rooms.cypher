@@ -1,0 +1,14 @@
+// vqa_scene_objects in a few rooms: from the rooms (unique index) along CONTAINS, so only their
+// own objects are read.
+MATCH (r:Room)
+WHERE r.id IN $rooms
+MATCH (r)-[:CONTAINS]->(o:Object)
+WHERE ($labels IS NULL OR o.label IN $labels)
+  AND o.removed_at IS NULL
+RETURN o.id AS id, o.label AS label, o.colour AS colour, o.colour2 AS colour2, o.layer AS layer,
+       o.shape AS shape, o.volume AS volume, o.size AS size, o.room AS room, o.x AS x, o.y AS y,
+       o.z AS z, o.box_centre AS box_centre, o.score AS score, o.observations AS observations,
+       o.n_frames AS n_frames, o.first_frame AS first_frame, o.last_frame AS last_frame,
+       o.updated_at AS updated_at
+ORDER BY id
+LIMIT $limit

@@ -1,0 +1,214 @@
+"""People's phrasing -> the plain text the grammar reads: frames, apostrophes, units, typos.
+
+Every rewrite that changes a word is reported (the notes of `fix_typos`, the asides in
+`Phrased.dropped`), so an answer can say how it read the question ("read 'chiars' as 'chairs'"). Typos are fixed against a fixed vocabulary with
+rapidfuzz (a small edit distance), never with the embedding model, so a typo costs no model load.
+"""
+from __future__ import annotations
+
+import functools
+import re
+import unicodedata
+from dataclasses import dataclass, field
+from typing import Iterable
+
+# question frames that carry no meaning: stripped from the front (longest first)
+FRAMES = (
+    "could you please tell me", "can you please tell me", "could you tell me", "can you tell me",
+    "would you tell me", "please tell me", "tell me", "do you know", "i would like to know",
+    "i want to know", "i wonder", "could you say", "can you say", "please", "hey", "hi", "so", "ok",
+    "okay", "excuse me",
+)
+_FRAME_RE = re.compile(r"^(?:(?:" + "|".join(map(re.escape, FRAMES)) + r")\b[ ,]*)+")
+_TAIL_RE = re.compile(r"[ ,]*\b(?:please|thanks|thank you)$")
+# "tell me where the sink is" -> "where is the sink": the embedded question's verb moves back
+_EMBEDDED = re.compile(r"^(where|what|which|how many \w+(?: \w+)?|how far|how tall|how high|how big) "
+                       r"(the [\w\s-]+?|[\w\s-]+?) (is|are)$")
+_EMBEDDED_THERE = re.compile(r"^how many (.+?) there (?:is|are)\b(.*)$")
+
+# "in the room", "here": the scope given by --room (or the whole store); "my room" may be a
+# room's name and is left to the room look-up
+HERE = re.compile(r"\b(?:(?:in|inside|within) (?:the|this|our) (?:room|place|space|area)|in here|here)\b")
+
+CONTRACTIONS = {
+    "what's": "what is", "whats": "what is", "where's": "where is", "wheres": "where is",
+    "there's": "there is", "theres": "there is", "which's": "which is", "that's": "that is",
+    "how's": "how is", "it's": "it is", "isn't": "is not", "aren't": "are not", "don't": "do not",
+    "doesn't": "does not", "arent": "are not", "isnt": "is not", "whos": "who is", "r": "are",
+    "u": "you", "pls": "please", "plz": "please",
+}
+# posture verbs say nothing the graph stores beyond the relation after them: "what sits on X"
+_REL_AHEAD = (r"(?= (?:on|under|in|inside|above|below|next|near|beside|by|over|underneath|beneath|close|within|"
+              r"less|more|closer|nearer|farther|further|between)\b)")
+POSTURE = [
+    (re.compile(r"\b(is|are) (?:mounted|placed|located|sitting|standing|lying|hanging|kept|stored|resting|put|"
+                r"positioned|found|situated|set|lieing)\b"), r"\1"),
+    (re.compile(r"\b(?:lies|sits|stands|rests|hangs|stays)\b" + _REL_AHEAD), "is"),
+    (re.compile(r"\b(?:lie|sit|stand|rest|hang)\b" + _REL_AHEAD), "are"),
+    (re.compile(r" (?:lying|sitting|standing|resting|hanging|placed|located|kept|stored|positioned|situated|"
+                r"mounted|found|put)\b" + _REL_AHEAD), ""),
+]
+# "is there somewhere i can sit" -> "where can i sit"
+_PLACE_TO = re.compile(r"^(?:is there|do you know|do you have) (?:somewhere|anywhere|a place|any place|something|"
+                       r"anything)(?: where| that| which)? i (?:can|could) (.+)$")
+_TRAILING = re.compile(r"\b(?:anywhere|at all|around here|in here|here|located|situated|placed|kept|stored)$")
+# adverbs that change nothing the graph can answer
+_ADVERBS = re.compile(r"\b(?:exactly|precisely|actually|currently|roughly|approximately|really|just)\b ?")
+# "the cups that are near the sink": a relative clause says what the set's filters say
+_RELATIVE = re.compile(r"(?<=\w) (?:that|which|who) (?:are|is) ")
+# "how many of the chairs": the chairs
+_OF_THE = re.compile(r"^how many of (?:the|these|those|all the) ")
+# "the smallest chair, what colour is it": the phrase goes where "it" stands
+_DISLOCATED = re.compile(r"^(.+?) (what color|what size|how big|how tall|how high|where) (is|are) (?:it|they|that)$")
+# "the closest one to the cup": "one" stands for the noun already said
+_ONE = re.compile(r"\b(closest|nearest|farthest|furthest|biggest|largest|smallest|tiniest|tallest|shortest|"
+                  r"highest|lowest) ones?\b")
+
+# number words the grammar reads as numbers
+NUMBER_WORDS = {
+    "zero": "0", "one": "1", "two": "2", "three": "3", "four": "4", "five": "5", "six": "6",
+    "seven": "7", "eight": "8", "nine": "9", "ten": "10", "a couple of": "2", "half a": "0.5",
+    "half": "0.5", "a quarter of a": "0.25", "quarter of a": "0.25",
+}
+UNITS = {"m": "m", "metre": "m", "metres": "m", "meter": "m", "meters": "m", "cm": "cm",
+         "centimetre": "cm", "centimetres": "cm", "centimeter": "cm", "centimeters": "cm",
+         "mm": "mm", "millimetre": "mm", "millimetres": "mm", "millimeter": "mm", "millimeters": "mm",
+         "ft": "ft", "foot": "ft", "feet": "ft", "inch": "in", "inches": "in"}
+_UNIT_RE = re.compile(r"(\d+(?:\.\d+)?)\s*(" + "|".join(sorted(map(re.escape, UNITS), key=len, reverse=True))
+                      + r")\b")
+
+
+@dataclass
+class Phrased:
+    text: str
+    dropped: list[str] = field(default_factory=list)    # asides not used ("(the big one)")
+
+
+def fold(text: str) -> str:
+    """Lower case, curly quotes straightened, accents kept (room names like 'küche')."""
+    text = unicodedata.normalize("NFC", text).lower()
+    return text.replace("\u2019", "'").replace("\u2018", "'").replace("\u00d7", " x ")
+
+
+def _contractions(text: str) -> str:
+    for k, v in CONTRACTIONS.items():
+        text = re.sub(rf"(?<![\w']){re.escape(k)}(?![\w'])", v, text)
+    return text
+
+
+def _numbers(text: str) -> str:
+    """Number words -> digits ("half a metre" -> "0.5 m", "one and a half" -> "1.5"), units
+    glued to numbers split ("50cm" -> "50 cm") and unit words made one spelling."""
+    for word, digit in (("one", "1"), ("two", "2"), ("three", "3"), ("four", "4"), ("five", "5")):
+        text = re.sub(rf"\b{word} and a half\b", f"{digit}.5", text)
+    text = re.sub(r"\b(\d+) and a half\b", r"\1.5", text)
+    for k in sorted(NUMBER_WORDS, key=len, reverse=True):
+        if k == "one":      # also a pronoun ("the red one"): a number only before a unit
+            text = re.sub(r"\bone(?= (?:" + "|".join(UNITS) + r")\b)", "1", text)
+        else:
+            text = re.sub(rf"\b{re.escape(k)}\b", NUMBER_WORDS[k], text)
+    text = re.sub(r"(\d)(?=[a-z])", r"\1 ", text)
+    return _UNIT_RE.sub(lambda m: f"{m.group(1)} {UNITS[m.group(2)]}", text)
+
+
+def reorder_embedded(text: str) -> str:
+    """'where the sink is' -> 'where is the sink' (what is left of 'can you tell me where ...')."""
+    m = _EMBEDDED_THERE.match(text)
+    if m:
+        return f"how many {m.group(1)} are there{m.group(2)}"
+    m = _EMBEDDED.match(text)
+    if m and not re.search(r"\b(is|are)\b", m.group(2)):
+        return f"{m.group(1)} {m.group(3)} {m.group(2)}"
+    return text
+
+
+def strip_frames(text: str) -> str:
+    """Politeness and question frames off both ends: "can you tell me ... please"."""
+    prev = None
+    while prev != text:
+        prev = text
+        text = _FRAME_RE.sub("", text).strip(" ,")
+        text = _TAIL_RE.sub("", text).strip(" ,")
+    return text
+
+
+def tidy(question: str) -> Phrased:
+    """Question -> normalised words (no typo fixing yet): lower case, asides dropped,
+    contractions and frames undone, numbers and units read, punctuation gone."""
+    dropped: list[str] = []
+    text = fold(question)
+    while True:
+        found = re.findall(r"\([^()]*\)|\[[^\[\]]*\]", text)
+        if not found:
+            break
+        dropped += [f.strip() for f in found]
+        text = re.sub(r"\([^()]*\)|\[[^\[\]]*\]", " ", text)
+    text = _contractions(text)
+    text = text.replace("colour", "color")
+    # "A / B", "A + B", "A and/or B" name alternatives: read as "A or B"
+    text = re.sub(r"\band\s*/\s*or\b", " or ", text)
+    text = re.sub(r"\s*[/+&]\s*", " or ", text)
+    # keep letters (any script), digits, decimal points between digits, hyphens inside words
+    text = re.sub(r"(?<=\d)\.(?=\d)", "\u2024", text)
+    text = re.sub(r"(?<=\w)-(?=\w)", "\u2010", text)
+    text = re.sub(r"[^\w\u2024\u2010' ]+", " ", text).replace("_", " ")
+    text = text.replace("\u2024", ".").replace("\u2010", "-").replace("'", "")
+    text = " ".join(text.split())
+    text = strip_frames(text)
+    for regex, repl in POSTURE:
+        text = regex.sub(repl, text)
+    text = _PLACE_TO.sub(r"where can i \1", text)
+    text = _ADVERBS.sub("", text)
+    text = _RELATIVE.sub(" ", text)
+    text = _OF_THE.sub("how many ", text)
+    text = _DISLOCATED.sub(r"\2 \3 \1", text)
+    text = _ONE.sub(r"\1", text)
+    text = _TRAILING.sub("", text).strip()
+    text = reorder_embedded(text)
+    text = HERE.sub(" ", text)
+    text = _numbers(text)
+    return Phrased(" ".join(text.split()), dropped=dropped)
+
+
+def max_edits(word: str) -> int:
+    """The edit distance a typo may have: none for words under 4 letters (too many neighbours),
+    one up to 6 letters, two beyond."""
+    return 0 if len(word) < 4 else (1 if len(word) <= 6 else 2)
+
+
+@functools.lru_cache(maxsize=4096)
+def _closest(word: str, vocab: frozenset) -> str | None:
+    from rapidfuzz import process
+    from rapidfuzz.distance import DamerauLevenshtein
+
+    limit = max_edits(word)
+    if not limit:
+        return None
+    found = process.extract(word, vocab, scorer=DamerauLevenshtein.distance, score_cutoff=limit, limit=3)
+    if not found:
+        return None
+    best = min(d for _, d, _ in found)
+    winners = sorted({w for w, d, _ in found if d == best})
+    if len(winners) > 1:
+        # people rarely mistype a word's first letter: among equally close words, that decides
+        winners = [w for w in winners if w[0] == word[0]]
+    # still two words equally close: the typo is ambiguous and stays as written
+    return winners[0] if len(winners) == 1 else None
+
+
+def fix_typos(text: str, vocab: frozenset, known: Iterable[str] = ()) -> tuple[str, list[str]]:
+    """Each word outside `vocab` (and not a number) that is within `max_edits` of exactly one
+    vocabulary word is read as that word; the notes say so."""
+    keep = set(known)
+    out, notes = [], []
+    for w in text.split():
+        if w in vocab or w in keep or any(c.isdigit() for c in w):
+            out.append(w)
+            continue
+        fixed = _closest(w, vocab)
+        if fixed is None:
+            out.append(w)
+        else:
+            out.append(fixed)
+            notes.append(f"read '{w}' as '{fixed}'")
+    return " ".join(out), notes
