@@ -11,7 +11,7 @@ from ingest.model import RELATION_TYPES
 
 NODE_FIELDS = ("id", "room", "label", "labels", "scores", "x", "y", "z", "var", "n_points", "size",
                "volume", "colour", "first_frame", "last_frame", "observations", "n_frames",
-               "first_seen", "last_seen", "removed_at")
+               "first_seen", "last_seen", "removed_at", "layer", "shape", "colour2")
 
 
 def fetch_graph(store, building: str, room: Optional[str] = None, thumbnails: bool = False,
@@ -42,7 +42,7 @@ def to_json(graph: dict) -> str:
 def to_graphml(graph: dict) -> str:
     root = ET.Element("graphml", xmlns="http://graphml.graphdrawing.org/xmlns")
     scalar = {"label": "string", "name": "string", "room_name": "string", "colour": "string", "x": "double", "y": "double",
-              "z": "double", "volume": "double", "observations": "int"}
+              "z": "double", "volume": "double", "observations": "int", "layer": "string"}
     for name, kind in scalar.items():
         ET.SubElement(root, "key", id=name, attrib={"for": "node", "attr.name": name, "attr.type": kind})
     ET.SubElement(root, "key", id="type", attrib={"for": "edge", "attr.name": "type", "attr.type": "string"})

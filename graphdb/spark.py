@@ -217,7 +217,8 @@ def read_spark(path) -> dict:
         a = node.attributes
         meta = (a.metadata.get() or {}).get("sg3d") or {}
         parent = node.get_parent()
-        room = room_name.get(parent, "") if parent is not None else ""
+        # structure nodes hang below the objects layer, so their room is in sg3d's metadata
+        room = room_name.get(parent, "") if parent is not None else (meta.get("room") or "")
         label = names.get(int(a.semantic_label)) or a.name or "object"
         oid = meta.get("id") or node.id.str()
         pos = np.asarray(a.position, dtype=float)

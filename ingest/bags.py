@@ -29,6 +29,7 @@ message, whatever the bag's size.
 from __future__ import annotations
 
 import struct
+import threading
 from collections import defaultdict
 from dataclasses import dataclass
 from pathlib import Path
@@ -344,6 +345,8 @@ class BagSequence(Sequence):
 
     def __init__(self, path: Path, reader, entries, K, registration, skipped, image_size, sources):
         self._reader = reader
+        # rosbags' readers are not thread-safe, and frames are decoded ahead on a reader thread
+        self._lock = threading.Lock()
         self._size = image_size
         self.sources = sources
         super().__init__(path, entries, K, registration, skipped)
@@ -357,11 +360,12 @@ class BagSequence(Sequence):
     def message(self, ref: _Ref, name: str):
         """The message at `ref`, deserialised (raises FrameError when it cannot be read)."""
         try:
-            k = 0
-            for conn, _, raw in self._reader.messages([ref.conn], start=ref.bag_ns, stop=ref.bag_ns + 1):
-                if k == ref.nth:
-                    return self._reader.deserialize(raw, conn.msgtype), conn.msgtype
-                k += 1
+            with self._lock:
+                k = 0
+                for conn, _, raw in self._reader.messages([ref.conn], start=ref.bag_ns, stop=ref.bag_ns + 1):
+                    if k == ref.nth:
+                        return self._reader.deserialize(raw, conn.msgtype), conn.msgtype
+                    k += 1
         except Exception as exc:  # a damaged bag: rosbags raises several kinds
             raise FrameError(name, f"cannot read {ref.conn.topic} at t={ref.bag_ns / 1e9:.6f}: {_why(exc)}") from None
         raise FrameError(name, f"message of {ref.conn.topic} at t={ref.bag_ns / 1e9:.6f} is gone")

@@ -187,7 +187,7 @@ def test_sg3d_build_from_a_bag(tmp_path, home, folder_objects, build_frames, kin
     r = _cli("build", bag, "--room", "kitchen", "--building", building, "--json", env=_env(home))
     assert r.returncode == 0, r.stderr
     summary = json.loads(r.stdout)
-    assert summary["frames"]["read"] == len(BUILD_FRAMES) and summary["frames"]["skipped"] == 0
+    assert summary["frames"]["read"] == len(BUILD_FRAMES) and summary["frames"]["skipped"] == 0, summary["frames"]["skipped_frames"]
     from_bag = _built_objects(home, building)
     assert len(from_bag) == len(folder_objects)
     assert [label for label, _ in from_bag] == [label for label, _ in folder_objects]
