@@ -282,11 +282,14 @@ def _relations(hyps: dict[str, fusion.Hypothesis], objects: list[ObjectObservati
         ids = sorted(g.local_id for g in geoms)
         co_observed.update((a, b) for k, a in enumerate(ids) for b in ids[k + 1:])
     voted = vote_relations(frames, co_observed=dict(co_observed))
-    whole = spatial_relations([ObjectGeometry(o.local_id, o.label, o.box_centre, o.size) for o in objects], up)
+    things = [o for o in objects if o.layer != "structure"]
+    whole = spatial_relations([ObjectGeometry(o.local_id, o.label, o.box_centre, o.size) for o in things], up)
     relations = with_whole_geometry(voted, whole)
     labels = {o.local_id: o.label for o in objects}
     centres = {o.local_id: o.mean for o in objects}
-    return side_by_side_on_one_support(filter_relations(relations, labels, centres))
+    # between objects as ever; then what each stands on of the room's structure
+    return (side_by_side_on_one_support(filter_relations(relations, labels, centres))
+            + filter_relations(_structure_relations(objects, up), labels, centres))
 
 
 def _discover(seq, views, objects: list[ObjectObservation], up, floor: Optional[float],
@@ -310,13 +313,16 @@ def _discover(seq, views, objects: list[ObjectObservation], up, floor: Optional[
     return unnamed + nodes
 
 
-def _structure_relations(relations: list[RelationObservation], objects: list[ObjectObservation]) -> list[RelationObservation]:
-    """Structure takes part in relations only as what objects stand ON (walls in none)."""
-    layer = {o.local_id: o.layer for o in objects}
-    label = {o.local_id: o.label for o in objects}
-    return [r for r in relations
-            if (layer[r.subject] != "structure" and layer[r.object] != "structure")
-            or (r.predicate == "ON" and layer[r.subject] != "structure" and label[r.object] != "wall")]
+def _structure_relations(objects: list[ObjectObservation], up) -> list[RelationObservation]:
+    """What the objects stand ON of the room's structure (floor, counters, shelves; not walls),
+    from their fused boxes; structure takes part in no other relation."""
+    structure = {o.local_id for o in objects if o.layer == "structure" and o.label != "wall"}
+    if not structure:
+        return []
+    geoms = [ObjectGeometry(o.local_id, o.label, o.box_centre, o.size) for o in objects
+             if o.layer != "structure" or o.local_id in structure]
+    return [r for r in spatial_relations(geoms, up)
+            if r.predicate == "ON" and r.object in structure and r.subject not in structure]
 
 
 def chunk_graph(seq, a: int, b: int, detector: Detector, up, settings: Settings, room: str,
@@ -353,8 +359,6 @@ def chunk_graph(seq, a: int, b: int, detector: Detector, up, settings: Settings,
         stats.seconds["discovery"] += time.perf_counter() - t0
     t0 = time.perf_counter()
     relations = _relations(by_id, objects, up, method) if method.three_d else []
-    if method.sdr and settings.discover:
-        relations = _structure_relations(relations, objects)
     stats.seconds["relations"] += time.perf_counter() - t0
     stats.objects += len(objects)
     stats.relations += len(relations)
