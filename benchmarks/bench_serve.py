@@ -138,7 +138,7 @@ def main() -> None:
         if not args.home and not args.tiny:
             if not KITCHEN.exists():
                 raise SystemExit(f"no kitchen at {KITCHEN}: use --tiny or --home")
-            print(f"building the kitchen into a scratch store ...", flush=True)
+            print("building the kitchen into a scratch store ...", flush=True)
             sg3d(home, "build", str(KITCHEN), "--room", args.room, "--json", stdout=subprocess.DEVNULL)
         server = start_server(home, port)
         from sg3d.server.auth import token_path

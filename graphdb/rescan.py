@@ -17,7 +17,6 @@ of a scan changes nothing, and a crash mid-scan leaves the previous state of eve
 from __future__ import annotations
 
 import uuid
-from typing import Optional
 
 import numpy as np
 from scipy.optimize import linear_sum_assignment

@@ -47,3 +47,15 @@ def store(store_session):
     store_session.wipe()
     store_session.ensure_schema()
     return store_session
+
+
+@pytest.fixture(scope="module")
+def served(store_session, embedded_home):
+    """`sg3d serve`'s app on a free loopback port over the session's store: (url, token)."""
+    from sg3d.server.auth import ensure_token
+    from sg3d.settings import Settings
+    from tests.serve_helpers import running_server
+
+    token = ensure_token(embedded_home)
+    with running_server(Settings(home=embedded_home), token) as url:
+        yield url, token

@@ -8,22 +8,12 @@ import httpx
 import pytest
 from click.testing import CliRunner
 
-from tests.serve_helpers import kitchen_body, running_server
+from tests.serve_helpers import kitchen_body
 
 ROUTES = [("get", "/rooms", None), ("get", "/rooms/home/kitchen/objects", None),
           ("get", "/graph?building=home&room=kitchen", None), ("get", "/graph?building=home", None),
           ("post", "/ask", {"question": "what is the biggest object?", "room": "kitchen"}),
           ("post", "/ask", {"question": "how many cups are there?", "room": "kitchen"})]
-
-
-@pytest.fixture(scope="module")
-def served(store_session, embedded_home):
-    from sg3d.server.auth import ensure_token
-    from sg3d.settings import Settings
-
-    token = ensure_token(embedded_home)
-    with running_server(Settings(home=embedded_home), token) as url:
-        yield url, token
 
 
 @pytest.fixture

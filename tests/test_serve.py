@@ -20,16 +20,6 @@ ROUTES = [("post", "/ask"), ("post", "/plan"), ("get", "/rooms"), ("get", "/room
           ("get", "/graph"), ("post", "/ingest")]
 
 
-@pytest.fixture(scope="module")
-def served(store_session, embedded_home):
-    from sg3d.server.auth import ensure_token
-    from sg3d.settings import Settings
-
-    token = ensure_token(embedded_home)
-    with running_server(Settings(home=embedded_home), token) as url:
-        yield url, token
-
-
 @pytest.fixture
 def client(served, store):
     url, token = served

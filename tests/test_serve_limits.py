@@ -37,7 +37,7 @@ def _send_big(url: str, token, declare_length: bool) -> int:
     """POST /ingest with a 119 MB body over a raw socket; the status line's code (or 0 when the
     server closed without one)."""
     parts = urlsplit(url)
-    head = [f"POST /ingest HTTP/1.1", f"Host: {parts.hostname}", "Content-Type: application/json"]
+    head = ["POST /ingest HTTP/1.1", f"Host: {parts.hostname}", "Content-Type: application/json"]
     head.append(f"Content-Length: {BIG}" if declare_length else "Transfer-Encoding: chunked")
     if token:
         head.append(f"Authorization: Bearer {token}")
