@@ -149,9 +149,30 @@ class GrammarError(ValueError):
 def parser() -> Lark:
     """The LALR parser, built once per process."""
     grammar = GRAMMAR.replace("RESERVED", "|".join(RESERVED))
-    # cache=True keeps the LALR tables in a file of the temporary folder: a cold process loads
+    # the LALR tables are kept in sg3d's cache (not the temporary folder): a cold process loads
     # them instead of building them (0.2 s)
-    return Lark(grammar, parser="lalr", maybe_placeholders=False, cache=True)
+    return Lark(grammar, parser="lalr", maybe_placeholders=False, cache=_table_cache(grammar))
+
+
+def _table_cache(grammar: str):
+    """Where the parser tables of `grammar` are kept: SG3D_CACHE, else SG3D_HOME/sg3d-cache,
+    else the user cache directory (as the label vectors); False (no cache) where none can be made."""
+    import hashlib
+    import os
+    from pathlib import Path
+
+    from platformdirs import user_cache_dir
+
+    home = os.environ.get("SG3D_HOME")
+    folder = Path(os.environ.get("SG3D_CACHE") or (Path(home).expanduser() / "sg3d-cache" if home
+                                                   else user_cache_dir("sg3d", appauthor=False)))
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+    except OSError:
+        return False
+    if not os.access(folder, os.W_OK):
+        return False
+    return str(folder / f"question-grammar-{hashlib.sha1(grammar.encode()).hexdigest()[:12]}.lark")
 
 
 def _words(items) -> list[str]:
