@@ -138,16 +138,19 @@ def shape_word(size: Sequence[float]) -> Optional[str]:
     return None
 
 
-def _pixels(seg: Segment, cloud: RoomCloud, view) -> Optional[tuple[int, int, int, int]]:
-    world = cloud.to_world(seg.voxels)
+def _project(world: np.ndarray, view) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Pixel coordinates (u, v) and camera depth z of the world points in front of a view."""
     w2c = np.linalg.inv(view.pose)
     cam = world @ w2c[:3, :3].T + w2c[:3, 3]
     cam = cam[cam[:, 2] > 0.1]
-    if len(cam) == 0:
-        return None
     K = view.K
-    u = K[0, 0] * cam[:, 0] / cam[:, 2] + K[0, 2]
-    v = K[1, 1] * cam[:, 1] / cam[:, 2] + K[1, 2]
+    return K[0, 0] * cam[:, 0] / cam[:, 2] + K[0, 2], K[1, 1] * cam[:, 1] / cam[:, 2] + K[1, 2], cam[:, 2]
+
+
+def _pixels(u: np.ndarray, v: np.ndarray, view) -> Optional[tuple[int, int, int, int]]:
+    """The pixel box (x1, y1, x2, y2) of projected points, clipped to the image; None when empty."""
+    if len(u) == 0:
+        return None
     w, h = view.size
     x1, x2 = int(max(0, np.floor(u.min()))), int(min(w, np.ceil(u.max()) + 1))
     y1, y2 = int(max(0, np.floor(v.min()))), int(min(h, np.ceil(v.max()) + 1))
@@ -163,19 +166,14 @@ def surface_sample(world: np.ndarray, n: int = SURFACE_SAMPLE) -> tuple[float, .
     return tuple(round(float(v), 4) for v in pick.reshape(-1))
 
 
-def segment_colour(world: np.ndarray, view, image: np.ndarray) -> tuple[str, Optional[str]]:
-    """(colour, second colour) of a segment from its own pixels in one view: its voxel centres
-    projected, each marking the disc a voxel covers there, read with the frame's cast divided
-    out (`ingest.colour.read_colour`, `vote` for the second colour's rule)."""
-    w2c = np.linalg.inv(view.pose)
-    cam = world @ w2c[:3, :3].T + w2c[:3, 3]
-    cam = cam[cam[:, 2] > 0.1]
+def segment_colour(u: np.ndarray, v: np.ndarray, z: np.ndarray, view, image: np.ndarray) -> tuple[str, Optional[str]]:
+    """(colour, second colour) of a segment from its own pixels in one view: its projected voxel
+    centres (`_project`), each marking the disc a voxel covers there, read with the frame's cast
+    divided out (`ingest.colour.read_colour`, `vote` for the second colour's rule)."""
     h, w = image.shape[:2]
     mask = np.zeros((h, w), np.uint8)
-    K = view.K
-    for x, y, z in cam:
-        r = max(1, int(round(K[0, 0] * VOXEL_DISC_M / z)))
-        cv2.circle(mask, (int(round(K[0, 0] * x / z + K[0, 2])), int(round(K[1, 1] * y / z + K[1, 2]))), r, 1, -1)
+    for x, y, d in zip(u, v, z):
+        cv2.circle(mask, (int(round(x)), int(round(y))), max(1, int(round(view.K[0, 0] * VOXEL_DISC_M / d))), 1, -1)
     pixels = image[mask > 0]
     if len(pixels) == 0:
         return "grey", None
@@ -197,11 +195,12 @@ def unnamed_object(local_id: str, seg: Segment, cloud: RoomCloud,
     frames = [int(cloud.views[k].index) for k in seg.frames]
     if seg.best_view >= 0:
         view = cloud.views[seg.best_view]
-        box = _pixels(seg, cloud, view)
+        u, v, z = _project(world, view)
+        box = _pixels(u, v, view)
         image = colour_image(view.index) if box is not None else None
         if image is not None:
             hist = hsv_histogram(image, box)
-            colour, colour2 = segment_colour(world, view, image)
+            colour, colour2 = segment_colour(u, v, z, view, image)
             thumb = thumbnail(image, box)
     return ObjectObservation(
         local_id=local_id, labels=[UNNAMED_LABEL], scores=[round(seg.hit_ratio, 3)],
