@@ -10,7 +10,7 @@ from typing import Optional
 from ingest.model import UNNAMED_LABEL
 from ingest.relation_rules import SYMMETRIC
 from queries.grammar import DISTANCE_SUPERLATIVES, SUPERLATIVES
-from queries.logic import NP, Filter, Form, fmt_m
+from queries.logic import NP, Filter, Form
 from queries.sets import ABSENT, AFFORDANCES, LIST_SHOWN, Evaluator, Unanswerable, is_structure
 
 
@@ -66,15 +66,8 @@ class Answerer:
 
 
 def _filter_text(a: Answerer, f: Filter) -> str:
-    neg = "not " if f.negated else ""
-    other = f"the {a.phrase(f.other, 1)}" if not f.other.number else a.phrase(f.other, 1)
-    if f.kind == "rel":
-        return f"{neg}{f.relation} {other}"
-    if f.low_m is None:
-        return f"{neg}within {fmt_m(f.high_m)} of {other}"
-    if f.high_m is None:
-        return f"{neg}farther than {fmt_m(f.low_m)} from {other}"
-    return f"{neg}between {fmt_m(f.low_m)} and {fmt_m(f.high_m)} from {other}"
+    """The filter in the answer's words: the other set as the answer phrases it."""
+    return f.describe(f"the {a.phrase(f.other, 1)}" if not f.other.number else a.phrase(f.other, 1))
 
 
 def _sizes(o: dict) -> str:

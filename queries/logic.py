@@ -20,15 +20,17 @@ class Filter:
     high_m: Optional[float] = None
     negated: bool = False
 
-    def describe(self) -> str:
+    def describe(self, other: Optional[str] = None) -> str:
+        """The filter in words; `other` names the other set (default: its own description)."""
         neg = "not " if self.negated else ""
+        other = self.other.describe() if other is None else other
         if self.kind == "rel":
-            return f"{neg}{self.relation} {self.other.describe()}"
+            return f"{neg}{self.relation} {other}"
         if self.low_m is None:
-            return f"{neg}within {fmt_m(self.high_m)} of {self.other.describe()}"
+            return f"{neg}within {fmt_m(self.high_m)} of {other}"
         if self.high_m is None:
-            return f"{neg}farther than {fmt_m(self.low_m)} from {self.other.describe()}"
-        return f"{neg}between {fmt_m(self.low_m)} and {fmt_m(self.high_m)} from {self.other.describe()}"
+            return f"{neg}farther than {fmt_m(self.low_m)} from {other}"
+        return f"{neg}between {fmt_m(self.low_m)} and {fmt_m(self.high_m)} from {other}"
 
     def form(self) -> dict:
         out = {"filter": self.kind, "negated": self.negated, "of": self.other.form()}
