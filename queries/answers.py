@@ -11,7 +11,7 @@ from ingest.model import UNNAMED_LABEL
 from ingest.relation_rules import SYMMETRIC
 from queries.grammar import DISTANCE_SUPERLATIVES, SUPERLATIVES
 from queries.logic import NP, Filter, Form
-from queries.sets import ABSENT, AFFORDANCES, LIST_SHOWN, Evaluator, Unanswerable, is_structure
+from queries.sets import ABSENT, AFFORDANCES, LIST_SHOWN, Evaluator, Unanswerable, is_structure, same_as_roots
 
 
 def _join(items: list[str]) -> str:
@@ -119,21 +119,9 @@ def extra_views(a: Answerer, rows: list[dict]) -> int:
     by SAME_AS): each connected group of them counts once. Only across rooms."""
     if len({o["room"] for o in rows}) < 2 or not a.run.read("vqa_same_as_count")[0]["n"]:
         return 0
-    ids = {o["id"] for o in rows}
-    parent: dict[str, str] = {}
-
-    def find(x: str) -> str:
-        while parent.setdefault(x, x) != x:
-            parent[x] = parent[parent[x]]
-            x = parent[x]
-        return x
-
-    for p in a.run.read("vqa_same_as", labels=None, rooms=a.scene.rooms, colour=None):
-        if p["a"] in ids and p["b"] in ids:
-            ra, rb = find(p["a"]), find(p["b"])
-            if ra != rb:
-                parent[max(ra, rb)] = min(ra, rb)
-    return sum(1 for x in parent if find(x) != x)
+    roots = same_as_roots(a.run.read("vqa_same_as", labels=None, rooms=a.scene.rooms, colour=None),
+                          keep={o["id"] for o in rows})
+    return sum(1 for x, root in roots.items() if root != x)
 
 
 def op_exists(a: Answerer, form: Form):

@@ -368,3 +368,24 @@ class Evaluator:
         return [best[1]]
 
 
+
+
+def same_as_roots(pairs, keep=None) -> dict[str, str]:
+    """Each object id of the SAME_AS `pairs` (rows with "a", "b"; only pairs whose both ends are
+    in `keep`, when given) -> the smallest id of its connected group: one physical object seen
+    from two rooms is one group, and every member but its root is a further view of it."""
+    parent: dict[str, str] = {}
+
+    def find(x: str) -> str:
+        while parent.setdefault(x, x) != x:
+            parent[x] = parent[parent[x]]
+            x = parent[x]
+        return x
+
+    for p in pairs:
+        if keep is not None and not (p["a"] in keep and p["b"] in keep):
+            continue
+        ra, rb = find(p["a"]), find(p["b"])
+        if ra != rb:
+            parent[max(ra, rb)] = min(ra, rb)
+    return {x: find(x) for x in list(parent)}

@@ -38,7 +38,7 @@ from ingest.relation_rules import SYMMETRIC, VIEWPOINT
 from queries import viewpoint as views
 from queries import compose
 from queries.answers import row_value
-from queries.sets import ABSENT
+from queries.sets import ABSENT, same_as_roots
 from queries.naming import names_in_store
 from queries.parse import ParseError, Query, parse, refusal
 from queries.viewpoint import split_viewpoint
@@ -693,22 +693,9 @@ def _same_as_excess(run: _Run, q: Query, rooms) -> dict[str, int]:
     if not run.read("vqa_same_as_count")[0]["n"]:
         return {}
     pairs = run.read("vqa_same_as", **_filters(q, rooms))
-    parent: dict[str, str] = {}
-    label: dict[str, str] = {}
-
-    def find(x: str) -> str:
-        while parent.setdefault(x, x) != x:
-            parent[x] = parent[parent[x]]
-            x = parent[x]
-        return x
-
-    for p in pairs:
-        label[p["a"]], label[p["b"]] = p["a_label"], p["b_label"]
-        ra, rb = find(p["a"]), find(p["b"])
-        if ra != rb:
-            parent[max(ra, rb)] = min(ra, rb)
+    label = {p[end]: p[f"{end}_label"] for p in pairs for end in ("a", "b")}
     excess: dict[str, int] = {}
-    for x in label:
-        if find(x) != x:       # every member but the group's root is an extra view
+    for x, root in same_as_roots(pairs).items():
+        if root != x:          # every member but the group's root is an extra view
             excess[label[x]] = excess.get(label[x], 0) + 1
     return excess
