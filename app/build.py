@@ -181,6 +181,8 @@ def build_room(store, req: BuildRequest, settings, detector=None, embedding=None
             "read", "blurry", "keyframes", "anchors", "coverage", "detected", "detections")},
             "skipped": len(skipped), "skipped_frames": skipped},
         "hypotheses": hyp,
+        # found from depth, named by no detector: things (label "object") and the room's structure
+        "from_depth": {"unnamed": counts.get("unnamed", 0), "structure": counts.get("structure", 0)},
         "graph": {**totals, "room_objects": room_objects, "room_relations": room_relations},
         "seconds": {k: round(v, 3) for k, v in {**({"poses": poses["seconds"]} if "seconds" in poses else {}),
                                                 "gravity": t_gravity, **stats.seconds,

@@ -32,6 +32,10 @@ def _summary_table(summary: dict):
     h = summary["hypotheses"]
     rejected = ", ".join(f"{n} {why}" for why, n in h["rejected"].items()) or "none"
     t.add_row("objects found", f"{h['formed']} candidates, {h['kept']} kept (rejected: {rejected})")
+    d = summary.get("from_depth") or {}
+    if d.get("unnamed") or d.get("structure"):
+        t.add_row("from depth", f"{d.get('unnamed', 0)} objects no detector named, {d.get('structure', 0)} of the "
+                                "room's structure (floor, walls, surfaces)")
     g = summary["graph"]
     t.add_row("merged", f"{g['merged_chunks']} of {g['chunks']} chunks ({g['skipped_chunks']} already merged)")
     t.add_row("objects", f"{g['objects_created']} new, {g['objects_updated']} updated, {g.get('objects_moved', 0)} moved, "
