@@ -8,7 +8,8 @@ chunk's named objects meet the room's cloud (`ingest.room_cloud`), its structure
   (rules "stands on the floor" and "owns its top");
 - `named_by`: a segment that lies inside a named object's whole box is that object (its name is
   the detector's evidence, accumulated over views), and is not a node of its own;
-- `plane_remnant`: a thin strip left along a cut wall or front (a door edge) is not an object;
+- `plane_remnant`: a thin strip left along a cut wall or front (a door edge) is not an object,
+  nor is a flat piece lying on the floor (`floor_remnant`);
 - `unnamed_object`: any other segment becomes a node labelled UNNAMED_LABEL, with its size,
   colour, thumbnail from the view that saw it best, and a shape word where the geometry says one
   (`shape_word`); it is never given a class name;
@@ -47,6 +48,9 @@ NAMED_MARGIN_M = 0.02
 REMNANT_SHARE = 0.8
 REMNANT_DISTANCE_M = 0.06
 REMNANT_THICKNESS_M = 0.06
+# Part of the floor: a piece whose top is this low and that is this thin.
+FLOOR_REMNANT_TOP_M = 0.10
+FLOOR_REMNANT_THICKNESS_M = 0.06
 # Shape words: flat when the height is at most FLAT_RATIO of the larger horizontal side; tall
 # when at least TALL_RATIO times it; box-shaped when the three sides are within BOX_RATIO of
 # each other and the points fill the box's faces.
@@ -122,6 +126,13 @@ def plane_remnant(seg: Segment, planes: Sequence[Element]) -> bool:
         if float(np.mean(np.abs(off) <= REMNANT_DISTANCE_M)) >= REMNANT_SHARE and float(np.ptp(off)) <= REMNANT_THICKNESS_M:
             return True
     return False
+
+
+def floor_remnant(seg: Segment) -> bool:
+    """Rule "part of the floor": a flat piece lying on the floor (its top at most
+    FLOOR_REMNANT_TOP_M above it, at most FLOOR_REMNANT_THICKNESS_M thick) is the floor's own
+    unevenness or a covering's edge: depth at room range cannot tell it from the floor."""
+    return float(seg.hi[2]) <= FLOOR_REMNANT_TOP_M and float(seg.size[2]) <= FLOOR_REMNANT_THICKNESS_M
 
 
 def shape_word(size: Sequence[float]) -> Optional[str]:
@@ -240,7 +251,7 @@ def discover(named: list[ObjectObservation], cloud: RoomCloud, structure: Sequen
     planes = [e for e in structure if e.plane is not None]
     unnamed = []
     for seg in segments:
-        if named_by(seg, boxes) or plane_remnant(seg, planes):
+        if named_by(seg, boxes) or plane_remnant(seg, planes) or floor_remnant(seg):
             continue
         unnamed.append(unnamed_object(f"u{len(unnamed)}", seg, cloud, colour_image))
     nodes = [structure_node(f"s{k}", e, cloud) for k, e in enumerate(

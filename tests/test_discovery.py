@@ -104,6 +104,17 @@ def test_a_table_box_reaches_the_floor_and_ends_at_its_own_top():
     assert discovery.whole_object_box(cup, cloud, [top]) is None and cup.size == (0.08, 0.08, 0.1)
 
 
+def test_flat_pieces_on_the_floor_are_floor_and_a_box_on_it_is_not():
+    from ingest.segments import Segment
+
+    def seg(lo, hi):
+        return Segment(np.zeros((12, 3)), np.array(lo, float), np.array(hi, float), np.arange(6))
+
+    assert discovery.floor_remnant(seg((0, 0, 0.04), (0.9, 0.45, 0.08)))       # 4 cm thick, on the floor
+    assert not discovery.floor_remnant(seg((0, 0, 0.04), (0.3, 0.3, 0.25)))    # a box standing there
+    assert not discovery.floor_remnant(seg((0, 0, 0.72), (0.3, 0.2, 0.74)))    # papers on a table
+
+
 def test_shape_words_and_surface_names():
     assert discovery.shape_word((0.30, 0.22, 0.02)) == "flat"
     assert discovery.shape_word((0.10, 0.10, 0.45)) == "tall"
