@@ -41,12 +41,9 @@ def name_problem(name: object, what: str = "name") -> Optional[str]:
     """Why `name` cannot name a room or building, or None. Rule: 1..MAX_NAME_CHARS printable
     characters (any script: "küche", "my room"), no path separator, no "..", no leading or
     trailing space. The value itself is never repeated in the reason."""
-    if not isinstance(name, str) or not name:
-        return f"{what} must be a non-empty text"
-    if len(name) > MAX_NAME_CHARS:
-        return f"{what} must be at most {MAX_NAME_CHARS} characters"
-    if not name.isprintable():
-        return f"{what} must be printable (no control characters, line breaks or NUL)"
+    problem = _text_problem(name, what, MAX_NAME_CHARS)
+    if problem:
+        return problem
     if any(sep in name for sep in _SEPARATORS) or ".." in name:
         return f"{what} must not contain '/', '\\' or '..'"
     if name != name.strip():
@@ -76,10 +73,15 @@ def label_problem(label: object) -> Optional[str]:
 
 def id_problem(value: object, what: str = "id") -> Optional[str]:
     """Why `value` cannot be an id, or None: 1..MAX_ID_CHARS printable characters."""
+    return _text_problem(value, what, MAX_ID_CHARS)
+
+
+def _text_problem(value: object, what: str, limit: int) -> Optional[str]:
+    """Why `value` is not 1..`limit` printable characters, or None (the value is never repeated)."""
     if not isinstance(value, str) or not value:
         return f"{what} must be a non-empty text"
-    if len(value) > MAX_ID_CHARS:
-        return f"{what} must be at most {MAX_ID_CHARS} characters"
+    if len(value) > limit:
+        return f"{what} must be at most {limit} characters"
     if not value.isprintable():
         return f"{what} must be printable (no control characters, line breaks or NUL)"
     return None
