@@ -8,7 +8,7 @@ chunk's named objects meet the room's cloud (`ingest.room_cloud`), its structure
   (rules "stands on the floor" and "owns its top");
 - `named_by`: a segment that lies inside a named object's whole box is that object (its name is
   the detector's evidence, accumulated over views), and is not a node of its own;
-- `plane_remnant`: a thin strip left along a cut wall or front (a door edge) is not an object,
+- `plane_remnant`: a thin relief left along a cut wall or front (a door edge) is not an object,
   nor is a flat piece lying on the floor (`floor_remnant`);
 - `unnamed_object`: any other segment becomes a node labelled UNNAMED_LABEL, with its size,
   colour, thumbnail from the view that saw it best, and a shape word where the geometry says one
@@ -43,11 +43,12 @@ TOP_TOLERANCE_M = 0.15
 # box grown by NAMED_MARGIN_M.
 NAMED_SHARE = 0.5
 NAMED_MARGIN_M = 0.02
-# A plane remnant: this share of its voxels within REMNANT_DISTANCE_M of a cut vertical plane,
-# and no thicker than REMNANT_THICKNESS_M across it.
-REMNANT_SHARE = 0.8
-REMNANT_DISTANCE_M = 0.06
-REMNANT_THICKNESS_M = 0.06
+# A plane remnant (a relief of a cut wall or front): its median voxel lies within
+# REMNANT_DISTANCE_M of the plane and it is at most REMNANT_THICKNESS_M thick across it. Depth at
+# room range (1-3 cm noise, cut at PLANE_CUT_M) cannot tell trim, a door edge or a poster
+# that stands out less than that from the plane it is on.
+REMNANT_DISTANCE_M = 0.07
+REMNANT_THICKNESS_M = 0.12
 # Part of the floor: a piece whose top is this low and that is this thin.
 FLOOR_REMNANT_TOP_M = 0.10
 FLOOR_REMNANT_THICKNESS_M = 0.06
@@ -118,12 +119,13 @@ def named_by(seg: Segment, boxes: Sequence[tuple[np.ndarray, np.ndarray]]) -> bo
 
 
 def plane_remnant(seg: Segment, planes: Sequence[Element]) -> bool:
-    """A thin strip along a cut wall or front (door edges, frames): REMNANT_SHARE of its voxels
-    within REMNANT_DISTANCE_M of one plane and at most REMNANT_THICKNESS_M thick across it."""
+    """Rule "relief of a plane": a segment whose median voxel lies within REMNANT_DISTANCE_M of
+    a cut wall or front and that is at most REMNANT_THICKNESS_M thick across it (trim, door
+    edges, a cabinet's side, a poster) is part of that plane, not an object of its own."""
     for e in planes:
         theta, rho = e.plane
         off = seg.voxels[:, 0] * np.cos(theta) + seg.voxels[:, 1] * np.sin(theta) - rho
-        if float(np.mean(np.abs(off) <= REMNANT_DISTANCE_M)) >= REMNANT_SHARE and float(np.ptp(off)) <= REMNANT_THICKNESS_M:
+        if float(np.median(np.abs(off))) <= REMNANT_DISTANCE_M and float(np.ptp(off)) <= REMNANT_THICKNESS_M:
             return True
     return False
 

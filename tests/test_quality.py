@@ -28,8 +28,8 @@ MIN_EDGE_PRECISION = 0.80
 MIN_EDGE_RECALL = 0.75
 MIN_VQA_RIGHT = 6
 # every object, named or not, against every located GT object (measured: README, Table II)
-MIN_OBJECT_RECALL = 0.72
-MIN_OBJECT_PRECISION = 0.66
+MIN_OBJECT_RECALL = 0.70
+MIN_OBJECT_PRECISION = 0.85
 
 
 def sg3d(home, *args, timeout=900):
