@@ -2,9 +2,10 @@
 `writer`, and, for long-lived servers, one `StoreHandle` per process that survives a restart of
 the embedded store.
 
-Reads go through the store's read-only path when the settings offer one (`Settings.reader()`);
-until then they use the normal store. Every read in `app/` and the servers comes through
-`reader`, so switching the read path is a change to this file only.
+Reads go through the store's read-only path (`Settings.reader()`: the embedded store's reader
+user, or with --uri the --read-user in READ transactions); a settings object without `reader`
+gets its normal store. Every read in `app/` and the servers comes through `reader`, so the read
+path is chosen in this file only.
 """
 from __future__ import annotations
 

@@ -1,5 +1,5 @@
 """Cold `sg3d ask` wall time: a new process per question, an empty user label cache, so only
-the shipped label vectors are there (issue 13: every cold ask <= 1.5 s, no stderr on success).
+the shipped label vectors are there (goal: every cold ask <= 1.5 s, no stderr on success).
 
     SG3D_HOME=<a home with a built room> python -m benchmarks.bench_cold_ask [--repeat 3] [--room kitchen]
 

@@ -1,4 +1,4 @@
-"""Aligning two rooms' frames from the objects they share (GitHub issue 7).
+"""Aligning two rooms' frames from the objects they share.
 
 Each room is built in its own world frame (its first camera pose), so the same doorway
 cabinet seen from two rooms sits at two unrelated positions. Objects give the

@@ -1,4 +1,4 @@
-"""Linking rooms into one building (GitHub issue 7): transforms, SAME_AS and ADJACENT_TO.
+"""Linking rooms into one building: transforms, SAME_AS and ADJACENT_TO.
 
 Object positions stay in each room's own frame (every query of a room keeps working); a room
 carries `to_building`, 16 floats, the row-major 4x4 taking its frame into the building frame.

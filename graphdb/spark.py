@@ -1,7 +1,7 @@
 """spark_dsg (the scene-graph format of Hydra, Clio, Heracles): our exported graph as a
 `spark_dsg.DynamicSceneGraph`, and a spark_dsg file back as local graphs to merge.
 
-Mapping (also in the README):
+Mapping (also on the docs' formats page):
 - layer OBJECTS (2): one node per object, symbol ``O<k>``; ``semantic_label`` = the label's
   index in the graph's labelspace (metadata ``labelspace``, id -> name, also set with
   ``set_labelspace`` on layer 2), ``name`` = the readable name, ``position`` = the Gaussian

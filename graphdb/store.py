@@ -1,4 +1,4 @@
-"""One store handle over the official neo4j driver: Neo4j in production, ArcadeDB embedded here."""
+"""One store handle over the official neo4j driver: the embedded ArcadeDB by default, Neo4j 5 with --uri."""
 from __future__ import annotations
 
 import logging
@@ -9,7 +9,8 @@ from neo4j import GraphDatabase, ManagedTransaction
 from graphdb import cypher
 from graphdb.values import finite_rows
 
-# 2: an Object's histogram and thumbnail live on its (:Appearance {id}) node (cypher/schema.cypher)
+# 2: an Object's histogram and thumbnail live on its (:Appearance {id}) node; 3: (:Scan) nodes and
+# the re-scan fields of an Object (first/last seen, removed_at, history_*), see cypher/schema.cypher
 SCHEMA_VERSION = 3
 MIGRATION_BATCH = 2000   # objects moved per transaction by a schema migration
 

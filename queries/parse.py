@@ -139,7 +139,7 @@ _REL = _REL_RE.pattern[2:-2]
 _SUP = r"(?:biggest|largest|smallest|tiniest)"
 # (regex, form, attribute) — the question frames, tried in order
 FRAMES: list[tuple[re.Pattern, str, Optional[str]]] = [
-    # which rooms hold an object (issue 7): before "what/which ... is" and "is there"
+    # which rooms hold an object: before "what/which ... is" and "is there"
     (re.compile(r"^(?:which|what) rooms? (?:has|have|holds?|contains?) (?P<rest>.+)$"), "rooms", None),
     (re.compile(r"^in (?:which|what) rooms? (?:is|are) (?:there )?(?P<rest>.+)$"), "rooms", None),
     (re.compile(r"^how many (?P<rest>.+)$"), "count", None),

@@ -25,7 +25,7 @@ as few as it can: the room is looked up once (while parsing), its candidates are
 the provenance fields (`_candidates`, shared by the count, the size filter and `_provenance`),
 and the "show me" templates bring the winner's thumbnail along.
 
-Across rooms (issue 7) one physical object may be stored once per room that saw it, linked by
+Across rooms one physical object may be stored once per room that saw it, linked by
 SAME_AS; counts over more than one room count each SAME_AS group once (`_same_as_excess`).
 """
 from __future__ import annotations

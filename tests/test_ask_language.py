@@ -1,4 +1,4 @@
-"""Issue 13: the question forms people ask about rooms, readable names, provenance, bad input.
+"""The question forms people ask about rooms, readable names, provenance, bad input.
 
 Real embedded store with the hand-made house of test_vqa (the truth is known); several
 paraphrases per form, including ones the parser was not written for first.

@@ -1,4 +1,4 @@
-"""Linking rooms into a building (issue 7) on a real store, with a known room-to-room motion."""
+"""Linking rooms into a building on a real store, with a known room-to-room motion."""
 from __future__ import annotations
 
 import json

@@ -1,4 +1,4 @@
-"""Issue 13 cold start: household words are resolved from the shipped label vectors, without
+"""Cold start: household words are resolved from the shipped label vectors, without
 loading torch, and the shipped files stay in step with the vocabulary they were made from."""
 from __future__ import annotations
 

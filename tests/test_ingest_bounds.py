@@ -1,5 +1,5 @@
-"""Bounds at the ingest door, and reads that survive a value stored before the door had them: a
-real server, a real store, a real HTTP client."""
+"""Bounds at the ingest door, and reads that survive a value stored around the door (with
+`sg3d cypher --write`): a real server, a real store, a real HTTP client."""
 from __future__ import annotations
 
 import json

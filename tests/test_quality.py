@@ -2,7 +2,7 @@
 ground truth, and of the second room (the Open3D living room, no ground-truth file: its three
 objects are asserted by name).
 
-The floors sit just under what the pipeline reaches (README, Table II), so a regression in
+The floors sit just under what the pipeline reaches (docs/figures.md, Table II), so a regression in
 frame choice, fusion, existence, relations or answers fails here. Each room is built once.
 """
 from __future__ import annotations
@@ -19,7 +19,7 @@ from tests.conftest import SHARED
 GT = SHARED / "eval" / "kitchen_gt.json"
 LIVING = SHARED / "data" / "open3d-livingroom1-micro"
 
-# what a fresh default kitchen build must keep reaching (measured: README, Table II)
+# what a fresh default kitchen build must keep reaching (measured: docs/figures.md, Table II)
 MIN_NODE_PRECISION = 0.78
 MIN_NODE_RECALL = 0.35
 MAX_DUPLICATES = 1
@@ -27,7 +27,7 @@ MAX_DUPLICATES = 1
 MIN_EDGE_PRECISION = 0.80
 MIN_EDGE_RECALL = 0.75
 MIN_VQA_RIGHT = 6
-# every object, named or not, against every located GT object (measured: README, Table II)
+# every object, named or not, against every located GT object (measured: docs/figures.md, Table II)
 MIN_OBJECT_RECALL = 0.70
 MIN_OBJECT_PRECISION = 0.85
 

@@ -98,8 +98,8 @@ def test_two_chairs_side_by_side_are_next_to_stored_once():
 
 
 def test_viewpoint_relations_are_never_emitted():
-    # (was: IN_FRONT_OF/BEHIND from the keyframe camera; they flip with the viewpoint, so the
-    # same cup was stored both in front of and behind one table: issue 12)
+    # IN_FRONT_OF/BEHIND from a keyframe camera flip with the viewpoint (one cup would be stored
+    # both in front of and behind one table), so they are computed at ask time, never stored
     front = ObjectGeometry("front", "chair", (0.0, -0.8, 0.45), (0.5, 0.5, 0.9))
     back = ObjectGeometry("back", "refrigerator", (0.1, 0.5, 0.9), (0.7, 0.7, 1.8))
     for pose in (None, camera_looking_along_y(), camera_looking_along_y(position=(0.0, 3.0, 1.2))):

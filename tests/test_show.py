@@ -220,9 +220,9 @@ def test_building_outlines_and_names_its_rooms_in_the_building_frame(store, embe
 
 
 def test_spring_layout_with_all_edges_is_readable(store, embedded_home, tmp_path):
-    """The README's promise, checked on the SVG written: each connected group laid out on its
-    own (groups never interleave), a hub between its neighbours, labels that never overlap, and
-    size statements (--all-edges) that do not move anything."""
+    """The promise of docs/commands.md (Pictures), checked on the SVG written: each connected
+    group laid out on its own (groups never interleave), a hub between its neighbours, labels
+    that never overlap, and size statements (--all-edges) that do not move anything."""
     from app.scene import fetch_scene
     from render.diagram import draw
 

@@ -1,4 +1,4 @@
-"""Questions across the rooms of one building (issue 7): which room, whole-building counts with
+"""Questions across the rooms of one building: which room, whole-building counts with
 an object seen from two rooms (SAME_AS) counted once, a room by name. Real embedded store."""
 from __future__ import annotations
 
