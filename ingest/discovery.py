@@ -8,6 +8,8 @@ chunk's named objects meet the room's cloud (`ingest.room_cloud`), its structure
   (rules "stands on the floor" and "owns its top");
 - `named_by`: a segment that lies inside a named object's whole box is that object (its name is
   the detector's evidence, accumulated over views), and is not a node of its own;
+- `separate_resting`: things lying side by side on a table, a counter or a shelf touch; a
+  segment resting on a surface is cut at its necks (`segments.split_at_necks`);
 - `plane_remnant`: a thin relief left along a cut wall or front (a door edge) is not an object,
   nor is a flat piece lying on the floor (`floor_remnant`);
 - `unnamed_object`: any other segment becomes a node labelled UNNAMED_LABEL, with its size,
@@ -29,7 +31,7 @@ from ingest.attributes import CAST_STRIDE, hsv_histogram, thumbnail
 from ingest.model import HIST_SIZE, UNNAMED_LABEL, ObjectObservation
 from ingest.relations import FLOOR_STANDING_LABELS
 from ingest.room_cloud import RoomCloud
-from ingest.segments import Segment, room_segments
+from ingest.segments import Segment, depth_evidence, exists, room_segments, split_at_necks
 from ingest.structure import Element
 
 # Furniture whose top is a surface others stand on (a chair tucked under a table does not own
@@ -52,6 +54,8 @@ REMNANT_THICKNESS_M = 0.12
 # Part of the floor: a piece whose top is this low and that is this thin.
 FLOOR_REMNANT_TOP_M = 0.10
 FLOOR_REMNANT_THICKNESS_M = 0.06
+# A segment rests on a surface when its bottom is this close to the surface's level.
+RESTING_M = 0.05
 # Shape words: flat when the height is at most FLAT_RATIO of the larger horizontal side; tall
 # when at least TALL_RATIO times it; box-shaped when the three sides are within BOX_RATIO of
 # each other and the points fill the box's faces.
@@ -135,6 +139,36 @@ def floor_remnant(seg: Segment) -> bool:
     FLOOR_REMNANT_TOP_M above it, at most FLOOR_REMNANT_THICKNESS_M thick) is the floor's own
     unevenness or a covering's edge: depth at room range cannot tell it from the floor."""
     return float(seg.hi[2]) <= FLOOR_REMNANT_TOP_M and float(seg.size[2]) <= FLOOR_REMNANT_THICKNESS_M
+
+
+def resting_on(seg: Segment, surfaces: Sequence[Element]) -> bool:
+    """A segment rests on a horizontal surface when its bottom lies within RESTING_M of the
+    surface's level and its centre above the surface's footprint."""
+    centre = np.array([[*((seg.lo[:2] + seg.hi[:2]) / 2), 0.0]])
+    for e in surfaces:
+        if abs(float(seg.lo[2]) - e.height) <= RESTING_M:
+            centre[0, 2] = e.height
+            if bool(e.contains(centre, RESTING_M)[0]):
+                return True
+    return False
+
+
+def separate_resting(segments: Sequence[Segment], surfaces: Sequence[Element], cloud: RoomCloud) -> list[Segment]:
+    """Things lying side by side on a table, a counter or a shelf touch: a segment resting on a
+    surface is cut at its necks (`segments.split_at_necks`), and each part must pass the depth
+    existence test on its own."""
+    rng = np.random.default_rng(0)
+    out: list[Segment] = []
+    for seg in segments:
+        parts = split_at_necks(seg) if resting_on(seg, surfaces) else [seg]
+        if len(parts) == 1:
+            out.append(seg)
+            continue
+        for part in parts:
+            depth_evidence(part, cloud, rng)
+            if exists(part):
+                out.append(part)
+    return out
 
 
 def shape_word(size: Sequence[float]) -> Optional[str]:
@@ -249,7 +283,7 @@ def discover(named: list[ObjectObservation], cloud: RoomCloud, structure: Sequen
     owned = {id(e) for e in (whole_object_box(o, cloud, surfaces) for o in named) if e is not None}
     boxes = [gravity_box(o, cloud) for o in named]
     claims = [b for o, b in zip(named, boxes) if o.label not in FLOOR_STANDING_LABELS]
-    segments = room_segments(cloud, structure, claims)
+    segments = separate_resting(room_segments(cloud, structure, claims), surfaces, cloud)
     planes = [e for e in structure if e.plane is not None]
     unnamed = []
     for seg in segments:

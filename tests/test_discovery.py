@@ -115,6 +115,43 @@ def test_flat_pieces_on_the_floor_are_floor_and_a_box_on_it_is_not():
     assert not discovery.floor_remnant(seg((0, 0, 0.72), (0.3, 0.2, 0.74)))    # papers on a table
 
 
+def _voxel_block(lo, hi, step=0.025):
+    axes = [np.arange(a + step / 2, b, step) for a, b in zip(lo, hi)]
+    return np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, 3)
+
+
+def test_two_things_touching_at_a_neck_come_apart_and_one_thing_stays_whole():
+    from ingest.segments import VOXEL_M, Segment, split_at_necks
+
+    def seg(vox):
+        return Segment(vox, vox.min(axis=0) - VOXEL_M / 2, vox.max(axis=0) + VOXEL_M / 2, np.arange(6))
+
+    box = _voxel_block((0.0, 0.0, 0.72), (0.30, 0.25, 0.82))            # a box on a table
+    pad = _voxel_block((0.325, 0.10, 0.72), (0.50, 0.225, 0.77))        # a gamepad lying against it
+    neck = _voxel_block((0.30, 0.125, 0.72), (0.325, 0.15, 0.745))      # one voxel where they touch
+    parts = split_at_necks(seg(np.concatenate([box, neck, pad])))
+    assert len(parts) == 2
+    sizes = sorted(tuple(np.round(p.size[:2], 3)) for p in parts)
+    assert sizes[0][0] <= 0.2 and sizes[1][0] >= 0.3         # the pad and the box, each whole
+    assert sum(len(p.voxels) for p in parts) == len(box) + len(neck) + len(pad)
+    # one compact thing has no neck: it stays one segment
+    assert len(split_at_necks(seg(box))) == 1
+
+
+def test_a_segment_rests_on_the_surface_under_it_only():
+    from ingest.segments import Segment
+
+    top = Element("surface", np.array([0.0, 0.0, 0.70]), np.array([1.0, 1.0, 0.72]), 500, 10, height=0.72,
+                  footprint=np.ones((20, 20), bool), origin=np.array([0.0, 0.0]))
+
+    def seg(lo, hi):
+        return Segment(np.zeros((12, 3)), np.array(lo, float), np.array(hi, float), np.arange(6))
+
+    assert discovery.resting_on(seg((0.2, 0.2, 0.73), (0.4, 0.4, 0.83)), [top])      # a box on the table
+    assert not discovery.resting_on(seg((0.2, 0.2, 0.95), (0.4, 0.4, 1.05)), [top])  # floating above it
+    assert not discovery.resting_on(seg((1.5, 1.5, 0.73), (1.7, 1.7, 0.83)), [top])  # beside the table
+
+
 def test_shape_words_and_surface_names():
     assert discovery.shape_word((0.30, 0.22, 0.02)) == "flat"
     assert discovery.shape_word((0.10, 0.10, 0.45)) == "tall"
