@@ -8,9 +8,17 @@ real camera pixels that a hand-picked hue wheel names badly. Each survey name is
 of the survey colour nearest to it in CIELAB (CIE76 distance; cv2's sRGB -> Lab conversion).
 Naming is a table look-up: every 8-level RGB cell (32^3 cells) is named once, on first use.
 
-Before naming, a frame's colour cast is divided out (`frame_cast`; white-patch by default, the
-best of the four methods measured on two rooms) and a reading drops what is not the object's own
-surface colour (`surface_pixels`: specular highlights; for screens the light they emit). `read_colour` names one view's pixels; `vote` combines views.
+Before naming, the colour cast of the light is divided out (`frame_cast`; white-patch by
+default, the best of the four methods measured on two rooms; estimated on the object's surround
+by `ingest.attributes.surround_cast`) and a reading drops what is not the object's own surface
+colour (`surface_pixels`: specular highlights; for screens the light they emit).
+
+White, grey and black are lightness, and lightness is relative: a pixel whose chroma lies under
+the survey's own achromatic boundary (`achromatic_chroma`) is named by its luminance relative to
+the white reference of the light on the object (`white_reference`), and an object's achromatic
+pixels are named per surface (`shading_groups`): shading only darkens, so a surface is as light
+as its lit part (a white cup in shade is white; a black cover under white print stays black).
+`read_colour` names one view's pixels; `vote` combines views.
 """
 from __future__ import annotations
 
@@ -157,9 +165,10 @@ def rgb_to_lab(rgb: np.ndarray) -> np.ndarray:
 
 
 def bgr_to_lab(bgr: np.ndarray) -> np.ndarray:
-    """BGR uint8 pixels (N x 3) -> CIELAB float32 (N x 3) through cv2's 8-bit conversion (table
-    based, a tenth of the float one's time; L* to 0.4, a* and b* to 1)."""
-    lab = cv2.cvtColor(np.ascontiguousarray(bgr, np.uint8).reshape(-1, 1, 3), cv2.COLOR_BGR2Lab).reshape(-1, 3)
+    """BGR uint8 pixels (N x 3) -> CIELAB float32 (N x 3) through cv2's 8-bit conversion (L* to
+    0.4, a* and b* to 1: finer than a camera's noise), passed as one image row (cv2 converts a
+    row at a time)."""
+    lab = cv2.cvtColor(np.ascontiguousarray(bgr, np.uint8).reshape(1, -1, 3), cv2.COLOR_BGR2Lab).reshape(-1, 3)
     out = lab.astype(np.float32)
     out[:, 0] *= 100.0 / 255.0
     out[:, 1:] -= 128.0
@@ -242,8 +251,8 @@ def is_achromatic(lab: np.ndarray) -> np.ndarray:
 
 def lab_luminance(lightness):
     """CIE relative luminance Y (0-1) of CIELAB lightness L* (0-100) (CIE 1976 inverse)."""
-    f = (np.asarray(lightness, np.float64) + 16.0) / 116.0
-    return np.where(f > 6 / 29, f ** 3, 3 * (6 / 29) ** 2 * (f - 4 / 29))
+    f = (np.asarray(lightness, np.float32) + 16.0) / 116.0
+    return np.where(f > 6 / 29, f * f * f, 3 * (6 / 29) ** 2 * (f - 4 / 29))
 
 
 def luminance_lightness(y):
@@ -283,11 +292,16 @@ def _achromatic_table() -> np.ndarray:
     return term[np.where(nearer_low, i - 1, i)].astype(np.int64)
 
 
+def relative_luminance(lightness, white: float) -> np.ndarray:
+    """Luminance (CIE Y) of lightness L* relative to a white reference of luminance `white`
+    (CIE Y, 0-1): the white reference reads 1, nothing reads past it."""
+    return np.clip(lab_luminance(lightness) / max(float(white), 1e-3), 0.0, 1.0)
+
+
 def relative_lightness(lightness, white: float) -> np.ndarray:
-    """Lightness L* relative to a white reference of luminance `white` (CIE Y, 0-1): the pixel's
-    luminance divided by the white's, as lightness (the white reference reads L* 100)."""
-    y = lab_luminance(lightness) / max(float(white), 1e-3)
-    return luminance_lightness(np.clip(y, 0.0, 1.0))
+    """Lightness L* relative to a white reference of luminance `white` (`relative_luminance`,
+    as lightness: the white reference reads L* 100)."""
+    return luminance_lightness(relative_luminance(lightness, white))
 
 
 def _at_percentile(ascending: np.ndarray, percentile: float):
@@ -296,41 +310,39 @@ def _at_percentile(ascending: np.ndarray, percentile: float):
 
 
 def shading_groups(ascending: np.ndarray) -> list[tuple[int, int]]:
-    """The achromatic pixels of one object (their relative L*, ascending) split into surfaces,
-    as [lo, hi) index ranges: shading only darkens, so the pixels whose luminance lies within
-    SHADING_RANGE of the object's lit part (the LIT_PERCENTILE of their luminance) are one
-    surface; the darker rest is grouped the same way, at most MAX_SHADING_GROUPS times (the last
-    group takes what is left)."""
-    y = lab_luminance(ascending)
-    groups, hi = [], len(y)
+    """The achromatic pixels of one object (their relative luminance, ascending) split into
+    surfaces, as [lo, hi) index ranges: shading only darkens, so the pixels within SHADING_RANGE
+    of the object's lit part (the LIT_PERCENTILE of their luminance) are one surface; the darker
+    rest is grouped the same way, at most MAX_SHADING_GROUPS times (the last takes what is left)."""
+    groups, hi = [], len(ascending)
     while hi > 0:
-        lit = _at_percentile(y[:hi], LIT_PERCENTILE)
+        lit = _at_percentile(ascending[:hi], LIT_PERCENTILE)
         last = len(groups) == MAX_SHADING_GROUPS - 1
-        lo = 0 if last else int(np.searchsorted(y[:hi], lit / SHADING_RANGE))
+        lo = 0 if last else int(np.searchsorted(ascending[:hi], lit / SHADING_RANGE))
         groups.append((lo, hi))
         hi = lo
     return groups
 
 
 def surface_term(ascending: np.ndarray) -> int:
-    """COLOUR_NAMES index of one achromatic surface from its pixels' relative L* (ascending):
-    white when its lit part (LIT_PERCENTILE) is white, as shading darkens a white surface but
-    nothing lights it past white; otherwise the term of its median pixel, as a gloss lights a
-    dark surface's reflections while most of it keeps its own grey or black."""
-    lit = int(achromatic_term(_at_percentile(ascending, LIT_PERCENTILE)))
+    """COLOUR_NAMES index of one achromatic surface from its pixels' relative luminance
+    (ascending): white when its lit part (LIT_PERCENTILE) is white, as shading darkens a white
+    surface but nothing lights it past white; otherwise the term of its median pixel, as a gloss
+    lights a dark surface's reflections while most of it keeps its own grey or black."""
+    lit = int(achromatic_term(luminance_lightness(_at_percentile(ascending, LIT_PERCENTILE))))
     if COLOUR_NAMES[lit] == "white":
         return lit
-    return int(achromatic_term(_at_percentile(ascending, 50)))
+    return int(achromatic_term(luminance_lightness(_at_percentile(ascending, 50))))
 
 
 def name_achromatic(lightness: np.ndarray, white: float = 1.0) -> np.ndarray:
     """COLOUR_NAMES index of each achromatic pixel of one object (its L*), relative to the
-    frame's white reference of luminance `white` (`relative_lightness`): every pixel of one
-    surface (`shading_groups`) takes that surface's term (`surface_term`)."""
-    rel = relative_lightness(lightness, white)
-    order = np.argsort(rel, kind="stable")
-    ascending = rel[order]
-    names = np.empty(len(rel), np.int64)
+    white reference of luminance `white` (`relative_luminance`): every pixel of one surface
+    (`shading_groups`) takes that surface's term (`surface_term`)."""
+    y = relative_luminance(lightness, white)
+    order = np.argsort(y, kind="stable")
+    ascending = y[order]
+    names = np.empty(len(y), np.int64)
     for lo, hi in shading_groups(ascending):
         names[order[lo:hi]] = surface_term(ascending[lo:hi])
     return names
