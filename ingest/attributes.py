@@ -207,13 +207,6 @@ INNER_MARGIN = 0.2
 MIN_MASK_SHARE = 0.25
 # The object's own depths lie within half its box's metric width, at least this, of its centre's.
 MIN_DEPTH_BAND = 0.05
-# The light falling on an object is estimated on its surround: its box widened by SURROUND
-# times its own width and height on each side (clipped to the image), sampled to about
-# CAST_SAMPLES pixels. Narrower, the object is its own white reference (a light wooden chair
-# reads grey); much wider, it is the whole frame, whose light is not the object's (a white cup
-# lit warm by the table it stands on reads brown). Measured on two rooms: 0.5, 1, 2 and 3 widths.
-SURROUND = 2.0
-CAST_SAMPLES = 1200
 # A whole frame's cast is estimated on its pixels sampled every this many pixels.
 CAST_STRIDE = 16
 
@@ -254,36 +247,16 @@ def within_object_depth(depth_crop: np.ndarray, bounds: tuple[int, int, int, int
     return (depth_crop > 0) & (np.abs(depth_crop - d0) <= band)
 
 
-def surround_bounds(bounds: tuple[int, int, int, int], width: int, height: int,
-                    widths: float = SURROUND) -> tuple[int, int, int, int]:
-    """The object's surround: its box widened by `widths` times its own width and height on
-    each side, clipped to the image."""
-    x1, y1, x2, y2 = bounds
-    dx, dy = widths * (x2 - x1), widths * (y2 - y1)
-    return (max(0, int(x1 - dx)), max(0, int(y1 - dy)), min(width, int(np.ceil(x2 + dx))),
-            min(height, int(np.ceil(y2 + dy))))
-
-
-def surround_cast(frame: Frame, bounds: tuple[int, int, int, int]) -> colour_model.Cast:
-    """The colour cast and white reference of the light falling on a boxed object: the local
-    framework of lightness perception (the object with its surround, `surround_bounds`), on a
-    sample of about CAST_SAMPLES pixels (`ingest.colour.frame_cast`)."""
-    w, h = frame.size
-    x1, y1, x2, y2 = surround_bounds(bounds, w, h)
-    step = max(1, int(np.ceil(np.sqrt((x2 - x1) * (y2 - y1) / CAST_SAMPLES))))
-    return colour_model.frame_cast(frame.color[y1:y2:step, x1:x2:step])
-
-
 def object_colour(frame: Frame, box: Box, label: Optional[str] = None) -> tuple[colour_model.ColourReading, float]:
     """(colour reading, view weight) of a boxed object in one frame: its own pixels
-    (`colour_pixels`) read with the cast of the light on it (`surround_cast`) divided out, as a
+    (`colour_pixels`) read with the cast of the light on it (`ingest.colour.surround_cast`) divided out, as a
     screen when `label` is one; the weight from the pixels' area, the crop's sharpness and
     whether the box touches the image border."""
     w, h = frame.size
     bounds = clip_box(box, w, h)
     screen = colour_model.is_screen(label)
     pixels, stride = colour_pixels(frame, bounds, screen)
-    cast = surround_cast(frame, bounds)
+    cast = colour_model.surround_cast(frame.color, bounds)
     reading = colour_model.read_colour(pixels, cast, screen=screen)
     x1, y1, x2, y2 = bounds
     grey = frame.gray[y1:y2:stride, x1:x2:stride]

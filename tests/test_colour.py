@@ -142,3 +142,13 @@ def test_the_achromatic_boundary_comes_from_the_survey():
     assert terms == ["black", "grey", "white"]
     assert C.relative_lightness(np.array([50.0]), 1.0)[0] == pytest.approx(50.0, abs=0.1)
     assert C.relative_lightness(np.array([50.0]), C.lab_luminance(50.0))[0] == pytest.approx(100.0, abs=0.1)
+
+
+def test_the_light_on_an_object_is_measured_on_its_surround():
+    assert C.surround_bounds((100, 100, 110, 120), 640, 480) == (80, 60, 130, 160)
+    assert C.surround_bounds((0, 0, 640, 480), 640, 480) == (0, 0, 640, 480)
+    img = np.full((240, 320, 3), 200, np.uint8)
+    img[:, 160:] = (150, 190, 230)                              # the right half lit warm (B, G, R)
+    warm = C.surround_cast(img, (230, 100, 250, 120))
+    assert warm.gains[0] > warm.gains[2]                        # blue raised there...
+    assert np.allclose(C.surround_cast(img, (60, 100, 80, 120)).gains, 1.0)   # ...not on the left
