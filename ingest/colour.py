@@ -315,7 +315,7 @@ def relative_lightness(lightness, white: float) -> np.ndarray:
 
 def _at_percentile(ascending: np.ndarray, percentile: float):
     """The value at `percentile` of an ascending array (nearest rank)."""
-    return ascending[int(round((len(ascending) - 1) * percentile / 100.0))]
+    return ascending[round((len(ascending) - 1) * percentile / 100.0)]
 
 
 def shading_groups(ascending: np.ndarray) -> list[tuple[int, int]]:
