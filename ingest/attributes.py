@@ -16,7 +16,8 @@ Boxes are (x1, y1, x2, y2) in colour pixels, x2/y2 exclusive, clipped to the ima
   counts (sums to the number of box pixels).
 - Colour (`object_colour`): the object's own pixels (the box's inner region on the depth surface
   connected to the centre, as for the size, and at the object's own depth; the whole inner
-  region when depth covers too little of it; a screen's whole box), the frame's cast divided out, named by `ingest.colour.read_colour`; the view's weight for
+  region when depth covers too little of it; a screen's whole box), the cast of the light on it
+  (estimated on its surround) divided out, named by `ingest.colour.read_colour`; the view's weight for
   the vote across views (`ingest.colour.view_weight`) from its size, sharpness and whether the
   image border cuts the box.
 - Thumbnail: JPEG bytes of the box, longest side at most 128 px.
@@ -206,7 +207,7 @@ INNER_MARGIN = 0.2
 MIN_MASK_SHARE = 0.25
 # The object's own depths lie within half its box's metric width, at least this, of its centre's.
 MIN_DEPTH_BAND = 0.05
-# Frames are sampled every this many pixels to estimate their colour cast.
+# A whole frame's cast is estimated on its pixels sampled every this many pixels.
 CAST_STRIDE = 16
 
 
@@ -248,14 +249,14 @@ def within_object_depth(depth_crop: np.ndarray, bounds: tuple[int, int, int, int
 
 def object_colour(frame: Frame, box: Box, label: Optional[str] = None) -> tuple[colour_model.ColourReading, float]:
     """(colour reading, view weight) of a boxed object in one frame: its own pixels
-    (`colour_pixels`) read with the frame's cast (`ingest.colour.frame_cast` on a sample of the
-    frame) divided out, as a screen when `label` is one; the weight from the pixels' area, the
-    crop's sharpness and whether the box touches the image border."""
+    (`colour_pixels`) read with the cast of the light on it (`ingest.colour.surround_cast`) divided out, as a
+    screen when `label` is one; the weight from the pixels' area, the crop's sharpness and
+    whether the box touches the image border."""
     w, h = frame.size
     bounds = clip_box(box, w, h)
     screen = colour_model.is_screen(label)
     pixels, stride = colour_pixels(frame, bounds, screen)
-    cast = colour_model.frame_cast(frame.color[::CAST_STRIDE, ::CAST_STRIDE])
+    cast = colour_model.surround_cast(frame.color, bounds)
     reading = colour_model.read_colour(pixels, cast, screen=screen)
     x1, y1, x2, y2 = bounds
     grey = frame.gray[y1:y2:stride, x1:x2:stride]

@@ -105,3 +105,50 @@ def test_a_shade_of_the_first_colour_is_no_second_colour():
     assert C.vote([reading(white=0.55, grey=0.45)])[:2] == ("white", None)      # a shaded white
     assert C.vote([reading(black=0.55, white=0.45)])[:2] == ("black", "white")  # a black-and-white magazine
     assert C.vote([reading(white=0.8, red=0.2)])[:2] == ("white", None)         # too little to name
+
+
+def test_a_white_object_in_shade_relative_to_a_bright_frame_is_white():
+    img, _ = scene((128, 128, 128), (1, 1, 1))
+    img[:20] = 250                                              # a bright window: the frame's white
+    rng = np.random.default_rng(3)
+    shade = rng.uniform(150, 200, 900)                          # its body turned from the light
+    lit = rng.uniform(225, 235, 100)                            # its side facing the light
+    cup = np.repeat(np.concatenate([shade, lit])[:, None], 3, axis=1).astype(np.uint8)
+    assert np.median(cup) < 200 and C.read_colour(cup).name != "white"   # as absolute L*, grey
+    assert C.read_colour(cup, C.frame_cast(img)).name == "white"
+    flat_grey = np.full((1000, 3), 128, np.uint8)               # no lit part: a grey object stays grey
+    assert C.read_colour(flat_grey, C.frame_cast(img)).name == "grey"
+
+
+def test_a_black_cover_under_white_print_is_two_surfaces():
+    px = np.full((1000, 3), 28, np.uint8)
+    px[:300] = 235                                              # the print
+    reading = C.read_colour(px)
+    assert (reading.name, reading.second) == ("black", "white")
+    assert reading.share == pytest.approx(0.7, abs=0.02)
+
+
+def test_a_faint_tint_is_named_by_lightness_and_a_clear_one_by_hue():
+    grey = np.full((500, 3), (150, 146, 140), np.uint8)         # a slightly warm grey: C* about 4
+    assert C.is_achromatic(C.bgr_to_lab(grey)).all() and C.read_colour(grey).name == "grey"
+    wood = np.full((500, 3), (60, 95, 140), np.uint8)
+    assert not C.is_achromatic(C.bgr_to_lab(wood)).any() and C.read_colour(wood).name == "brown"
+
+
+def test_the_achromatic_boundary_comes_from_the_survey():
+    t = C.achromatic_chroma()
+    assert 8.0 < t < 30.0                                      # between the survey's greys and its colours
+    terms = [COLOUR_NAMES[i] for i in C.achromatic_term(np.array([5.0, 50.0, 98.0]))]
+    assert terms == ["black", "grey", "white"]
+    assert C.relative_lightness(np.array([50.0]), 1.0)[0] == pytest.approx(50.0, abs=0.1)
+    assert C.relative_lightness(np.array([50.0]), C.lab_luminance(50.0))[0] == pytest.approx(100.0, abs=0.1)
+
+
+def test_the_light_on_an_object_is_measured_on_its_surround():
+    assert C.surround_bounds((100, 100, 110, 120), 640, 480) == (80, 60, 130, 160)
+    assert C.surround_bounds((0, 0, 640, 480), 640, 480) == (0, 0, 640, 480)
+    img = np.full((240, 320, 3), 200, np.uint8)
+    img[:, 160:] = (150, 190, 230)                              # the right half lit warm (B, G, R)
+    warm = C.surround_cast(img, (230, 100, 250, 120))
+    assert warm.gains[0] > warm.gains[2]                        # blue raised there...
+    assert np.allclose(C.surround_cast(img, (60, 100, 80, 120)).gains, 1.0)   # ...not on the left

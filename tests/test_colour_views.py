@@ -84,3 +84,32 @@ def test_living_room_objects_read_as_a_person_sees_them(living_frame, label, box
 def test_a_screen_read_as_an_ordinary_object_shows_its_picture(living_frame):
     reading, _ = object_colour(living_frame, (455, 0, 640, 110), None)
     assert reading.name != "black"
+
+
+def test_a_chair_in_sunlight_and_shade_is_white(living_frame):
+    reading, _ = object_colour(living_frame, (150, 120, 450, 450), "chair")
+    assert reading.name == "white"
+
+
+@pytest.fixture(scope="module")
+def kitchen(kitchen_dir):
+    from ingest.readers import open_sequence
+    return open_sequence(kitchen_dir)
+
+
+def test_a_white_cup_in_shade_on_the_kitchen_table_is_white(kitchen):
+    frame = kitchen.frame(786).load()
+    reading, _ = object_colour(frame, (257, 382, 351, 470), "cup")
+    assert reading.name == "white"
+
+
+def test_a_cup_lit_warm_by_the_table_is_white_under_the_light_of_its_surround(kitchen):
+    from ingest import colour
+    from ingest.attributes import clip_box, colour_pixels
+    frame = kitchen.frame(295).load()
+    box = (492, 295, 535, 349)                                # the cup with red flowers
+    reading, _ = object_colour(frame, box, "cup")
+    assert reading.name == "white"
+    pixels, _ = colour_pixels(frame, clip_box(box, *frame.size))
+    whole_frame = colour.read_colour(pixels, colour.frame_cast(frame.color[::16, ::16]))
+    assert whole_frame.name != "white"                        # the frame's light is not the cup's
