@@ -27,7 +27,7 @@ import numpy as np
 import cv2
 
 from ingest import colour as colour_model
-from ingest.attributes import CAST_STRIDE, hsv_histogram, thumbnail
+from ingest.attributes import hsv_histogram, thumbnail
 from ingest.model import HIST_SIZE, UNNAMED_LABEL, ObjectObservation
 from ingest.relations import FLOOR_STANDING_LABELS
 from ingest.room_cloud import RoomCloud
@@ -213,10 +213,12 @@ def surface_sample(world: np.ndarray, n: int = SURFACE_SAMPLE) -> tuple[float, .
     return tuple(round(float(v), 4) for v in pick.reshape(-1))
 
 
-def segment_colour(u: np.ndarray, v: np.ndarray, z: np.ndarray, view, image: np.ndarray) -> tuple[str, Optional[str]]:
+def segment_colour(u: np.ndarray, v: np.ndarray, z: np.ndarray, view, image: np.ndarray,
+                   box: tuple[int, int, int, int]) -> tuple[str, Optional[str]]:
     """(colour, second colour) of a segment from its own pixels in one view: its projected voxel
-    centres (`_project`), each marking the disc a voxel covers there, read with the frame's cast
-    divided out (`ingest.colour.read_colour`, `vote` for the second colour's rule)."""
+    centres (`_project`), each marking the disc a voxel covers there, read with the cast of the
+    light around its pixel box divided out (`ingest.colour.surround_cast`, `read_colour`; `vote`
+    for the second colour's rule), as for named objects."""
     h, w = image.shape[:2]
     mask = np.zeros((h, w), np.uint8)
     for x, y, d in zip(u, v, z):
@@ -224,7 +226,7 @@ def segment_colour(u: np.ndarray, v: np.ndarray, z: np.ndarray, view, image: np.
     pixels = image[mask > 0]
     if len(pixels) == 0:
         return "grey", None
-    cast = colour_model.frame_cast(image[::CAST_STRIDE, ::CAST_STRIDE])
+    cast = colour_model.surround_cast(image, box)
     name, second, _ = colour_model.vote([colour_model.read_colour(pixels, cast)])
     return name, second
 
@@ -247,7 +249,7 @@ def unnamed_object(local_id: str, seg: Segment, cloud: RoomCloud,
         image = colour_image(view.index) if box is not None else None
         if image is not None:
             hist = hsv_histogram(image, box)
-            colour, colour2 = segment_colour(u, v, z, view, image)
+            colour, colour2 = segment_colour(u, v, z, view, image, box)
             thumb = thumbnail(image, box)
     return ObjectObservation(
         local_id=local_id, labels=[UNNAMED_LABEL], scores=[round(seg.hit_ratio, 3)],
