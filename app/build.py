@@ -76,7 +76,8 @@ def build_room(store, req: BuildRequest, settings, detector=None, embedding=None
 
     `settings`: `ingest.pipeline.Settings`. KeyboardInterrupt between chunks keeps what was
     merged and returns a summary with "interrupted": True."""
-    from graphdb.merge import merge_local_graph, merged_keys, room_id
+    from graphdb.merge import merge_local_graph, merged_keys
+    from graphdb.values import room_id
     from graphdb.rescan import known_objects
     from graphdb.similarity import SimilarityParams
     from ingest.embedding import default_embedding
@@ -227,7 +228,7 @@ def place_room(store, req: BuildRequest, transform):
 
     from graphdb.align import AlignmentError
     from graphdb.building import link_rooms, list_rooms, set_room_transform
-    from graphdb.merge import room_id
+    from graphdb.values import room_id
 
     rid = room_id(req.building, req.room)
     try:

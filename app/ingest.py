@@ -229,7 +229,8 @@ def to_local_graph(req: IngestRequest):
 
 def ingest_graph(store, req: IngestRequest, embedding=None) -> dict:
     """Merge the observation as one transaction; what was created, updated and linked."""
-    from graphdb.merge import merge_local_graph, room_id
+    from graphdb.merge import merge_local_graph
+    from graphdb.values import room_id
     from graphdb.similarity import SimilarityParams
 
     report = merge_local_graph(store, to_local_graph(req), embedding, SimilarityParams())

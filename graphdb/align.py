@@ -15,7 +15,7 @@ from typing import Optional
 import numpy as np
 from scipy.optimize import linear_sum_assignment
 
-from graphdb.merge import unpack_hist
+from graphdb.values import unpack_hist
 from graphdb.similarity import histogram_intersection, label_similarity_matrix
 
 # A pair needs labels at least this similar (1 = a shared label; word-vector cosine else) ...

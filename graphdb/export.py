@@ -6,7 +6,7 @@ import json
 import xml.etree.ElementTree as ET
 from typing import Optional
 
-from graphdb.merge import unpack_hist
+from graphdb.values import unpack_hist
 from ingest.model import RELATION_TYPES
 
 NODE_FIELDS = ("id", "room", "label", "labels", "scores", "x", "y", "z", "var", "n_points", "size",

@@ -32,10 +32,11 @@ from graphdb.similarity import (MAX_EXTENT_M, SimilarityParams, box_may_pass,
                                 shared_labels, total_similarity)
 from graphdb import rescan
 from graphdb.tally import create_objects_and_tallies
+from graphdb.values import pack_hist, room_id, unpack_hist
 from graphdb.update import (combine_boxes, combine_gaussians, combine_histograms, combine_labels,
                             incoming_has_best_label)
 from ingest.embedding import LabelEmbedding, default_embedding
-from ingest.model import HIST_SIZE, RELATION_TYPES, UNNAMED_LABEL, LocalGraph, ObjectObservation, ScanInfo
+from ingest.model import RELATION_TYPES, UNNAMED_LABEL, LocalGraph, ObjectObservation, ScanInfo
 
 
 @dataclass
@@ -51,26 +52,6 @@ class MergeReport:
     removed: int = 0               # nodes marked removed when this merge closed its scan
     node_ids: dict[str, str] = field(default_factory=dict)   # local_id -> global id
     seconds: float = 0.0
-
-
-def room_id(building: str, room: str) -> str:
-    """A room's id, 'building/room'; a room given as a full id ('home/kitchen') is kept as is
-    (room and building names never contain '/': build and the HTTP ingest refuse them)."""
-    return room if "/" in room else f"{building}/{room}"
-
-
-def pack_hist(hist) -> bytes:
-    """The 512-bin histogram as little-endian float32 bytes: one Bolt value instead of a
-    512-element list, which the driver would pack element by element (5x slower upserts)."""
-    return np.asarray(hist, dtype="<f4").tobytes()
-
-
-def unpack_hist(value) -> np.ndarray:
-    if value is None:       # a node without an Appearance (not written by sg3d): no colour seen
-        return np.zeros(HIST_SIZE)
-    if isinstance(value, (bytes, bytearray)):
-        return np.frombuffer(value, dtype="<f4").astype(float)
-    return np.asarray(value, dtype=float)  # stores written as lists stay readable
 
 
 def _rows(result) -> list[dict]:

@@ -23,6 +23,7 @@ from scipy.optimize import linear_sum_assignment
 
 from graphdb import cypher
 from graphdb.similarity import histogram_intersection, label_similarity_matrix
+from graphdb.values import unpack_hist
 from ingest.model import RELATION_TYPES, KnownObject, LocalGraph, ObjectObservation, ScanInfo
 
 # A place seen empty in at least this many frames of a scan (like the existence test's
@@ -78,8 +79,6 @@ def find_moves(tx, rid: str, graph: LocalGraph, objects: list[ObjectObservation]
     old = [dict(zip(rows.keys(), v)) for v in rows.values()]
     if not old:
         return {}
-    from graphdb.merge import unpack_hist
-
     hists = {r["id"]: r["hist"] for r in tx.run(cypher.load("merge_candidate_hists"), ids=[o["id"] for o in old])}
     for o in old:
         o["hist"] = hists.get(o["id"])

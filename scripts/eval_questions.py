@@ -25,7 +25,7 @@ def main(argv=None) -> int:
     ap.add_argument("--all", action="store_true", help="also the questions not marked sure")
     args = ap.parse_args(argv)
 
-    from graphdb.merge import room_id
+    from graphdb.values import room_id
     from queries.eval_gt import load_gt
     from queries.evaluation import evaluate
     from sg3d.settings import Settings

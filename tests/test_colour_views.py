@@ -7,7 +7,8 @@ import os
 import numpy as np
 import pytest
 
-from graphdb.merge import merge_local_graph, room_id
+from graphdb.merge import merge_local_graph
+from graphdb.values import room_id
 from ingest import fusion
 from ingest.attributes import ObjectAttributes, object_colour
 from ingest.colour import ColourReading

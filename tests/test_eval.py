@@ -6,7 +6,8 @@ import json
 import pytest
 from click.testing import CliRunner
 
-from graphdb.merge import merge_local_graph, room_id
+from graphdb.merge import merge_local_graph
+from graphdb.values import room_id
 from queries.eval_gt import coco_class, parse_gt, relation_type
 from queries.eval_match import Node, match
 from queries.evaluation import evaluate

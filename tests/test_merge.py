@@ -4,7 +4,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from graphdb.merge import merge_in_tx, merge_local_graph, room_id, unpack_hist
+from graphdb.merge import merge_in_tx, merge_local_graph
+from graphdb.values import room_id, unpack_hist
 from ingest.model import RELATION_TYPES
 from tests.factories import graph, hist_of, obj
 

@@ -85,7 +85,7 @@ def _render(report: dict, names: dict[str, str], gt) -> None:
 def eval_command(settings, gt_path: Path, room: str, building: str, tolerance: Optional[float],
                  no_vqa: bool, as_json: bool, report_dir: Optional[Path]) -> None:
     """Compare the scene graph of ROOM with ground truth: nodes, edges and question answers."""
-    from graphdb.merge import room_id
+    from graphdb.values import room_id
     from queries.eval_gt import load_gt
     from queries.eval_match import DEFAULT_TOLERANCE
     from queries.evaluation import evaluate
