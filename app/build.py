@@ -30,7 +30,7 @@ class BuildRequest:
     transform_file: Optional[Path] = None
     align_to: Optional[str] = None
     shared_frame: bool = False
-    bag_options: Optional[dict] = None  # ROS bags: `ingest.bags.BagOptions` fields
+    bag_options: Optional[dict] = None  # ROS bags: `ingest.readers.bag.BagOptions` fields
     estimate_poses: bool = False        # ignore the recording's poses and estimate them
     trajectory_out: Optional[Path] = None  # write the estimated trajectory here (TUM format)
 
@@ -80,9 +80,9 @@ def build_room(store, req: BuildRequest, settings, detector=None, embedding=None
     from graphdb.values import room_id
     from graphdb.rescan import known_objects
     from graphdb.similarity import SimilarityParams
-    from ingest.embedding import default_embedding
+    from core.embedding import default_embedding
     from ingest.gravity import estimate_gravity, sample_frames
-    from ingest.model import RELATION_TYPES, ScanInfo
+    from core.model import RELATION_TYPES, ScanInfo
     from ingest.pipeline import PipelineStats, chunk_graph, chunk_ranges, run_key
     from ingest.readers import SequenceError, open_sequence
 

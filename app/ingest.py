@@ -15,7 +15,7 @@ from typing import Literal, Optional
 from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
 
 from app import bounds
-from ingest.model import COLOUR_NAMES, HIST_SIZE, LAYERS, RELATION_TYPES, SHAPE_WORDS
+from core.model import COLOUR_NAMES, HIST_SIZE, LAYERS, RELATION_TYPES, SHAPE_WORDS
 
 MAX_OBJECTS = 5000
 MAX_RELATIONS = 50_000
@@ -207,10 +207,10 @@ def merge_key(req: IngestRequest) -> str:
 
 
 def to_local_graph(req: IngestRequest):
-    """The validated body as the `ingest.model.LocalGraph` a build produces."""
+    """The validated body as the `core.model.LocalGraph` a build produces."""
     import numpy as np
 
-    from ingest.model import LocalGraph, ObjectObservation, RelationObservation
+    from core.model import LocalGraph, ObjectObservation, RelationObservation
 
     objects = []
     for o in req.graph.objects:

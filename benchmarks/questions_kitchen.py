@@ -16,7 +16,7 @@ import re
 from pathlib import Path
 from typing import Callable, Optional
 
-from ingest.model import RELATION_TYPES
+from core.model import RELATION_TYPES
 
 HERE = Path(__file__).resolve().parent
 QUESTIONS = HERE / "questions_kitchen.txt"

@@ -128,7 +128,7 @@ def candidate_pairs(objs_a: list[dict], objs_b: list[dict], embedding=None,
     if not objs_a or not objs_b:
         return []
     if embedding is None:
-        from ingest.embedding import default_embedding
+        from core.embedding import default_embedding
         embedding = default_embedding()
     # unit scores: Eq. 10 scales by the detector's confidence, which says nothing about
     # whether two stored objects are the same thing

@@ -29,8 +29,8 @@ from graphdb.merge_plan import MergePlan, gravity_basis, may_pass, plan_merge, p
 from graphdb.similarity import MAX_EXTENT_M, SimilarityParams
 from graphdb.tally import create_objects_and_tallies
 from graphdb.values import room_id
-from ingest.embedding import LabelEmbedding, default_embedding
-from ingest.model import RELATION_TYPES, LocalGraph, ObjectObservation
+from core.embedding import LabelEmbedding, default_embedding
+from core.model import RELATION_TYPES, LocalGraph, ObjectObservation
 
 
 @dataclass

@@ -25,8 +25,8 @@ from graphdb.similarity import (SimilarityParams, box_may_pass, box_position_sim
 from graphdb.update import (combine_boxes, combine_gaussians, combine_histograms, combine_labels,
                             incoming_has_best_label)
 from graphdb.values import pack_hist, unpack_hist
-from ingest.embedding import LabelEmbedding
-from ingest.model import UNNAMED_LABEL, LocalGraph, ObjectObservation, ScanInfo
+from core.embedding import LabelEmbedding
+from core.model import UNNAMED_LABEL, LocalGraph, ObjectObservation, ScanInfo
 from ingest.relations import horizontal_basis
 
 Label = tuple[str, Optional[str]]       # (label, colour) of an object entering or leaving the tallies

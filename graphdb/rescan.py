@@ -1,6 +1,6 @@
 """Re-scans inside the merge transaction: scans, sightings, moved and removed objects.
 
-Every merge belongs to a scan (`ingest.model.ScanInfo`: one `sg3d build` or one `POST /ingest`
+Every merge belongs to a scan (`core.model.ScanInfo`: one `sg3d build` or one `POST /ingest`
 batch). In the merge's own transaction (`graphdb.merge_plan` decides, `graphdb.merge` writes):
 - matched and new nodes record the scan (first_seen/last_seen, first_scan/last_scan, scans);
 - a new observation that matches no node, but matches by label and colour a node whose place this
@@ -24,7 +24,7 @@ from scipy.optimize import linear_sum_assignment
 from graphdb import cypher
 from graphdb.similarity import histogram_intersection, label_similarity_matrix
 from graphdb.values import unpack_hist
-from ingest.model import RELATION_TYPES, KnownObject, LocalGraph, ObjectObservation, ScanInfo
+from core.model import RELATION_TYPES, KnownObject, LocalGraph, ObjectObservation, ScanInfo
 
 # A place seen empty in at least this many frames of a scan (like the existence test's
 # "seen twice") is evidence enough to mark an object that the scan did not re-observe removed.

@@ -8,7 +8,7 @@ from typing import Any
 
 import numpy as np
 
-from ingest.model import HIST_SIZE
+from core.model import HIST_SIZE
 
 
 def jsonable(value: Any) -> Any:

@@ -26,7 +26,7 @@ import cv2
 
 from ingest import colour as colour_model
 from ingest.attributes import CAST_STRIDE, hsv_histogram, thumbnail
-from ingest.model import HIST_SIZE, UNNAMED_LABEL, ObjectObservation
+from core.model import HIST_SIZE, UNNAMED_LABEL, ObjectObservation
 from ingest.relations import FLOOR_STANDING_LABELS
 from ingest.room_cloud import RoomCloud
 from ingest.segments import Segment, room_segments

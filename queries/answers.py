@@ -7,8 +7,8 @@ from __future__ import annotations
 
 from typing import Optional
 
-from ingest.model import UNNAMED_LABEL
-from ingest.relation_rules import SYMMETRIC
+from core.model import UNNAMED_LABEL
+from core.relation_rules import SYMMETRIC
 from queries.grammar import DISTANCE_SUPERLATIVES, SUPERLATIVES
 from queries.logic import NP, Filter, Form
 from queries.sets import ABSENT, AFFORDANCES, LIST_SHOWN, Evaluator, Unanswerable, is_structure, same_as_roots

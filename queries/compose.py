@@ -25,7 +25,7 @@ import functools
 from dataclasses import dataclass, field
 from typing import Callable, Optional
 
-from ingest.model import SHAPE_WORDS
+from core.model import SHAPE_WORDS
 from queries.answers import OPS, Answerer
 from queries.grammar import SUPERLATIVES
 from queries.logic import NP, Filter, Form

@@ -16,8 +16,8 @@ import math
 from dataclasses import dataclass, field
 from typing import Callable, Optional
 
-from ingest.model import COLOUR_NAMES, SHAPE_WORDS
-from ingest.relation_rules import SYMMETRIC
+from core.model import COLOUR_NAMES, SHAPE_WORDS
+from core.relation_rules import SYMMETRIC
 from queries.grammar import DISTANCE_SUPERLATIVES, RELATIONS, SUPERLATIVES
 from queries.lexicon import lemma, resolve
 from queries.logic import NP, Filter

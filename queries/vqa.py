@@ -34,7 +34,7 @@ from dataclasses import dataclass, field
 from typing import Any, Optional
 
 from graphdb import cypher
-from ingest.relation_rules import SYMMETRIC, VIEWPOINT
+from core.relation_rules import SYMMETRIC, VIEWPOINT
 from queries import viewpoint as views
 from queries import compose
 from queries.answers import row_value

@@ -9,7 +9,7 @@ from graphdb.export import fetch_graph
 from graphdb.merge import merge_local_graph
 from graphdb.merge_plan import _new_props
 from graphdb.values import pack_hist, room_id, unpack_hist
-from ingest.model import ScanInfo
+from core.model import ScanInfo
 from queries.vqa import answer
 from tests.factories import graph, hist_of, obj
 

@@ -8,8 +8,8 @@ import pytest
 from graphdb.merge_plan import _new_props, gravity_basis, plan_merge, position_scores
 from graphdb.similarity import SimilarityParams
 from graphdb.values import unpack_hist
-from ingest.embedding import shipped_vectors
-from ingest.model import ScanInfo
+from core.embedding import shipped_vectors
+from core.model import ScanInfo
 from tests.factories import graph, hist_of, obj
 
 ROOM = "home/kitchen"

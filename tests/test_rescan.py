@@ -17,7 +17,7 @@ from graphdb.merge import merge_local_graph
 from graphdb.values import room_id
 from graphdb.rescan import known_objects
 from ingest.existence import DEPTH_FACTOR, View
-from ingest.model import KnownObject, ScanInfo
+from core.model import KnownObject, ScanInfo
 from ingest.rescan import empty_places, place_seen_empty
 from queries.vqa import answer
 from tests.factories import graph, obj

@@ -39,7 +39,7 @@ import cv2
 import numpy as np
 
 from ingest.frames import FrameError
-from ingest.readers import Sequence, SequenceError, quaternion_to_matrix
+from ingest.readers.base import Sequence, SequenceError, quaternion_to_matrix
 from ingest.registration import Registration
 
 LAYOUT_NAMES = ("rosbag", "ros", "bag", "mcap")
