@@ -85,7 +85,7 @@ def pack_hist(hist) -> bytes:
 
 
 def unpack_hist(value) -> np.ndarray:
-    """A stored histogram (float32 bytes, or a list in older stores) as a float array."""
+    """A stored histogram (float32 bytes, or a list of floats) as a float array."""
     if value is None:       # a node without an Appearance (not written by sg3d): no colour seen
         return np.zeros(HIST_SIZE)
     if isinstance(value, (bytes, bytearray)):
