@@ -10,7 +10,7 @@ import math
 import unicodedata
 from typing import Iterable, Optional
 
-from ingest.model import WORLD_EXTENT_M  # noqa: E402,F401 - coordinates (m): a campus fits, 1e308 does not
+from core.model import WORLD_EXTENT_M  # noqa: E402,F401 - coordinates (m): a campus fits, 1e308 does not
 # The largest object box edge (m) and positional variance (m^2) an observation may carry.
 MAX_SIZE_M = 100.0
 MAX_VAR_M2 = 10_000.0

@@ -8,9 +8,9 @@ crash or Ctrl-C, merges exactly what is missing and ends with the graph of one c
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, field, fields
 from pathlib import Path
-from typing import Callable, Optional
+from typing import Any, Callable, Optional
 
 ProgressFn = Callable[[str, int, int], None]
 
@@ -30,7 +30,7 @@ class BuildRequest:
     transform_file: Optional[Path] = None
     align_to: Optional[str] = None
     shared_frame: bool = False
-    bag_options: Optional[dict] = None  # ROS bags: `ingest.bags.BagOptions` fields
+    bag_options: Optional[dict] = None  # ROS bags: `ingest.readers.bag.BagOptions` fields
     estimate_poses: bool = False        # ignore the recording's poses and estimate them
     trajectory_out: Optional[Path] = None  # write the estimated trajectory here (TUM format)
 
@@ -59,42 +59,123 @@ def check_frame_selection_options(method: str, given: list[str]) -> None:
                          f"drop {'it' if len(given) == 1 else 'them'} or use an efficient preset")
 
 
-def check_detector(settings) -> None:
-    """Refuse an unknown detector, a missing ONNX labels file or a recogniser that cannot run
-    offline before anything starts (nothing is loaded here)."""
+def check_detector(settings):
+    """The build's detector; an unknown detector, a missing ONNX labels file or a recogniser that
+    cannot run offline is refused before anything starts (nothing is loaded here)."""
     from ingest.detectors import detector_for
 
     try:
-        detector_for(settings.detector, settings.score_threshold, tiles=settings.quality == "high")
+        return detector_for(settings.detector, settings.score_threshold, tiles=settings.quality == "high")
     except (ValueError, FileNotFoundError, RuntimeError) as exc:
         raise BuildError(str(exc))
 
 
-def build_room(store, req: BuildRequest, settings, detector=None, embedding=None,
-               progress: Optional[ProgressFn] = None) -> dict:
-    """Run the pipeline over `req.sequence` and merge each chunk into `store`; the summary dict.
+@dataclass(frozen=True)
+class PreparedBuild:
+    """A checked build request with what it needs that no store holds: the detector and the
+    room-to-building transform read from `--transform`."""
+    req: BuildRequest
+    settings: Any                   # ingest.pipeline.Settings
+    detector: Any
+    placement: Optional[Any] = None  # 4x4 array
 
-    `settings`: `ingest.pipeline.Settings`. KeyboardInterrupt between chunks keeps what was
-    merged and returns a summary with "interrupted": True."""
-    from graphdb.merge import merge_local_graph, merged_keys, room_id
-    from graphdb.rescan import known_objects
-    from graphdb.similarity import SimilarityParams
-    from ingest.embedding import default_embedding
-    from ingest.gravity import estimate_gravity, sample_frames
-    from ingest.model import RELATION_TYPES, ScanInfo
-    from ingest.pipeline import PipelineStats, chunk_graph, chunk_ranges, run_key
-    from ingest.readers import SequenceError, open_sequence
 
+def prepare(req: BuildRequest, settings, detector=None, selection_given: tuple[str, ...] = ()) -> PreparedBuild:
+    """Check everything a build can check before the store starts, in this order: the request,
+    the frame-selection options given (`selection_given`: their flags), the detector
+    (`check_detector`), the transform file (read before the long build, to fail early)."""
     validate(req)
+    check_frame_selection_options(settings.method.name, list(selection_given))
+    detector = detector if detector is not None else check_detector(settings)
     placement = None
     if req.transform_file is not None:
         from graphdb.building import TransformError, load_transform
 
         try:
-            placement = load_transform(req.transform_file)  # read before the long build, fail early
+            placement = load_transform(req.transform_file)
         except TransformError as exc:
             raise BuildError(str(exc))
+    return PreparedBuild(req, settings, detector, placement)
+
+
+@dataclass
+class BuildSummary:
+    """What a build did, as `sg3d build` prints it and `--json` writes it (`as_dict`). The
+    sections are the JSON's objects; `summary["graph"]` reads like the JSON."""
+    sequence: str
+    layout: str
+    room: str
+    building: str
+    method: str
+    quality: str
+    detector: str
+    interrupted: bool
+    up: list[float]
+    frames: dict                    # in_range, read, blurry, keyframes, ..., skipped, skipped_frames
+    hypotheses: dict                # formed, kept, rejected (reason -> n)
+    from_depth: dict                # found from depth, named by no detector: unnamed, structure
+    graph: dict                     # chunk and object totals, room_objects, room_relations
+    seconds: dict                   # per phase
+    input_frames_per_second: float
+    key: str
+    scan: str
+    placement: Optional[dict]
+    poses: dict
+
+    def as_dict(self) -> dict:
+        return {f.name: getattr(self, f.name) for f in fields(self)}
+
+    def __getitem__(self, name: str):
+        return getattr(self, name)
+
+    def get(self, name: str, default=None):
+        return getattr(self, name, default)
+
+
+def build_room(store, req: BuildRequest, settings, detector=None, embedding=None,
+               progress: Optional[ProgressFn] = None) -> BuildSummary:
+    """Run the pipeline over `req.sequence` and merge each chunk into `store` (`prepare`, then
+    `run_build`). `settings`: `ingest.pipeline.Settings`."""
+    return run_build(store, prepare(req, settings, detector), embedding, progress)
+
+
+def run_build(store, prepared: PreparedBuild, embedding=None, progress: Optional[ProgressFn] = None) -> BuildSummary:
+    """A prepared build: the sequence read, its camera poses and gravity, each chunk's local
+    graph merged into `store`, the room placed. KeyboardInterrupt between chunks keeps what was
+    merged and returns a summary with `interrupted` set."""
+    from core.embedding import default_embedding
+    from graphdb.merge import merged_keys
+    from graphdb.similarity import SimilarityParams
+    from graphdb.values import room_id
+    from ingest.pipeline import PipelineStats, run_key
+
+    req, settings = prepared.req, prepared.settings
     t_start = time.perf_counter()
+    seq, stop = _open(req)
+    poses = place_cameras(seq, req, stop, progress)
+    store.ensure_schema()
+    # a build on estimated poses is another build than one on the recording's own poses
+    identity = str(Path(req.sequence).resolve()) + (" (estimated poses)" if poses["source"] == "estimated" else "")
+    run = run_key(identity, len(seq), settings, req.room, req.building)
+    done = merged_keys(store, run + ":")
+    t0 = time.perf_counter()
+    gravity = _gravity(seq, req, stop)
+    t_gravity = time.perf_counter() - t0
+    chunks = _Chunks(store, seq, req, settings, prepared.detector, gravity, embedding or default_embedding(),
+                     SimilarityParams() if settings.method.three_d else SimilarityParams(threshold=float("inf")),
+                     run, done, scan_key(run, req.start, stop), PipelineStats(), progress)
+    chunks.merge_all(req.start, stop)
+    placed = None if chunks.interrupted else place_room(store, req, prepared.placement)
+    wall = time.perf_counter() - t_start
+    return _summary(store, room_id(req.building, req.room), seq, req, settings, stop, gravity.up, chunks,
+                    {**({"poses": poses["seconds"]} if "seconds" in poses else {}), "gravity": t_gravity},
+                    wall, placed, poses)
+
+
+def _open(req: BuildRequest):
+    """The sequence and the end of the frame range, refusing an empty sequence or range."""
+    from ingest.readers import SequenceError, open_sequence
+
     try:
         seq = open_sequence(req.sequence, req.layout, **(req.bag_options or {}))
     except SequenceError as exc:
@@ -103,93 +184,107 @@ def build_room(store, req: BuildRequest, settings, detector=None, embedding=None
         raise BuildError(f"no frames found in {req.sequence}")
     if req.start >= len(seq):
         raise BuildError(f"--start {req.start} is past the end of the sequence ({len(seq)} frames)")
-    stop = len(seq) if req.stop is None else min(req.stop, len(seq))
-    poses = place_cameras(seq, req, stop, progress)
-    store.ensure_schema()
-    rid = room_id(req.building, req.room)
-    # a build on estimated poses is another build than one on the recording's own poses
-    identity = str(Path(req.sequence).resolve()) + (" (estimated poses)" if poses["source"] == "estimated" else "")
-    run = run_key(identity, len(seq), settings, req.room, req.building)
-    done = merged_keys(store, run + ":")
+    return seq, len(seq) if req.stop is None else min(req.stop, len(seq))
 
-    t0 = time.perf_counter()
+
+def _gravity(seq, req: BuildRequest, stop: int):
+    """Gravity and the floor from the frames being built (estimated poses exist only for those;
+    and a recording cut from a longer one gives the same room)."""
+    from ingest.gravity import estimate_gravity, sample_frames
+
     try:
-        # gravity and the floor from the frames being built (estimated poses exist only for
-        # those; and a recording cut from a longer one gives the same room)
-        gravity = estimate_gravity(sample_frames(seq, 20, req.start, stop))
-        up = gravity.up
+        return estimate_gravity(sample_frames(seq, 20, req.start, stop))
     except ValueError:
         raise BuildError(f"no frame of {req.sequence} has usable depth")
-    t_gravity = time.perf_counter() - t0
 
-    if detector is None:
-        from ingest.detectors import detector_for
 
+@dataclass
+class _Chunks:
+    """The build's chunks, each a local graph merged as one transaction under its key; a chunk
+    whose key is already merged is not read again."""
+    store: Any
+    seq: Any
+    req: BuildRequest
+    settings: Any
+    detector: Any
+    gravity: Any
+    embedding: Any
+    params: Any
+    run: str
+    done: set
+    scan_id: str
+    stats: Any
+    progress: Optional[ProgressFn]
+    totals: dict = field(default_factory=lambda: {
+        "chunks": 0, "merged_chunks": 0, "skipped_chunks": 0, "objects_created": 0, "objects_updated": 0,
+        "objects_moved": 0, "objects_removed": 0, "relations": 0})
+    merge_seconds: float = 0.0
+    interrupted: bool = False
+
+    def merge_all(self, start: int, stop: int) -> None:
+        from ingest.pipeline import chunk_ranges
+
+        scan_at = time.time()
+        ranges = chunk_ranges(start, stop, self.settings.chunk_frames)
         try:
-            detector = detector_for(settings.detector, settings.score_threshold, tiles=settings.quality == "high")
-        except (ValueError, FileNotFoundError, RuntimeError) as exc:
-            raise BuildError(str(exc))
-    embedding = embedding or default_embedding()
-    params = SimilarityParams() if settings.method.three_d else SimilarityParams(threshold=float("inf"))
+            for a, b in ranges:
+                self.merge_one(a, b, scan_at, closes=(a, b) == ranges[-1])
+        except KeyboardInterrupt:
+            self.interrupted = True
 
-    stats = PipelineStats()
-    totals = {"chunks": 0, "merged_chunks": 0, "skipped_chunks": 0, "objects_created": 0,
-              "objects_updated": 0, "objects_moved": 0, "objects_removed": 0, "relations": 0}
-    merge_seconds = 0.0
-    interrupted = False
-    scan_id = scan_key(run, req.start, stop)
-    scan_at = time.time()
-    ranges = chunk_ranges(req.start, stop, settings.chunk_frames)
-    try:
-        for a, b in ranges:
-            totals["chunks"] += 1
-            key = f"{run}:{a}-{b}"
-            if key in done:
-                totals["skipped_chunks"] += 1
-                continue
-            # the room as it stands before this chunk: what a re-scan may find moved or gone
-            known = known_objects(store, rid)
-            scan = ScanInfo(scan_id, scan_at, closes=(a, b) == ranges[-1])
-            graph = chunk_graph(seq, a, b, detector, up, settings, req.room, req.building, key, stats, progress,
-                                known=known, scan=scan, floor=gravity.floor_height)
-            t0 = time.perf_counter()
-            report = merge_local_graph(store, graph, embedding, params)
-            merge_seconds += time.perf_counter() - t0
-            totals["merged_chunks"] += 0 if report.skipped else 1
-            totals["skipped_chunks"] += 1 if report.skipped else 0
-            totals["objects_created"] += report.created
-            totals["objects_updated"] += report.updated
-            totals["relations"] += report.relations
-            totals["objects_moved"] += report.moved
-            totals["objects_removed"] += report.removed
-    except KeyboardInterrupt:
-        interrupted = True
+    def merge_one(self, a: int, b: int, scan_at: float, closes: bool) -> None:
+        from core.model import ScanInfo
+        from graphdb.merge import merge_local_graph
+        from graphdb.rescan import known_objects
+        from graphdb.values import room_id
+        from ingest.pipeline import chunk_graph
 
-    placed = None if interrupted else place_room(store, req, placement)
-    wall = time.perf_counter() - t_start
+        totals, req = self.totals, self.req
+        totals["chunks"] += 1
+        key = f"{self.run}:{a}-{b}"
+        if key in self.done:
+            totals["skipped_chunks"] += 1
+            return
+        # the room as it stands before this chunk: what a re-scan may find moved or gone
+        known = known_objects(self.store, room_id(req.building, req.room))
+        graph = chunk_graph(self.seq, a, b, self.detector, self.gravity.up, self.settings, req.room, req.building,
+                            key, self.stats, self.progress, known=known, scan=ScanInfo(self.scan_id, scan_at, closes=closes),
+                            floor=self.gravity.floor_height)
+        t0 = time.perf_counter()
+        report = merge_local_graph(self.store, graph, self.embedding, self.params)
+        self.merge_seconds += time.perf_counter() - t0
+        totals["merged_chunks"] += 0 if report.skipped else 1
+        totals["skipped_chunks"] += 1 if report.skipped else 0
+        totals["objects_created"] += report.created
+        totals["objects_updated"] += report.updated
+        totals["relations"] += report.relations
+        totals["objects_moved"] += report.moved
+        totals["objects_removed"] += report.removed
+
+
+def _summary(store, rid: str, seq, req: BuildRequest, settings, stop: int, up, chunks: _Chunks,
+             seconds_before: dict, wall: float, placed, poses: dict) -> BuildSummary:
+    from core.model import RELATION_TYPES
+
     room_objects = store.read("object_count", room=rid)[0]["n"]
     room_relations = store.read("relation_count", room=rid, types=list(RELATION_TYPES))[0]["n"]
     skipped = [{"frame": name, "reason": reason} for name, reason in seq.skipped]
-    counts = stats.as_dict()
+    counts = chunks.stats.as_dict()
     hyp = {"formed": counts.pop("hypotheses"), "kept": counts.pop("kept"), "rejected": counts.pop("rejected")}
-    return {
-        "sequence": str(req.sequence), "layout": seq.layout, "room": req.room, "building": req.building,
-        "method": settings.method.name, "quality": settings.quality, "detector": settings.detector,
-        "interrupted": interrupted,
-        "up": [round(float(v), 4) for v in up],
-        "frames": {"in_range": stop - req.start, **{k: counts[k] for k in (
+    return BuildSummary(
+        sequence=str(req.sequence), layout=seq.layout, room=req.room, building=req.building,
+        method=settings.method.name, quality=settings.quality, detector=settings.detector,
+        interrupted=chunks.interrupted, up=[round(float(v), 4) for v in up],
+        frames={"in_range": stop - req.start, **{k: counts[k] for k in (
             "read", "blurry", "keyframes", "anchors", "coverage", "detected", "detections")},
             "skipped": len(skipped), "skipped_frames": skipped},
-        "hypotheses": hyp,
-        # found from depth, named by no detector: things (label "object") and the room's structure
-        "from_depth": {"unnamed": counts.get("unnamed", 0), "structure": counts.get("structure", 0)},
-        "graph": {**totals, "room_objects": room_objects, "room_relations": room_relations},
-        "seconds": {k: round(v, 3) for k, v in {**({"poses": poses["seconds"]} if "seconds" in poses else {}),
-                                                "gravity": t_gravity, **stats.seconds,
-                                                "merge": merge_seconds, "total": wall}.items()},
-        "input_frames_per_second": round(counts["frames"] / wall, 2) if wall > 0 and counts["frames"] else 0.0,
-        "key": run, "scan": scan_id, "placement": placed, "poses": poses,
-    }
+        hypotheses=hyp,
+        from_depth={"unnamed": counts.get("unnamed", 0), "structure": counts.get("structure", 0)},
+        graph={**chunks.totals, "room_objects": room_objects, "room_relations": room_relations},
+        seconds={k: round(v, 3) for k, v in {**seconds_before, **chunks.stats.seconds,
+                                             "merge": chunks.merge_seconds, "total": wall}.items()},
+        input_frames_per_second=round(counts["frames"] / wall, 2) if wall > 0 and counts["frames"] else 0.0,
+        key=chunks.run, scan=chunks.scan_id, placement=placed, poses=poses)
 
 
 def place_cameras(seq, req: BuildRequest, stop: int, progress: Optional[ProgressFn] = None) -> dict:
@@ -227,7 +322,7 @@ def place_room(store, req: BuildRequest, transform):
 
     from graphdb.align import AlignmentError
     from graphdb.building import link_rooms, list_rooms, set_room_transform
-    from graphdb.merge import room_id
+    from graphdb.values import room_id
 
     rid = room_id(req.building, req.room)
     try:

@@ -37,7 +37,7 @@ def room_changes(store, room: str, building: str = "default", since: Optional[st
     the last scan alone; `every_scan`: all of them) moved (with `from`: where they were before the
     first of those moves), added (first seen then and still there) and removed. Each object: id,
     name, label, x, y, z."""
-    from graphdb.merge import room_id
+    from graphdb.values import room_id
     from queries.naming import names_in_store
 
     rid = room_id(building, room)

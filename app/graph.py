@@ -46,19 +46,20 @@ def present_only(graph: dict) -> dict:
 
 def render_graph(graph: dict, fmt: str) -> str:
     """The graph as text: the paper's JSON form, GraphML or spark_dsg's JSON (Hydra's format,
-    `graphdb.spark`; positions in the building frame when `graph` has "room_transforms")."""
-    from graphdb.export import to_graphml, to_json
+    `formats.spark_dsg`; positions in the building frame when `graph` has "room_transforms")."""
+    from formats.graphml import to_graphml
+    from formats.paper_json import to_json
 
     if fmt not in FORMATS:
         raise AppError(f"unknown format {fmt!r} (choose from {', '.join(FORMATS)})")
     if fmt == "spark-dsg":
-        from graphdb.spark import to_spark_json
+        from formats.spark_dsg import to_spark_json
 
         return to_spark_json(present_only(graph), graph.get("room_transforms"))
     if fmt == "3dssg":  # both files in one document; `sg3d export --out DIR` writes them apart
         import json
 
-        from graphdb.threedssg import to_3dssg
+        from formats.threedssg import to_3dssg
 
         objects, relationships = to_3dssg(present_only(graph))
         return json.dumps({"objects": objects, "relationships": relationships}, indent=1)
@@ -70,7 +71,7 @@ def write_3dssg(graph: dict, folder) -> tuple[int, int]:
     import json
     from pathlib import Path
 
-    from graphdb.threedssg import to_3dssg
+    from formats.threedssg import to_3dssg
 
     folder = Path(folder)
     if folder.exists() and not folder.is_dir():
@@ -88,7 +89,7 @@ def graph_schema(store) -> dict:
     """What a Cypher author needs: node labels with their properties, relationship types (the
     whitelist) and how many of each the store holds now."""
     from graphdb.export import NODE_FIELDS
-    from ingest.model import COLOUR_NAMES, RELATION_TYPES
+    from core.model import COLOUR_NAMES, RELATION_TYPES
 
     nodes = {
         "Building": ["id"],
@@ -243,7 +244,7 @@ def import_spark_dsg(store, path, building: Optional[str] = None, room: Optional
     from pydantic import ValidationError
 
     from app.ingest import IngestRequest, ingest_graph
-    from graphdb.spark import SparkError, read_spark
+    from formats.spark_dsg import SparkError, read_spark
 
     try:
         data = read_spark(path)

@@ -15,7 +15,7 @@ from typing import Literal, Optional
 from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
 
 from app import bounds
-from ingest.model import COLOUR_NAMES, HIST_SIZE, LAYERS, RELATION_TYPES, SHAPE_WORDS
+from core.model import COLOUR_NAMES, HIST_SIZE, LAYERS, RELATION_TYPES, SHAPE_WORDS
 
 MAX_OBJECTS = 5000
 MAX_RELATIONS = 50_000
@@ -207,10 +207,10 @@ def merge_key(req: IngestRequest) -> str:
 
 
 def to_local_graph(req: IngestRequest):
-    """The validated body as the `ingest.model.LocalGraph` a build produces."""
+    """The validated body as the `core.model.LocalGraph` a build produces."""
     import numpy as np
 
-    from ingest.model import LocalGraph, ObjectObservation, RelationObservation
+    from core.model import LocalGraph, ObjectObservation, RelationObservation
 
     objects = []
     for o in req.graph.objects:
@@ -229,7 +229,8 @@ def to_local_graph(req: IngestRequest):
 
 def ingest_graph(store, req: IngestRequest, embedding=None) -> dict:
     """Merge the observation as one transaction; what was created, updated and linked."""
-    from graphdb.merge import merge_local_graph, room_id
+    from graphdb.merge import merge_local_graph
+    from graphdb.values import room_id
     from graphdb.similarity import SimilarityParams
 
     report = merge_local_graph(store, to_local_graph(req), embedding, SimilarityParams())

@@ -48,7 +48,7 @@ def room_objects(store, building: str, room: str, label: Optional[str] = None, c
     """The objects of one room with their readable names, filtered by best label, colour name and
     distance from a point (`near` x,y,z in the room's frame; `radius` metres, default: no bound,
     sorted nearest first). NotFound when the room is not in the store."""
-    from graphdb.merge import room_id
+    from graphdb.values import room_id
     from queries.naming import names_in_store
 
     point = _near(near, radius)
@@ -80,7 +80,7 @@ def delete_room(store, building: str, room: str) -> dict:
     """Remove one room: its objects (with their Appearance nodes and edges), tallies, merge logs,
     scans and the room node; nothing of any other room. NotFound when it is not in the store.
     Returns what was removed: {room, objects}."""
-    from graphdb.merge import room_id
+    from graphdb.values import room_id
 
     rid = room_id(building, room)
     if not store.read("building_room_get", room=rid):

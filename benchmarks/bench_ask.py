@@ -26,7 +26,7 @@ from pathlib import Path
 import numpy as np
 
 from benchmarks.common import LABELS, CountingStore
-from ingest.model import COLOUR_NAMES
+from core.model import COLOUR_NAMES
 
 QUESTIONS = [
     "how many cups are there?",

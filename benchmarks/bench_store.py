@@ -19,8 +19,8 @@ import numpy as np
 
 from benchmarks.common import scratch_store, synthetic_object
 from graphdb.merge import merge_local_graph
-from ingest.embedding import default_embedding
-from ingest.model import LocalGraph
+from core.embedding import default_embedding
+from core.model import LocalGraph
 
 
 def room_name(k: int) -> str:

@@ -7,7 +7,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ingest.model import HIST_SIZE, ObjectObservation
+from core.model import HIST_SIZE, ObjectObservation
 
 LABELS = ["cup", "bowl", "chair", "dining table", "tv", "bottle", "sink", "couch", "book", "vase"]
 

@@ -16,7 +16,7 @@ import re
 from pathlib import Path
 from typing import Callable, Optional
 
-from ingest.model import RELATION_TYPES
+from core.model import RELATION_TYPES
 
 HERE = Path(__file__).resolve().parent
 QUESTIONS = HERE / "questions_kitchen.txt"
@@ -249,7 +249,7 @@ def main(argv=None) -> int:
     ap.add_argument("--paraphrases", type=Path, default=PARAPHRASES)
     ap.add_argument("--out", type=Path, default=None)
     args = ap.parse_args(argv)
-    from graphdb.merge import room_id
+    from graphdb.values import room_id
 
     store = Settings.from_options().store()
     rows = run(store, room_id(args.building, args.room), args.room, load_questions(args.paraphrases))

@@ -1,6 +1,6 @@
 // Consistency of the stored relations of one room. Per unordered pair (lo = smaller id) each
 // edge is named by a tag: its type read from lo, '~' + type when read backwards. $exclusive
-// lists the tag pairs "X|Y" that cannot both hold (ingest.relation_rules.exclusive_tag_pairs),
+// lists the tag pairs "X|Y" that cannot both hold (core.relation_rules.exclusive_tag_pairs),
 // $non_canonical the backwards symmetric tags, $viewpoint the types never stored.
 MATCH (a:Object)-[e]->(b:Object)
 WHERE a.room = $room AND type(e) IN $types

@@ -1,5 +1,5 @@
 // One relation type per run: REL_TYPE is replaced by a member of the whitelist
-// ingest.model.RELATION_TYPES (Cypher takes no relation type as a parameter).
+// core.model.RELATION_TYPES (Cypher takes no relation type as a parameter).
 UNWIND $rows AS row
 MATCH (a:Object {id: row.s})
 MATCH (b:Object {id: row.o})

@@ -15,7 +15,7 @@ from typing import Optional
 import numpy as np
 from scipy.optimize import linear_sum_assignment
 
-from graphdb.merge import unpack_hist
+from graphdb.values import unpack_hist
 from graphdb.similarity import histogram_intersection, label_similarity_matrix
 
 # A pair needs labels at least this similar (1 = a shared label; word-vector cosine else) ...
@@ -128,7 +128,7 @@ def candidate_pairs(objs_a: list[dict], objs_b: list[dict], embedding=None,
     if not objs_a or not objs_b:
         return []
     if embedding is None:
-        from ingest.embedding import default_embedding
+        from core.embedding import default_embedding
         embedding = default_embedding()
     # unit scores: Eq. 10 scales by the detector's confidence, which says nothing about
     # whether two stored objects are the same thing

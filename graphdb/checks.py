@@ -1,13 +1,13 @@
 """Checks over the stored graph that tests and end-to-end runs assert on."""
 from __future__ import annotations
 
-from ingest.model import RELATION_TYPES
-from ingest.relation_rules import VIEWPOINT, exclusive_tag_pairs, non_canonical_tags
+from core.model import RELATION_TYPES
+from core.relation_rules import VIEWPOINT, exclusive_tag_pairs, non_canonical_tags
 
 
 def relation_contradictions(store, room_id: str) -> dict:
     """How far the stored relations of one room (`building/room`) are from the stored form of
-    `ingest.relation_rules`: `contradictory_pairs` (a pair holding two exclusive statements,
+    `core.relation_rules`: `contradictory_pairs` (a pair holding two exclusive statements,
     e.g. A ON B and B ON A, or NEXT_TO with NEAR), `non_canonical_symmetric` (NEXT_TO/NEAR
     edges whose subject has the larger id), `viewpoint_edges` (IN_FRONT_OF/BEHIND/LEFT_OF/
     RIGHT_OF, never stored), `pairs` (related pairs) and `examples` ([lo, hi, clashing tags...]).

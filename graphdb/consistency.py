@@ -3,7 +3,7 @@
 Each local graph arrives contradiction-free (`ingest.sdr.vote_relations`), but merging graphs
 one after another can still disagree once their nodes are matched: graph 1 says A ON B, graph 2
 B ON A. Inside the same merge transaction, `resolve_pairs` reads every edge touching the merged
-nodes and, per pair and family (`ingest.relation_rules`), keeps only the better-supported
+nodes and, per pair and family (`core.relation_rules`), keeps only the better-supported
 statement: the side (A over/in B, B over/in A, side by side) with the larger summed edge count
 wins (ties: the higher score), then inside it the form with the larger count (ties: score, then
 the more specific). Its edges carry the summed count of its side; the others are deleted. Symmetric edges
@@ -18,8 +18,8 @@ from typing import Iterable
 from neo4j import ManagedTransaction
 
 from graphdb import cypher
-from ingest.model import RELATION_TYPES, RelationObservation
-from ingest.relation_rules import SYMMETRIC, Statement, edges_of, statement_of
+from core.model import RELATION_TYPES, RelationObservation
+from core.relation_rules import SYMMETRIC, Statement, edges_of, statement_of
 
 
 def canonical_rows(relations: Iterable[RelationObservation], node_ids: dict[str, str]) -> dict[str, list[dict]]:

@@ -2,7 +2,7 @@
 
 A template that needs a relation type (Cypher cannot take one as a parameter) spells it
 `REL_TYPE`, a valid identifier so the file still lints; `render` replaces it with a member of
-the whitelist `ingest.model.RELATION_TYPES` and nothing else.
+the whitelist `core.model.RELATION_TYPES` and nothing else.
 """
 from __future__ import annotations
 
@@ -11,7 +11,7 @@ import os
 import re
 from pathlib import Path
 
-from ingest.model import RELATION_TYPES
+from core.model import RELATION_TYPES
 
 REL_TOKEN = "REL_TYPE"
 

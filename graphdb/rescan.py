@@ -1,7 +1,7 @@
 """Re-scans inside the merge transaction: scans, sightings, moved and removed objects.
 
-Every merge belongs to a scan (`ingest.model.ScanInfo`: one `sg3d build` or one `POST /ingest`
-batch). In the merge's own transaction (graphdb.merge):
+Every merge belongs to a scan (`core.model.ScanInfo`: one `sg3d build` or one `POST /ingest`
+batch). In the merge's own transaction (`graphdb.merge_plan` decides, `graphdb.merge` writes):
 - matched and new nodes record the scan (first_seen/last_seen, first_scan/last_scan, scans);
 - a new observation that matches no node, but matches by label and colour a node whose place this
   scan saw empty (`is_move`), moves that node: its earlier place goes to its history lists
@@ -23,7 +23,8 @@ from scipy.optimize import linear_sum_assignment
 
 from graphdb import cypher
 from graphdb.similarity import histogram_intersection, label_similarity_matrix
-from ingest.model import RELATION_TYPES, KnownObject, LocalGraph, ObjectObservation, ScanInfo
+from graphdb.values import unpack_hist
+from core.model import RELATION_TYPES, KnownObject, LocalGraph, ObjectObservation, ScanInfo
 
 # A place seen empty in at least this many frames of a scan (like the existence test's
 # "seen twice") is evidence enough to mark an object that the scan did not re-observe removed.
@@ -66,23 +67,28 @@ def is_move(s_label: np.ndarray, s_colour: np.ndarray) -> np.ndarray:
     return (s_label >= MOVE_LABEL_MIN) & (s_colour >= MOVE_COLOUR_MIN)
 
 
-def find_moves(tx, rid: str, graph: LocalGraph, objects: list[ObjectObservation], seen: set[str],
-               embedding) -> dict[int, dict]:
-    """Index into `objects` (the unmatched new observations) -> the stored node it moved from:
-    one-to-one among the nodes whose place this graph's frames saw empty and that nothing
-    re-observed (`is_move`, best label + colour score first)."""
-    ids = sorted(i for i, frames in graph.empty_places.items() if i not in seen and frames)
-    if not ids or not objects:
-        return {}
+def move_candidates(tx, rid: str, graph: LocalGraph) -> list[dict]:
+    """The stored nodes whose place this graph's frames saw empty, with their histograms: what
+    an unmatched observation may have moved from (`pair_moves`)."""
+    ids = sorted(i for i, frames in graph.empty_places.items() if frames)
+    if not ids or not graph.objects:
+        return []
     rows = tx.run(cypher.load("rescan_candidates"), room=rid, ids=ids)
     old = [dict(zip(rows.keys(), v)) for v in rows.values()]
     if not old:
-        return {}
-    from graphdb.merge import unpack_hist
-
+        return []
     hists = {r["id"]: r["hist"] for r in tx.run(cypher.load("merge_candidate_hists"), ids=[o["id"] for o in old])}
     for o in old:
         o["hist"] = hists.get(o["id"])
+    return old
+
+
+def pair_moves(objects: list[ObjectObservation], old: list[dict], embedding) -> dict[int, dict]:
+    """Index into `objects` (the unmatched new observations) -> the stored node it moved from:
+    one-to-one among `old`, the nodes whose place was seen empty and that nothing re-observed
+    (`is_move`, best label + colour score first)."""
+    if not old or not objects:
+        return {}
     s_label = label_similarity_matrix([o.labels for o in objects], [[1.0] * len(o.labels) for o in objects],
                                       [c["labels"] for c in old], [[1.0] * len(c["labels"]) for c in old], embedding)
     h_new = np.array([o.hist for o in objects], float)
@@ -119,10 +125,15 @@ def clear_relations(tx, node_id: str) -> None:
         tx.run(cypher.render("object_relations_clear", rel_type), id=node_id).consume()
 
 
-def record_empty_places(tx, scan: ScanInfo, empty: dict[str, list[int]], seen: set[str]) -> None:
-    """The frames that saw each stored node's place empty, for the nodes this merge did not see."""
-    rows = [{"id": i, "frames": sorted({int(f) for f in frames})}
+def empty_place_rows(empty: dict[str, list[int]], seen: set[str]) -> list[dict]:
+    """The frames that saw each stored node's place empty, for the nodes this merge did not see
+    (cypher/object_mark_empty rows)."""
+    return [{"id": i, "frames": sorted({int(f) for f in frames})}
             for i, frames in sorted(empty.items()) if i not in seen and frames]
+
+
+def record_empty_places(tx, scan: ScanInfo, rows: list[dict]) -> None:
+    """Write `empty_place_rows` on their nodes."""
     if rows:
         tx.run(cypher.load("object_mark_empty"), scan=scan.id, rows=rows).consume()
 

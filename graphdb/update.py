@@ -5,7 +5,7 @@ from typing import Sequence
 
 import numpy as np
 
-from ingest.model import TOP_K
+from core.model import TOP_K
 from ingest.moments import combine_gaussians  # noqa: F401  (the update rule for positions)
 
 

@@ -32,7 +32,7 @@ import numpy as np
 
 from ingest import colour as colour_model
 from ingest.frames import Frame
-from ingest.model import HIST_BINS
+from core.model import HIST_BINS
 from ingest.relations import horizontal_basis
 
 Box = Sequence[float]

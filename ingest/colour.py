@@ -30,7 +30,7 @@ from typing import Optional, Sequence
 import cv2
 import numpy as np
 
-from ingest.model import COLOUR_NAMES
+from core.model import COLOUR_NAMES
 
 # Names whose words hold no basic term: the basic term people mean by the head word. Names
 # that people split between two basic terms (teal, turquoise, aqua, khaki, beige, mauve, puce,

@@ -21,7 +21,7 @@ from typing import Mapping, Optional, Protocol, Sequence, Union
 import cv2
 import numpy as np
 
-from ingest.model import TOP_K
+from core.model import TOP_K
 
 DATA_DIR = Path(__file__).resolve().parent / "data"
 COCO_LABELS_FILE = DATA_DIR / "coco_labels.json"

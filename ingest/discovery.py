@@ -27,8 +27,8 @@ import numpy as np
 import cv2
 
 from ingest import colour as colour_model
+from core.model import HIST_SIZE, UNNAMED_LABEL, ObjectObservation
 from ingest.attributes import hsv_histogram, thumbnail
-from ingest.model import HIST_SIZE, UNNAMED_LABEL, ObjectObservation
 from ingest.relations import FLOOR_STANDING_LABELS
 from ingest.room_cloud import RoomCloud
 from ingest.segments import Segment, depth_evidence, exists, room_segments, split_at_necks

@@ -35,7 +35,7 @@ from scipy.optimize import linear_sum_assignment
 from ingest.attributes import ObjectAttributes
 from ingest.colour import ColourReading, vote
 from ingest.detect import Detection
-from ingest.model import TOP_K, ObjectObservation
+from core.model import TOP_K, ObjectObservation
 from ingest.moments import combine_gaussians
 from ingest.relations import FLOOR_STANDING_LABELS
 

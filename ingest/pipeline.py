@@ -34,7 +34,7 @@ from ingest.attributes import measure_object
 from ingest.detect import Detector
 from ingest.frames import FrameError, decoded_ahead
 from ingest.kge import KeyframeGrouper
-from ingest.model import KnownObject, LocalGraph, ObjectObservation, RelationObservation, ScanInfo
+from core.model import KnownObject, LocalGraph, ObjectObservation, RelationObservation, ScanInfo
 from ingest.relations import (ObjectGeometry, horizontal_basis, side_by_side_on_one_support,
                               spatial_relations)
 from ingest.sdr import filter_relations, reject_irrelevant, vote_relations, with_whole_geometry

@@ -5,7 +5,7 @@ from typing import Optional
 
 import numpy as np
 
-from ingest.model import WORLD_EXTENT_M
+from core.model import WORLD_EXTENT_M
 
 ROTATION_TOLERANCE = 1e-3    # |R^T R - I| entries of a rigid rotation
 BOTTOM_ROW_TOLERANCE = 1e-6  # |last row - (0, 0, 0, 1)|

@@ -16,7 +16,7 @@ import cv2
 import numpy as np
 
 from ingest.detect import Detection, Detector, packaged_model_dir
-from ingest.model import TOP_K
+from core.model import TOP_K
 
 CLASSIFIER_FILE = "efficientnet_lite3.tflite"
 CLASSIFIER_LABELS_FILE = "efficientnet_labels.txt"

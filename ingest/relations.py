@@ -6,7 +6,7 @@ axis-aligned box in the frame (e1, e2, up) of `horizontal_basis(up)`: width alon
 along e2, height along up. All distances are metres. Notation: bottom(A), top(A) along up;
 F(A) the horizontal footprint (a rectangle), |F(A)| its area; F(A)∩F(B) their overlap.
 
-Every stored relation holds whatever the viewpoint (`ingest.relation_rules` says how each is
+Every stored relation holds whatever the viewpoint (`core.relation_rules` says how each is
 stored and which exclude each other). Per pair, at most one placement fact, tested in this order:
 
 - IN (containment): A is smaller than B and ≥ IN_MIN_INSIDE_FRACTION of A's box lies inside
@@ -54,8 +54,8 @@ from typing import Optional, Sequence
 
 import numpy as np
 
-from ingest.model import UNNAMED_LABEL, ObjectObservation, RelationObservation
-from ingest.relation_rules import edges_of, statement_of
+from core.model import UNNAMED_LABEL, ObjectObservation, RelationObservation
+from core.relation_rules import edges_of, statement_of
 
 # -- support and stacking ----------------------------------------------------------------
 # Depth noise of consumer RGB-D at 1-3 m is ~1-3 cm and object boxes come from partial views,
@@ -347,7 +347,7 @@ def _drop_pile_middles(on: dict[tuple[str, str], float], boxes: dict[str, _Box])
 def spatial_relations(objects: Sequence[ObjectGeometry], up: Sequence[float],
                       camera_pose: Optional[np.ndarray] = None) -> list[RelationObservation]:
     """All viewpoint-invariant relations between the objects of one frame or local graph, in
-    their stored form (`ingest.relation_rules`): at most one placement fact per pair, NEXT_TO /
+    their stored form (`core.relation_rules`): at most one placement fact per pair, NEXT_TO /
     NEAR once with the smaller id as subject, ABOVE with BELOW and BIGGER_THAN with
     SMALLER_THAN as pairs.
 

@@ -14,7 +14,7 @@ from typing import Iterable, Optional, Sequence
 import numpy as np
 
 from ingest.existence import BORDER_MARGIN, DEPTH_FACTOR, MAX_RANGE_M, OCCLUSION_TOLERANCE_M, View
-from ingest.model import KnownObject
+from core.model import KnownObject
 
 # The core of a box probed for free space: this fraction of its horizontal extents, and the part
 # above CORE_BOTTOM of its height (the bottom is the support the object stood on) up to CORE_TOP.

@@ -18,8 +18,8 @@ from typing import Iterable, Mapping, Optional, Sequence, Union
 import numpy as np
 
 from ingest.detect import Detection
-from ingest.model import RelationObservation
-from ingest.relation_rules import SYMMETRIC, Statement, edges_of, statement_of
+from core.model import RelationObservation
+from core.relation_rules import SYMMETRIC, Statement, edges_of, statement_of
 
 RELATION_PRIOR_FILE = Path(__file__).resolve().parent / "data" / "relation_prior.json"
 
@@ -37,7 +37,7 @@ IRRELEVANT_CLASSES = frozenset({
     "skis", "snowboard", "kite", "surfboard", "frisbee",
 })
 
-# Relation voting (Sec. IV-C, made contradiction-free; `ingest.relation_rules`): per pair and
+# Relation voting (Sec. IV-C, made contradiction-free; `core.relation_rules`): per pair and
 # family, the side of the winning statement (lo over/in hi, hi over/in lo, side by side; lo
 # bigger, hi bigger) must hold in at least this share of the frames that stated any of them,
 # else the relation flips between views and is not stored.
@@ -72,7 +72,7 @@ def vote_relations(per_frame_relations: Sequence[Sequence[RelationObservation]],
     """Sec. IV-C relation voting over the frames of one observation, contradiction-free.
 
     Every edge is read as the statement it makes about its unordered pair
-    (`ingest.relation_rules.statement_of`; viewpoint relations are dropped). A statement counts
+    (`core.relation_rules.statement_of`; viewpoint relations are dropped). A statement counts
     once per frame. Per pair and family: the side with the most frames wins if it holds in
     >= `majority` of the frames that stated anything of that family about the pair (else the
     relation flips between views: nothing is stored); inside the side, the form with the most
@@ -219,7 +219,7 @@ def filter_relations(
 ) -> list[RelationObservation]:
     """Delete relations whose Eq. 7 probability is below `threshold`.
 
-    Per statement (`ingest.relation_rules`), not per edge: a symmetric relation (stored from
+    Per statement (`core.relation_rules`), not per edge: a symmetric relation (stored from
     the smaller id) is looked up both ways, and an inverse pair (ABOVE with BELOW, BIGGER_THAN
     with SMALLER_THAN) is kept or deleted whole, at the best probability of its edges.
     `labels`: local_id -> best label; `positions`: local_id -> world centre (metres)."""

@@ -7,11 +7,12 @@ from __future__ import annotations
 
 from typing import Optional
 
-from ingest.model import UNNAMED_LABEL
-from ingest.relation_rules import SYMMETRIC
+from core.model import UNNAMED_LABEL
+from core.relation_rules import SYMMETRIC
 from queries.grammar import DISTANCE_SUPERLATIVES, SUPERLATIVES
 from queries.logic import NP, Filter, Form
 from queries.sets import ABSENT, AFFORDANCES, LIST_SHOWN, Evaluator, Unanswerable, is_structure, same_as_roots
+from queries.wording import plural, the, without_place
 
 
 def _join(items: list[str]) -> str:
@@ -31,7 +32,6 @@ class Answerer:
 
     def listing(self, rows: list[dict]) -> str:
         from queries.naming import describe_unnamed
-        from queries.vqa import the
 
         named = self.names(rows[:LIST_SHOWN])
         parts = []
@@ -94,8 +94,6 @@ def _all_rows(ev: Evaluator, form: Form, np: NP) -> list[dict]:
 
 
 def op_count(a: Answerer, form: Form):
-    from queries.vqa import plural
-
     np = _head(form)
     rows = _all_rows(a.ev, form, np)
     extra = extra_views(a, rows)
@@ -182,7 +180,6 @@ def op_list(a: Answerer, form: Form):
 
 def op_where(a: Answerer, form: Form):
     from queries import viewpoint as views
-    from queries.vqa import the
 
     np = _head(form)
     rows = _all_rows(a.ev, form, np)
@@ -205,9 +202,7 @@ def op_where(a: Answerer, form: Form):
     for o in shown:
         said = views.describe_place(places[o["id"]], {k: the(v) for k, v in named.items()})
         room = (o.get("room") or "?").split("/", 1)[-1]
-        from queries.vqa import _without_place
-
-        name = the(_without_place(named[o["id"]], said))
+        name = the(without_place(named[o["id"]], said))
         parts.append(f"{name} is " + (f"{said}, in the {room}" if said else f"in the {room}"))
     more = f"; ... {len(rows) - len(shown)} more" if len(rows) > len(shown) else ""
     value = [{**row_value(o, named[o["id"]]), "relations": [{"rel": p["rel"], "other_id": p["other_id"],
@@ -217,8 +212,6 @@ def op_where(a: Answerer, form: Form):
 
 
 def op_attribute(a: Answerer, form: Form):
-    from queries.vqa import the
-
     np = _head(form)
     rows = _all_rows(a.ev, form, np)
     if not rows:
@@ -257,8 +250,6 @@ def _attribute_of(a: Answerer, o: dict, attribute: str):
 
 
 def op_extreme(a: Answerer, form: Form):
-    from queries.vqa import the
-
     np = _head(form)
     rows = _all_rows(a.ev, form, np)
     if not rows:
@@ -280,8 +271,6 @@ def op_extreme(a: Answerer, form: Form):
 
 
 def op_distance(a: Answerer, form: Form):
-    from queries.vqa import the
-
     if len(form.sets) == 1 and len(form.sets[0].alternatives) == 2:
         x, y = form.sets[0].alternatives          # "how far apart are tv 1 and tv 2"
     elif len(form.sets) == 2:

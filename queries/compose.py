@@ -25,12 +25,13 @@ import functools
 from dataclasses import dataclass, field
 from typing import Callable, Optional
 
-from ingest.model import SHAPE_WORDS
+from core.model import SHAPE_WORDS
 from queries.answers import OPS, Answerer
 from queries.grammar import SUPERLATIVES
 from queries.logic import NP, Filter, Form
 from queries.sets import (AFFORDANCES, COLOURS, EVERYWHERE, GENERIC, SIZES, STRUCTURE_LABELS, Evaluator,
                           Resolved, Unanswerable)
+from queries.wording import plural
 
 # -- from question text to answer -----------------------------------------------------------------
 SIMPLE_OPS = ("count", "exists", "list", "where", "attribute", "rooms")
@@ -188,7 +189,6 @@ def _vocabulary() -> frozenset:
     from queries.lexicon import SYNONYMS, vocabulary
     from queries.parse import FILLER
     from queries.taxonomy import Taxonomy
-    from queries.vqa import plural
 
     words: set[str] = set(RESERVED) | set(FILLER) | set(COLOURS) | set(SIZES) | set(SHAPE_WORDS)
     words |= set(STRUCTURE_LABELS) | GENERIC | {w for x in EVERYWHERE for w in x.split()} | {w for k in AFFORDANCES for w in k.split()}

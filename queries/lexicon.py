@@ -12,13 +12,13 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Optional
 
-from ingest.model import COLOUR_NAMES
+from core.model import COLOUR_NAMES
 from queries.taxonomy import Taxonomy
 
 SYNONYMS = Path(__file__).resolve().parent / "data" / "synonyms.json"
 # Household nouns (singular): a word here is a real object name, so when it maps to no stored
 # category the answer is "0 <word>s", not a refusal. The same list is the shipped-vector
-# vocabulary (ingest/data/label_vectors.*, scripts/make_label_vectors.py).
+# vocabulary (core/data/label_vectors.*, scripts/make_label_vectors.py).
 VOCABULARY = Path(__file__).resolve().parent / "data" / "household_nouns.txt"
 
 # Cosine threshold for the embedding fallback (all-MiniLM-L6-v2). Measured on household nouns:
@@ -167,7 +167,7 @@ def _candidates() -> dict[str, tuple[str, ...]]:
 def by_embedding(phrase: str, embedding=None) -> tuple[Optional[Target], list[tuple[str, float]]]:
     """The nearest known name if it is close enough and unambiguous; else None (+ the top 3)."""
     if embedding is None:
-        from ingest.embedding import default_embedding
+        from core.embedding import default_embedding
 
         embedding = default_embedding()
     import numpy as np

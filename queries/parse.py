@@ -9,7 +9,7 @@ import re
 from dataclasses import dataclass, field
 from typing import Callable, Optional
 
-from ingest.model import COLOUR_NAMES
+from core.model import COLOUR_NAMES
 from queries.lexicon import Target, resolve
 
 # relation phrase -> (relation type, symmetric?); longest phrases are tried first

@@ -16,11 +16,13 @@ import math
 from dataclasses import dataclass, field
 from typing import Callable, Optional
 
-from ingest.model import COLOUR_NAMES, SHAPE_WORDS
-from ingest.relation_rules import SYMMETRIC
+from core.model import COLOUR_NAMES, SHAPE_WORDS
+from core.relation_rules import SYMMETRIC
 from queries.grammar import DISTANCE_SUPERLATIVES, RELATIONS, SUPERLATIVES
 from queries.lexicon import lemma, resolve
 from queries.logic import NP, Filter
+from queries.scoping import by_size, few_rooms
+from queries.wording import plural
 
 STRUCTURE_LABELS = {"floor": "floor", "ground": "floor", "wall": "wall", "counter": "counter",
                     "countertop": "counter", "worktop": "counter", "shelf": "shelf", "surface": "surface"}
@@ -69,8 +71,6 @@ class Resolved:
     notes: list[str] = field(default_factory=list)
 
     def noun(self, n: int = 2) -> str:
-        from queries.vqa import plural
-
         if self.kind == "any":
             base = ("thing" if n == 1 else "things") if "thing" in self.np.text() else ("object" if n == 1 else "objects")
         elif len(self.names) == 1:
@@ -135,10 +135,8 @@ def resolve_np(np: NP, is_room: Callable[[str], list], embedding=None, use_embed
 # -- the scene: the scope's objects and edges, read once ---------------------------------------
 class Scene:
     def __init__(self, run, rooms: Optional[list[str]], labels: Optional[list[str]] = None):
-        from queries.vqa import _few_rooms
-
         self.run, self.rooms = run, rooms
-        name = "vqa_scene_objects_in_rooms" if _few_rooms(rooms) else "vqa_scene_objects"
+        name = "vqa_scene_objects_in_rooms" if few_rooms(rooms) else "vqa_scene_objects"
         rows = run.read(name, rooms=rooms, labels=labels, limit=ROW_LIMIT)
         self.objects = {r["id"]: r for r in rows}
         run.rows_by_id.update(self.objects)
@@ -283,9 +281,8 @@ class Evaluator:
     def _by_size(self, rows: list[dict], size: Optional[str]) -> list[dict]:
         if size is None:
             return rows
-        from queries.vqa import _by_size
 
-        return _by_size(self.run, rows, size)
+        return by_size(self.run, rows, size)
 
     def _numbered(self, np: NP, r: Resolved, rows: list[dict]) -> list[dict]:
         """'chair 3', 'tv 1': the object printed under that name (a kind of one: number 1)."""

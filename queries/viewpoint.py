@@ -1,7 +1,7 @@
 """Viewpoint relations at query time, and "where is X" as one sentence.
 
 "In front of", "behind", "left of" and "right of" depend on where the observer stands, so the
-graph never stores them (`ingest.relation_rules`). They are computed when asked, from the stored
+graph never stores them (`core.relation_rules`). They are computed when asked, from the stored
 3-D boxes, relative to a viewpoint given in one of three ways:
 
 - in the question: "is the cup in front of the table as seen from the sink" (`split_viewpoint`
@@ -27,7 +27,7 @@ from typing import Optional, Sequence
 
 import numpy as np
 
-from ingest.relation_rules import SYMMETRIC, VIEWPOINT
+from core.relation_rules import SYMMETRIC, VIEWPOINT
 from ingest.relations import MIN_EXTENT, horizontal_basis
 from queries.lexicon import resolve
 

@@ -34,7 +34,7 @@ from dataclasses import dataclass, field
 from typing import Any, Optional
 
 from graphdb import cypher
-from ingest.relation_rules import SYMMETRIC, VIEWPOINT
+from core.relation_rules import SYMMETRIC, VIEWPOINT
 from queries import viewpoint as views
 from queries import compose
 from queries.answers import row_value
@@ -42,17 +42,14 @@ from queries.sets import ABSENT, same_as_roots
 from queries.naming import names_in_store
 from queries.parse import ParseError, Query, parse, refusal
 from queries.viewpoint import split_viewpoint
+from queries.scoping import by_size, few_rooms
+from queries.wording import plural, the, without_place
 
 MAX_QUESTION = 500    # characters; longer text is refused before any parsing
 PROVENANCE_MAX = 50   # objects whose provenance an answer carries (a count of more names none)
 
 ROW_LIMIT = 100_000   # rows fetched for listing/size filtering; counts without size use count()
 LIST_SHOWN = 12       # objects named in a one-line answer
-# Up to this many rooms in scope, templates start from the rooms and read only their objects;
-# beyond (a large building), the label index reads fewer records than the rooms' CONTAINS edges.
-SCOPE_EXPAND_MAX = 50
-
-
 @dataclass
 class Answer:
     question: str
@@ -140,24 +137,6 @@ class _Run:
             return s.execute_read(lambda tx: tx.run(text, params).data())
 
 
-def plural(label: str, n: int = 2) -> str:
-    if n == 1:
-        return label
-    irregular = {"knife": "knives", "person": "people", "mouse": "mice", "skis": "skis",
-                 "scissors": "scissors", "sheep": "sheep", "cutlery": "cutlery", "furniture": "pieces of furniture",
-                 "electronics": "electronics", "food": "food items", "tableware": "tableware items"}
-    if label in irregular:
-        return irregular[label]
-    if label.endswith(("s", "x", "ch", "sh")):
-        return label + "es"
-    return label + "s"
-
-
-def the(name: str) -> str:
-    """A name with its article: "the white cup", but "chair 2" (a numbered name stands alone)."""
-    return name if name[-1:].isdigit() else f"the {name}"
-
-
 def _what(q: Query, n: int) -> str:
     t = q.target
     bits = [b for b in (q.size, q.colour) if b]
@@ -197,14 +176,9 @@ def _understood(q: Query, extra: Optional[list] = None) -> str:
     return f" [{'; '.join(notes)}]" if notes else ""
 
 
-def _few_rooms(rooms) -> bool:
-    """A scope small enough that templates start from its rooms (`*_in_rooms`)."""
-    return rooms is not None and len(rooms) <= SCOPE_EXPAND_MAX
-
-
 def _variant(base: str, rooms, labels=()) -> str:
     """Which variant of a template: see the module docstring (access paths)."""
-    if _few_rooms(rooms):
+    if few_rooms(rooms):
         return base + "_in_rooms"
     return base + "_any" if labels is None else base
 
@@ -240,29 +214,6 @@ def _scope(run: _Run, room: Optional[str], building: Optional[str],
     return [r["id"] for r in rows]
 
 
-# "Big" and "small" compare with the median volume of the label, estimated from at most this many
-# stored objects of it (a random sample: ids are random), so the yardstick costs the same in a
-# store of 100,000 objects as in one of 500.
-MEDIAN_SAMPLE = 500
-
-
-def _by_size(run: _Run, rows: list[dict], size: Optional[str]) -> list[dict]:
-    """Keep objects above (big) / below (small) the median volume of their own label (exact up to
-    MEDIAN_SAMPLE objects of the label, a sample's median beyond)."""
-    if size is None:
-        return rows
-    labels = sorted({r["label"] for r in rows})
-    if not labels:
-        return rows
-    median = {}
-    for label in labels:
-        rows_m = run.read("vqa_median", label=label, sample=MEDIAN_SAMPLE)
-        if rows_m and rows_m[0]["median"] is not None:
-            median[label] = float(rows_m[0]["median"])
-    keep = (lambda v, m: v > m) if size == "big" else (lambda v, m: v < m)
-    return [r for r in rows if r["volume"] is not None and keep(float(r["volume"]), median[r["label"]])]
-
-
 def _filters(q: Query, rooms) -> dict:
     return {"labels": q.target.labels, "rooms": rooms, "colour": q.colour}
 
@@ -292,7 +243,7 @@ def _candidates(run: _Run, q: Query, rooms) -> list[dict]:
 def _read_candidates(run: _Run, q: Query, rooms) -> list[dict]:
     if q.relation in VIEWPOINT:      # never stored: computed from a viewpoint (queries/viewpoint.py)
         try:
-            return _by_size(run, views.related(run, q, rooms, run.viewpoint, run.seen_from), q.size)
+            return by_size(run, views.related(run, q, rooms, run.viewpoint, run.seen_from), q.size)
         except ValueError as exc:
             raise Refusal(str(exc)) from None
     if q.relation:
@@ -308,7 +259,7 @@ def _read_candidates(run: _Run, q: Query, rooms) -> list[dict]:
     else:
         rows = run.read(_variant("vqa_objects", rooms, q.target.labels), limit=ROW_LIMIT, **_filters(q, rooms))
         rows = _main_colour(run, q, rows)
-    return _by_size(run, rows, q.size)
+    return by_size(run, rows, q.size)
 
 
 def _main_colour(run: _Run, q: Query, rows: list[dict]) -> list[dict]:
@@ -337,13 +288,13 @@ def _brief(r: dict) -> dict:
 def count(run: _Run, q: Query, rooms) -> Answer:
     """Simple, hierarchical, attribute and relation counting."""
     breakdown: dict[str, int] = {}
-    if q.relation or q.size or _few_rooms(rooms):
+    if q.relation or q.size or few_rooms(rooms):
         # a few rooms: their objects are read anyway for the provenance, so count those rows
         # (one query instead of a count and then the objects)
         rows = _candidates(run, q, rooms)
         for r in rows:
             breakdown[r["label"]] = breakdown.get(r["label"], 0) + 1
-    if not (q.relation or q.size) and (not _few_rooms(rooms) or len(rows) >= ROW_LIMIT):
+    if not (q.relation or q.size) and (not few_rooms(rooms) or len(rows) >= ROW_LIMIT):
         name = _variant("vqa_count", rooms, q.target.labels)
         breakdown = {r["label"]: r["n"] for r in run.read(name, **_filters(q, rooms))}
     merged = 0
@@ -459,16 +410,6 @@ REL_WORDS = {"ON": "on", "IN": "in", "UNDER": "under", "BELOW": "below", "ABOVE"
              "NEXT_TO": "next to", "NEAR": "near"}
 
 
-def _without_place(name: str, said: str) -> str:
-    """"brown cup on the dining table" -> "brown cup" when the sentence goes on to say "on the
-    dining table": a name that tells objects apart by their support need not say it twice."""
-    for word in (" on the ", " in the ", " under the ", " next to the "):
-        i = name.find(word)
-        if i > 0 and said.startswith(name[i + 1:]):
-            return name[:i]
-    return name
-
-
 def where(run: _Run, q: Query, rooms) -> Answer:
     """Where is the <object>: per matching object, what it is on/in/next to, and its room."""
     rows = _candidates(run, q, rooms)
@@ -490,7 +431,7 @@ def where(run: _Run, q: Query, rooms) -> Answer:
         found = rels[r["id"]]
         room = (r.get("room") or "?").split("/", 1)[-1]
         said = views.describe_place(placed[r["id"]], {k: the(v) for k, v in named.items()})
-        parts.append(f"{the(_without_place(named[r['id']], said))} is "
+        parts.append(f"{the(without_place(named[r['id']], said))} is "
                      + (f"{said}, in the {room}" if said else f"in the {room}"))
         value.append({**_brief(r), "relations": found})
     more = f"; ... {len(rows) - LIST_SHOWN} more" if len(rows) > LIST_SHOWN else ""
@@ -621,7 +562,7 @@ def _honest_absence(run: _Run, a: Answer, q: Query, rooms) -> None:
     there is none; --json carries absent_evidence."""
     if not a.ok or a.form not in ABSENT_FORMS or not _nothing(a):
         return
-    name = "vqa_scene_objects_in_rooms" if _few_rooms(rooms) else "vqa_scene_objects"
+    name = "vqa_scene_objects_in_rooms" if few_rooms(rooms) else "vqa_scene_objects"
     for t in (q.target, q.anchor):
         if t is None or t.labels is None:
             continue

@@ -138,16 +138,59 @@ def _limits(points: np.ndarray, aspect: float) -> tuple[tuple[float, float], tup
     return (lo[0], hi[0]), (lo[1], hi[1])
 
 
+class _Canvas:
+    """The figure being drawn and what label placement measures with: the renderer, the display
+    pixels already taken (`render.labels.Occupancy`) and the map's bounds."""
+
+    def __init__(self, fig, ax):
+        fig.canvas.draw()               # fixes the transforms the placement below measures with
+        self.fig, self.ax = fig, ax
+        self.renderer = fig.canvas.get_renderer()
+        self.to_px = ax.transData.transform
+        bbox = ax.get_window_extent(self.renderer)
+        self.bounds = (bbox.x0 + 2, bbox.y0 + 2, bbox.x1 - 2, bbox.y1 - 2)
+        self.occ = L.Occupancy()
+
+    def text_size(self, text: str, fontsize: float, **kw) -> tuple[float, float]:
+        t = self.ax.text(0, 0, text, fontsize=fontsize, **kw)
+        ext = t.get_window_extent(self.renderer)
+        t.remove()
+        return ext.width + 4, ext.height + 2
+
+    def put(self, text: str, anchor, fontsize: float, colour: str, leader_colour: str = "#999999", **kw):
+        """A label near `anchor` (display pixels) where it overlaps nothing; None: no free place."""
+        ax = self.ax
+        w, h = self.text_size(text, fontsize, **kw)
+        spot = L.place(anchor, (w, h), self.occ, self.bounds)
+        if spot is None:
+            return None
+        if spot.leader:
+            # from the anchor to the nearest point of the label's box
+            bx = min(max(anchor[0], spot.box[0]), spot.box[2])
+            by = min(max(anchor[1], spot.box[1]), spot.box[3])
+            inv = ax.transData.inverted()
+            (x0, y0), (x1, y1) = inv.transform(anchor), inv.transform((bx, by))
+            ax.plot([x0, x1], [y0, y1], color=leader_colour, linewidth=0.6, zorder=2.5)
+        xy = ax.transData.inverted().transform(spot.centre)
+        return ax.text(xy[0], xy[1], text, fontsize=fontsize, color=colour, ha="center", va="center",
+                       zorder=4, **kw)
+
+
+@dataclass
+class _Labels:
+    """What the label passes placed, and what went to the side table instead."""
+    texts: list = field(default_factory=list)             # room names
+    markers: list = field(default_factory=list)           # missing-object markers' texts
+    nodes: list = field(default_factory=list)             # node label artists
+    edges: list = field(default_factory=list)             # edge label artists
+    listed_nodes: list[str] = field(default_factory=list)
+    listed_edges: list[str] = field(default_factory=list)
+
+
 def draw(scene: dict, *, layout: str = "topdown", all_edges: bool = False, size=(1600, 1200),
          status: Optional[dict] = None, markers: Sequence[Marker] = (), title: str = "") -> Diagram:
     """The diagram of `scene` (app.scene.fetch_scene). `status`: node id -> matched / spurious /
     duplicate (the eval report colours nodes by it instead of by category)."""
-    import networkx as nx
-    from matplotlib.figure import Figure
-    from matplotlib.lines import Line2D
-    from matplotlib.patches import Patch
-    from matplotlib.ticker import MultipleLocator
-
     if layout not in LAYOUTS:
         raise ValueError(f"unknown layout {layout!r}")
     width, height = size
@@ -160,8 +203,36 @@ def draw(scene: dict, *, layout: str = "topdown", all_edges: bool = False, size=
         marker_xy = [frame.placements[m.room].apply(m.xyz)[0, :2] for m in markers if m.room in frame.placements]
     else:
         pos, outlines, marker_xy = spring_positions(scene), {}, []
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    fig, ax = _map_axes(size, pos, outlines, marker_xy, topdown)
+    canvas = _Canvas(fig, ax)
+    _draw_rooms(ax, outlines)
+    pairs = [p for p in pair_edges(visible_edges(scene["edges"], all_edges)) if p.s in pos and p.o in pos]
+    _draw_edges(ax, pos, pairs, topdown)
+    node_px = _draw_nodes(canvas, nodes, pos, status, markers, marker_xy)
+    names = {n["id"]: n.get("name") or n.get("label") or n["id"] for n in nodes}
+    placed = _Labels()
+    _label_rooms_and_markers(canvas, placed, outlines, markers, marker_xy)
+    _label_nodes(canvas, placed, nodes, node_px, names)
+    _label_edges(canvas, placed, pairs, node_px, names)
+    # the right-hand column: title, legend, scale bar, then the side table
+    hidden = len(scene["edges"]) - len(visible_edges(scene["edges"], all_edges))
+    summary = _summary(len(nodes), len(pairs), hidden, frame, len(outlines))
+    y = _panel_head(canvas, title, summary, _legend_handles(nodes, pairs, status, markers, outlines), height)
+    scale_m, scale_px = _scale_bar(canvas, size) if topdown else (0.0, 0.0)
+    _side_table(fig, placed, y, height)
+    return Diagram(fig, ax, node_px, {i: tuple(map(float, p)) for i, p in pos.items()},
+                   placed.nodes + placed.texts + placed.markers, placed.edges, placed.listed_nodes,
+                   placed.listed_edges, scale_m, scale_px)
 
+
+def _map_axes(size, pos: dict, outlines: dict, marker_xy: list, topdown: bool):
+    """The figure and its map axes: limits around everything drawn, one metre as long on both
+    axes; top-down on a metre grid."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+    from matplotlib.ticker import MultipleLocator
+
+    width, height = size
     fig = Figure(figsize=(width / DPI, height / DPI), dpi=DPI)
     FigureCanvasAgg(fig)            # no pyplot: no global state, safe in a server thread
     fig.patch.set_facecolor("white")
@@ -187,23 +258,20 @@ def draw(scene: dict, *, layout: str = "topdown", all_edges: bool = False, size=
         ax.set_xticks([])
         ax.set_yticks([])
         ax.set_frame_on(False)
-    fig.canvas.draw()               # fixes the transforms the placement below measures with
-    renderer = fig.canvas.get_renderer()
-    to_px = ax.transData.transform
-    bbox = ax.get_window_extent(renderer)
-    bounds = (bbox.x0 + 2, bbox.y0 + 2, bbox.x1 - 2, bbox.y1 - 2)
-    occ = L.Occupancy()
+    return fig, ax
 
-    # rooms: outline, and their name where the picture holds more than one
-    room_patches = []
+
+def _draw_rooms(ax, outlines: dict) -> None:
+    """Each room's outline, dashed, over a light fill."""
     for r, poly in sorted(outlines.items()):
         ax.plot(poly[:, 0], poly[:, 1], color="#7a7a7a", linewidth=1.2, linestyle=(0, (6, 3)), zorder=1)
         ax.fill(poly[:, 0], poly[:, 1], color="#f4f1ea", zorder=0.5)
-        room_patches.append(r)
 
-    # edges: one line per pair (networkx draws them, arrows stopping at the node markers)
-    pairs = pair_edges(visible_edges(scene["edges"], all_edges))
-    pairs = [p for p in pairs if p.s in pos and p.o in pos]
+
+def _draw_edges(ax, pos: dict, pairs: list, topdown: bool) -> None:
+    """One line per pair (networkx draws them, arrows stopping at the node markers)."""
+    import networkx as nx
+
     g = nx.DiGraph()
     g.add_nodes_from(pos)
     for group, style, colour, arrows in (
@@ -217,115 +285,110 @@ def draw(scene: dict, *, layout: str = "topdown", all_edges: bool = False, size=
                                    min_source_margin=2, min_target_margin=2)
     if topdown:     # networkx's edge drawing switches tick labels off; the metre grid keeps them
         ax.tick_params(labelbottom=True, labelleft=True)
-    # nodes: one scatter per node (an SVG group with the node's id), at the object's position
-    node_px = {}
+
+
+def _draw_nodes(canvas: _Canvas, nodes: list[dict], pos: dict, status: Optional[dict],
+                markers: Sequence[Marker], marker_xy: list) -> dict[str, tuple[float, float]]:
+    """One scatter per node (an SVG group with the node's id) at the object's position, then the
+    missing-object markers; their pixels are taken for labels. Returns id -> display pixel."""
+    ax, node_px = canvas.ax, {}
     for n in nodes:
         x, y = pos[n["id"]]
         ax.scatter([x], [y], s=NODE_SIZE, c=node_colour(n, status), edgecolors="#222222", linewidths=0.8,
                    zorder=3, gid=f"node-{n['id']}")
-        px = to_px((x, y))
+        px = canvas.to_px((x, y))
         node_px[n["id"]] = (float(px[0]), float(px[1]))
-        occ.add((px[0] - NODE_R_PX, px[1] - NODE_R_PX, px[0] + NODE_R_PX, px[1] + NODE_R_PX))
+        canvas.occ.add((px[0] - NODE_R_PX, px[1] - NODE_R_PX, px[0] + NODE_R_PX, px[1] + NODE_R_PX))
     for m, xy in zip(markers, marker_xy):
         ax.scatter([xy[0]], [xy[1]], s=NODE_SIZE * 1.6, facecolors="none", edgecolors=MISSING_COLOUR,
                    linewidths=1.6, linestyle="--", zorder=3)
         ax.scatter([xy[0]], [xy[1]], s=30, marker="x", c=MISSING_COLOUR, linewidths=1, zorder=3)
-        px = to_px(xy)
-        occ.add((px[0] - NODE_R_PX - 2, px[1] - NODE_R_PX - 2, px[0] + NODE_R_PX + 2, px[1] + NODE_R_PX + 2))
+        px = canvas.to_px(xy)
+        canvas.occ.add((px[0] - NODE_R_PX - 2, px[1] - NODE_R_PX - 2, px[0] + NODE_R_PX + 2, px[1] + NODE_R_PX + 2))
+    return node_px
 
-    def text_size(text: str, fontsize: float, **kw) -> tuple[float, float]:
-        t = ax.text(0, 0, text, fontsize=fontsize, **kw)
-        ext = t.get_window_extent(renderer)
-        t.remove()
-        return ext.width + 4, ext.height + 2
 
-    def put(text: str, anchor, fontsize: float, colour: str, leader_colour: str = "#999999", **kw):
-        w, h = text_size(text, fontsize, **kw)
-        spot = L.place(anchor, (w, h), occ, bounds)
-        if spot is None:
-            return None
-        if spot.leader:
-            # from the anchor to the nearest point of the label's box
-            bx = min(max(anchor[0], spot.box[0]), spot.box[2])
-            by = min(max(anchor[1], spot.box[1]), spot.box[3])
-            inv = ax.transData.inverted()
-            (x0, y0), (x1, y1) = inv.transform(anchor), inv.transform((bx, by))
-            ax.plot([x0, x1], [y0, y1], color=leader_colour, linewidth=0.6, zorder=2.5)
-        xy = ax.transData.inverted().transform(spot.centre)
-        return ax.text(xy[0], xy[1], text, fontsize=fontsize, color=colour, ha="center", va="center",
-                       zorder=4, **kw)
-
-    # room names first (few, and a building picture must name its rooms), then missing markers
-    texts, listed_nodes = [], []
+def _label_rooms_and_markers(canvas: _Canvas, placed: _Labels, outlines: dict, markers: Sequence[Marker],
+                             marker_xy: list) -> None:
+    """Room names first (few, and a building picture must name its rooms), then missing markers."""
     if len(outlines) > 1:
         for r, poly in sorted(outlines.items()):
             top = poly[np.argmax(poly[:, 1])]
-            t = put(r, to_px(top), 11, "#555555", weight="bold")
+            t = canvas.put(r, canvas.to_px(top), 11, "#555555", weight="bold")
             if t is not None:
-                texts.append(t)
-    marker_texts = []
+                placed.texts.append(t)
     for m, xy in zip(markers, marker_xy):
-        t = put(m.text, to_px(xy), LABEL_FONT - 1, MISSING_COLOUR, leader_colour=MISSING_COLOUR)
+        t = canvas.put(m.text, canvas.to_px(xy), LABEL_FONT - 1, MISSING_COLOUR, leader_colour=MISSING_COLOUR)
         if t is not None:
-            marker_texts.append(t)
+            placed.markers.append(t)
         else:
-            listed_nodes.append(f"missing: {m.text}")
-    # node labels: the most crowded first, they need the most choices
+            placed.listed_nodes.append(f"missing: {m.text}")
+
+
+def _label_nodes(canvas: _Canvas, placed: _Labels, nodes: list[dict], node_px: dict, names: dict) -> None:
+    """Node labels, the most crowded first (they need the most choices); a name with no free
+    place becomes a number listed in the side table."""
     crowd = {}
     all_px = np.array([node_px[n["id"]] for n in nodes])
     for n in nodes:
         d = np.linalg.norm(all_px - np.array(node_px[n["id"]]), axis=1)
         crowd[n["id"]] = int((d < 90).sum())
     order = sorted(nodes, key=lambda n: (-crowd[n["id"]], n["id"]))
-    names = {n["id"]: n.get("name") or n.get("label") or n["id"] for n in nodes}
-    label_artists, numbered = [], []
+    numbered = []
     for n in order:
-        t = put(label_lines(names[n["id"]]), node_px[n["id"]], LABEL_FONT, "#1a1a1a",
-                bbox=None, linespacing=1.0)
+        t = canvas.put(label_lines(names[n["id"]]), node_px[n["id"]], LABEL_FONT, "#1a1a1a",
+                       bbox=None, linespacing=1.0)
         if t is not None:
             t.set_gid(f"label-{n['id']}")
-            label_artists.append(t)
+            placed.nodes.append(t)
         else:
             numbered.append(n)
     for k, n in enumerate(sorted(numbered, key=lambda n: names[n["id"]]), 1):
-        t = put(str(k), node_px[n["id"]], LABEL_FONT - 1, "#1a1a1a")
+        t = canvas.put(str(k), node_px[n["id"]], LABEL_FONT - 1, "#1a1a1a")
         if t is not None:
             t.set_gid(f"label-{n['id']}")
-            label_artists.append(t)
-            listed_nodes.append(f"{k}  {names[n['id']]}")
+            placed.nodes.append(t)
+            placed.listed_nodes.append(f"{k}  {names[n['id']]}")
         else:
-            listed_nodes.append(f"·  {names[n['id']]}")
-    # edge labels where they fit on their line; the rest in the side table
-    edge_artists, listed_edges = [], []
+            placed.listed_nodes.append(f"·  {names[n['id']]}")
+
+
+def _label_edges(canvas: _Canvas, placed: _Labels, pairs: list, node_px: dict, names: dict) -> None:
+    """Edge labels where they fit on their line; the rest go to the side table."""
     for p in sorted(pairs, key=lambda p: (p.comparison, names[p.s], names[p.o])):
         text = p.label
-        w, h = text_size(text, EDGE_FONT)
-        spot = L.place_on_segment(node_px[p.s], node_px[p.o], (w, h), occ, bounds)
+        w, h = canvas.text_size(text, EDGE_FONT)
+        spot = L.place_on_segment(node_px[p.s], node_px[p.o], (w, h), canvas.occ, canvas.bounds)
         arrow = "→" if p.directed else "–"
         if spot is None:
-            listed_edges.append(f"{names[p.s]} {arrow} {names[p.o]}: {text}")
+            placed.listed_edges.append(f"{names[p.s]} {arrow} {names[p.o]}: {text}")
             continue
-        xy = ax.transData.inverted().transform(spot.centre)
-        t = ax.text(xy[0], xy[1], text, fontsize=EDGE_FONT, color="#8a2a2a", ha="center", va="center",
-                    zorder=3.5, bbox=dict(boxstyle="square,pad=0.1", fc="white", ec="none", alpha=0.9))
+        xy = canvas.ax.transData.inverted().transform(spot.centre)
+        t = canvas.ax.text(xy[0], xy[1], text, fontsize=EDGE_FONT, color="#8a2a2a", ha="center", va="center",
+                           zorder=3.5, bbox=dict(boxstyle="square,pad=0.1", fc="white", ec="none", alpha=0.9))
         t.set_gid(f"edge-label-{p.s}-{p.o}")
-        edge_artists.append(t)
+        placed.edges.append(t)
 
-    # the right-hand column: title, legend, scale bar, then the side table
-    y = 0.965
-    fig.text(PANEL_X, y, title or "scene graph", fontsize=13, weight="bold", va="top")
-    y -= 0.035
-    hidden = len(scene["edges"]) - len(visible_edges(scene["edges"], all_edges))
-    summary = f"{len(nodes)} objects, {len(pairs)} related pairs"
+
+def _summary(n_nodes: int, n_pairs: int, hidden: int, frame, n_rooms: int) -> str:
+    """The lines under the title: what is drawn, what is hidden, what the positions mean."""
+    summary = f"{n_nodes} objects, {n_pairs} related pairs"
     if hidden:
         summary += f"\n{hidden} size statements hidden (--all-edges)"
-    if topdown:
-        summary += "\ntop-down, metre grid" + ("" if (frame.aligned or len(outlines) < 2)
+    if frame is not None:
+        summary += "\ntop-down, metre grid" + ("" if (frame.aligned or n_rooms < 2)
                                                else "\nrooms not aligned: side by side")
     else:
         summary += "\nspring layout: distances mean nothing"
-    fig.text(PANEL_X, y, summary, fontsize=8.5, va="top", color="#444444", linespacing=1.3)
-    y -= 0.022 * (summary.count("\n") + 1) + 0.012
+    return summary
+
+
+def _legend_handles(nodes: list[dict], pairs: list, status: Optional[dict], markers: Sequence[Marker],
+                    outlines: dict) -> list:
+    """Legend entries: node colours (by eval status or by category), then the line and room styles."""
+    from matplotlib.lines import Line2D
+    from matplotlib.patches import Patch
+
     handles = []
     if status is not None:
         counts = {k: sum(v == k for v in status.values()) for k in STATUS_COLOURS}
@@ -342,22 +405,44 @@ def draw(scene: dict, *, layout: str = "topdown", all_edges: bool = False, size=
         handles.append(Line2D([], [], color="#b9b9b9", linewidth=1, linestyle=(0, (3, 3)), label="size only"))
     if outlines:
         handles.append(Patch(facecolor="#f4f1ea", edgecolor="#7a7a7a", linestyle="--", label="room (its objects' extent)"))
+    return handles
+
+
+def _panel_head(canvas: _Canvas, title: str, summary: str, handles: list, height: int) -> float:
+    """Title, summary and legend at the top of the right-hand column; returns the figure height
+    fraction below them."""
+    fig, y = canvas.fig, 0.965
+    fig.text(PANEL_X, y, title or "scene graph", fontsize=13, weight="bold", va="top")
+    y -= 0.035
+    fig.text(PANEL_X, y, summary, fontsize=8.5, va="top", color="#444444", linespacing=1.3)
+    y -= 0.022 * (summary.count("\n") + 1) + 0.012
     legend = fig.legend(handles=handles, loc="upper left", bbox_to_anchor=(PANEL_X - 0.005, y), fontsize=8,
                         frameon=False, handlelength=1.6, borderaxespad=0, ncols=1 if len(handles) <= 16 else 2)
     fig.canvas.draw()
-    leg = legend.get_window_extent(renderer)
-    y = leg.y0 / height - 0.02
-    scale_m = scale_px = 0.0
-    if topdown:
-        px_per_m = float(to_px((1.0, 0.0))[0] - to_px((0.0, 0.0))[0])
-        scale_m = scale_length(px_per_m, 0.6 * (0.98 - PANEL_X) * width)
-        scale_px = scale_m * px_per_m
-        yb = 0.035
-        fig.add_artist(Line2D([PANEL_X, PANEL_X + scale_px / width], [yb, yb], color="black", linewidth=3,
-                              solid_capstyle="butt", gid="scalebar"))
-        fig.text(PANEL_X, yb + 0.008, f"{scale_m:g} m" if scale_m >= 1 else f"{scale_m * 100:g} cm",
-                 fontsize=9, va="bottom", gid="scalebar-label")
-    rows = listed_nodes + ([""] + ["relations without room on their line:"] + listed_edges if listed_edges else [])
+    leg = legend.get_window_extent(canvas.renderer)
+    return leg.y0 / height - 0.02
+
+
+def _scale_bar(canvas: _Canvas, size) -> tuple[float, float]:
+    """A round-length scale bar at the foot of the column; returns (metres, pixels)."""
+    from matplotlib.lines import Line2D
+
+    width, _ = size
+    px_per_m = float(canvas.to_px((1.0, 0.0))[0] - canvas.to_px((0.0, 0.0))[0])
+    scale_m = scale_length(px_per_m, 0.6 * (0.98 - PANEL_X) * width)
+    scale_px = scale_m * px_per_m
+    yb = 0.035
+    canvas.fig.add_artist(Line2D([PANEL_X, PANEL_X + scale_px / width], [yb, yb], color="black", linewidth=3,
+                                 solid_capstyle="butt", gid="scalebar"))
+    canvas.fig.text(PANEL_X, yb + 0.008, f"{scale_m:g} m" if scale_m >= 1 else f"{scale_m * 100:g} cm",
+                    fontsize=9, va="bottom", gid="scalebar-label")
+    return scale_m, scale_px
+
+
+def _side_table(fig, placed: _Labels, y: float, height: int) -> None:
+    """The names and relations that found no place on the map, as many as the column holds."""
+    listed_edges = placed.listed_edges
+    rows = placed.listed_nodes + ([""] + ["relations without room on their line:"] + listed_edges if listed_edges else [])
     line_h = 11.5 / height
     room_for = max(0, int((y - 0.08) / line_h))
     if rows and room_for:
@@ -365,8 +450,6 @@ def draw(scene: dict, *, layout: str = "topdown", all_edges: bool = False, size=
             f"+ {len(rows) - room_for + 1} more (sg3d export lists every relation)"]
         fig.text(PANEL_X, y, "\n".join(_clip(r, 58) for r in shown), fontsize=7.5, va="top", color="#333333",
                  linespacing=1.25, gid="side-table")
-    return Diagram(fig, ax, node_px, {i: tuple(map(float, p)) for i, p in pos.items()}, label_artists + texts +
-                   marker_texts, edge_artists, listed_nodes, listed_edges, scale_m, scale_px)
 
 
 def _clip(text: str, n: int) -> str:

@@ -6,7 +6,7 @@ from dataclasses import dataclass
 from functools import lru_cache
 from typing import Iterable
 
-from ingest.relation_rules import SYMMETRIC
+from core.relation_rules import SYMMETRIC
 
 # matplotlib's tab20, as hex: 20 well-separated colours that plotly draws identically
 PALETTE = ["#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b", "#e377c2", "#7f7f7f",

@@ -43,25 +43,43 @@ def figure(scene: dict, cloud: Optional[tuple] = None, all_edges: bool = False, 
     names = {n["id"]: n.get("name") or n.get("label") or n["id"] for n in nodes}
     room_of = {n["id"]: n.get("room_name") or "" for n in nodes}
     corners = {n["id"]: box_corners(n, frame.placements[room_of[n["id"]]]) for n in nodes}
-    traces = []
-
     # the cloud first, so boxes and lines draw over it
     extent = [np.vstack(list(corners.values()))]
-    if cloud is not None and len(cloud[0]):
-        rooms = sorted(frame.placements)
-        P = frame.placements[rooms[0]].apply(cloud[0])
-        lo, hi = np.quantile(P, CLOUD_QUANTILES[0], axis=0), np.quantile(P, CLOUD_QUANTILES[1], axis=0)
-        extent.append(np.array([lo, hi]))
-        C = np.asarray(cloud[1], dtype=np.uint8)
-        colours = ["#%02x%02x%02x" % tuple(c) for c in C]
-        traces.append(go.Scatter3d(x=P[:, 0].astype(np.float32), y=P[:, 1].astype(np.float32),
-                                   z=P[:, 2].astype(np.float32), mode="markers", name=f"point cloud ({len(P):,})",
-                                   marker=dict(size=1.6, color=colours), hoverinfo="skip", legendgroup="cloud"))
+    traces = _cloud_traces(frame, cloud, extent)
+    traces += _box_traces(nodes, corners, names, room_of)
+    traces += _name_traces(nodes, corners, names)
+    traces += _relation_traces(scene["edges"], nodes, corners, names, all_edges)
+    traces += _room_traces(room_outlines(scene, frame), corners)
+    fig = go.Figure(traces)
+    _lay_out(fig, np.vstack(extent), title)
+    return fig
 
-    # boxes: one mesh + one wireframe per category, so the legend toggles a category
+
+def _cloud_traces(frame, cloud: Optional[tuple], extent: list) -> list:
+    """The point cloud as one trace; the bulk of it (not its outliers) joins `extent`."""
+    import plotly.graph_objects as go
+
+    if cloud is None or not len(cloud[0]):
+        return []
+    rooms = sorted(frame.placements)
+    P = frame.placements[rooms[0]].apply(cloud[0])
+    lo, hi = np.quantile(P, CLOUD_QUANTILES[0], axis=0), np.quantile(P, CLOUD_QUANTILES[1], axis=0)
+    extent.append(np.array([lo, hi]))
+    C = np.asarray(cloud[1], dtype=np.uint8)
+    colours = ["#%02x%02x%02x" % tuple(c) for c in C]
+    return [go.Scatter3d(x=P[:, 0].astype(np.float32), y=P[:, 1].astype(np.float32),
+                         z=P[:, 2].astype(np.float32), mode="markers", name=f"point cloud ({len(P):,})",
+                         marker=dict(size=1.6, color=colours), hoverinfo="skip", legendgroup="cloud")]
+
+
+def _box_traces(nodes: list[dict], corners: dict, names: dict, room_of: dict) -> list:
+    """Boxes: one mesh + one wireframe per category, so the legend toggles a category."""
+    import plotly.graph_objects as go
+
     by_cat: dict[str, list[dict]] = {}
     for n in nodes:
         by_cat.setdefault(category_of(n.get("label") or "?"), []).append(n)
+    traces = []
     for cat in sorted(by_cat):
         colour = category_colour(cat)
         xs, ys, zs, ii, jj, kk, text = [], [], [], [], [], [], []
@@ -89,27 +107,40 @@ def figure(scene: dict, cloud: Optional[tuple] = None, all_edges: bool = False, 
                                 flatshading=True))
         traces.append(go.Scatter3d(x=lx, y=ly, z=lz, mode="lines", line=dict(color=colour, width=3),
                                    legendgroup=cat, showlegend=False, hoverinfo="skip", name=cat))
-    # names on top of the boxes (one trace, toggled as "names"); a large object's name at the top
-    # corner facing the first view, so the name of a cup standing in its middle stays readable
-    def name_spot(c: np.ndarray) -> list[float]:
-        lo, hi = c.min(axis=0), c.max(axis=0)
-        if np.hypot(*(hi - lo)[:2]) > LARGE_M:
-            return [lo[0], lo[1], hi[2] + 0.04]
-        return [(lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2, hi[2] + 0.04]
+    return traces
 
-    tops = np.array([name_spot(corners[n["id"]]) for n in nodes])
-    traces.append(go.Scatter3d(x=tops[:, 0], y=tops[:, 1], z=tops[:, 2], mode="text", name="names",
-                               text=[names[n["id"]] for n in nodes], textfont=dict(size=12, color="#111111"),
-                               hoverinfo="skip"))
 
-    # relations: one trace per stored type (legend toggles it), a hover point mid-line with the
-    # pair's merged statements ("cup 1 → dining table: on / smaller than")
+def _name_spot(c: np.ndarray) -> list[float]:
+    """Where a box's name goes: above its middle, or for a large object above the top corner
+    facing the first view, so the name of a cup standing in its middle stays readable."""
+    lo, hi = c.min(axis=0), c.max(axis=0)
+    if np.hypot(*(hi - lo)[:2]) > LARGE_M:
+        return [lo[0], lo[1], hi[2] + 0.04]
+    return [(lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2, hi[2] + 0.04]
+
+
+def _name_traces(nodes: list[dict], corners: dict, names: dict) -> list:
+    """Names on top of the boxes (one trace, toggled as "names")."""
+    import plotly.graph_objects as go
+
+    tops = np.array([_name_spot(corners[n["id"]]) for n in nodes])
+    return [go.Scatter3d(x=tops[:, 0], y=tops[:, 1], z=tops[:, 2], mode="text", name="names",
+                         text=[names[n["id"]] for n in nodes], textfont=dict(size=12, color="#111111"),
+                         hoverinfo="skip")]
+
+
+def _relation_traces(edges: list[dict], nodes: list[dict], corners: dict, names: dict, all_edges: bool) -> list:
+    """One trace per stored type (the legend toggles it), a hover point mid-line with the pair's
+    merged statements ("cup 1 → dining table: on / smaller than")."""
+    import plotly.graph_objects as go
+
     centre = {n["id"]: corners[n["id"]].mean(axis=0) for n in nodes}
-    pairs = {(p.s, p.o): p for p in pair_edges(scene["edges"])}
+    pairs = {(p.s, p.o): p for p in pair_edges(edges)}
     pairs.update({(p.o, p.s): p for p in list(pairs.values())})
-    for t in sorted({e["type"] for e in scene["edges"]}):
+    traces = []
+    for t in sorted({e["type"] for e in edges}):
         ex, ey, ez, mx, my, mz, mtext = [], [], [], [], [], [], []
-        for e in scene["edges"]:
+        for e in edges:
             if e["type"] != t or e["s"] not in centre or e["o"] not in centre:
                 continue
             a, b = centre[e["s"]], centre[e["o"]]
@@ -133,10 +164,15 @@ def figure(scene: dict, cloud: Optional[tuple] = None, all_edges: bool = False, 
         traces.append(go.Scatter3d(x=mx, y=my, z=mz, mode="markers", legendgroup=f"rel-{t}", showlegend=False,
                                    visible=visible, marker=dict(size=3, color="#c0392b"), hovertext=mtext,
                                    hoverinfo="text", name=word(t)))
+    return traces
 
-    # rooms: outline on the floor and the name, where the picture holds more than one room
-    outlines = room_outlines(scene, frame)
+
+def _room_traces(outlines: dict, corners: dict) -> list:
+    """Each room's outline on the floor and its name, where the picture holds more than one room."""
+    import plotly.graph_objects as go
+
     floor = min(c[:, 2].min() for c in corners.values())
+    traces = []
     if len(outlines) > 1:
         for r, poly in sorted(outlines.items()):
             traces.append(go.Scatter3d(x=poly[:, 0], y=poly[:, 1], z=np.full(len(poly), floor), mode="lines",
@@ -146,11 +182,14 @@ def figure(scene: dict, cloud: Optional[tuple] = None, all_edges: bool = False, 
             traces.append(go.Scatter3d(x=[c[0]], y=[c[1]], z=[floor], mode="text", text=[f"<b>{htmlmod.escape(r)}</b>"],
                                        textfont=dict(size=16, color="#333333"), legendgroup=f"room-{r}",
                                        showlegend=False, hoverinfo="skip"))
+    return traces
 
-    pts = np.vstack(extent)
+
+def _lay_out(fig, pts: np.ndarray, title: str) -> None:
+    """Axes in metres framed on `pts` (padded, true proportions), the first view from above at an
+    angle, the legend as a show/hide list."""
     lo, hi = pts.min(axis=0) - FRAME_PAD_M, pts.max(axis=0) + FRAME_PAD_M
     span = hi - lo
-    fig = go.Figure(traces)
     axis = dict(dtick=1.0, gridcolor="#d0d0d0", showbackground=True, backgroundcolor="#f7f7f7",
                 ticksuffix=" m", zeroline=False)
     fig.update_layout(
@@ -166,7 +205,6 @@ def figure(scene: dict, cloud: Optional[tuple] = None, all_edges: bool = False, 
                    camera=dict(eye=dict(x=-0.65, y=-1.1, z=0.85), up=dict(x=0, y=0, z=1)),
                    dragmode="orbit"),
         hoverlabel=dict(bgcolor="white"))
-    return fig
 
 
 def render_html(scene: dict, cloud: Optional[tuple] = None, all_edges: bool = False,

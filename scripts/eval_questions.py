@@ -2,7 +2,7 @@
 
     python scripts/eval_questions.py [--gt ../shared/eval/kitchen_gt.json] [--room kitchen] [--all]
 
-The verdicts are `sg3d eval`'s own (`queries.eval_vqa.score`, with the node matching, so answers
+The verdicts are `sg3d eval`'s own (`evaluation.vqa.score`, with the node matching, so answers
 citing objects are judged too): right, wrong, unsupported (a refusal: never right) or not
 scorable. Only the `sure` questions unless --all.
 """
@@ -25,9 +25,9 @@ def main(argv=None) -> int:
     ap.add_argument("--all", action="store_true", help="also the questions not marked sure")
     args = ap.parse_args(argv)
 
-    from graphdb.merge import room_id
-    from queries.eval_gt import load_gt
-    from queries.evaluation import evaluate
+    from graphdb.values import room_id
+    from evaluation.ground_truth import load_gt
+    from evaluation.evaluate import evaluate
     from sg3d.settings import Settings
 
     gt = load_gt(args.gt)

@@ -1,4 +1,4 @@
-"""Regenerate the shipped label vectors (ingest/data/label_vectors.npy + .txt).
+"""Regenerate the shipped label vectors (core/data/label_vectors.npy + .txt).
 
     HF_HUB_OFFLINE=1 python scripts/make_label_vectors.py
 
@@ -34,7 +34,7 @@ def words() -> list[str]:
 
 def main() -> int:
     os.environ.setdefault("HF_HUB_OFFLINE", "1")
-    from ingest.embedding import MiniLMEmbedding, SHIPPED_VECTORS, SHIPPED_WORDS
+    from core.embedding import MiniLMEmbedding, SHIPPED_VECTORS, SHIPPED_WORDS
 
     vocab = words()
     vecs = MiniLMEmbedding(cache_dir=None, shipped=False)._encode(vocab)

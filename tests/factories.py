@@ -3,7 +3,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ingest.model import HIST_SIZE, LocalGraph, ObjectObservation, RelationObservation
+from core.model import HIST_SIZE, LocalGraph, ObjectObservation, RelationObservation
 
 
 def hist_of(bins: dict[int, float]) -> np.ndarray:

@@ -6,8 +6,10 @@ import numpy as np
 
 from graphdb import store as store_module
 from graphdb.export import fetch_graph
-from graphdb.merge import _new_props, merge_local_graph, pack_hist, room_id, unpack_hist
-from ingest.model import ScanInfo
+from graphdb.merge import merge_local_graph
+from graphdb.merge_plan import _new_props
+from graphdb.values import pack_hist, room_id, unpack_hist
+from core.model import ScanInfo
 from queries.vqa import answer
 from tests.factories import graph, hist_of, obj
 

@@ -8,7 +8,8 @@ import json
 import pytest
 from click.testing import CliRunner
 
-from graphdb.merge import merge_local_graph, room_id
+from graphdb.merge import merge_local_graph
+from graphdb.values import room_id
 from queries.vqa import answer
 from tests.factories import graph, obj
 

@@ -9,7 +9,7 @@ from ingest.attributes import (dominant_colour, hsv_histogram, measure_object, o
                                position_gaussian, thumbnail, world_points)
 from ingest.frames import Frame
 from ingest.gravity import estimate_gravity, estimate_up, sample_frames
-from ingest.model import COLOUR_NAMES, HIST_SIZE
+from core.model import COLOUR_NAMES, HIST_SIZE
 from ingest.readers import open_sequence, quaternion_to_matrix
 
 W, H = 160, 120

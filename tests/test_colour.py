@@ -3,7 +3,7 @@ import numpy as np
 import pytest
 
 from ingest import colour as C
-from ingest.model import COLOUR_NAMES
+from core.model import COLOUR_NAMES
 
 
 def scene(patch, light, size=(120, 160)):

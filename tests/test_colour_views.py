@@ -7,12 +7,13 @@ import os
 import numpy as np
 import pytest
 
-from graphdb.merge import merge_local_graph, room_id
+from graphdb.merge import merge_local_graph
+from graphdb.values import room_id
 from ingest import fusion
 from ingest.attributes import ObjectAttributes, object_colour
 from ingest.colour import ColourReading
 from ingest.detect import Detection
-from ingest.model import COLOUR_NAMES, HIST_SIZE, LocalGraph
+from core.model import COLOUR_NAMES, HIST_SIZE, LocalGraph
 from tests.conftest import SHARED
 
 LIVING = SHARED / "data" / "open3d-livingroom1-micro"

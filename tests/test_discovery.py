@@ -10,7 +10,7 @@ import pytest
 
 from ingest import discovery
 from ingest.existence import View
-from ingest.model import ObjectObservation
+from core.model import ObjectObservation
 from ingest.room_cloud import room_cloud
 from ingest.segments import room_segments
 from ingest.structure import Element, room_structure, surface_name

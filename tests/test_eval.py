@@ -6,10 +6,11 @@ import json
 import pytest
 from click.testing import CliRunner
 
-from graphdb.merge import merge_local_graph, room_id
-from queries.eval_gt import coco_class, parse_gt, relation_type
-from queries.eval_match import Node, match
-from queries.evaluation import evaluate
+from graphdb.merge import merge_local_graph
+from graphdb.values import room_id
+from evaluation.ground_truth import coco_class, parse_gt, relation_type
+from evaluation.matching import Node, match
+from evaluation.evaluate import evaluate
 from tests.factories import graph, hist_of, obj
 
 COCO = {"cup", "chair", "dining table", "book", "tv", "mouse", "wine glass", "remote"}
@@ -80,9 +81,9 @@ def test_hedged_coco_categories_and_english_predicates_are_normalised():
 
 
 def test_edges_read_symmetric_relations_both_ways_and_skip_viewpoint_gt():
-    from queries.eval_edges import edge_metrics
-    from queries.eval_gt import GTRelation
-    from queries.eval_match import Matching
+    from evaluation.edges import edge_metrics
+    from evaluation.ground_truth import GTRelation
+    from evaluation.matching import Matching
 
     m = Matching(pairs=[("n1", "A", 0.0), ("n2", "B", 0.0), ("n3", "C", 0.0)], spurious=[], duplicates=[], missing=[])
     gt = [GTRelation("B", "next to", "A", "NEXT_TO"), GTRelation("C", "on", "A", "ON"),
@@ -169,7 +170,7 @@ def test_a_symmetric_gt_relation_is_found_in_either_direction(store):
 
 
 def test_without_vqa_module_every_question_is_unsupported(store, monkeypatch):
-    import queries.eval_vqa as eval_vqa
+    import evaluation.vqa as eval_vqa
 
     build_room(store)
     monkeypatch.setattr(eval_vqa, "load_answerer", lambda: None)
@@ -225,7 +226,7 @@ def test_eval_scores_the_real_vqa_answers(store):
 
 
 def test_eval_reads_labels_with_the_vocabulary_of_ask_and_plan():
-    from queries.evaluation import category_matcher
+    from evaluation.evaluate import category_matcher
 
     same = category_matcher()
     assert same("cup", "cup") and same("Dining  Table", "dining table")

@@ -14,7 +14,7 @@ import pytest
 from ingest import coverage, existence, fusion
 from ingest.attributes import ObjectAttributes
 from ingest.detect import Detection
-from ingest.model import HIST_SIZE
+from core.model import HIST_SIZE
 
 
 def _sighting(frame: int, label: str, centre, size, score: float = 0.8, labels=None) -> fusion.Sighting:

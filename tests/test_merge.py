@@ -4,8 +4,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from graphdb.merge import merge_in_tx, merge_local_graph, room_id, unpack_hist
-from ingest.model import RELATION_TYPES
+from graphdb.merge import merge_in_tx, merge_local_graph
+from graphdb.values import room_id, unpack_hist
+from core.model import RELATION_TYPES
 from tests.factories import graph, hist_of, obj
 
 ROOM = room_id("home", "kitchen")
@@ -96,7 +97,7 @@ def test_python_error_mid_merge_rolls_back(store):
 def test_cypher_error_mid_merge_rolls_back(store):
     from neo4j.exceptions import CypherSyntaxError
 
-    from ingest.embedding import default_embedding
+    from core.embedding import default_embedding
 
     merge_local_graph(store, graph([obj("a", "cup", (0.0, 0.0, 1.0))]))
     before = _snapshot(store)

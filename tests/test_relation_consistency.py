@@ -3,8 +3,9 @@ from __future__ import annotations
 
 from graphdb import cypher
 from graphdb.checks import relation_contradictions
-from graphdb.merge import merge_local_graph, room_id
-from ingest.model import RELATION_TYPES
+from graphdb.merge import merge_local_graph
+from graphdb.values import room_id
+from core.model import RELATION_TYPES
 from tests.factories import graph, hist_of, obj
 
 ROOM = room_id("home", "kitchen")

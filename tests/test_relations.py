@@ -4,7 +4,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from ingest.model import ObjectObservation, RELATION_TYPES
+from core.model import ObjectObservation, RELATION_TYPES
 from ingest.relations import ObjectGeometry, horizontal_basis, spatial_relations
 
 UP = (0.0, 0.0, 1.0)
@@ -208,7 +208,7 @@ def test_near_only_without_a_more_specific_relation():
 
 
 def test_random_scenes_hold_no_contradiction():
-    from ingest.relation_rules import statement_of
+    from core.relation_rules import statement_of
     rng = np.random.default_rng(3)
     for _ in range(200):
         objs = [ObjectGeometry(f"o{i}", str(rng.choice(["cup", "bowl", "chair", "book", "sink"])),
@@ -282,7 +282,7 @@ def test_a_cup_at_the_edge_of_a_partly_seen_table_top_is_left_to_other_views():
 
 
 def test_next_to_needs_one_support_across_the_sequence():
-    from ingest.model import RelationObservation as R
+    from core.model import RelationObservation as R
     from ingest.relations import side_by_side_on_one_support
 
     rels = [R("cup", "ON", "table"), R("book", "ON", "table"), R("cup", "NEXT_TO", "book"),

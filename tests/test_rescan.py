@@ -13,10 +13,11 @@ from click.testing import CliRunner
 
 from app.ask import ask
 from app.changes import room_changes
-from graphdb.merge import merge_local_graph, room_id
+from graphdb.merge import merge_local_graph
+from graphdb.values import room_id
 from graphdb.rescan import known_objects
 from ingest.existence import DEPTH_FACTOR, View
-from ingest.model import KnownObject, ScanInfo
+from core.model import KnownObject, ScanInfo
 from ingest.rescan import empty_places, place_seen_empty
 from queries.vqa import answer
 from tests.factories import graph, obj

@@ -8,7 +8,7 @@ from collections import Counter
 
 import pytest
 
-from graphdb.merge import room_id
+from graphdb.values import room_id
 from tests.rescan_fixture import paint_out
 
 ROOM = room_id("test", "kitchen")

@@ -6,7 +6,7 @@ import math
 import pytest
 
 from ingest.detect import Detection
-from ingest.model import RELATION_TYPES, RelationObservation as Rel
+from core.model import RELATION_TYPES, RelationObservation as Rel
 from ingest.sdr import (
     IRRELEVANT_CLASSES,
     PriorEntry,

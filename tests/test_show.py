@@ -183,7 +183,7 @@ def test_building_outlines_and_names_its_rooms_in_the_building_frame(store, embe
     """Two rooms; the second's frame is the first's turned 90 degrees and moved 3 m. A chair made
     at one building position in both rooms is drawn at one point."""
     from graphdb.building import set_room_transform
-    from graphdb.merge import room_id
+    from graphdb.values import room_id
 
     build(store, room="kitchen")
     T = np.eye(4)

@@ -72,7 +72,7 @@ def test_combine_gaussians_equals_recomputing_over_all_points():
 
 def test_label_similarity_matrix_matches_the_pairwise_equation():
     from graphdb.similarity import label_similarity_matrix
-    from ingest.embedding import default_embedding, similarity
+    from core.embedding import default_embedding, similarity
 
     emb = default_embedding()
     new = [(["cup", "bowl"], [0.8, 0.1]), (["couch"], [0.6])]

@@ -12,7 +12,7 @@ import pytest
 
 dsg = pytest.importorskip("spark_dsg", reason="spark-dsg (PyPI) has no wheel for this platform")
 
-from graphdb.spark import BUILDINGS, OBJECTS, ROOMS, STRUCTURE  # noqa: E402  (layer ids 2, 4, 5, 1)
+from formats.spark_dsg import BUILDINGS, OBJECTS, ROOMS, STRUCTURE  # noqa: E402  (layer ids 2, 4, 5, 1)
 
 
 def sg3d(home, *args):
@@ -130,7 +130,7 @@ def test_import_of_a_hydra_style_graph(home, tmp_path):
 
 
 def test_3dssg_export(home, tmp_path):
-    from graphdb.threedssg import PREDICATE, RELATIONSHIPS
+    from formats.threedssg import PREDICATE, RELATIONSHIPS
 
     ours = _objects(home, "lab")
     r = sg3d(home, "export", "--building", "lab", "--format", "3dssg", "--out", tmp_path / "ssg")

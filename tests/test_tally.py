@@ -10,7 +10,8 @@ from collections import Counter
 
 import pytest
 
-from graphdb.merge import merge_in_tx, merge_local_graph, room_id
+from graphdb.merge import merge_in_tx, merge_local_graph
+from graphdb.values import room_id
 from graphdb.tally import rebuild_tallies
 from queries.vqa import answer
 from tests.factories import graph, hist_of, obj

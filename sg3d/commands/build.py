@@ -166,8 +166,7 @@ def build(settings, sequence: Path, room: str, building: str, method: str, quali
     from rich.console import Console
     from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
 
-    from app.build import (BuildError, BuildRequest, build_room, check_detector, check_frame_selection_options,
-                           validate)
+    from app.build import BuildError, BuildRequest, prepare, run_build
     from ingest import coverage
     from ingest.detectors import with_recognizer
     from ingest.pipeline import DEFAULT_CHUNK_FRAMES, METHODS, Settings
@@ -192,10 +191,9 @@ def build(settings, sequence: Path, room: str, building: str, method: str, quali
         progress.update(task, description=phase, completed=done, total=total)
 
     try:
-        validate(request)          # bad input is refused before the store is started
-        check_frame_selection_options(method, given)
-        check_detector(options)
-        summary = build_room(settings.store(), request, options, progress=on_progress)
+        # bad input is refused before the store is started
+        prepared = prepare(request, options, selection_given=tuple(given))
+        summary = run_build(settings.store(), prepared, progress=on_progress).as_dict()
     except BuildError as exc:
         raise UserError(str(exc))
     finally:

@@ -85,10 +85,10 @@ def _render(report: dict, names: dict[str, str], gt) -> None:
 def eval_command(settings, gt_path: Path, room: str, building: str, tolerance: Optional[float],
                  no_vqa: bool, as_json: bool, report_dir: Optional[Path]) -> None:
     """Compare the scene graph of ROOM with ground truth: nodes, edges and question answers."""
-    from graphdb.merge import room_id
-    from queries.eval_gt import load_gt
-    from queries.eval_match import DEFAULT_TOLERANCE
-    from queries.evaluation import evaluate
+    from graphdb.values import room_id
+    from evaluation.ground_truth import load_gt
+    from evaluation.matching import DEFAULT_TOLERANCE
+    from evaluation.evaluate import evaluate
 
     try:
         gt = load_gt(gt_path)
@@ -98,7 +98,7 @@ def eval_command(settings, gt_path: Path, room: str, building: str, tolerance: O
     rid = room_id(building, room)
     if not store.read("eval_room_exists", room=rid):
         raise UserError(f"no room {room!r} in building {building!r} (build it with `sg3d build`)")
-    from queries.eval_gt import outside_extent
+    from evaluation.ground_truth import outside_extent
 
     outside, placed = outside_extent(gt, store.read("eval_objects", room=rid))
     if placed and outside > placed / 2:

@@ -3,6 +3,7 @@ keyframe groups (KGE); report what would go on to detection, and how fast."""
 from __future__ import annotations
 
 import json
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Optional
 
@@ -35,26 +36,12 @@ SHEET_FACTOR = 4   # thumbnails at 1/4 of the colour size (160x120 for 640x480)
 def frames_command(sequence: Path, layout: Optional[str], abir_gain, abir_offset, abir_alpha, t_key, t_anchor,
                    limit: Optional[int], step: int, as_json: bool, sheet: Optional[Path], bag: dict) -> None:
     """Blur rejection and keyframe groups over SEQUENCE (a sequence folder or a ROS bag)."""
-    from rich.console import Console
-    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeRemainingColumn
-
     from ingest import coverage
-    from ingest.abir import ABIR, DEFAULT_ALPHA, DEFAULT_GAIN, DEFAULT_OFFSET
-    from ingest.kge import DEFAULT_T_KEY, KeyframeGrouper
-    from ingest.pipeline import BUILD_T_ANCHOR
     from ingest.readers import SequenceError, open_sequence
     from ingest.selection import FrameSelector
 
-    params = dict(abir_alpha=DEFAULT_ALPHA if abir_alpha is None else abir_alpha,
-                  abir_gain=DEFAULT_GAIN if abir_gain is None else abir_gain,
-                  abir_offset=DEFAULT_OFFSET if abir_offset is None else abir_offset,
-                  t_key=DEFAULT_T_KEY if t_key is None else t_key,
-                  t_anchor=BUILD_T_ANCHOR if t_anchor is None else t_anchor)
-    try:
-        abir = ABIR(params["abir_alpha"], params["abir_gain"], params["abir_offset"])
-        grouper = KeyframeGrouper(params["t_key"], params["t_anchor"])
-    except ValueError as exc:
-        raise UserError(str(exc)) from None
+    params = _params(abir_alpha, abir_gain, abir_offset, t_key, t_anchor)
+    selector = FrameSelector(*_selection_modules(params))
     try:
         seq = open_sequence(sequence, layout=layout, **bag)
     except SequenceError as exc:
@@ -62,50 +49,98 @@ def frames_command(sequence: Path, layout: Optional[str], abir_gain, abir_offset
     if not seq.has_poses():     # keyframe groups compare camera poses
         raise UserError(f"no pose source in {sequence}: keyframe groups need camera poses; "
                         f"`sg3d build` estimates them from the images")
-    sources = getattr(seq, "sources", None)  # what a ROS bag reader picked
     stop = len(seq) if limit is None else min(len(seq), limit * step)
-    selector = FrameSelector(abir, grouper)
-    pairs: list[tuple[int, object, int, object]] = []   # (blurry index, decision, sharp index, decision)
-    last_sharp: list = [None, None]
-    groups: list[list[int]] = []
+    run = _select(seq, selector, stop, step, keep_pairs=sheet is not None, quiet=as_json)
+    budget = coverage.frame_budget(len(run.candidates))
+    detected = coverage.choose_frames(run.candidates, run.required, max(budget, len(run.required)))
+    if sheet is not None:
+        _write_sheet(seq, run.pairs, sheet)
+    if as_json:
+        click.echo(json.dumps({"sequence": str(sequence), "layout": seq.layout, "frames_in_sequence": len(seq),
+                               **selector.stats.as_dict(), "params": params, "sources": getattr(seq, "sources", None),
+                               "skipped_frames": [{"frame": n, "reason": r} for n, r in seq.skipped],
+                               "groups_frames": run.groups, "detected_frames": detected,
+                               "sheet": str(sheet) if sheet else None}))
+        return
+    _print_report(sequence, seq, selector.stats, params, run, detected, sheet)
 
-    candidates, required = [], []
+
+def _params(abir_alpha, abir_gain, abir_offset, t_key, t_anchor) -> dict:
+    """The selection parameters, each given one or its default (as `sg3d build` uses them)."""
+    from ingest.abir import DEFAULT_ALPHA, DEFAULT_GAIN, DEFAULT_OFFSET
+    from ingest.kge import DEFAULT_T_KEY
+    from ingest.pipeline import BUILD_T_ANCHOR
+
+    return dict(abir_alpha=DEFAULT_ALPHA if abir_alpha is None else abir_alpha,
+                abir_gain=DEFAULT_GAIN if abir_gain is None else abir_gain,
+                abir_offset=DEFAULT_OFFSET if abir_offset is None else abir_offset,
+                t_key=DEFAULT_T_KEY if t_key is None else t_key,
+                t_anchor=BUILD_T_ANCHOR if t_anchor is None else t_anchor)
+
+
+def _selection_modules(params: dict):
+    """ABIR (Eq. 2-4) and KGE with `params`; a value out of range is one line on stderr."""
+    from ingest.abir import ABIR
+    from ingest.kge import KeyframeGrouper
+
+    try:
+        return (ABIR(params["abir_alpha"], params["abir_gain"], params["abir_offset"]),
+                KeyframeGrouper(params["t_key"], params["t_anchor"]))
+    except ValueError as exc:
+        raise UserError(str(exc)) from None
+
+
+@dataclass
+class _Selection:
+    """What one pass of frame selection saw."""
+    pairs: list = field(default_factory=list)       # (blurry index, decision, sharp index, decision)
+    groups: list = field(default_factory=list)      # frame indices of each keyframe group
+    candidates: list = field(default_factory=list)  # what `sg3d build` chooses its frames from
+    required: list = field(default_factory=list)    # keyframes and anchors
+
+
+def _select(seq, selector, stop: int, step: int, keep_pairs: bool, quiet: bool) -> _Selection:
+    """Frame selection over frames 0..stop (every `step`-th), with a progress bar on stderr;
+    `keep_pairs`: remember each blurry frame beside the last sharp one (the contact sheet)."""
+    from rich.console import Console
+    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeRemainingColumn
+
+    from ingest import coverage
+
+    run = _Selection()
+    last_sharp: list = [None, None]
 
     def on_frame(frame, decision, role):
         progress.advance(task)
         if role in ("keyframe", "anchor", "garbage"):   # what `sg3d build` chooses its frames from
-            candidates.append(coverage.Candidate(frame.index, frame.pose))
+            run.candidates.append(coverage.Candidate(frame.index, frame.pose))
         if role in ("keyframe", "anchor"):
-            required.append(frame.index)
-        if sheet is None or decision is None:
+            run.required.append(frame.index)
+        if not keep_pairs or decision is None:
             return
         if role == "blurry":
             if last_sharp[0] is not None:
-                pairs.append((frame.index, decision, last_sharp[0], last_sharp[1]))
+                run.pairs.append((frame.index, decision, last_sharp[0], last_sharp[1]))
         elif role != "skipped":
             last_sharp[:] = [frame.index, decision]
 
     console = Console(stderr=True)
     with Progress(TextColumn("[bold]frames"), BarColumn(), MofNCompleteColumn(), TimeRemainingColumn(),
-                  console=console, transient=True, disable=as_json and not console.is_terminal) as progress:
+                  console=console, transient=True, disable=quiet and not console.is_terminal) as progress:
         task = progress.add_task("frames", total=len(range(0, stop, step)))
         for group in selector.groups(seq, 0, stop, step, on_frame=on_frame):
-            groups.append([f.index for f in group.frames])
-    stats = selector.stats
-    budget = coverage.frame_budget(len(candidates))
-    detected = coverage.choose_frames(candidates, required, max(budget, len(required)))
+            run.groups.append([f.index for f in group.frames])
+    return run
 
-    if sheet is not None:
-        _write_sheet(seq, pairs, sheet)
 
-    skipped = seq.skipped
-    if as_json:
-        click.echo(json.dumps({"sequence": str(sequence), "layout": seq.layout, "frames_in_sequence": len(seq),
-                               **stats.as_dict(), "params": params, "sources": sources,
-                               "skipped_frames": [{"frame": n, "reason": r} for n, r in skipped],
-                               "groups_frames": groups, "detected_frames": detected,
-                               "sheet": str(sheet) if sheet else None}))
-        return
+def _print_report(sequence: Path, seq, stats, params: dict, run: _Selection, detected: list,
+                  sheet: Optional[Path]) -> None:
+    """The human-readable report on stdout."""
+    from rich.console import Console
+
+    from ingest import coverage
+
+    skipped, groups = seq.skipped, run.groups
     out = Console()
     out.print(f"[bold]{sequence}[/] ({seq.layout}, {len(seq)} frames, {seq.image_size[0]}x{seq.image_size[1]})")
     rows = [
@@ -118,12 +153,12 @@ def frames_command(sequence: Path, layout: Optional[str], abir_gain, abir_offset
         ("groups", f"{stats.groups}", "frames per group: " + " ".join(str(len(g)) for g in groups[:20])
          + (" ..." if len(groups) > 20 else "")),
         ("keyframes+anchors", f"{100 * stats.fraction_kept:.1f} %", f"{stats.kept} of {stats.read} frames read"),
-        ("detected by build", f"{len(detected)}", f"keyframes and anchors + {len(detected) - len(set(required))} "
+        ("detected by build", f"{len(detected)}", f"keyframes and anchors + {len(detected) - len(set(run.required))} "
                                                    f"frames with new viewpoints ({coverage.DEFAULT_FRACTION:.0%} "
                                                    f"of the sharp frames, at least {coverage.MIN_FRAMES})"),
         ("time", f"{stats.seconds:.2f} s", f"{stats.frames_per_second:.0f} frames/s"),
     ]
-    for role, what in (sources or {}).items():
+    for role, what in (getattr(seq, "sources", None) or {}).items():
         out.print(f"  {role:<18} {what}", soft_wrap=True, highlight=False, markup=False)
     for label, value, note in rows:
         out.print(f"  {label:<18} {value:>9}   [dim]{note}[/]")
@@ -132,7 +167,7 @@ def frames_command(sequence: Path, layout: Optional[str], abir_gain, abir_offset
     if len(skipped) > 10:
         out.print(f"  [yellow]... and {len(skipped) - 10} more skipped frames[/]")
     if sheet is not None:
-        out.print(f"  contact sheet: {sheet} ({min(len(pairs), SHEET_PAIRS)} blurry/sharp pairs)")
+        out.print(f"  contact sheet: {sheet} ({min(len(run.pairs), SHEET_PAIRS)} blurry/sharp pairs)")
 
 
 def _write_sheet(seq, pairs, path: Path) -> None:

@@ -64,7 +64,7 @@ def link(ctx: click.Context, room_a: str, room_b: str, building: Optional[str], 
     building = building or outer
     from graphdb.align import AlignmentError
     from graphdb.building import LINK_TOL_M, TransformError, format_matrix, link_rooms, load_transform
-    from graphdb.merge import room_id
+    from graphdb.values import room_id
 
     try:
         T = load_transform(transform_file) if transform_file else None
@@ -98,7 +98,7 @@ def delete(ctx: click.Context, room: str, building: Optional[str], yes: bool) ->
     itself; every other room stays as it is (asks first)."""
     from app.errors import NotFound
     from app.rooms import delete_room
-    from graphdb.merge import room_id
+    from graphdb.values import room_id
 
     building = building or ctx.parent.params["building"]
     rid = room_id(building, room)

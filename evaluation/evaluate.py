@@ -1,8 +1,8 @@
 """`sg3d eval`: a stored scene graph against hand-annotated ground truth.
 
-Report: node precision/recall with spurious, missing and duplicate nodes (eval_match), colour
+Report: node precision/recall with spurious, missing and duplicate nodes (`evaluation.matching`), colour
 agreement of matched nodes (`colour_agreement`), edge
-precision/recall (eval_edges), VQA accuracy (eval_vqa). GT objects a COCO detector cannot name,
+precision/recall (`evaluation.edges`), VQA accuracy (`evaluation.vqa`). GT objects a COCO detector cannot name,
 or that carry no position, are listed apart instead of as misses; recall is given both over every
 COCO object and over those the annotator counted as `sure`.
 """
@@ -11,11 +11,11 @@ from __future__ import annotations
 from dataclasses import replace
 from typing import Callable, Optional
 
-from ingest.model import RELATION_TYPES, UNNAMED_LABEL
-from queries.eval_edges import edge_metrics
-from queries.eval_gt import GroundTruth
-from queries.eval_match import DEFAULT_TOLERANCE, Matching, Node, match
-from queries.eval_vqa import vqa_metrics
+from core.model import RELATION_TYPES, UNNAMED_LABEL
+from evaluation.edges import edge_metrics
+from evaluation.ground_truth import GroundTruth
+from evaluation.matching import DEFAULT_TOLERANCE, Matching, Node, match
+from evaluation.vqa import vqa_metrics
 
 
 def category_matcher() -> Callable[[str, str], bool]:

@@ -39,7 +39,7 @@ import cv2
 import numpy as np
 
 from ingest.frames import FrameError
-from ingest.readers import Sequence, SequenceError, quaternion_to_matrix
+from ingest.readers.base import Sequence, SequenceError, quaternion_to_matrix
 from ingest.registration import Registration
 
 LAYOUT_NAMES = ("rosbag", "ros", "bag", "mcap")
@@ -466,11 +466,52 @@ def open_bag(path, registration: Optional[Registration] = None, **options) -> Ba
         raise
 
 
+@dataclass
+class _PoseSource:
+    """Where a bag's poses come from: /tf (`use_tf`), a pose topic, or nowhere (`none`: the
+    poses are estimated from the images)."""
+    use_tf: bool
+    topic: Optional[list]          # the pose topic's connections
+    tf_conns: list
+    none: bool
+
+
 def _index(reader, path: Path, opts: BagOptions, registration) -> BagSequence:
-    ros1 = not reader.is2
+    """The bag's frames: the topics picked, one pass over their message headers, each colour
+    image paired with the nearest depth image and its pose."""
     max_dt = 0.02 if opts.max_dt is None else float(opts.max_dt)
-    tol = int(max_dt * 1e9)
     conns = list(reader.connections)
+    colour, depth, info = _image_topics(reader, conns, path, opts)
+    K, info_msg = _intrinsics(reader, info, path)
+    poses = _pose_source(conns, opts, path)
+    refs, colour_frame, series, tree = _read_headers(reader, path, colour, depth, poses)
+    camera = world = None
+    if poses.use_tf:
+        camera = (opts.camera_frame or colour_frame).lstrip("/")
+        if not camera:
+            raise SequenceError(f"the colour images of {colour[0].topic} name no frame_id; give --camera-frame "
+                                f"(frames in /tf: {', '.join(sorted(tree.parent)) or 'none'})")
+        world = (opts.world_frame or tree.chain(camera)[-1]).lstrip("/")
+    entries, skipped = _pair_frames(refs, depth, poses, series, lambda t, tol: tree.lookup(world, camera, t, tol),
+                                    max_dt)
+    if not entries:
+        reasons = defaultdict(int)
+        for _, why in skipped:
+            reasons[why.split(" within ")[0].split(" of t=")[0]] += 1
+        raise SequenceError(f"no colour frame of {path} has depth{'' if poses.none else ' and a pose'}: "
+                            + "; ".join(f"{n}x {why}" for why, n in reasons.items()))
+    size = _image_size(reader, info_msg, entries[0], colour, path)
+    sources = {"color": _topics_line(colour[:1]), "depth": _topics_line(depth[:1]), "intrinsics": info[0].topic,
+               "poses": ("none (estimated from the images)" if poses.none else
+                         f"/tf: {camera} in {world}" if poses.use_tf else _topics_line(poses.topic[:1])),
+               "max_dt": max_dt, "colour_messages": len(refs["colour"]), "depth_messages": len(refs["depth"])}
+    return BagSequence(path, reader, entries, K, registration, skipped, size, sources)
+
+
+def _image_topics(reader, conns: list, path: Path, opts: BagOptions) -> tuple[list, list, list]:
+    """The colour, depth and camera-info connections: the ones asked for, else the only topic of
+    each kind (an image topic's kind is read from its first message); the camera info beside
+    the colour topic first."""
     images = [c for c in conns if c.msgtype in (IMAGE, COMPRESSED)]
     kinds = {} if opts.color_topic and opts.depth_topic else {c.topic: _image_kind(reader, c) for c in images}
     colour_candidates = [c for c in images if kinds.get(c.topic) == "colour"]
@@ -482,28 +523,40 @@ def _index(reader, path: Path, opts: BagOptions, registration) -> BagSequence:
     depth = _pick("depth image", "--depth-topic", depth_candidates, opts.depth_topic, conns, path)
     beside = [c for c in infos if c.topic.rsplit("/", 1)[0] == colour[0].topic.rsplit("/", 1)[0]]
     info = _pick("camera info", "--info-topic", beside or infos, opts.info_topic, conns, path)
+    return colour, depth, info
 
+
+def _intrinsics(reader, info: list, path: Path):
+    """K from the first CameraInfo message (ROS2 `k`, ROS1 `K`), and the message."""
     _, info_msg = _first(reader, info)
     if info_msg is None:
         raise SequenceError(f"no message on {info[0].topic} in {path}: the intrinsics are unknown")
     K = np.asarray(getattr(info_msg, "k", None) if hasattr(info_msg, "k") else info_msg.K, dtype=np.float64).reshape(3, 3)
     if not np.all(np.isfinite(K)) or K[0, 0] <= 0 or K[1, 1] <= 0:
         raise SequenceError(f"{info[0].topic} in {path} holds no valid intrinsics (K = {K.ravel().tolist()})")
+    return K, info_msg
 
-    # the pose source: a pose topic, or /tf when frames are named, no pose topic exists or "tf" is asked for
+
+def _pose_source(conns: list, opts: BagOptions, path: Path) -> _PoseSource:
+    """A pose topic, or /tf when frames are named, no pose topic exists or "tf" is asked for."""
     pose_conns = [c for c in conns if c.msgtype in POSE_TYPES]
     tf_conns = [c for c in conns if c.msgtype == TF]
-    use_tf = (opts.pose_topic or "").lower() == "tf" or (
-        opts.pose_topic is None and (opts.camera_frame or opts.world_frame or not pose_conns) and tf_conns)
+    use_tf = bool((opts.pose_topic or "").lower() == "tf" or (
+        opts.pose_topic is None and (opts.camera_frame or opts.world_frame or not pose_conns) and tf_conns))
     pose_topic = None
-    no_poses = not use_tf and not pose_conns and opts.pose_topic is None   # poses are estimated then
-    if not use_tf and not no_poses:
+    none = not use_tf and not pose_conns and opts.pose_topic is None   # poses are estimated then
+    if not use_tf and not none:
         pose_topic = _pick("pose", "--pose-topic", pose_conns, opts.pose_topic, conns, path)
         if pose_topic[0].msgtype not in POSE_TYPES:
             raise SequenceError(f"--pose-topic {pose_topic[0].topic} is a {pose_topic[0].msgtype}, not one of "
                                 f"{', '.join(POSE_TYPES)} (or give --pose-topic tf)")
+    return _PoseSource(use_tf, pose_topic, tf_conns, none)
 
-    # one pass over the frames' messages: header stamps only, no pixels kept
+
+def _read_headers(reader, path: Path, colour: list, depth: list, poses: _PoseSource):
+    """One pass over the frames' messages (header stamps only, no pixels kept), then the poses:
+    (refs by role, the colour images' frame_id, the pose series, the /tf tree)."""
+    ros1 = not reader.is2
     refs: dict[str, list[_Ref]] = {"colour": [], "depth": []}
     role = {id(c): "colour" for c in colour} | {id(c): "depth" for c in depth}
     last: dict[tuple[int, int], int] = defaultdict(int)
@@ -519,11 +572,11 @@ def _index(reader, path: Path, opts: BagOptions, registration) -> BagSequence:
                 colour_frame = reader.deserialize(raw, conn.msgtype).header.frame_id.lstrip("/")
         series = PoseSeries()
         tree = TfTree()
-        if use_tf:
-            for conn, _, raw in reader.messages(tf_conns):
+        if poses.use_tf:
+            for conn, _, raw in reader.messages(poses.tf_conns):
                 tree.add(reader.deserialize(raw, conn.msgtype), static=conn.topic.endswith("tf_static"))
-        elif pose_topic:      # (messages([]) would mean every topic)
-            for conn, bag_ns, raw in reader.messages(pose_topic):
+        elif poses.topic:      # (messages([]) would mean every topic)
+            for conn, bag_ns, raw in reader.messages(poses.topic):
                 msg = reader.deserialize(raw, conn.msgtype)
                 pose = msg.pose.pose if hasattr(msg.pose, "pose") else msg.pose
                 series.add(_stamp_ns(msg.header.stamp) or bag_ns, pose.position, pose.orientation)
@@ -533,15 +586,14 @@ def _index(reader, path: Path, opts: BagOptions, registration) -> BagSequence:
         raise SequenceError(f"cannot read ROS bag {path}: {_why(exc)}") from None
     if not refs["colour"]:
         raise SequenceError(f"no message on the colour topic {colour[0].topic} in {path}")
+    return refs, colour_frame, series, tree
 
-    camera = world = None
-    if use_tf:
-        camera = (opts.camera_frame or colour_frame).lstrip("/")
-        if not camera:
-            raise SequenceError(f"the colour images of {colour[0].topic} name no frame_id; give --camera-frame "
-                                f"(frames in /tf: {', '.join(sorted(tree.parent)) or 'none'})")
-        world = (opts.world_frame or tree.chain(camera)[-1]).lstrip("/")
 
+def _pair_frames(refs: dict, depth: list, poses: _PoseSource, series: PoseSeries, tf_pose,
+                 max_dt: float) -> tuple[list, list]:
+    """Each colour image with the depth image nearest in time (within max_dt) and its pose (from
+    /tf through `tf_pose(t, tol)`, or the pose series); (entries, skipped with reasons)."""
+    tol = int(max_dt * 1e9)
     depth_stamps = np.array([r.stamp_ns for r in refs["depth"]], dtype=np.int64)
     order = np.argsort(depth_stamps, kind="stable")
     depth_sorted = depth_stamps[order]
@@ -555,39 +607,34 @@ def _index(reader, path: Path, opts: BagOptions, registration) -> BagSequence:
             skipped.append((name, f"no depth on {depth[0].topic} within {max_dt:g} s of t={t / 1e9:.6f}"))
             continue
         d_ref = refs["depth"][int(order[min(near, key=lambda j: abs(int(depth_sorted[j]) - t))])]
-        if no_poses:
+        if poses.none:
             pose = None
-        elif use_tf:
+        elif poses.use_tf:
             try:
-                pose = tree.lookup(world, camera, t, tol)
+                pose = tf_pose(t, tol)
             except LookupError as exc:
                 skipped.append((name, str(exc)))
                 continue
         else:
             pose = series.at(t, tol)
             if pose is None:
-                skipped.append((name, f"no pose on {pose_topic[0].topic} within {max_dt:g} s of t={t / 1e9:.6f}"))
+                skipped.append((name, f"no pose on {poses.topic[0].topic} within {max_dt:g} s of t={t / 1e9:.6f}"))
                 continue
         entries.append(_BagEntry(name, ref, d_ref, t / 1e9, pose))
-    if not entries:
-        reasons = defaultdict(int)
-        for _, why in skipped:
-            reasons[why.split(" within ")[0].split(" of t=")[0]] += 1
-        raise SequenceError(f"no colour frame of {path} has depth{'' if no_poses else ' and a pose'}: "
-                            + "; ".join(f"{n}x {why}" for why, n in reasons.items()))
+    return entries, skipped
+
+
+def _image_size(reader, info_msg, first: _BagEntry, colour: list, path: Path) -> tuple[int, int]:
+    """(width, height) from CameraInfo, else from the first colour image."""
     width, height = int(info_msg.width), int(info_msg.height)
     if width <= 0 or height <= 0:
-        msg = reader.deserialize(_raw_of(reader, entries[0].color), colour[0].msgtype)
+        msg = reader.deserialize(_raw_of(reader, first.color), colour[0].msgtype)
         try:
-            img = decode_colour(msg, colour[0].msgtype, entries[0].name, grey=True)
+            img = decode_colour(msg, colour[0].msgtype, first.name, grey=True)
         except FrameError as exc:
             raise SequenceError(f"{path}: CameraInfo has no image size and {exc}") from None
         width, height = img.shape[1], img.shape[0]
-    sources = {"color": _topics_line(colour[:1]), "depth": _topics_line(depth[:1]), "intrinsics": info[0].topic,
-               "poses": ("none (estimated from the images)" if no_poses else
-                         f"/tf: {camera} in {world}" if use_tf else _topics_line(pose_topic[:1])),
-               "max_dt": max_dt, "colour_messages": len(refs["colour"]), "depth_messages": len(refs["depth"])}
-    return BagSequence(path, reader, entries, K, registration, skipped, (width, height), sources)
+    return width, height
 
 
 def _raw_of(reader, ref: _Ref) -> bytes:

@@ -29,7 +29,7 @@ from typing import Optional
 
 import numpy as np
 
-from ingest.model import COLOUR_NAMES, HIST_SIZE, RELATION_TYPES
+from core.model import COLOUR_NAMES, HIST_SIZE, RELATION_TYPES
 
 OBJECTS, PLACES, ROOMS, BUILDINGS = 2, 3, 4, 5
 # The room's structure (floor, walls, counters, shelves) is a layer of its own, below the

@@ -27,7 +27,7 @@ from __future__ import annotations
 from itertools import combinations
 from typing import NamedTuple, Optional
 
-from ingest.model import RelationObservation
+from core.model import RelationObservation
 
 # Relation types whose meaning does not depend on the direction of the edge.
 SYMMETRIC = frozenset({"NEXT_TO", "NEAR"})

@@ -15,9 +15,9 @@ from __future__ import annotations
 from collections import defaultdict
 from typing import Iterable
 
-from ingest.relation_rules import VIEWPOINT
-from queries.eval_gt import INVERSE, SYMMETRIC, GTRelation
-from queries.eval_match import Matching
+from core.relation_rules import VIEWPOINT
+from evaluation.ground_truth import INVERSE, SYMMETRIC, GTRelation
+from evaluation.matching import Matching
 
 
 def equivalent_edges(s: str, type_: str, o: str) -> set[tuple[str, str, str]]:

@@ -13,8 +13,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Optional
 
-from ingest.model import RELATION_TYPES
-from ingest.relation_rules import INVERSE, SYMMETRIC  # noqa: F401 - eval_edges reads them here
+from core.model import RELATION_TYPES
+from core.relation_rules import INVERSE, SYMMETRIC  # noqa: F401 - evaluation.edges reads them here
 
 # The GT's "sure"/"unsure" wording; anything else is treated as sure (the default annotation).
 UNSURE = "unsure"

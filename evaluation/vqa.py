@@ -12,8 +12,8 @@ import re
 from typing import Any, Callable, Optional
 
 from graphdb.values import jsonable
-from queries.eval_gt import GroundTruth, GTQuestion
-from queries.eval_match import Matching
+from evaluation.ground_truth import GroundTruth, GTQuestion
+from evaluation.matching import Matching
 
 YES_NO = {"yes": "yes", "no": "no", "true": "yes", "false": "no"}
 

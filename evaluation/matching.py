@@ -13,7 +13,7 @@ from typing import Callable, Optional, Sequence
 import numpy as np
 from scipy.optimize import linear_sum_assignment
 
-from queries.eval_gt import GTObject
+from evaluation.ground_truth import GTObject
 
 # Annotated positions are rough (the annotator's estimate of an object's centre, in a tilted
 # world frame, from depth that is not registered to colour), and a node's position is the mean

@@ -1,0 +1,40 @@
+"""A build's checks before the store starts (`app.build.prepare`): each refusal one BuildError,
+the detector built once and handed on (no store, no frames read)."""
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from app.build import BuildError, BuildRequest, BuildSummary, prepare
+from ingest.pipeline import METHODS, Settings
+
+REQUEST = BuildRequest(sequence=Path("unused-sequence"), room="kitchen")
+
+
+def test_prepare_builds_the_detector_once_and_hands_it_on():
+    prepared = prepare(REQUEST, Settings())
+    assert prepared.detector is not None and prepared.req is REQUEST and prepared.placement is None
+    given = prepared.detector
+    assert prepare(REQUEST, Settings(), detector=given).detector is given
+
+
+@pytest.mark.parametrize("request_, settings, given, message", [
+    (BuildRequest(Path("s"), "kitchen", start=5, stop=5), Settings(), (), "empty frame range"),
+    (REQUEST, Settings(method=METHODS["3d-basic"]), ("--t-key",), "does not run"),
+    (REQUEST, Settings(detector="absent-model.onnx"), (), "labels file"),
+    (BuildRequest(Path("s"), "kitchen", transform_file=Path("absent-transform.txt")), Settings(), (), "absent"),
+])
+def test_prepare_refuses_bad_input_with_one_build_error(request_, settings, given, message):
+    with pytest.raises(BuildError, match=message):
+        prepare(request_, settings, selection_given=given)
+
+
+def test_the_summary_reads_like_its_json():
+    fields = dict(sequence="s", layout="7scenes", room="kitchen", building="default", method="3d-full",
+                  quality="default", detector="ssd", interrupted=False, up=[0.0, 0.0, 1.0],
+                  frames={"read": 3}, hypotheses={}, from_depth={}, graph={"chunks": 1}, seconds={"total": 1.0},
+                  input_frames_per_second=3.0, key="k", scan="k@0-3", placement=None, poses={"source": "given"})
+    summary = BuildSummary(**fields)
+    assert summary.as_dict() == fields and list(summary.as_dict()) == list(fields)
+    assert summary["graph"]["chunks"] == 1 and summary.get("placement") is None
