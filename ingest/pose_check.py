@@ -4,6 +4,7 @@ from __future__ import annotations
 from typing import Optional
 
 import numpy as np
+from scipy.spatial.transform import Rotation
 
 from core.model import WORLD_EXTENT_M
 
@@ -30,3 +31,14 @@ def pose_problem(pose: np.ndarray, source: str = "the pose") -> Optional[str]:
     if np.linalg.det(R) < 0:   # orthonormal but mirrored: no camera moves like that
         return f"{source} is a reflection (determinant -1), not a rotation"
     return None
+
+
+def rigid(pose: np.ndarray) -> np.ndarray:
+    """A pose that passed `pose_problem` with its rotation block replaced by the nearest rotation
+    (scipy's `Rotation.from_matrix`). Rule "one camera, one pose": a layout that stores 4x4
+    matrices rounded to a few digits (7-Scenes) and one that stores quaternions (a bag) then give
+    the same camera, to the last bits, instead of poses a millimetre apart."""
+    out = np.array(pose, dtype=np.float64, copy=True)
+    out[:3, :3] = Rotation.from_matrix(out[:3, :3]).as_matrix()
+    out[3] = (0.0, 0.0, 0.0, 1.0)
+    return out

@@ -11,7 +11,7 @@ import warnings
 import numpy as np
 import pytest
 
-from ingest.pose_check import pose_problem
+from ingest.pose_check import pose_problem, rigid
 from ingest.readers import SequenceError, open_sequence
 
 
@@ -52,6 +52,22 @@ def bad_poses(kitchen_dir, tmp_path_factory):
             pose[:3, 3] = value
         np.savetxt(seq / f"frame-{i:06d}.pose.txt", pose)
     return seq
+
+
+def test_a_pose_rounded_to_a_few_digits_is_used_as_the_nearest_rotation():
+    from scipy.spatial.transform import Rotation
+
+    exact = np.eye(4)
+    exact[:3, :3] = Rotation.from_euler("xyz", [12, -31, 77], degrees=True).as_matrix()
+    exact[:3, 3] = (0.5, -1.2, 2.0)
+    rounded = np.round(exact, 4)                   # as a pose.txt stores it: not quite orthonormal
+    assert pose_problem(rounded) is None and np.abs(rounded[:3, :3].T @ rounded[:3, :3] - np.eye(3)).max() > 1e-6
+    snapped = rigid(rounded)
+    assert np.abs(snapped[:3, :3].T @ snapped[:3, :3] - np.eye(3)).max() < 1e-12
+    assert np.abs(snapped - exact).max() < 1e-4 and np.array_equal(snapped[:3, 3], rounded[:3, 3])
+    # the same camera as a quaternion (a bag) gives the same matrix
+    q = Rotation.from_matrix(rounded[:3, :3]).as_quat()
+    assert np.abs(Rotation.from_quat(q).as_matrix() - snapped[:3, :3]).max() < 1e-12
 
 
 def test_a_bad_pose_skips_only_its_frame(bad_poses):

@@ -11,7 +11,7 @@ import numpy as np
 
 from ingest.frames import Frame, FrameError, FrameSource
 from ingest.image_checks import image_problem
-from ingest.pose_check import pose_problem
+from ingest.pose_check import pose_problem, rigid
 from ingest.registration import DepthRegistrar, Registration
 
 
@@ -106,7 +106,7 @@ def _parse_pose(entry: Entry) -> np.ndarray:
     problem = pose_problem(pose, source)
     if problem:
         raise FrameError(entry.name, problem)
-    return pose
+    return rigid(pose)
 
 
 class Sequence:
