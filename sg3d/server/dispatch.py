@@ -12,7 +12,7 @@ from __future__ import annotations
 
 from typing import Callable, TypeVar
 
-import anyio
+import anyio.lowlevel
 from starlette.concurrency import run_in_threadpool
 
 T = TypeVar("T")
@@ -32,7 +32,7 @@ class Dispatcher:
         only a call that still finds itself alone runs inline."""
         self.in_flight += 1
         try:
-            await anyio.sleep(0)
+            await anyio.lowlevel.checkpoint()
             if self.in_flight == 1:
                 return fn()
             return await run_in_threadpool(fn)
