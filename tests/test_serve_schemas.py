@@ -112,7 +112,7 @@ def test_a_lone_call_runs_on_the_event_loop_and_concurrent_ones_in_the_pool():
     assert calls.in_flight == 0
 
 
-def test_a_failing_call_raises_in_the_route_and_is_not_counted():
+def test_a_failing_call_raises_and_sends_the_next_call_to_the_pool():
     from sg3d.server.dispatch import Dispatcher
 
     calls = Dispatcher()
@@ -127,3 +127,10 @@ def test_a_failing_call_raises_in_the_route_and_is_not_counted():
 
     asyncio.run(both())
     assert calls.in_flight == 0
+
+    async def alone():
+        return await calls.quick(threading.get_ident)
+
+    loop_thread = threading.get_ident()
+    assert asyncio.run(alone()) != loop_thread     # after a failure: the pool, until a call succeeds
+    assert asyncio.run(alone()) == loop_thread
