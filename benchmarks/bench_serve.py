@@ -148,6 +148,8 @@ def main() -> None:
     ap.add_argument("--clients", type=int, default=100)
     ap.add_argument("--per-client", type=int, default=20)
     args = ap.parse_args()
+    if args.tiny and args.home:
+        ap.error("--tiny ingests a hand-made kitchen into the store: use it without --home (a scratch store)")
 
     from graphdb.embedded import EmbeddedServer, free_port
 
@@ -171,7 +173,9 @@ def main() -> None:
 
             httpx.post(url + "/ingest", json=kitchen_body(building="default", room=args.room),
                        headers={"Authorization": f"Bearer {token}"}, timeout=120).raise_for_status()
+        load_before = os.getloadavg()[0]
         ms = latencies(url, token, home, args.room, args.repeat)
+        print(f"load average (1 min) {load_before:.2f} before the latency rounds, {os.getloadavg()[0]:.2f} after")
         local = pct(ms["in process"], 50)
         print(f"the questions in process: {len(ms['in process'])} answers, p50 {local:.1f} ms, "
               f"p95 {pct(ms['in process'], 95):.1f} ms")
