@@ -2,9 +2,13 @@
 request -> `app` call -> JSON. OpenAPI at /openapi.json, docs at /docs.
 
 Every route but /health needs `Authorization: Bearer <token>` (see `sg3d.server.auth`). Routes
-are plain functions, so FastAPI runs them in its thread pool: requests run concurrently over one
-Store per process (a driver with a connection pool), through `app.stores.StoreHandle`, which
-also survives a restart of the embedded store.
+are async and hand their application call to `sg3d.server.dispatch.Dispatcher`: a lone quick read
+runs on the event loop, anything else in the thread pool, so concurrent requests run concurrently
+over one Store per process (a driver with a connection pool), through `app.stores.StoreHandle`,
+which also survives a restart of the embedded store.
+
+Every route declares its response model (`sg3d.server.schemas`) for /openapi.json but returns
+JSON encoded once (`json_response`), which FastAPI sends as it is.
 """
 from __future__ import annotations
 
