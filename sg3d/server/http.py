@@ -21,10 +21,10 @@ from fastapi.responses import Response
 from pydantic import BaseModel, ConfigDict, Field
 
 from app import ask as app_ask
+from app import bounds
 from app import graph as app_graph
 from app import ingest as app_ingest
 from app import plan as app_plan
-from app import bounds
 from app import rooms as app_rooms
 from app.errors import AppError, NotFound, Refused
 from app.stores import StoreHandle
