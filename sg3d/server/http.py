@@ -155,16 +155,17 @@ def create_app(settings, token: str, handle: Optional[StoreHandle] = None,
 
 
 def _add_error_handlers(api: FastAPI, settings) -> None:
+    # async: Starlette runs a plain handler in the thread pool
     @api.exception_handler(AppError)
-    def _app_error(request: Request, exc: AppError):
+    async def _app_error(request: Request, exc: AppError):
         return json_response({"detail": str(exc)}, status_code=_status(exc))
 
     @api.exception_handler(RequestValidationError)
-    def _invalid(request: Request, exc: RequestValidationError):
+    async def _invalid(request: Request, exc: RequestValidationError):
         return json_response({"detail": validation_details(exc.errors())}, status_code=422)
 
     @api.exception_handler(Exception)
-    def _store_error(request: Request, exc: Exception):
+    async def _store_error(request: Request, exc: Exception):
         status, detail, headers = store_failure(exc, settings)
         response = json_response({"detail": detail}, status_code=status)
         response.headers.update(headers)
