@@ -8,7 +8,7 @@ over one Store per process (a driver with a connection pool), through `app.store
 which also survives a restart of the embedded store.
 
 Every route declares its response model (`sg3d.server.schemas`) for /openapi.json but returns
-JSON encoded once (`json_response`), which FastAPI sends as it is.
+JSON encoded once (`json_response`, where the call ran), which FastAPI sends as it is.
 """
 from __future__ import annotations
 
@@ -199,20 +199,20 @@ def _add_read_routes(api: FastAPI, stores: StoreHandle, calls: Dispatcher, auth:
         viewpoint = body.viewpoint.model_dump(exclude_none=True) if body.viewpoint else None
         if viewpoint is not None and len(viewpoint) != 1:
             raise AppError("viewpoint takes exactly one of pose, position and object")
-        return json_response(await calls.quick(lambda: read(lambda s: app_ask.ask(
+        return await calls.quick(lambda: json_response(read(lambda s: app_ask.ask(
             s, body.question, room=body.room, building=body.building, viewpoint=viewpoint
         ).to_json(inline_thumbnail=True))))
 
     @api.post("/plan", response_model=schemas.Plan, **opts)
     async def plan(body: PlanBody):
         """A validated plan: steps in words and as PDDL actions, the goal, domain and problem PDDL."""
-        return json_response(await calls.pooled(lambda: read(lambda s: app_plan.plan_json(
+        return await calls.pooled(lambda: json_response(read(lambda s: app_plan.plan_json(
             s, body.command, goal=body.goal, room=body.room, building=body.building, start=body.start))))
 
     @api.get("/rooms", response_model=list[schemas.Room], **opts)
     async def rooms(building: Optional[str] = None):
         """Rooms (of one building, or all) with object counts, transforms and adjacent rooms."""
-        return json_response(await calls.quick(lambda: read(lambda s: app_rooms.list_rooms(s, building))))
+        return await calls.quick(lambda: json_response(read(lambda s: app_rooms.list_rooms(s, building))))
 
     @api.get("/rooms/{building}/{room}/objects", response_model=list[schemas.RoomObject], **opts)
     async def objects(building: str, room: str, label: Optional[str] = None, colour: Optional[str] = None,
@@ -220,7 +220,7 @@ def _add_read_routes(api: FastAPI, stores: StoreHandle, calls: Dispatcher, auth:
                       radius: Optional[float] = Query(None, description="metres from `near`")):
         """A room's objects with readable names, filtered by label, colour and distance to a point."""
         point = _near(near)
-        return json_response(await calls.quick(lambda: read(lambda s: app_rooms.room_objects(
+        return await calls.quick(lambda: json_response(read(lambda s: app_rooms.room_objects(
             s, building, room, label=label, colour=colour, near=point, radius=radius))))
 
     @api.get("/graph", response_model=schemas.Graph, dependencies=auth, tags=["read"],
@@ -233,14 +233,14 @@ def _add_read_routes(api: FastAPI, stores: StoreHandle, calls: Dispatcher, auth:
         ({objects, relationships})."""
         spark = format == "spark-dsg"
 
-        def fetch():
+        def fetch() -> Response:
             g = read(lambda s: app_graph.fetch_named_graph(s, building, room, thumbnails, histograms or spark,
                                                            room_transforms=spark))
-            return g if format == "json" else app_graph.render_graph(g, format)
-        body = await calls.pooled(fetch)
-        if format == "json":
-            return json_response(body)
-        return Response(body, media_type="application/graphml+xml" if format == "graphml" else "application/json")
+            if format == "json":
+                return json_response(g)
+            return Response(app_graph.render_graph(g, format),
+                            media_type="application/graphml+xml" if format == "graphml" else "application/json")
+        return await calls.pooled(fetch)
 
 
 def _add_write_routes(api: FastAPI, stores: StoreHandle, calls: Dispatcher, auth: list) -> None:
@@ -249,7 +249,7 @@ def _add_write_routes(api: FastAPI, stores: StoreHandle, calls: Dispatcher, auth
     async def ingest(body: app_ingest.IngestRequest):
         """Merge a robot's local scene graph (same-node detection, one transaction); the same
         observation_id is merged once. A body that does not validate is a 422 naming the field."""
-        return json_response(await calls.pooled(lambda: stores.call(lambda s: app_ingest.ingest_graph(s, body),
+        return await calls.pooled(lambda: json_response(stores.call(lambda s: app_ingest.ingest_graph(s, body),
                                                                     write=True)))
 
 
