@@ -139,6 +139,11 @@ def pct(values: list[float], p: float) -> float:
     return statistics.quantiles(values, n=100)[int(p) - 1] if len(values) > 1 else values[0]
 
 
+def spread(ms: list[float]) -> str:
+    """p10 (the requests least disturbed by other load on the machine), p50 and p95."""
+    return f"p10 {pct(ms, 10):.1f} ms, p50 {pct(ms, 50):.1f} ms, p95 {pct(ms, 95):.1f} ms"
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--home", type=Path, help="an existing store's home (default: a scratch store)")
@@ -177,11 +182,10 @@ def main() -> None:
         ms = latencies(url, token, home, args.room, args.repeat)
         print(f"load average (1 min) {load_before:.2f} before the latency rounds, {os.getloadavg()[0]:.2f} after")
         local = pct(ms["in process"], 50)
-        print(f"the questions in process: {len(ms['in process'])} answers, p50 {local:.1f} ms, "
-              f"p95 {pct(ms['in process'], 95):.1f} ms")
+        print(f"the questions in process: {len(ms['in process'])} answers, {spread(ms['in process'])}")
         for client in ("httpx", "stdlib"):
-            print(f"POST /ask, room-scoped, one {client} client: p50 {pct(ms[client], 50):.1f} ms, "
-                  f"p95 {pct(ms[client], 95):.1f} ms; service / in-process p50 = {pct(ms[client], 50) / local:.2f}")
+            print(f"POST /ask, room-scoped, one {client} client: {spread(ms[client])}; "
+                  f"service / in-process p50 = {pct(ms[client], 50) / local:.2f}")
         done, errors, wall, cms = asyncio.run(crowd(url, token, args.room, args.clients, args.per_client))
         print(f"{args.clients} concurrent clients x {args.per_client} questions: {done} requests, {errors} errors, "
               f"{done / wall:.1f} requests/s, p50 {pct(cms, 50):.0f} ms, p95 {pct(cms, 95):.0f} ms")
