@@ -1,4 +1,4 @@
-"""`sg3d serve` under load: p50/p95 latency of POST /ask (room-scoped questions, one client: httpx,
+"""`sg3d serve` under load: p10/p50/p95 latency of POST /ask (room-scoped questions, one client: httpx,
 and the standard library's http.client, whose own cost per request is smaller), the same questions
 answered in this process through `app.ask`, interleaved with them (the service's overhead is the
 ratio, measured in the same run), then C concurrent clients x Q questions each (errors, requests/s).
