@@ -1,6 +1,7 @@
-"""`sg3d serve` under load: p50/p95 latency of POST /ask (room-scoped questions, one client), the
-same questions answered in this process through `app.ask` (the service's overhead is the ratio,
-measured in the same run), then C concurrent clients x Q questions each (errors, requests/s).
+"""`sg3d serve` under load: p10/p50/p95 latency of POST /ask (room-scoped questions, one client: httpx,
+and the standard library's http.client, whose own cost per request is smaller), the same questions
+answered in this process through `app.ask`, interleaved with them (the service's overhead is the
+ratio, measured in the same run), then C concurrent clients x Q questions each (errors, requests/s).
 
     python -m benchmarks.bench_serve                       # scratch store, builds the real kitchen
     python -m benchmarks.bench_serve --home DIR --room kitchen   # a store you built already
@@ -13,6 +14,8 @@ from __future__ import annotations
 
 import argparse
 import asyncio
+import http.client
+import json
 import os
 import statistics
 import subprocess
@@ -58,36 +61,54 @@ def start_server(home: Path, port: int) -> subprocess.Popen:
     raise SystemExit("sg3d serve did not become healthy in 120 s")
 
 
-def latency(url: str, token: str, room: str, repeat: int) -> list[float]:
-    ms = []
-    with httpx.Client(base_url=url, headers={"Authorization": f"Bearer {token}"}, timeout=60) as c:
-        for q in QUESTIONS:       # warm-up: taxonomy, label vectors, connection
-            c.post("/ask", json={"question": q, "room": room}).raise_for_status()
-        for _ in range(repeat):
-            for q in QUESTIONS:
-                t0 = time.perf_counter()
-                c.post("/ask", json={"question": q, "room": room}).raise_for_status()
-                ms.append((time.perf_counter() - t0) * 1000)
-    return ms
+class StdlibClient:
+    """POST /ask over one keep-alive connection with the standard library's http.client: a client
+    that costs a fraction of httpx's per request, so the figure is closer to the service alone."""
+
+    def __init__(self, url: str, token: str) -> None:
+        host, _, port = url.removeprefix("http://").partition(":")
+        self.conn = http.client.HTTPConnection(host, int(port), timeout=60)
+        self.headers = {"Authorization": f"Bearer {token}", "Content-Type": "application/json"}
+
+    def ask(self, question: str, room: str) -> None:
+        self.conn.request("POST", "/ask", json.dumps({"question": question, "room": room}), self.headers)
+        reply = self.conn.getresponse()
+        body = reply.read()
+        if reply.status != 200:
+            raise SystemExit(f"POST /ask answered {reply.status}: {body[:200]!r}")
+
+    def close(self) -> None:
+        self.conn.close()
 
 
-def in_process(home: Path, room: str, repeat: int) -> list[float]:
-    """The same questions through the application layer in this process (the reader store, the
-    JSON the route returns, thumbnail inlined): what the service adds is the rest."""
+def latencies(url: str, token: str, home: Path, room: str, repeat: int) -> dict[str, list[float]]:
+    """Per question, in turn: POST /ask with httpx, POST /ask with http.client, and the same
+    question through the application layer in this process (the reader store, the dict the route
+    encodes, thumbnail inlined). Interleaved, so load that drifts during the run meets all three
+    alike; what the service adds is the difference."""
     from app import ask as app_ask
     from sg3d.settings import Settings
 
     store = Settings(home=home).reader()
-    ms = []
+    hx = httpx.Client(base_url=url, headers={"Authorization": f"Bearer {token}"}, timeout=60)
+    std = StdlibClient(url, token)
+    ways = {"httpx": lambda q: hx.post("/ask", json={"question": q, "room": room}).raise_for_status(),
+            "stdlib": lambda q: std.ask(q, room),
+            "in process": lambda q: app_ask.ask(store, q, room=room).to_json(inline_thumbnail=True)}
+    ms: dict[str, list[float]] = {name: [] for name in ways}
     try:
-        for q in QUESTIONS:       # warm-up, as for the service
-            app_ask.ask(store, q, room=room).to_json(inline_thumbnail=True)
+        for q in QUESTIONS:       # warm-up: taxonomy, label vectors, connections
+            for way in ways.values():
+                way(q)
         for _ in range(repeat):
             for q in QUESTIONS:
-                t0 = time.perf_counter()
-                app_ask.ask(store, q, room=room).to_json(inline_thumbnail=True)
-                ms.append((time.perf_counter() - t0) * 1000)
+                for name, way in ways.items():
+                    t0 = time.perf_counter()
+                    way(q)
+                    ms[name].append((time.perf_counter() - t0) * 1000)
     finally:
+        hx.close()
+        std.close()
         store.close()
     return ms
 
@@ -118,6 +139,11 @@ def pct(values: list[float], p: float) -> float:
     return statistics.quantiles(values, n=100)[int(p) - 1] if len(values) > 1 else values[0]
 
 
+def spread(ms: list[float]) -> str:
+    """p10 (the requests least disturbed by other load on the machine), p50 and p95."""
+    return f"p10 {pct(ms, 10):.1f} ms, p50 {pct(ms, 50):.1f} ms, p95 {pct(ms, 95):.1f} ms"
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--home", type=Path, help="an existing store's home (default: a scratch store)")
@@ -127,6 +153,8 @@ def main() -> None:
     ap.add_argument("--clients", type=int, default=100)
     ap.add_argument("--per-client", type=int, default=20)
     args = ap.parse_args()
+    if args.tiny and args.home:
+        ap.error("--tiny ingests a hand-made kitchen into the store: use it without --home (a scratch store)")
 
     from graphdb.embedded import EmbeddedServer, free_port
 
@@ -150,14 +178,14 @@ def main() -> None:
 
             httpx.post(url + "/ingest", json=kitchen_body(building="default", room=args.room),
                        headers={"Authorization": f"Bearer {token}"}, timeout=120).raise_for_status()
-        ms = latency(url, token, args.room, args.repeat)
-        local = in_process(home, args.room, args.repeat)
-        ms_again = latency(url, token, args.room, args.repeat)     # interleaved: load drifts between them
-        ms += ms_again
-        print(f"POST /ask, room-scoped, one client: {len(ms)} requests, p50 {pct(ms, 50):.1f} ms, "
-              f"p95 {pct(ms, 95):.1f} ms")
-        print(f"the same questions in process: p50 {pct(local, 50):.1f} ms, p95 {pct(local, 95):.1f} ms; "
-              f"service / in-process p50 = {pct(ms, 50) / pct(local, 50):.2f}")
+        load_before = os.getloadavg()[0]
+        ms = latencies(url, token, home, args.room, args.repeat)
+        print(f"load average (1 min) {load_before:.2f} before the latency rounds, {os.getloadavg()[0]:.2f} after")
+        local = pct(ms["in process"], 50)
+        print(f"the questions in process: {len(ms['in process'])} answers, {spread(ms['in process'])}")
+        for client in ("httpx", "stdlib"):
+            print(f"POST /ask, room-scoped, one {client} client: {spread(ms[client])}; "
+                  f"service / in-process p50 = {pct(ms[client], 50) / local:.2f}")
         done, errors, wall, cms = asyncio.run(crowd(url, token, args.room, args.clients, args.per_client))
         print(f"{args.clients} concurrent clients x {args.per_client} questions: {done} requests, {errors} errors, "
               f"{done / wall:.1f} requests/s, p50 {pct(cms, 50):.0f} ms, p95 {pct(cms, 95):.0f} ms")

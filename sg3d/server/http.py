@@ -2,9 +2,13 @@
 request -> `app` call -> JSON. OpenAPI at /openapi.json, docs at /docs.
 
 Every route but /health needs `Authorization: Bearer <token>` (see `sg3d.server.auth`). Routes
-are plain functions, so FastAPI runs them in its thread pool: requests run concurrently over one
-Store per process (a driver with a connection pool), through `app.stores.StoreHandle`, which
-also survives a restart of the embedded store.
+are async and hand their application call to `sg3d.server.dispatch.Dispatcher`: a lone quick read
+runs on the event loop, anything else in the thread pool, so concurrent requests run concurrently
+over one Store per process (a driver with a connection pool), through `app.stores.StoreHandle`,
+which also survives a restart of the embedded store.
+
+Every route declares its response model (`sg3d.server.schemas`) for /openapi.json but returns
+JSON encoded once (`json_response`, where the call ran), which FastAPI sends as it is.
 """
 from __future__ import annotations
 
@@ -13,20 +17,23 @@ from typing import Literal, Optional
 
 from fastapi import Depends, FastAPI, HTTPException, Query, Request
 from fastapi.exceptions import RequestValidationError
-from fastapi.responses import JSONResponse, Response
+from fastapi.responses import Response
 from pydantic import BaseModel, ConfigDict, Field
 
 from app import ask as app_ask
+from app import bounds
 from app import graph as app_graph
 from app import ingest as app_ingest
 from app import plan as app_plan
-from app import bounds
 from app import rooms as app_rooms
 from app.errors import AppError, NotFound, Refused
 from app.stores import StoreHandle
 from sg3d import __version__
+from sg3d.server import schemas
 from sg3d.server.auth import token_matches
+from sg3d.server.dispatch import Dispatcher
 from sg3d.server.guard import TOKEN_HINT, Guard
+from sg3d.server.schemas import ROUTE_ERRORS
 
 
 class Viewpoint(BaseModel):
@@ -133,90 +140,117 @@ def create_app(settings, token: str, handle: Optional[StoreHandle] = None,
 
     async def authorised(request: Request) -> None:
         # the Guard has checked already; this keeps the requirement visible in the OpenAPI document
-        # (async: a plain function dependency would cost every request a second thread-pool hop)
+        # (async: a plain function dependency would cost every request a thread-pool hop)
         if not token_matches(token, request.headers.get("authorization")):
             raise HTTPException(401, TOKEN_HINT, headers={"WWW-Authenticate": "Bearer"})
 
+    _add_error_handlers(api, settings)
+    calls = Dispatcher()
+    _add_health_route(api, stores, settings, calls)
+    auth = [Depends(authorised)]
+    _add_read_routes(api, stores, calls, auth)
+    _add_write_routes(api, stores, calls, auth)
+    api.state.stores = stores
+    return api
+
+
+def _add_error_handlers(api: FastAPI, settings) -> None:
+    # async: Starlette runs a plain handler in the thread pool
     @api.exception_handler(AppError)
-    def _app_error(request: Request, exc: AppError):
-        return JSONResponse({"detail": str(exc)}, status_code=_status(exc))
+    async def _app_error(request: Request, exc: AppError):
+        return json_response({"detail": str(exc)}, status_code=_status(exc))
 
     @api.exception_handler(RequestValidationError)
-    def _invalid(request: Request, exc: RequestValidationError):
-        return JSONResponse({"detail": validation_details(exc.errors())}, status_code=422)
+    async def _invalid(request: Request, exc: RequestValidationError):
+        return json_response({"detail": validation_details(exc.errors())}, status_code=422)
 
     @api.exception_handler(Exception)
-    def _store_error(request: Request, exc: Exception):
+    async def _store_error(request: Request, exc: Exception):
         status, detail, headers = store_failure(exc, settings)
-        return JSONResponse({"detail": detail}, status_code=status, headers=headers)
+        response = json_response({"detail": detail}, status_code=status)
+        response.headers.update(headers)
+        return response
 
-    read = stores.call
 
-    @api.get("/health", tags=["service"])
-    def health():
-        """Whether the store is reachable, and the version. No token needed."""
+def _add_health_route(api: FastAPI, stores: StoreHandle, settings, calls: Dispatcher) -> None:
+    def check() -> tuple[bool, str]:
         try:
-            read(lambda s: s.driver.verify_connectivity())
-            ok, status = True, "ok"
+            stores.call(lambda s: s.driver.verify_connectivity())
+            return True, "ok"
         except Exception as exc:  # noqa: BLE001 - any failure means not reachable; the detail is in the server log
-            ok, status = False, store_failure(exc, settings)[1]
-        return JSONResponse({"status": status, "store": ok, "version": __version__},
-                            status_code=200 if ok else 503)
+            return False, store_failure(exc, settings)[1]
 
-    auth = [Depends(authorised)]
+    @api.get("/health", tags=["service"], response_model=schemas.Health,
+             responses={503: {"model": schemas.Health, "description": "the store cannot be reached"}})
+    async def health():
+        """Whether the store is reachable, and the version. No token needed."""
+        ok, status = await calls.pooled(check)
+        return json_response({"status": status, "store": ok, "version": __version__}, status_code=200 if ok else 503)
 
-    @api.post("/ask", dependencies=auth, tags=["read"])
-    def ask(body: AskBody):
+
+def _add_read_routes(api: FastAPI, stores: StoreHandle, calls: Dispatcher, auth: list) -> None:
+    read = stores.call
+    opts = {"dependencies": auth, "tags": ["read"], "responses": ROUTE_ERRORS}
+
+    @api.post("/ask", response_model=schemas.AskAnswer, **opts)
+    async def ask(body: AskBody):
         """The JSON of `sg3d ask --json`, plus the answer's picture as base64 JPEG when it has one.
         A question it cannot answer gives ok: false and the reason in answer (still 200)."""
         viewpoint = body.viewpoint.model_dump(exclude_none=True) if body.viewpoint else None
         if viewpoint is not None and len(viewpoint) != 1:
             raise AppError("viewpoint takes exactly one of pose, position and object")
-        return json_response(read(lambda s: app_ask.ask(s, body.question, room=body.room, building=body.building,
-                                                        viewpoint=viewpoint).to_json(inline_thumbnail=True)))
+        return await calls.quick(lambda: json_response(read(lambda s: app_ask.ask(
+            s, body.question, room=body.room, building=body.building, viewpoint=viewpoint
+        ).to_json(inline_thumbnail=True))))
 
-    @api.post("/plan", dependencies=auth, tags=["read"])
-    def plan(body: PlanBody):
+    @api.post("/plan", response_model=schemas.Plan, **opts)
+    async def plan(body: PlanBody):
         """A validated plan: steps in words and as PDDL actions, the goal, domain and problem PDDL."""
-        return json_response(read(lambda s: app_plan.plan_json(s, body.command, goal=body.goal, room=body.room,
-                                                               building=body.building, start=body.start)))
+        return await calls.pooled(lambda: json_response(read(lambda s: app_plan.plan_json(
+            s, body.command, goal=body.goal, room=body.room, building=body.building, start=body.start))))
 
-    @api.get("/rooms", dependencies=auth, tags=["read"])
-    def rooms(building: Optional[str] = None):
+    @api.get("/rooms", response_model=list[schemas.Room], **opts)
+    async def rooms(building: Optional[str] = None):
         """Rooms (of one building, or all) with object counts, transforms and adjacent rooms."""
-        return json_response(read(lambda s: app_rooms.list_rooms(s, building)))
+        return await calls.quick(lambda: json_response(read(lambda s: app_rooms.list_rooms(s, building))))
 
-    @api.get("/rooms/{building}/{room}/objects", dependencies=auth, tags=["read"])
-    def objects(building: str, room: str, label: Optional[str] = None, colour: Optional[str] = None,
-                near: Optional[str] = Query(None, description="x,y,z in the room's frame: sort by distance"),
-                radius: Optional[float] = Query(None, description="metres from `near`")):
+    @api.get("/rooms/{building}/{room}/objects", response_model=list[schemas.RoomObject], **opts)
+    async def objects(building: str, room: str, label: Optional[str] = None, colour: Optional[str] = None,
+                      near: Optional[str] = Query(None, description="x,y,z in the room's frame: sort by distance"),
+                      radius: Optional[float] = Query(None, description="metres from `near`")):
         """A room's objects with readable names, filtered by label, colour and distance to a point."""
         point = _near(near)
-        return json_response(read(lambda s: app_rooms.room_objects(s, building, room, label=label, colour=colour,
-                                                                   near=point, radius=radius)))
+        return await calls.quick(lambda: json_response(read(lambda s: app_rooms.room_objects(
+            s, building, room, label=label, colour=colour, near=point, radius=radius))))
 
-    @api.get("/graph", dependencies=auth, tags=["read"])
-    def graph(building: str = "default", room: Optional[str] = None,
-              format: Literal["json", "graphml", "spark-dsg", "3dssg"] = "json", thumbnails: bool = False,
-              histograms: bool = False):
+    @api.get("/graph", response_model=schemas.Graph, dependencies=auth, tags=["read"],
+             responses={**ROUTE_ERRORS, 200: {"content": {"application/graphml+xml": {}},
+                                            "description": "the graph; GraphML for format=graphml"}})
+    async def graph(building: str = "default", room: Optional[str] = None,
+                    format: Literal["json", "graphml", "spark-dsg", "3dssg"] = "json", thumbnails: bool = False,
+                    histograms: bool = False):
         """The graph of a room or a building: the paper's JSON form, GraphML, spark_dsg JSON or 3DSSG
         ({objects, relationships})."""
         spark = format == "spark-dsg"
-        g = read(lambda s: app_graph.fetch_named_graph(s, building, room, thumbnails, histograms or spark,
-                                                       room_transforms=spark))
-        if format == "json":
-            return json_response(g)
-        return Response(app_graph.render_graph(g, format),
-                        media_type="application/graphml+xml" if format == "graphml" else "application/json")
 
-    @api.post("/ingest", dependencies=auth, tags=["write"])
-    def ingest(body: app_ingest.IngestRequest):
+        def fetch() -> Response:
+            g = read(lambda s: app_graph.fetch_named_graph(s, building, room, thumbnails, histograms or spark,
+                                                           room_transforms=spark))
+            if format == "json":
+                return json_response(g)
+            return Response(app_graph.render_graph(g, format),
+                            media_type="application/graphml+xml" if format == "graphml" else "application/json")
+        return await calls.pooled(fetch)
+
+
+def _add_write_routes(api: FastAPI, stores: StoreHandle, calls: Dispatcher, auth: list) -> None:
+    @api.post("/ingest", dependencies=auth, tags=["write"], response_model=schemas.IngestResult,
+              responses=ROUTE_ERRORS)
+    async def ingest(body: app_ingest.IngestRequest):
         """Merge a robot's local scene graph (same-node detection, one transaction); the same
         observation_id is merged once. A body that does not validate is a 422 naming the field."""
-        return json_response(stores.call(lambda s: app_ingest.ingest_graph(s, body), write=True))
-
-    api.state.stores = stores
-    return api
+        return await calls.pooled(lambda: json_response(stores.call(lambda s: app_ingest.ingest_graph(s, body),
+                                                                    write=True)))
 
 
 def is_loopback(host: str) -> bool:
