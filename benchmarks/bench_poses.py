@@ -57,6 +57,14 @@ def evo_ate(estimate: np.ndarray, reference: np.ndarray):
     return ape.get_statistic(metrics.StatisticsType.rmse)
 
 
+def rotation_errors_deg(estimate: np.ndarray, reference: np.ndarray) -> np.ndarray:
+    """Per-frame angle between estimated and given camera orientation after the ATE's alignment."""
+    T = align_trajectory(estimate, reference)
+    R = np.einsum("ij,njk->nik", T[:3, :3], estimate[:, :3, :3])
+    cos = (np.einsum("nij,nij->n", R, reference[:, :3, :3]) - 1) / 2
+    return np.degrees(np.arccos(np.clip(cos, -1, 1)))
+
+
 def decode_ms(seq, step: int) -> float:
     """ms per input frame to only decode what the odometry reads (depth, a half-size colour image)
     of every `step`-th frame: a yardstick measured in the same run, so the ratio survives load."""
@@ -80,6 +88,7 @@ def measure(path: Path, step: int) -> dict:
     return {"sequence": path.name, "frames": len(seq), "placed": len(est.poses), "unplaced": len(est.unplaced),
             "loop_closures": est.loop_closures, "segments": est.segments, "length_m": round(est.length_m, 2),
             "ate_m": round(ate_rmse(E, G), 4), "evo_ate_m": evo_ate(E, G),
+            "rotation_error_deg": round(float(rotation_errors_deg(E, G).mean()), 2),
             "ms_per_input_frame": round(1000 * seconds / len(seq), 1),
             "cpu_ms_per_input_frame": round(1000 * cpu / len(seq), 1), "decode_ms_per_input_frame": round(decode, 1)}
 
@@ -151,7 +160,7 @@ def run(argv=None) -> None:
         r = measure(path, args.step)
         loads.append(os.getloadavg()[0])
         evo = f", evo {r['evo_ate_m']:.4f} m" if r["evo_ate_m"] is not None else ""
-        print(f"{r['sequence']}: ATE {r['ate_m']:.4f} m{evo} over {r['placed']} of {r['frames']} frames "
+        print(f"{r['sequence']}: ATE {r['ate_m']:.4f} m{evo}, mean rotation error {r['rotation_error_deg']} deg, over {r['placed']} of {r['frames']} frames "
               f"({r['unplaced']} not placed), {r['loop_closures']} loop closures, {r['segments']} segments, "
               f"{r['length_m']} m travelled; {r['ms_per_input_frame']} ms per input frame "
               f"({r['cpu_ms_per_input_frame']} ms of this process's CPU time) "
