@@ -46,6 +46,8 @@ DEPTH_JUMP_REL = 0.03
 # A box's 3-D extent is measured on a pixel grid of about this many samples: percentiles of a
 # 6,400-point sample are as good as of a 120,000-pixel table box, at a twentieth of the cost.
 MAX_BOX_SAMPLES = 6400
+# A box's extent is measured between these percentiles of the object's points.
+BOX_LOW_PERCENTILE, BOX_HIGH_PERCENTILE = 5.0, 95.0
 
 
 def clip_box(box: Box, width: int, height: int) -> tuple[int, int, int, int]:
@@ -150,7 +152,7 @@ def object_mask(depth: np.ndarray, bounds: tuple[int, int, int, int], stride: in
 
 
 def object_box(frame: Frame, box: Box, up: Optional[Sequence[float]] = None,
-               lo: float = 5.0, hi: float = 95.0) -> Optional[tuple[tuple[float, float, float], tuple[float, float, float]]]:
+               lo: float = BOX_LOW_PERCENTILE, hi: float = BOX_HIGH_PERCENTILE) -> Optional[tuple[tuple[float, float, float], tuple[float, float, float]]]:
     """The object's 3-D box in the gravity frame: (centre in world coordinates, (width, depth,
     height) in metres along (e1, e2, up) of horizontal_basis(up)); None without depth.
 
@@ -183,7 +185,7 @@ def object_box(frame: Frame, box: Box, up: Optional[Sequence[float]] = None,
 
 
 def object_size(frame: Frame, box: Box, up: Optional[Sequence[float]] = None,
-                lo: float = 5.0, hi: float = 95.0) -> Optional[tuple[float, float, float]]:
+                lo: float = BOX_LOW_PERCENTILE, hi: float = BOX_HIGH_PERCENTILE) -> Optional[tuple[float, float, float]]:
     """(width, depth, height) in metres along (e1, e2, up); None without depth (see object_box)."""
     found = object_box(frame, box, up, lo, hi)
     return None if found is None else found[1]

@@ -19,6 +19,8 @@ from typing import Optional, Sequence
 import cv2
 import numpy as np
 
+from ingest.attributes import BOX_HIGH_PERCENTILE, BOX_LOW_PERCENTILE
+
 # A frame's depth is kept at 1/DEPTH_FACTOR resolution for the visibility test (the objects are
 # tens of pixels wide; 160x120 is plenty and costs 77 KB a frame).
 DEPTH_FACTOR = 4
@@ -54,6 +56,10 @@ MIN_DETECTIONS = 2
 # its evidence (fused score).
 RELABEL_MIN_SHARE = 0.5
 
+# The share of an object's extent its measured box spans: percentiles of points spread evenly
+# along an axis leave out the two tails.
+MEASURED_SHARE = (BOX_HIGH_PERCENTILE - BOX_LOW_PERCENTILE) / 100.0
+
 CLASS_SIZES_FILE = Path(__file__).resolve().parent / "data" / "class_sizes.json"
 
 
@@ -64,10 +70,13 @@ def class_sizes() -> dict[str, tuple[float, float]]:
 
 
 def size_plausible(label: str, size: Sequence[float]) -> bool:
-    """Size prior: the object's largest extent lies in its class's plausible range
-    (`data/class_sizes.json`, world knowledge); classes without a range always pass."""
+    """Size prior: the object's largest extent could be one in its class's plausible range
+    (`data/class_sizes.json`, world knowledge, true sizes); classes without a range always pass.
+    The measured box spans MEASURED_SHARE of the object (percentiles of its points), so the
+    smallest plausible object measures MEASURED_SHARE * min: min * MEASURED_SHARE <= extent <= max
+    (trimming tails never makes a box bigger than its object)."""
     bounds = class_sizes().get(label)
-    return bounds is None or bounds[0] <= float(max(size)) <= bounds[1]
+    return bounds is None or bounds[0] * MEASURED_SHARE <= float(max(size)) <= bounds[1]
 
 
 def plausible_labels(labels: Sequence[str], scores: Sequence[float], size: Sequence[float]) -> tuple[list[str], list[float]]:

@@ -116,6 +116,21 @@ def test_size_prior_relabels_or_rejects():
     assert existence.size_plausible("chair", (0.5, 0.5, 0.9))
 
 
+def test_size_prior_allows_for_the_percentile_box():
+    """A table at the smallest plausible size, its points spread evenly, measures less than that
+    size between the box percentiles; the prior still lets it be a table, not a much smaller box,
+    and the upper bound stays the class's own."""
+    from ingest.attributes import BOX_HIGH_PERCENTILE, BOX_LOW_PERCENTILE
+
+    smallest, largest = existence.class_sizes()["dining table"]
+    along = np.linspace(0.0, smallest, 2001)
+    measured = float(np.percentile(along, BOX_HIGH_PERCENTILE) - np.percentile(along, BOX_LOW_PERCENTILE))
+    assert measured < smallest
+    assert existence.size_plausible("dining table", (measured, 0.3, 0.4))
+    assert not existence.size_plausible("dining table", (0.8 * smallest, 0.3, 0.4))
+    assert not existence.size_plausible("dining table", (largest * 1.01, 0.3, 0.4))
+
+
 @pytest.fixture(scope="module")
 def kitchen_views(kitchen_dir):
     """Twelve real frames of the kitchen's first second (the table and chairs in view)."""

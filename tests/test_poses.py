@@ -48,6 +48,22 @@ def test_ate_matches_evo_and_alignment_recovers_a_known_motion():
     assert 0.005 < ate_rmse(est, ref) < 0.03
 
 
+def test_the_sensitivity_yardstick_turns_cameras_by_what_it_says():
+    """bench_poses' --perturb-given: cameras turned in place by a smooth rotation of the stated
+    amplitude (positions, hence ATE, untouched), which its rotation error reads back."""
+    from benchmarks.bench_poses import perturbed, rotation_errors_deg
+
+    ref = _random_trajectory(np.random.default_rng(5), n=400)
+    turned = perturbed(dict(enumerate(ref)), 0.5, seed=2)
+    est = np.array([turned[i] for i in range(len(ref))])
+    np.testing.assert_allclose(est[:, :3, 3], ref[:, :3, 3])
+    errors = rotation_errors_deg(est, ref)
+    assert errors.max() <= 0.5 * np.sqrt(3) + 1e-9
+    assert 0.2 < errors.mean() < 0.8
+    assert np.abs(np.diff(errors)).max() < 0.05          # smooth along the sequence, not jitter
+    assert rotation_errors_deg(ref, ref).max() < 1e-5
+
+
 def test_interpolation_and_tum_round_trip(tmp_path):
     a, b = np.eye(4), np.eye(4)
     b[:3, :3] = Rotation.from_euler("z", 90, degrees=True).as_matrix()
