@@ -88,7 +88,7 @@ class Settings:
 
         return EmbeddedServer(self.embedded_home()).ensure_running()
 
-    @functools.cache
+    @functools.cache  # noqa: B019 - one Settings per command: the cache lives as long as it
     def store(self):
         """The writer store for this command (the embedded one is started on demand)."""
         from graphdb.store import Store
@@ -99,7 +99,7 @@ class Settings:
             return _open_embedded(lambda: Store(info.uri, info.writer_auth, info.database), self, "writer")
         return Store(self.uri, (self.user or "neo4j", self.password or ""), self.database or "neo4j")
 
-    @functools.cache
+    @functools.cache  # noqa: B019 - as store()
     def reader(self):
         """The read-only store: the embedded reader user, or with --uri the --read-user (else the
         same user, in READ transactions). sg3d's own template writes go to `store()`."""
