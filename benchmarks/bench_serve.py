@@ -145,8 +145,7 @@ def main() -> None:
 
         url, token = f"http://127.0.0.1:{port}", token_path(home).read_text().strip()
         if args.tiny:
-            sys.path.insert(0, str(REPO))
-            from tests.serve_helpers import kitchen_body
+            from sg3d.testing import kitchen_body
 
             httpx.post(url + "/ingest", json=kitchen_body(building="default", room=args.room),
                        headers={"Authorization": f"Bearer {token}"}, timeout=120).raise_for_status()
