@@ -12,10 +12,12 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Callable, Optional
 
+from core.errors import Sg3dError
+
 ProgressFn = Callable[[str, int, int], None]
 
 
-class BuildError(ValueError):
+class BuildError(Sg3dError, ValueError):
     """Bad input to a build (the front end shows it as one line)."""
 
 

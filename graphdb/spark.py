@@ -29,6 +29,7 @@ from typing import Optional
 
 import numpy as np
 
+from core.errors import Sg3dError
 from ingest.model import COLOUR_NAMES, HIST_SIZE, RELATION_TYPES
 
 OBJECTS, PLACES, ROOMS, BUILDINGS = 2, 3, 4, 5
@@ -43,7 +44,7 @@ COLOUR_RGB = {"red": (220, 30, 30), "orange": (245, 140, 20), "yellow": (240, 22
 assert set(COLOUR_RGB) == set(COLOUR_NAMES)
 
 
-class SparkError(ValueError):
+class SparkError(Sg3dError, ValueError):
     """A file that is not a spark_dsg scene graph we can read."""
 
 

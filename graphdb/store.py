@@ -6,6 +6,7 @@ from typing import Any, Callable, Optional
 
 from neo4j import GraphDatabase, ManagedTransaction
 
+from core.errors import Sg3dError
 from graphdb import cypher
 from graphdb.values import finite_rows
 
@@ -18,7 +19,7 @@ logging.getLogger("neo4j").setLevel(logging.ERROR)
 log = logging.getLogger("sg3d.store")
 
 
-class ReadOnlyStoreError(RuntimeError):
+class ReadOnlyStoreError(Sg3dError, RuntimeError):
     """A write was asked of a store opened for reading."""
 
 

@@ -14,8 +14,10 @@ from typing import Callable, Iterable, Iterator, Optional, Protocol
 import cv2
 import numpy as np
 
+from core.errors import Sg3dError
 
-class FrameError(Exception):
+
+class FrameError(Sg3dError):
     """A frame that cannot be used (corrupt or missing image, bad pose); it is skipped, not fatal."""
 
     def __init__(self, name: str, reason: str):

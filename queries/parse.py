@@ -9,6 +9,7 @@ import re
 from dataclasses import dataclass, field
 from typing import Callable, Optional
 
+from core.errors import Sg3dError
 from ingest.model import COLOUR_NAMES
 from queries.lexicon import Target, resolve
 
@@ -41,7 +42,7 @@ PIECES = re.compile(r"\b(?:pieces?|kinds?|types?|sorts?|bits?) of\b")
 EVERYWHERE = re.compile(r"\b(?:in|on) (?:the |this |my )?(?:environment|scene|house|home|world|map|building|whole \w+|total)\b")
 
 
-class ParseError(ValueError):
+class ParseError(Sg3dError, ValueError):
     """The question is outside what the rules understand; the message says why."""
 
 

@@ -33,6 +33,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Any, Optional
 
+from core.errors import Sg3dError
 from graphdb import cypher
 from ingest.relation_rules import SYMMETRIC, VIEWPOINT
 from queries import viewpoint as views
@@ -101,7 +102,7 @@ class Answer:
         return out
 
 
-class Refusal(Exception):
+class Refusal(Sg3dError):
     pass
 
 
