@@ -7,6 +7,8 @@ belongs in tests/ beside this folder.
 """
 from __future__ import annotations
 
+from pathlib import Path
+
 import pytest
 
 from tests.unit import lane_guard
@@ -14,9 +16,13 @@ from tests.unit import lane_guard
 lane_guard.install()
 
 
+UNIT = Path(__file__).resolve().parent
+
+
 @pytest.hookimpl(wrapper=True)
 def pytest_runtest_protocol(item, nextitem):
-    lane_guard.guard(True)
+    # pytest calls this hook for every item of the session, not only for those under this folder
+    lane_guard.guard(UNIT in Path(item.path).resolve().parents)
     try:
         return (yield)
     finally:
