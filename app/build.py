@@ -13,6 +13,7 @@ from pathlib import Path
 from typing import Callable, Optional
 
 from core.errors import Sg3dError
+from graphdb.protocol import GraphStore
 
 ProgressFn = Callable[[str, int, int], None]
 
@@ -72,7 +73,7 @@ def check_detector(settings) -> None:
         raise BuildError(str(exc))
 
 
-def build_room(store, req: BuildRequest, settings, detector=None, embedding=None,
+def build_room(store: GraphStore, req: BuildRequest, settings, detector=None, embedding=None,
                progress: Optional[ProgressFn] = None) -> dict:
     """Run the pipeline over `req.sequence` and merge each chunk into `store`; the summary dict.
 
@@ -223,7 +224,7 @@ def scan_key(run: str, start: int, stop: int) -> str:
     return f"{run}@{start}-{stop}"
 
 
-def place_room(store, req: BuildRequest, transform):
+def place_room(store: GraphStore, req: BuildRequest, transform):
     """Give the room its room-to-building transform; a building's first room is its reference."""
     import numpy as np
 

@@ -9,11 +9,12 @@ from typing import Optional
 
 from app import bounds
 from app.errors import AppError
+from graphdb.protocol import GraphStore
 
 PLANNERS = ("pyperplan", "fast-downward")
 
 
-def plan(store, command: Optional[str] = None, *, goal: Optional[str] = None, room: Optional[str] = None,
+def plan(store: GraphStore, command: Optional[str] = None, *, goal: Optional[str] = None, room: Optional[str] = None,
          building: Optional[str] = None, start: Optional[str] = None, out_dir: Optional[Path] = None,
          planner: str = "pyperplan"):
     """The validated plan (`queries.planning.PlanOutcome`); AppError with a one-line reason when
@@ -33,7 +34,7 @@ def plan(store, command: Optional[str] = None, *, goal: Optional[str] = None, ro
         raise AppError(str(exc)) from exc
 
 
-def plan_json(store, command: Optional[str] = None, **kw) -> dict:
+def plan_json(store: GraphStore, command: Optional[str] = None, **kw) -> dict:
     """A plan as self-contained JSON for remote callers: `PlanOutcome.to_json()` plus the PDDL
     texts (`domain_pddl`, `problem_pddl`); the server's temporary files are removed."""
     tmp = Path(tempfile.mkdtemp(prefix="sg3d-plan-"))

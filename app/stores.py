@@ -10,17 +10,19 @@ from __future__ import annotations
 
 import threading
 from pathlib import Path
-from typing import Any, Callable, Optional, TypeVar
+from typing import Callable, Optional, TypeVar
+
+from graphdb.protocol import GraphStore
 
 T = TypeVar("T")
 
 
-def reader(settings):
+def reader(settings) -> GraphStore:
     """The store for reads: the read-only user where the settings offer one."""
     return settings.reader() if hasattr(settings, "reader") else settings.store()
 
 
-def writer(settings):
+def writer(settings) -> GraphStore:
     """The store for writes (ingest)."""
     return settings.store()
 
@@ -48,7 +50,7 @@ class StoreHandle:
     def __init__(self, settings):
         self.settings = settings
         self._lock = threading.Lock()
-        self._stores: dict[str, Any] = {}
+        self._stores: dict[str, GraphStore] = {}
         self._stamp = self._server_stamp()
         self._stopped_path: Optional[Path] = None
 
@@ -72,7 +74,7 @@ class StoreHandle:
         if self._stopped_path.exists():
             raise StoreStopped("the store was stopped; `sg3d db start`")
 
-    def get(self, write: bool = False):
+    def get(self, write: bool = False) -> GraphStore:
         kind = "writer" if write else "reader"
         self._check_not_stopped()
         with self._lock:
@@ -101,7 +103,7 @@ class StoreHandle:
             if failed in self._stores.values():
                 self._drop()
 
-    def call(self, fn: Callable[[Any], T], write: bool = False) -> T:
+    def call(self, fn: Callable[[GraphStore], T], write: bool = False) -> T:
         """`fn(store)`, retried once on a rebuilt Store when the store was unreachable."""
         from neo4j.exceptions import ServiceUnavailable, SessionExpired
 
