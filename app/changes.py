@@ -6,7 +6,7 @@ they touched. The window is the scans after `since` (a scan id), by default the 
 """
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Optional, cast
+from typing import TYPE_CHECKING, Any, Optional, cast
 
 from app.errors import AppError, NotFound
 from graphdb.protocol import GraphStore
@@ -70,7 +70,7 @@ def room_changes(store: GraphStore, room: str, building: str = "default", since:
     return {"room": rid, "scans": window, "since": since, "moved": moved, "added": added, "removed": removed}
 
 
-def places_before(store: GraphStore, labels: list[str], room: Optional[str] = None, building: Optional[str] = None) -> list[dict]:
+def places_before(store: GraphStore, labels: Optional[list[str]], room: Optional[str] = None, building: Optional[str] = None) -> list[dict]:
     """Where objects of these labels were before they moved or went: per object its name, label,
     where it is now (None if removed) and its earlier places, oldest first."""
     from queries.naming import names_in_store
@@ -127,7 +127,7 @@ def change_answer(store: GraphStore, question: str, room: Optional[str] = None, 
     if not rids:
         where = f"room '{cq.room or room}'" if (cq.room or room) else "any room"
         return Answer(question, False, f"no scans recorded for {where}", form="changes")
-    if cq.form == "before":
+    if cq.form == "before" and cq.target is not None:     # "before" always names its objects
         rows = [r for r in places_before(store, cq.target.labels, building=building) if r["room"] in rids]
         if not rows:
             return Answer(question, True, f"no {cq.target.describe()} has moved or gone", "history", [], [])
@@ -137,7 +137,7 @@ def change_answer(store: GraphStore, question: str, room: Optional[str] = None, 
             now = f"now at {_where(r['now'])}" if r["now"] else "now gone"
             parts.append(f"the {r['name']} was at {before}; {now}")
         return Answer(question, True, "; ".join(parts), "history", rows, cast("list[AnswerObject]", rows))
-    value = {"moved": [], "added": [], "removed": []}
+    value: dict[str, list[Any]] = {"moved": [], "added": [], "removed": []}
     for rid in rids:
         b, name = rid.split("/", 1)
         if cq.form == "gone":

@@ -220,7 +220,7 @@ def run_rolled_back(store: GraphStore, statement: str, params: dict, limit: int 
         try:
             result = tx.run(statement, params)
             keys = list(result.keys())
-            rows = []
+            rows: list[dict] = []
             for record in result:
                 if len(rows) == limit:
                     return {"keys": keys, "rows": rows, "truncated": True}

@@ -5,18 +5,21 @@ from __future__ import annotations
 import shutil
 import tempfile
 from pathlib import Path
-from typing import Optional
+from typing import TYPE_CHECKING, Optional
 
 from app import bounds
 from app.errors import AppError
 from graphdb.protocol import GraphStore
+
+if TYPE_CHECKING:
+    from queries.planning.pipeline import PlanOutcome
 
 PLANNERS = ("pyperplan", "fast-downward")
 
 
 def plan(store: GraphStore, command: Optional[str] = None, *, goal: Optional[str] = None, room: Optional[str] = None,
          building: Optional[str] = None, start: Optional[str] = None, out_dir: Optional[Path] = None,
-         planner: str = "pyperplan"):
+         planner: str = "pyperplan") -> PlanOutcome:
     """The validated plan (`queries.planning.PlanOutcome`); AppError with a one-line reason when
     there is none. PDDL files are written to `out_dir` (default: a new temporary directory)."""
     from queries.planning import PlanningError, plan_task

@@ -31,9 +31,9 @@ def _forget_cached(settings) -> None:
     """Drop the settings' cached stores so the next call re-reads the daemon's server.json (a
     restarted embedded store listens on new ports) and opens a new driver."""
     for name in ("store", "reader"):
-        fn = getattr(type(settings), name, None)
-        if hasattr(fn, "cache_clear"):
-            fn.cache_clear()
+        clear = getattr(getattr(type(settings), name, None), "cache_clear", None)
+        if clear is not None:
+            clear()
 
 
 class StoreHandle:

@@ -131,7 +131,7 @@ def main() -> None:
     from graphdb.embedded import EmbeddedServer, free_port
 
     scratch = None if args.home else tempfile.TemporaryDirectory(prefix="sg3d-bench-serve-")
-    home = args.home or Path(scratch.name)
+    home = Path(scratch.name) if scratch is not None else args.home
     port = free_port()
     server = None
     try:

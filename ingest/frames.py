@@ -61,7 +61,7 @@ class Frame:
         self._gray: Optional[np.ndarray] = None
         self._source = source
         self._on_error = on_error
-        self._size = tuple(size) if size is not None else None
+        self._size: Optional[tuple[int, int]] = (size[0], size[1]) if size is not None else None
 
     def __repr__(self) -> str:
         state = "loaded" if self.is_loaded else "lazy"

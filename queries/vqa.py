@@ -31,7 +31,7 @@ SAME_AS; counts over more than one room count each SAME_AS group once (`_same_as
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any, Optional, cast
+from typing import Any, Optional, Sequence, Union, cast
 
 from core.errors import Sg3dError
 from graphdb import cypher
@@ -132,7 +132,7 @@ class _Run:
         self.steps.append({"template": f"cypher/{name}.cypher", "params": params})
         return self.store.read(name, **params)
 
-    def read_rel(self, name: str, rel_type: str, **params) -> list[dict]:
+    def read_rel(self, name: str, rel_type: Union[str, Sequence[str]], **params) -> list[dict]:
         if not isinstance(rel_type, str):
             # several types ("near" = NEAR or NEXT_TO): one run each, rows in order
             return [r for t in rel_type for r in self.read_rel(name, t, **params)]
@@ -234,11 +234,11 @@ def _scope(run: _Run, room: Optional[str], building: Optional[str],
     else:
         rows = run.read("vqa_rooms", room=None, building=building.lower())
     if not rows:
-        known = sorted({f"{r['building']}/{r['name']}" for r in run.store.read("vqa_rooms", room=None, building=None)})
-        if not known:
+        stored = sorted({f"{r['building']}/{r['name']}" for r in run.store.read("vqa_rooms", room=None, building=None)})
+        if not stored:
             raise Refusal("the store holds no scene graph yet: build one first (sg3d build ...)")
         what = " in ".join(x for x in (f"room '{room}'" if room else "", f"building '{building}'" if building else "") if x)
-        raise Refusal(f"no {what} in the store (rooms: {', '.join(known) or 'none'})")
+        raise Refusal(f"no {what} in the store (rooms: {', '.join(stored) or 'none'})")
     return [r["id"] for r in rows]
 
 

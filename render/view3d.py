@@ -64,6 +64,7 @@ def figure(scene: dict, cloud: Optional[tuple] = None, all_edges: bool = False, 
         by_cat.setdefault(category_of(n.get("label") or "?"), []).append(n)
     for cat in sorted(by_cat):
         colour = category_colour(cat)
+        xs: list[float]
         xs, ys, zs, ii, jj, kk, text = [], [], [], [], [], [], []
         lx, ly, lz = [], [], []
         for n in by_cat[cat]:

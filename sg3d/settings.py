@@ -76,7 +76,7 @@ class Settings:
                                 f"store uses its own generated users (unset SG3D_USER/SG3D_PASSWORD/"
                                 f"SG3D_DATABASE/SG3D_READ_* or add --uri)")
             return
-        scheme = urlsplit(self.uri).scheme.lower()
+        scheme = urlsplit(self.uri or "").scheme.lower()      # not embedded: --uri is given
         if scheme not in URI_SCHEMES:
             raise UserError(f"--uri {self.uri}: unsupported scheme {scheme + '://' if scheme else '(none)'}; "
                             f"use one of {', '.join(s + '://' for s in URI_SCHEMES)}")
