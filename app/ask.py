@@ -4,14 +4,18 @@ from __future__ import annotations
 
 import base64
 from dataclasses import dataclass
-from typing import Optional
+from typing import TYPE_CHECKING, Optional
 
 from app.errors import AppError
+from graphdb.protocol import GraphStore
+
+if TYPE_CHECKING:              # the CLI imports queries only when it answers
+    from queries.vqa import Answer
 
 
 @dataclass
 class Asked:
-    answer: "object"                    # queries.vqa.Answer
+    answer: Answer
     picture: Optional[str] = None       # where the answer's picture was written, if it was
 
     @property
@@ -45,7 +49,7 @@ def parse_viewpoint(text: Optional[str]) -> Optional[dict]:
     raise AppError(f"--viewpoint {text!r}: give a point as X,Y,Z (three numbers, metres) or an object's name")
 
 
-def ask(store, question: str, room: Optional[str] = None, building: Optional[str] = None,
+def ask(store: GraphStore, question: str, room: Optional[str] = None, building: Optional[str] = None,
         picture: bool = False, out: Optional[str] = None, embedding=None,
         viewpoint: Optional[dict] = None) -> Asked:
     """Answer `question` (read-only). With `picture`, a "show me"/"which is the biggest" answer's

@@ -42,7 +42,7 @@ def name_problem(name: object, what: str = "name") -> Optional[str]:
     characters (any script: "küche", "my room"), no path separator, no "..", no leading or
     trailing space. The value itself is never repeated in the reason."""
     problem = _text_problem(name, what, MAX_NAME_CHARS)
-    if problem:
+    if problem or not isinstance(name, str):     # no problem: it is a text
         return problem
     if any(sep in name for sep in _SEPARATORS) or ".." in name:
         return f"{what} must not contain '/', '\\' or '..'"

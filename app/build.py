@@ -12,10 +12,13 @@ from dataclasses import dataclass, field, fields
 from pathlib import Path
 from typing import Any, Callable, Optional
 
+from core.errors import Sg3dError
+from graphdb.protocol import GraphStore
+
 ProgressFn = Callable[[str, int, int], None]
 
 
-class BuildError(ValueError):
+class BuildError(Sg3dError, ValueError):
     """Bad input to a build (the front end shows it as one line)."""
 
 
@@ -132,14 +135,14 @@ class BuildSummary:
         return getattr(self, name, default)
 
 
-def build_room(store, req: BuildRequest, settings, detector=None, embedding=None,
+def build_room(store: GraphStore, req: BuildRequest, settings, detector=None, embedding=None,
                progress: Optional[ProgressFn] = None) -> BuildSummary:
     """Run the pipeline over `req.sequence` and merge each chunk into `store` (`prepare`, then
     `run_build`). `settings`: `ingest.pipeline.Settings`."""
     return run_build(store, prepare(req, settings, detector), embedding, progress)
 
 
-def run_build(store, prepared: PreparedBuild, embedding=None, progress: Optional[ProgressFn] = None) -> BuildSummary:
+def run_build(store: GraphStore, prepared: PreparedBuild, embedding=None, progress: Optional[ProgressFn] = None) -> BuildSummary:
     """A prepared build: the sequence read, its camera poses and gravity, each chunk's local
     graph merged into `store`, the room placed. KeyboardInterrupt between chunks keeps what was
     merged and returns a summary with `interrupted` set."""
@@ -202,7 +205,7 @@ def _gravity(seq, req: BuildRequest, stop: int):
 class _Chunks:
     """The build's chunks, each a local graph merged as one transaction under its key; a chunk
     whose key is already merged is not read again."""
-    store: Any
+    store: GraphStore
     seq: Any
     req: BuildRequest
     settings: Any
@@ -316,7 +319,7 @@ def scan_key(run: str, start: int, stop: int) -> str:
     return f"{run}@{start}-{stop}"
 
 
-def place_room(store, req: BuildRequest, transform):
+def place_room(store: GraphStore, req: BuildRequest, transform):
     """Give the room its room-to-building transform; a building's first room is its reference."""
     import numpy as np
 

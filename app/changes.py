@@ -6,12 +6,16 @@ they touched. The window is the scans after `since` (a scan id), by default the 
 """
 from __future__ import annotations
 
-from typing import Optional
+from typing import TYPE_CHECKING, Any, Optional, cast
 
 from app.errors import AppError, NotFound
+from graphdb.protocol import GraphStore
+
+if TYPE_CHECKING:
+    from queries.answer_parts import AnswerObject
 
 
-def _scans(store, rid: str) -> list[dict]:
+def _scans(store: GraphStore, rid: str) -> list[dict]:
     return store.read("scan_list", room=rid)
 
 
@@ -31,7 +35,7 @@ def _point(o: dict, x, y, z) -> dict:
             "x": round(float(x), 3), "y": round(float(y), 3), "z": round(float(z), 3)}
 
 
-def room_changes(store, room: str, building: str = "default", since: Optional[str] = None,
+def room_changes(store: GraphStore, room: str, building: str = "default", since: Optional[str] = None,
                  every_scan: bool = False) -> dict:
     """{room, scans, since, moved, added, removed}: the objects the scans after `since` (default:
     the last scan alone; `every_scan`: all of them) moved (with `from`: where they were before the
@@ -66,7 +70,7 @@ def room_changes(store, room: str, building: str = "default", since: Optional[st
     return {"room": rid, "scans": window, "since": since, "moved": moved, "added": added, "removed": removed}
 
 
-def places_before(store, labels: list[str], room: Optional[str] = None, building: Optional[str] = None) -> list[dict]:
+def places_before(store: GraphStore, labels: Optional[list[str]], room: Optional[str] = None, building: Optional[str] = None) -> list[dict]:
     """Where objects of these labels were before they moved or went: per object its name, label,
     where it is now (None if removed) and its earlier places, oldest first."""
     from queries.naming import names_in_store
@@ -93,7 +97,7 @@ def _where(p: dict) -> str:
     return f"({p['x']:.2f}, {p['y']:.2f}, {p['z']:.2f})"
 
 
-def _room_ids(store, name: Optional[str], building: Optional[str]) -> list[str]:
+def _room_ids(store: GraphStore, name: Optional[str], building: Optional[str]) -> list[str]:
     if name:
         b = building.lower() if building else None
         spellings = sorted({name, name.lower(), name.title(), name.capitalize(), name.upper()})
@@ -104,7 +108,7 @@ def _room_ids(store, name: Optional[str], building: Optional[str]) -> list[str]:
             if building is None or r["room"].split("/", 1)[0] == building]
 
 
-def change_answer(store, question: str, room: Optional[str] = None, building: Optional[str] = None,
+def change_answer(store: GraphStore, question: str, room: Optional[str] = None, building: Optional[str] = None,
                   embedding=None):
     """The answer (queries.vqa.Answer) to a question about re-scans ("what changed in the kitchen",
     "what is gone", "where was the cup before"), or None when the question is not one."""
@@ -123,7 +127,7 @@ def change_answer(store, question: str, room: Optional[str] = None, building: Op
     if not rids:
         where = f"room '{cq.room or room}'" if (cq.room or room) else "any room"
         return Answer(question, False, f"no scans recorded for {where}", form="changes")
-    if cq.form == "before":
+    if cq.form == "before" and cq.target is not None:     # "before" always names its objects
         rows = [r for r in places_before(store, cq.target.labels, building=building) if r["room"] in rids]
         if not rows:
             return Answer(question, True, f"no {cq.target.describe()} has moved or gone", "history", [], [])
@@ -132,8 +136,8 @@ def change_answer(store, question: str, room: Optional[str] = None, building: Op
             before = ", then ".join(_where(p) for p in r["before"])
             now = f"now at {_where(r['now'])}" if r["now"] else "now gone"
             parts.append(f"the {r['name']} was at {before}; {now}")
-        return Answer(question, True, "; ".join(parts), "history", rows, rows)
-    value = {"moved": [], "added": [], "removed": []}
+        return Answer(question, True, "; ".join(parts), "history", rows, cast("list[AnswerObject]", rows))
+    value: dict[str, list[Any]] = {"moved": [], "added": [], "removed": []}
     for rid in rids:
         b, name = rid.split("/", 1)
         if cq.form == "gone":

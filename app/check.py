@@ -6,6 +6,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 from graphdb import cypher
+from graphdb.protocol import GraphStore
 
 
 @dataclass
@@ -19,7 +20,7 @@ class CheckReport:
         return not self.objects and not self.rooms
 
 
-def _raw(store, name: str) -> list[dict]:
+def _raw(store: GraphStore, name: str) -> list[dict]:
     """A check template's rows as stored (Store.read would skip the bad ones)."""
     text = cypher.load(name)
     with store.session() as s:
@@ -50,7 +51,7 @@ def up_is_bad(up) -> bool:
     return False
 
 
-def check_store(store, repair: bool = False) -> CheckReport:
+def check_store(store: GraphStore, repair: bool = False) -> CheckReport:
     """What is unusable in `store`; with `repair`, remove or clear it (one write per item)."""
     report = CheckReport(objects=[(r["id"], r["room"]) for r in _raw(store, "check_object_values") if object_is_bad(r)],
                          rooms=[r["id"] for r in _raw(store, "check_room_values") if up_is_bad(r["up"])])

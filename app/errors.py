@@ -2,8 +2,10 @@
 (the CLI as one line with exit status 2, HTTP as 400/404 with a detail, MCP as a tool error)."""
 from __future__ import annotations
 
+from core.errors import Sg3dError
 
-class AppError(ValueError):
+
+class AppError(Sg3dError, ValueError):
     """Bad input or a request the store cannot answer (HTTP 400)."""
 
 

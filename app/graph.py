@@ -6,6 +6,7 @@ import re
 from typing import Optional
 
 from app.errors import AppError, NotFound, Refused
+from graphdb.protocol import GraphStore
 from graphdb.values import jsonable
 
 FORMATS = ("json", "graphml", "spark-dsg", "3dssg")
@@ -14,7 +15,7 @@ CYPHER_TIMEOUT_S = 10.0
 
 
 # -- export -----------------------------------------------------------------------------------
-def fetch_named_graph(store, building: str, room: Optional[str] = None, thumbnails: bool = False,
+def fetch_named_graph(store: GraphStore, building: str, room: Optional[str] = None, thumbnails: bool = False,
                       histograms: bool = False, room_transforms: bool = False) -> dict:
     """The room's (or building's) graph {building, room, nodes, edges}, each node with its readable
     name (and with `room_transforms`, {room name: 4x4 room-to-building or None}, which the
@@ -85,7 +86,7 @@ def write_3dssg(graph: dict, folder) -> tuple[int, int]:
 
 
 # -- schema ------------------------------------------------------------------------------------
-def graph_schema(store) -> dict:
+def graph_schema(store: GraphStore) -> dict:
     """What a Cypher author needs: node labels with their properties, relationship types (the
     whitelist) and how many of each the store holds now."""
     from graphdb.export import NODE_FIELDS
@@ -154,7 +155,7 @@ def write_words(statement: str) -> list[str]:
     return sorted({w.upper() for w in _WORD.findall(bare) if w.upper() in WRITE_WORDS})
 
 
-def check_read_only(store, statement: str) -> None:
+def check_read_only(store: GraphStore, statement: str) -> None:
     """Refuse (Refused) a statement that writes: first by its keywords, then by the server's
     EXPLAIN plan (Neo4j: the summary's query type must be 'r'; ArcadeDB, whose query type is
     always 'w', by the write steps of its plan text)."""
@@ -174,7 +175,7 @@ def check_read_only(store, statement: str) -> None:
         raise Refused(f"read-only: the plan writes ({', '.join(steps)})")
 
 
-def explain_writes(store, statement: str) -> list[str]:
+def explain_writes(store: GraphStore, statement: str) -> list[str]:
     """The writing steps of the server's EXPLAIN plan of a statement ([] for a read). Neo4j: the
     summary's query type must be 'r'. ArcadeDB reports 'w' for every statement, so there the
     steps of its plan text ("+ CREATE", "+ SET (1 items)") decide; a statement with no plan
@@ -191,7 +192,7 @@ def explain_writes(store, statement: str) -> list[str]:
     return [] if summary.query_type == "r" else [f"query type {summary.query_type!r}"]
 
 
-def read_only_cypher(store, statement: str, params: Optional[dict] = None, limit: int = CYPHER_ROW_LIMIT,
+def read_only_cypher(store: GraphStore, statement: str, params: Optional[dict] = None, limit: int = CYPHER_ROW_LIMIT,
                      timeout_s: float = CYPHER_TIMEOUT_S) -> dict:
     """Run one reading statement: {keys, rows (dicts), truncated}.
 
@@ -211,7 +212,7 @@ def read_only_cypher(store, statement: str, params: Optional[dict] = None, limit
         raise AppError(f"{exc.code}: {(exc.message or str(exc)).strip().splitlines()[0]}") from exc
 
 
-def run_rolled_back(store, statement: str, params: dict, limit: int = CYPHER_ROW_LIMIT,
+def run_rolled_back(store: GraphStore, statement: str, params: dict, limit: int = CYPHER_ROW_LIMIT,
                     timeout_s: float = CYPHER_TIMEOUT_S) -> dict:
     """Run a statement in an explicit READ transaction that is rolled back, never committed:
     {keys, rows (at most `limit`), truncated}."""
@@ -220,7 +221,7 @@ def run_rolled_back(store, statement: str, params: dict, limit: int = CYPHER_ROW
         try:
             result = tx.run(statement, params)
             keys = list(result.keys())
-            rows = []
+            rows: list[dict] = []
             for record in result:
                 if len(rows) == limit:
                     return {"keys": keys, "rows": rows, "truncated": True}
@@ -231,7 +232,7 @@ def run_rolled_back(store, statement: str, params: dict, limit: int = CYPHER_ROW
 
 
 # -- import ------------------------------------------------------------------------------------
-def import_spark_dsg(store, path, building: Optional[str] = None, room: Optional[str] = None,
+def import_spark_dsg(store: GraphStore, path, building: Optional[str] = None, room: Optional[str] = None,
                      embedding=None) -> dict:
     """Merge a spark_dsg scene graph file (Hydra's, or our own export) into the store, through the
     merge every observation takes (same-node detection, one transaction per room). Each room of

@@ -15,6 +15,7 @@ from typing import Literal, Optional
 from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
 
 from app import bounds
+from graphdb.protocol import GraphStore
 from core.model import COLOUR_NAMES, HIST_SIZE, LAYERS, RELATION_TYPES, SHAPE_WORDS
 
 MAX_OBJECTS = 5000
@@ -227,7 +228,7 @@ def to_local_graph(req: IngestRequest):
                       key=merge_key(req), frames=sorted(set(req.graph.frames)), up=req.graph.up)
 
 
-def ingest_graph(store, req: IngestRequest, embedding=None) -> dict:
+def ingest_graph(store: GraphStore, req: IngestRequest, embedding=None) -> dict:
     """Merge the observation as one transaction; what was created, updated and linked."""
     from graphdb.merge import merge_local_graph
     from graphdb.values import room_id

@@ -5,17 +5,21 @@ from __future__ import annotations
 import shutil
 import tempfile
 from pathlib import Path
-from typing import Optional
+from typing import TYPE_CHECKING, Optional
 
 from app import bounds
 from app.errors import AppError
+from graphdb.protocol import GraphStore
+
+if TYPE_CHECKING:
+    from queries.planning.pipeline import PlanOutcome
 
 PLANNERS = ("pyperplan", "fast-downward")
 
 
-def plan(store, command: Optional[str] = None, *, goal: Optional[str] = None, room: Optional[str] = None,
+def plan(store: GraphStore, command: Optional[str] = None, *, goal: Optional[str] = None, room: Optional[str] = None,
          building: Optional[str] = None, start: Optional[str] = None, out_dir: Optional[Path] = None,
-         planner: str = "pyperplan"):
+         planner: str = "pyperplan") -> PlanOutcome:
     """The validated plan (`queries.planning.PlanOutcome`); AppError with a one-line reason when
     there is none. PDDL files are written to `out_dir` (default: a new temporary directory)."""
     from queries.planning import PlanningError, plan_task
@@ -33,7 +37,7 @@ def plan(store, command: Optional[str] = None, *, goal: Optional[str] = None, ro
         raise AppError(str(exc)) from exc
 
 
-def plan_json(store, command: Optional[str] = None, **kw) -> dict:
+def plan_json(store: GraphStore, command: Optional[str] = None, **kw) -> dict:
     """A plan as self-contained JSON for remote callers: `PlanOutcome.to_json()` plus the PDDL
     texts (`domain_pddl`, `problem_pddl`); the server's temporary files are removed."""
     tmp = Path(tempfile.mkdtemp(prefix="sg3d-plan-"))

@@ -6,6 +6,7 @@ import math
 from typing import Optional, Sequence
 
 from app.errors import AppError, NotFound
+from graphdb.protocol import GraphStore
 
 OBJECT_LIMIT = 10_000   # objects one listing returns at most
 
@@ -17,14 +18,14 @@ def rooms_json(rows: list[dict]) -> list[dict]:
              "adjacent": r["adjacent"]} for r in rows]
 
 
-def building_rooms(store, building: str) -> list[dict]:
+def building_rooms(store: GraphStore, building: str) -> list[dict]:
     """The rooms of one building (graphdb rows, transforms as arrays)."""
     from graphdb.building import list_rooms
 
     return list_rooms(store, building)
 
 
-def list_rooms(store, building: Optional[str] = None) -> list[dict]:
+def list_rooms(store: GraphStore, building: Optional[str] = None) -> list[dict]:
     """Rooms as JSON (`rooms_json`) with their building: one building's, or every building's."""
     buildings = [building] if building else sorted({r["building"] for r in store.read("plan_rooms")})
     return [{"building": b, **r} for b in buildings for r in rooms_json(building_rooms(store, b))]
@@ -42,7 +43,7 @@ def _near(near: Optional[Sequence[float]], radius: Optional[float]):
     return [float(v) for v in near]
 
 
-def room_objects(store, building: str, room: str, label: Optional[str] = None, colour: Optional[str] = None,
+def room_objects(store: GraphStore, building: str, room: str, label: Optional[str] = None, colour: Optional[str] = None,
                  near: Optional[Sequence[float]] = None, radius: Optional[float] = None,
                  limit: int = OBJECT_LIMIT) -> list[dict]:
     """The objects of one room with their readable names, filtered by best label, colour name and
@@ -76,7 +77,7 @@ def room_objects(store, building: str, room: str, label: Optional[str] = None, c
 DELETE_BATCH = 2000   # objects removed per transaction when a room is deleted
 
 
-def delete_room(store, building: str, room: str) -> dict:
+def delete_room(store: GraphStore, building: str, room: str) -> dict:
     """Remove one room: its objects (with their Appearance nodes and edges), tallies, merge logs,
     scans and the room node; nothing of any other room. NotFound when it is not in the store.
     Returns what was removed: {room, objects}."""

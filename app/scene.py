@@ -8,12 +8,13 @@ from typing import Callable, Optional
 import numpy as np
 
 from app.errors import AppError, NotFound
+from graphdb.protocol import GraphStore
 
 VOXEL_M = 0.01            # one cloud point per centimetre cube: frames overlap, so most are repeats
 MAX_DEPTH_M = 4.0         # farther depth is noisy on a Kinect-class sensor
 
 
-def fetch_scene(store, building: str, room: Optional[str] = None) -> dict:
+def fetch_scene(store: GraphStore, building: str, room: Optional[str] = None) -> dict:
     """{building, room, nodes, edges, rooms}: the graph of `fetch_named_graph` (every node with its
     readable name, as ask prints it), each node with `box_centre` (its 3-D box centre, or null),
     and rooms {name: {id, up, to_building}} (up: 3 floats or None; to_building: 4x4 list or None).

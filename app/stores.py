@@ -11,17 +11,19 @@ from __future__ import annotations
 
 import threading
 from pathlib import Path
-from typing import Any, Callable, Optional, TypeVar
+from typing import Callable, Optional, TypeVar
+
+from graphdb.protocol import GraphStore
 
 T = TypeVar("T")
 
 
-def reader(settings):
+def reader(settings) -> GraphStore:
     """The store for reads: the read-only user where the settings offer one."""
     return settings.reader() if hasattr(settings, "reader") else settings.store()
 
 
-def writer(settings):
+def writer(settings) -> GraphStore:
     """The store for writes (ingest)."""
     return settings.store()
 
@@ -30,9 +32,9 @@ def _forget_cached(settings) -> None:
     """Drop the settings' cached stores so the next call re-reads the daemon's server.json (a
     restarted embedded store listens on new ports) and opens a new driver."""
     for name in ("store", "reader"):
-        fn = getattr(type(settings), name, None)
-        if hasattr(fn, "cache_clear"):
-            fn.cache_clear()
+        clear = getattr(getattr(type(settings), name, None), "cache_clear", None)
+        if clear is not None:
+            clear()
 
 
 class StoreHandle:
@@ -49,7 +51,7 @@ class StoreHandle:
     def __init__(self, settings):
         self.settings = settings
         self._lock = threading.Lock()
-        self._stores: dict[str, Any] = {}
+        self._stores: dict[str, GraphStore] = {}
         self._stamp = self._server_stamp()
         self._stopped_path: Optional[Path] = None
 
@@ -73,7 +75,7 @@ class StoreHandle:
         if self._stopped_path.exists():
             raise StoreStopped("the store was stopped; `sg3d db start`")
 
-    def get(self, write: bool = False):
+    def get(self, write: bool = False) -> GraphStore:
         kind = "writer" if write else "reader"
         self._check_not_stopped()
         with self._lock:
@@ -102,7 +104,7 @@ class StoreHandle:
             if failed in self._stores.values():
                 self._drop()
 
-    def call(self, fn: Callable[[Any], T], write: bool = False) -> T:
+    def call(self, fn: Callable[[GraphStore], T], write: bool = False) -> T:
         """`fn(store)`, retried once on a rebuilt Store when the store was unreachable."""
         from neo4j.exceptions import ServiceUnavailable, SessionExpired
 

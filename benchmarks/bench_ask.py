@@ -50,7 +50,7 @@ def generate(store, n_objects: int, n_rooms: int, seed: int = 0, batch_rooms: in
         rooms, pairs = [], []
         for k in range(start, min(n_rooms, start + batch_rooms)):
             rid = f"bench/room {k}"
-            objects = []
+            objects: list[dict] = []
             for i in range(per_room):
                 label = LABELS[i % len(LABELS)]
                 size = [float(v) for v in rng.uniform(0.05, 1.5, 3)]

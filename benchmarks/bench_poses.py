@@ -131,7 +131,7 @@ def aligned_build(path: Path, room: str, step: int, perturb_deg: float | None = 
         seq.use_poses(est.poses, est.unplaced)
         return est
 
-    poses_module.estimate_sequence_poses = estimate_then_align
+    poses_module.estimate_sequence_poses = estimate_then_align  # type: ignore[assignment]  # swapped in for the run
     try:
         cli.main(["build", str(path), "--room", room, "--estimate-poses"], standalone_mode=False, prog_name="sg3d")
     finally:

@@ -159,7 +159,7 @@ def main() -> None:
     from graphdb.embedded import EmbeddedServer, free_port
 
     scratch = None if args.home else tempfile.TemporaryDirectory(prefix="sg3d-bench-serve-")
-    home = args.home or Path(scratch.name)
+    home = Path(scratch.name) if scratch is not None else args.home
     port = free_port()
     server = None
     try:
@@ -173,8 +173,7 @@ def main() -> None:
 
         url, token = f"http://127.0.0.1:{port}", token_path(home).read_text().strip()
         if args.tiny:
-            sys.path.insert(0, str(REPO))
-            from tests.serve_helpers import kitchen_body
+            from sg3d.testing import kitchen_body
 
             httpx.post(url + "/ingest", json=kitchen_body(building="default", room=args.room),
                        headers={"Authorization": f"Bearer {token}"}, timeout=120).raise_for_status()

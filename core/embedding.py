@@ -13,7 +13,7 @@ from __future__ import annotations
 import os
 import threading
 from pathlib import Path
-from typing import Iterable, Optional, Protocol
+from typing import Any, Iterable, Optional, Protocol
 
 import numpy as np
 
@@ -117,7 +117,7 @@ class MiniLMEmbedding(_DiskCachedEmbedding):
 
     def __init__(self, cache_dir: Optional[Path] = None, shipped: bool = True):
         super().__init__(cache_dir)
-        self._model = None
+        self._model: Any = None               # the SentenceTransformer, once loaded
         self._shipped = shipped
 
     def _load_disk(self) -> None:
@@ -163,7 +163,7 @@ class Word2VecEmbedding(_DiskCachedEmbedding):
         self.path = Path(path)
         self.name = f"word2vec-{self.path.stem}"
         super().__init__(cache_dir)
-        self._kv = None
+        self._kv: Any = None                  # gensim's KeyedVectors, once loaded
 
     def _encode(self, labels: list[str]) -> np.ndarray:
         if self._kv is None:

@@ -6,9 +6,16 @@ store or the models, so every layer can import it.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Optional
+from typing import Iterable, Optional, cast
 
 import numpy as np
+
+Vec3 = tuple[float, float, float]
+
+
+def vec3(values: Iterable[float]) -> Vec3:
+    """The floats of a 3-vector (a numpy array, a list) as the plain tuple the model stores."""
+    return cast(Vec3, tuple(float(v) for v in values))
 
 HIST_BINS = 8  # per HSV axis; the paper's c (Sec. V-B), 8**3 = 512 values
 HIST_SIZE = HIST_BINS ** 3

@@ -120,6 +120,7 @@ def exclusive_tag_pairs() -> list[str]:
     out = []
     for x, y in combinations(tags, 2):
         sx, sy = _tag_statement(x), _tag_statement(y)
+        assert sx is not None and sy is not None       # every stored type has a statement
         if sx[0] == sy[0] and (sx[1] != sy[1] or x.lstrip("~") in SYMMETRIC):
             out.append(f"{x}|{y}")
     return out

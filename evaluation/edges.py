@@ -34,7 +34,7 @@ def edge_metrics(relations: Iterable[GTRelation], edges: Iterable[dict], matchin
     """`edges`: rows with s, type, o (node ids). Returns counts, precision/recall, per type."""
     relations = list(relations)
     graph = {(e["s"], e["type"], e["o"]) for e in edges}
-    unmapped = {"unknown_predicate": [], "viewpoint": [], "end_not_matched": []}
+    unmapped: dict[str, list[GTRelation]] = {"unknown_predicate": [], "viewpoint": [], "end_not_matched": []}
     checked: list[tuple[GTRelation, tuple[str, str, str]]] = []
     for r in relations:
         if r.type is None:
@@ -48,12 +48,12 @@ def edge_metrics(relations: Iterable[GTRelation], edges: Iterable[dict], matchin
 
     per_type: dict[str, dict] = defaultdict(lambda: {"gt": 0, "found": 0, "graph": 0, "correct": 0})
     found, missed, truth = [], [], set()
-    for r, triple in checked:
-        same = equivalent_edges(*triple)
+    for r, (s, rtype, o) in checked:
+        same = equivalent_edges(s, rtype, o)
         truth |= same
-        per_type[r.type]["gt"] += 1
+        per_type[rtype]["gt"] += 1
         if same & graph:
-            per_type[r.type]["found"] += 1
+            per_type[rtype]["found"] += 1
             found.append(r)
         else:
             missed.append(r)

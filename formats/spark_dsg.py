@@ -29,6 +29,7 @@ from typing import Optional
 
 import numpy as np
 
+from core.errors import Sg3dError
 from core.model import COLOUR_NAMES, HIST_SIZE, RELATION_TYPES
 
 OBJECTS, PLACES, ROOMS, BUILDINGS = 2, 3, 4, 5
@@ -43,7 +44,7 @@ COLOUR_RGB = {"red": (220, 30, 30), "orange": (245, 140, 20), "yellow": (240, 22
 assert set(COLOUR_RGB) == set(COLOUR_NAMES)
 
 
-class SparkError(ValueError):
+class SparkError(Sg3dError, ValueError):
     """A file that is not a spark_dsg scene graph we can read."""
 
 
@@ -68,7 +69,8 @@ def to_spark(graph: dict, room_transforms: Optional[dict] = None):
     labels = sorted({n.get("label") or "object" for n in graph["nodes"]})
     label_id = {name: i for i, name in enumerate(labels)}
     rooms = sorted({n.get("room_name") or "" for n in graph["nodes"]})
-    transforms = {r: (None if (room_transforms or {}).get(r) is None else np.asarray(room_transforms[r], float))
+    given = room_transforms or {}
+    transforms = {r: (None if given.get(r) is None else np.asarray(given[r], dtype=float))
                   for r in rooms}
     symbols = {}
     by_room: dict[str, list[np.ndarray]] = {r: [] for r in rooms}
@@ -210,7 +212,7 @@ def read_spark(path) -> dict:
             building = meta.get("building") or node.attributes.name or node.id.str()
             break
     rooms: dict[str, dict] = {}
-    where: dict[str, str] = {}
+    where: dict[int, tuple[str, str]] = {}      # node id -> (room, object id)
     ours_structure = [node for node in (G.get_layer(STRUCTURE).nodes if G.has_layer(STRUCTURE) else [])
                       if ((node.attributes.metadata.get() or {}).get("sg3d") or {}).get("layer") == "structure"]
     for node in list(G.get_layer(OBJECTS).nodes) + ours_structure:

@@ -15,6 +15,7 @@ from typing import Optional
 import numpy as np
 from scipy.optimize import linear_sum_assignment
 
+from core.errors import Sg3dError
 from graphdb.values import unpack_hist
 from graphdb.similarity import histogram_intersection, label_similarity_matrix
 
@@ -32,7 +33,7 @@ RANSAC_ITERS = 1000
 MIN_SAMPLE_AREA_M2 = 0.01
 
 
-class AlignmentError(ValueError):
+class AlignmentError(Sg3dError, ValueError):
     """The two rooms cannot be aligned (too few or degenerate correspondences)."""
 
 

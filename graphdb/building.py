@@ -15,6 +15,7 @@ from typing import Optional
 
 import numpy as np
 
+from core.errors import Sg3dError
 from graphdb import cypher
 from graphdb.align import (Alignment, AlignmentError, align_objects, apply, candidate_pairs,
                            one_to_one, positions, room_objects)
@@ -26,7 +27,7 @@ LINK_TOL_M = 0.3
 RIGID_TOL = 1e-3
 
 
-class TransformError(ValueError):
+class TransformError(Sg3dError, ValueError):
     """A transform file that is not 4 lines of 4 numbers forming a rigid transform."""
 
 

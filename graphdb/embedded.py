@@ -31,6 +31,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Iterator, Optional
 
+from core.errors import Sg3dError
+
 DATABASE = "sg3d"
 ROOT_USER = "root"
 WRITER_GROUP = "sg3d_writer"
@@ -39,7 +41,7 @@ START_TIMEOUT_S = float(os.environ.get("SG3D_START_TIMEOUT", "90"))
 STOP_TIMEOUT_S = 30.0
 
 
-class EmbeddedStoreError(RuntimeError):
+class EmbeddedStoreError(Sg3dError, RuntimeError):
     pass
 
 

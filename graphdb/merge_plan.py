@@ -272,7 +272,8 @@ def plan_merge(graph: LocalGraph, candidates: list[dict], s_pos: Optional[np.nda
     plan = MergePlan(key=graph.key, room=room, scan=scan, now=now, frames=[int(f) for f in graph.frames],
                      candidates=len(candidates))
     objects, basis = graph.objects, gravity_basis(graph.up)
-    matches, absorbed = match_nodes(objects, candidates, s_pos, embedding, params) if candidates else ({}, {})
+    matches, absorbed = (match_nodes(objects, candidates, s_pos, embedding, params)
+                         if candidates and s_pos is not None else ({}, {}))
     seen = {candidates[j]["id"] for j in matches.values()} | {candidates[k]["id"] for k in absorbed}
     moved_locals = _plan_moves(plan, graph, matches, seen, moved_from, embedding, basis)
     for i, obj in enumerate(objects):

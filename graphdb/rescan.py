@@ -24,7 +24,7 @@ from scipy.optimize import linear_sum_assignment
 from graphdb import cypher
 from graphdb.similarity import histogram_intersection, label_similarity_matrix
 from graphdb.values import unpack_hist
-from core.model import RELATION_TYPES, KnownObject, LocalGraph, ObjectObservation, ScanInfo
+from core.model import RELATION_TYPES, KnownObject, LocalGraph, ObjectObservation, ScanInfo, vec3
 
 # A place seen empty in at least this many frames of a scan (like the existence test's
 # "seen twice") is evidence enough to mark an object that the scan did not re-observe removed.
@@ -154,6 +154,6 @@ def known_objects(store, rid: str) -> list[KnownObject]:
             continue
         centre = r["box_centre"] or [r["x"], r["y"], r["z"]]
         surface = tuple(float(v) for v in r["surface"]) if r.get("surface") else None
-        out.append(KnownObject(r["id"], tuple(float(v) for v in centre), tuple(float(v) for v in r["size"]),
+        out.append(KnownObject(r["id"], vec3(centre), vec3(r["size"]),
                                surface))
     return out

@@ -111,7 +111,7 @@ def label_similarity(labels_o: Sequence[str], scores_o: Sequence[float],
 
 def _label_indicators(labels_c, labels_o) -> tuple[np.ndarray, np.ndarray]:
     """0/1 matrices (row per object, column per label of the union vocabulary)."""
-    vocab = {lbl: i for i, lbl in enumerate(sorted({l for ls in (*labels_c, *labels_o) for l in ls}))}
+    vocab = {lbl: i for i, lbl in enumerate(sorted({lbl for ls in (*labels_c, *labels_o) for lbl in ls}))}
 
     def indicator(sets):
         mat = np.zeros((len(sets), len(vocab)))

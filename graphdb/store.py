@@ -2,10 +2,11 @@
 from __future__ import annotations
 
 import logging
-from typing import Any, Callable, Optional
+from typing import TYPE_CHECKING, Any, Callable, Optional
 
-from neo4j import GraphDatabase, ManagedTransaction
+from neo4j import GraphDatabase, ManagedTransaction, Session
 
+from core.errors import Sg3dError
 from graphdb import cypher
 from graphdb.values import finite_rows
 
@@ -19,7 +20,7 @@ logging.getLogger("neo4j").setLevel(logging.ERROR)
 log = logging.getLogger("sg3d.store")
 
 
-class ReadOnlyStoreError(RuntimeError):
+class ReadOnlyStoreError(Sg3dError, RuntimeError):
     """A write was asked of a store opened for reading."""
 
 
@@ -59,7 +60,7 @@ class Store:
     def __exit__(self, *exc) -> None:
         self.close()
 
-    def session(self, **kw):
+    def session(self, **kw: Any) -> Session:
         return self.driver.session(database=self.database, **kw)
 
     # -- running templates -----------------------------------------------------------------
@@ -154,3 +155,10 @@ class Store:
         self.write("wipe")
         self._schema_checked = False
         self.rooms_known.clear()
+
+
+if TYPE_CHECKING:
+    from graphdb.protocol import GraphStore
+
+    def _satisfies_the_protocol(store: Store) -> GraphStore:   # checked by mypy, never called
+        return store

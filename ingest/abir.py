@@ -26,7 +26,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Union
+from typing import Union, cast
 
 import cv2
 import numpy as np
@@ -101,7 +101,7 @@ class ABIR:
 
     def update(self, image: Union[np.ndarray, "object"]) -> AbirDecision:
         """Decide on one image: a grey or BGR array, or a Frame (its cheap grey decode is used)."""
-        gray = getattr(image, "gray", image)
+        gray = cast(np.ndarray, getattr(image, "gray", image))
         return self.update_variance(variance_of_laplacian(gray))
 
     def reset(self) -> None:

@@ -29,10 +29,11 @@ from typing import Optional, Sequence
 
 import cv2
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ingest import colour as colour_model
 from ingest.frames import Frame
-from core.model import HIST_BINS
+from core.model import HIST_BINS, vec3
 from ingest.relations import horizontal_basis
 
 Box = Sequence[float]
@@ -115,7 +116,7 @@ def position_gaussian(frame: Frame, box: Box, min_points: int = MIN_CENTRE_POINT
         return None
     keep = _drop_depth_outliers(d)
     pts = world_points(u[keep], v[keep], d[keep], frame.K, frame.pose)
-    return PositionGaussian(tuple(float(x) for x in pts.mean(axis=0)), tuple(float(x) for x in pts.var(axis=0)),
+    return PositionGaussian(vec3(pts.mean(axis=0)), vec3(pts.var(axis=0)),
                             int(len(pts)), region, float(np.median(d[keep])))
 
 
@@ -151,7 +152,7 @@ def object_mask(depth: np.ndarray, bounds: tuple[int, int, int, int], stride: in
     return labels == int(np.argmax(counts))
 
 
-def object_box(frame: Frame, box: Box, up: Optional[Sequence[float]] = None,
+def object_box(frame: Frame, box: Box, up: Optional[ArrayLike] = None,
                lo: float = BOX_LOW_PERCENTILE, hi: float = BOX_HIGH_PERCENTILE) -> Optional[tuple[tuple[float, float, float], tuple[float, float, float]]]:
     """The object's 3-D box in the gravity frame: (centre in world coordinates, (width, depth,
     height) in metres along (e1, e2, up) of horizontal_basis(up)); None without depth.
@@ -181,7 +182,7 @@ def object_box(frame: Frame, box: Box, up: Optional[Sequence[float]] = None,
     local = pts @ R.T
     low, high = np.percentile(local, lo, axis=0), np.percentile(local, hi, axis=0)
     centre = R.T @ ((low + high) / 2)
-    return tuple(float(x) for x in centre), tuple(float(x) for x in high - low)
+    return vec3(centre), vec3(high - low)
 
 
 def object_size(frame: Frame, box: Box, up: Optional[Sequence[float]] = None,

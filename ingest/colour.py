@@ -295,9 +295,9 @@ def _achromatic_table() -> np.ndarray:
     light, term = _neutral_survey()
     lab = np.zeros((1001, 3), np.float32)
     lab[:, 0] = np.linspace(0.0, 100.0, 1001)
-    l = surface_lightness(lab)[:, 0]
-    i = np.clip(np.searchsorted(light, l), 1, len(light) - 1)
-    nearer_low = (l - light[i - 1]) <= (light[i] - l)
+    seen = surface_lightness(lab)[:, 0]
+    i = np.clip(np.searchsorted(light, seen), 1, len(light) - 1)
+    nearer_low = (seen - light[i - 1]) <= (light[i] - seen)
     return term[np.where(nearer_low, i - 1, i)].astype(np.int64)
 
 

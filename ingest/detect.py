@@ -16,7 +16,7 @@ import json
 import os
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Mapping, Optional, Protocol, Sequence, Union
+from typing import Mapping, Optional, Protocol, Sequence, Union, cast
 
 import cv2
 import numpy as np
@@ -152,7 +152,7 @@ def detections_from_candidates(
             best[name] = max(best.get(name, 0.0), float(scores[j]))
         ranked = sorted(best.items(), key=lambda kv: -kv[1])[:top_k]
         detections.append(Detection(
-            box=tuple(float(v) for v in boxes[seed]),
+            box=cast("tuple[float, float, float, float]", tuple(float(v) for v in boxes[seed])),
             labels=[name for name, _ in ranked],
             scores=[s for _, s in ranked],
         ))
@@ -385,10 +385,10 @@ class TiledDetector:
             boxes.append(b[keep] + [x1, y1, x1, y1])
             ids.append(np.asarray(c).reshape(-1)[keep])
             scores.append(np.asarray(s, dtype=np.float64).reshape(-1)[keep])
-        b = self.base
+        base = self.base
         found = detections_from_candidates(np.vstack(boxes), np.concatenate(ids), np.concatenate(scores),
-                                           b.label_map, score_threshold=b.score_threshold, nms_iou=b.nms_iou,
-                                           same_region_iou=b.same_region_iou, top_k=b.top_k)
+                                           base.label_map, score_threshold=base.score_threshold, nms_iou=base.nms_iou,
+                                           same_region_iou=base.same_region_iou, top_k=base.top_k)
         for det in found:
-            det.full_frame = named_by_full_frame(det, boxes[0], ids[0], scores[0], b.label_map, b.score_threshold)
+            det.full_frame = named_by_full_frame(det, boxes[0], ids[0], scores[0], base.label_map, base.score_threshold)
         return found

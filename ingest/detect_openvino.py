@@ -67,7 +67,8 @@ def greedy_nms_per_class(boxes: np.ndarray, classes: np.ndarray, rank: np.ndarra
     corners = np.asarray(boxes, dtype=np.float64).reshape(-1, 4)
     xywh = np.hstack([corners[:, :2], corners[:, 2:] - corners[:, :2]])
     order_score = (1.0 - np.asarray(rank) / (np.max(rank) + 2.0)).astype(np.float32)
-    kept = cv2.dnn.NMSBoxesBatched(xywh, order_score, np.asarray(classes, dtype=np.int32), 0.0, float(iou))
+    kept = cv2.dnn.NMSBoxesBatched(xywh, order_score, np.asarray(classes, dtype=np.int32), 0.0,  # type: ignore[arg-type]
+                                   float(iou))
     keep[np.asarray(kept, dtype=int).reshape(-1)] = True
     return keep
 

@@ -14,7 +14,8 @@ import os
 from pathlib import Path
 from typing import Any, Mapping, Optional, Union
 
-from ingest.detect import SCORE_THRESHOLD, Detector, OnnxDetector, SsdMobilenetDetector, TiledDetector, packaged_model_dir
+from ingest.detect import (SCORE_THRESHOLD, Detector, OnnxDetector, SsdMobilenetDetector, TiledDetector, _DnnDetector,
+                           packaged_model_dir)
 from ingest.detect_openvino import OpenVinoSsdDetector, openvino_available
 from ingest.recognize import CLASSIFIER_FILE, RecognizingDetector
 
@@ -85,14 +86,13 @@ def detector_for(name: Optional[str] = None, score_threshold: float = SCORE_THRE
     pass (the high-recall preset). Nothing is loaded yet: bad names and missing files fail here."""
     base, recognizer = _split(str(name or DEFAULT_DETECTOR))
     if base.lower() in _SSD_NAMES:
-        detector = ssd_detector(score_threshold=score_threshold)
+        base_detector: _DnnDetector = ssd_detector(score_threshold=score_threshold)
     elif base.lower().endswith(".onnx"):
         path = Path(base)
-        detector = OnnxDetector(path, _onnx_labels(path), score_threshold=score_threshold)
+        base_detector = OnnxDetector(path, _onnx_labels(path), score_threshold=score_threshold)
     else:
         raise ValueError(f"unknown detector {base!r}: use {DEFAULT_DETECTOR!r} or a .onnx path")
-    if tiles:
-        detector = TiledDetector(detector)
+    detector: Detector = TiledDetector(base_detector) if tiles else base_detector
     if recognizer is not None:
         _recognizer_ready()
         detector = RecognizingDetector(detector)

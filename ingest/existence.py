@@ -85,10 +85,10 @@ def plausible_labels(labels: Sequence[str], scores: Sequence[float], size: Seque
     or when the best label that fits has less than RELABEL_MIN_SHARE of the best label's
     evidence: a faint third guess (a plastic box: "cell phone" 0.28, "remote" 0.10, "book" 0.09)
     is not a reading of the object, only what is left."""
-    kept = [(l, s) for l, s in zip(labels, scores) if size_plausible(l, size)]
+    kept = [(lbl, s) for lbl, s in zip(labels, scores) if size_plausible(lbl, size)]
     if kept and scores and kept[0][1] < RELABEL_MIN_SHARE * float(scores[0]):
         kept = []
-    return [l for l, _ in kept], [s for _, s in kept]
+    return [lbl for lbl, _ in kept], [s for _, s in kept]
 
 
 def tile_artefact(detections: Sequence) -> bool:

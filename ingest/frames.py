@@ -14,8 +14,10 @@ from typing import Callable, Iterable, Iterator, Optional, Protocol
 import cv2
 import numpy as np
 
+from core.errors import Sg3dError
 
-class FrameError(Exception):
+
+class FrameError(Sg3dError):
     """A frame that cannot be used (corrupt or missing image, bad pose); it is skipped, not fatal."""
 
     def __init__(self, name: str, reason: str):
@@ -59,7 +61,7 @@ class Frame:
         self._gray: Optional[np.ndarray] = None
         self._source = source
         self._on_error = on_error
-        self._size = tuple(size) if size is not None else None
+        self._size: Optional[tuple[int, int]] = (size[0], size[1]) if size is not None else None
 
     def __repr__(self) -> str:
         state = "loaded" if self.is_loaded else "lazy"

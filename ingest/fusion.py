@@ -35,7 +35,7 @@ from scipy.optimize import linear_sum_assignment
 from ingest.attributes import ObjectAttributes
 from ingest.colour import ColourReading, vote
 from ingest.detect import Detection
-from core.model import TOP_K, ObjectObservation
+from core.model import TOP_K, ObjectObservation, vec3
 from ingest.moments import combine_gaussians
 from ingest.relations import FLOOR_STANDING_LABELS
 
@@ -332,8 +332,8 @@ def fuse(local_id: str, h: Hypothesis, basis: np.ndarray, labels: Optional[Seque
     return ObjectObservation(
         local_id=local_id, labels=list(labels if labels is not None else h.labels),
         scores=[float(v) for v in (scores if scores is not None else h.scores)],
-        mean=tuple(float(v) for v in mean), var=tuple(float(v) for v in var), n_points=int(n),
-        size=tuple(float(v) for v in (hi - lo)), box_centre=tuple(float(v) for v in centre),
+        mean=vec3(mean), var=vec3(var), n_points=int(n),
+        size=vec3(hi - lo), box_centre=vec3(centre),
         hist=np.sum([s.attrs.hist for s in h.sightings], axis=0),
         colour=colour, colour2=colour2, thumbnail=best.attrs.thumbnail,
         first_frame=h.frames[0], last_frame=h.frames[-1], n_frames=h.n_frames)

@@ -25,6 +25,7 @@ from typing import Iterable, Optional
 import numpy as np
 
 from ingest.frames import Frame, FrameError
+from core.model import vec3
 
 PRIOR_CONE_DEG = 35.0
 REFINE_CONE_DEG = 10.0
@@ -121,7 +122,7 @@ def estimate_gravity(frames: Iterable[Frame], stride: int = GRID_STRIDE) -> Grav
                 break
         used = int(np.count_nonzero(cand @ up > cos_refine))
     floor = _floor_height(P, N, up, frames)
-    return Gravity(tuple(float(x) for x in up), floor, tuple(float(x) for x in prior), used)
+    return Gravity(vec3(up), floor, vec3(prior), used)
 
 
 def _floor_height(P: np.ndarray, N: np.ndarray, up: np.ndarray, frames: list[Frame]) -> Optional[float]:

@@ -160,7 +160,7 @@ class KeyframeGrouper:
         self.n_keyframes += 1
 
     def add(self, frame: Frame) -> str:
-        if self._keyframe is None:
+        if self._keyframe is None or self._anchor is None or self._group is None:   # set together
             self._start_group(self._sample(frame))
             return "keyframe"
         overlap_key = self._keyframe.overlap_with(frame)

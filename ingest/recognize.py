@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from collections import defaultdict
 from pathlib import Path
-from typing import Optional, Union
+from typing import Any, Optional, Union
 
 import cv2
 import numpy as np
@@ -65,8 +65,8 @@ class EfficientNetRecognizer:
     def __init__(self, model_dir: Union[str, Path, None] = None, num_threads: int = 2):
         self.model_dir = Path(model_dir) if model_dir is not None else None
         self.num_threads = num_threads
-        self._interpreter = None
-        self._names: Optional[list[str]] = None
+        self._interpreter: Any = None              # ai_edge_litert's Interpreter, once loaded
+        self._names: list[str] = []                 # read with the interpreter
 
     def _load(self) -> None:
         try:

@@ -103,5 +103,5 @@ class DepthRegistrar:
         maps = self._maps_for((depth.shape[1], depth.shape[0]))
         if maps is None:
             return depth
-        return cv2.remap(depth, maps[0], None, interpolation=cv2.INTER_NEAREST,
+        return cv2.remap(depth, maps[0], None, interpolation=cv2.INTER_NEAREST,  # type: ignore[call-overload]
                          borderMode=cv2.BORDER_CONSTANT, borderValue=0)

@@ -53,8 +53,9 @@ from itertools import combinations
 from typing import Optional, Sequence
 
 import numpy as np
+from numpy.typing import ArrayLike
 
-from core.model import UNNAMED_LABEL, ObjectObservation, RelationObservation
+from core.model import UNNAMED_LABEL, ObjectObservation, RelationObservation, vec3
 from core.relation_rules import edges_of, statement_of
 
 # -- support and stacking ----------------------------------------------------------------
@@ -117,7 +118,7 @@ MIN_EXTENT = 0.02
 VERTICAL_PREDICATES = ("IN", "ON", "UNDER", "ABOVE", "BELOW")
 
 
-def horizontal_basis(up: Sequence[float]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def horizontal_basis(up: ArrayLike) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """A right-handed orthonormal frame (e1, e2, up) with e1, e2 horizontal.
 
     e1 is the world x axis made horizontal (world y if x is nearly vertical), so the same
@@ -144,7 +145,7 @@ class ObjectGeometry:
 
     @classmethod
     def from_observation(cls, obs: ObjectObservation) -> "ObjectGeometry":
-        return cls(obs.local_id, obs.label, tuple(obs.mean), tuple(obs.size))
+        return cls(obs.local_id, obs.label, vec3(obs.mean), vec3(obs.size))
 
     @classmethod
     def from_points(cls, local_id: str, label: str, points: np.ndarray, up: Sequence[float],
@@ -159,7 +160,7 @@ class ObjectGeometry:
         lo = np.percentile(local, lo_percentile, axis=0)
         hi = np.percentile(local, hi_percentile, axis=0)
         center = R.T @ ((lo + hi) / 2)
-        return cls(local_id, label, tuple(float(v) for v in center), tuple(float(v) for v in hi - lo))
+        return cls(local_id, label, vec3(center), vec3(hi - lo))
 
 
 class _Box:
@@ -369,13 +370,14 @@ def spatial_relations(objects: Sequence[ObjectGeometry], up: Sequence[float],
     _drop_pile_middles(on, by_id)
     facts = {k: f for k, f in facts.items() if f[1] != "ON" or (f[0], f[2]) in on}
     supports: dict[str, set[str]] = {}
-    for (s, o) in on:
-        supports.setdefault(s, set()).add(o)
+    for (low, high) in on:
+        supports.setdefault(low, set()).add(high)
 
     out: list[RelationObservation] = []
 
     def emit(s: str, predicate: str, o: str, score: float) -> None:
         st = statement_of(s, predicate, o)
+        assert st is not None              # only stored predicates are emitted
         out.extend(edges_of(st, float(np.clip(score, 0.0, 1.0))))
 
     for a, b in combinations(boxes, 2):

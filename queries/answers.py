@@ -5,7 +5,7 @@ floor node. No object of an asked kind in scope: "I have not found ...", never "
 """
 from __future__ import annotations
 
-from typing import Optional
+from typing import Optional, Sequence
 
 from core.model import UNNAMED_LABEL
 from core.relation_rules import SYMMETRIC
@@ -52,7 +52,7 @@ class Answerer:
             return "thing" if n == 1 else "things"
         return self.ev.resolved(np).noun(n)
 
-    def phrase(self, np: NP, n: int, filters: list[Filter] = ()) -> str:
+    def phrase(self, np: NP, n: int, filters: Sequence[Filter] = ()) -> str:
         extra = [_filter_text(self, f) for f in list(np.filters) + list(filters)]
         return " ".join([self.noun_of(np, n)] + extra)
 

@@ -13,6 +13,7 @@ from typing import Optional
 from lark import Lark, Token, Transformer, v_args
 from lark.exceptions import LarkError, UnexpectedInput, VisitError
 
+from core.errors import Sg3dError
 from queries.logic import NP, Filter, Form
 
 # relation word -> (stored relation type, symmetric?)
@@ -137,7 +138,7 @@ RESERVED = sorted({
 }, key=lambda w: (-len(w), w))
 
 
-class GrammarError(ValueError):
+class GrammarError(Sg3dError, ValueError):
     """The text is not a question of the grammar; `word` is where it stopped, if known."""
 
     def __init__(self, message: str, word: Optional[str] = None):

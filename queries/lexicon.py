@@ -156,7 +156,7 @@ def _candidates() -> dict[str, tuple[str, ...]]:
     """Every string the embedding may match, and the names it stands for."""
     _, words = _synonyms()
     tax = Taxonomy.load()
-    out = {n: (n,) for n in tax.names if n != tax.root}
+    out: dict[str, tuple[str, ...]] = {n: (n,) for n in tax.names if n != tax.root}
     for k, v in words.items():
         # one-word synonyms only: "coffee mug" would pull "coffee machine" to cup by its modifier
         if " " not in k:

@@ -9,6 +9,7 @@ import re
 from dataclasses import dataclass, field
 from typing import Callable, Optional
 
+from core.errors import Sg3dError
 from core.model import COLOUR_NAMES
 from queries.lexicon import Target, resolve
 
@@ -41,7 +42,7 @@ PIECES = re.compile(r"\b(?:pieces?|kinds?|types?|sorts?|bits?) of\b")
 EVERYWHERE = re.compile(r"\b(?:in|on) (?:the |this |my )?(?:environment|scene|house|home|world|map|building|whole \w+|total)\b")
 
 
-class ParseError(ValueError):
+class ParseError(Sg3dError, ValueError):
     """The question is outside what the rules understand; the message says why."""
 
 
@@ -284,11 +285,11 @@ def _either(phrase: str, hits: list[Target]) -> Target:
         return Target(phrase, None, [], "any")
     ignored = [w for h in hits for w in h.ignored]
     known = [h for h in hits if h.how != "unknown"] or hits
-    if all(sorted(h.labels) == sorted(known[0].labels) for h in known):
+    if all(sorted(h.labels or []) == sorted(known[0].labels or []) for h in known):   # none is None here
         first = known[0]
         return Target(phrase, first.labels, first.names, first.how, first.similarity, ignored)
     names = list(dict.fromkeys(n for h in known for n in h.names))
-    labels = sorted({lab for h in known for lab in h.labels})
+    labels = sorted({lab for h in known for lab in h.labels or []})
     return Target(phrase, labels, names, "either", ignored=ignored)
 
 

@@ -16,6 +16,7 @@ import math
 from dataclasses import dataclass, field
 from typing import Callable, Optional
 
+from core.errors import Sg3dError
 from core.model import COLOUR_NAMES, SHAPE_WORDS
 from core.relation_rules import SYMMETRIC
 from queries.grammar import DISTANCE_SUPERLATIVES, RELATIONS, SUPERLATIVES
@@ -50,7 +51,7 @@ LIST_SHOWN = 12
 ROW_LIMIT = 100_000
 
 
-class Unanswerable(ValueError):
+class Unanswerable(Sg3dError, ValueError):
     """The form is read but cannot be answered (a word that names nothing); the text says why."""
 
 

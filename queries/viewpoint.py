@@ -23,9 +23,10 @@ FRONT_TOLERANCE); RIGHT_OF the mirror.
 from __future__ import annotations
 
 import re
-from typing import Optional, Sequence
+from typing import Optional
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from core.relation_rules import SYMMETRIC, VIEWPOINT
 from ingest.relations import MIN_EXTENT, horizontal_basis
@@ -84,7 +85,7 @@ def _overlap(a: tuple[float, float], b: tuple[float, float]) -> float:
     return max(0.0, min(a[1], b[1]) - max(a[0], b[0]))
 
 
-def viewpoint_relations(target: dict, anchor: dict, eye: Sequence[float], up: Sequence[float]) -> set[str]:
+def viewpoint_relations(target: dict, anchor: dict, eye: ArrayLike, up: ArrayLike) -> set[str]:
     """Which of IN_FRONT_OF / BEHIND / LEFT_OF / RIGHT_OF the target holds to the anchor, seen
     from `eye` (module docstring). Rows carry box_centre (or x, y, z) and size (w, d, h)."""
     R = np.stack(horizontal_basis(up))

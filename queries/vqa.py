@@ -31,12 +31,14 @@ SAME_AS; counts over more than one room count each SAME_AS group once (`_same_as
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any, Optional
+from typing import Any, Optional, Sequence, Union, cast
 
+from core.errors import Sg3dError
 from graphdb import cypher
 from core.relation_rules import SYMMETRIC, VIEWPOINT
 from queries import viewpoint as views
 from queries import compose
+from queries.answer_parts import AnswerObject, Provenance, TemplateStep
 from queries.answers import row_value
 from queries.sets import ABSENT, same_as_roots
 from queries.naming import names_in_store
@@ -57,12 +59,12 @@ class Answer:
     text: str                                   # the one-line answer (or the refusal)
     form: str = "refused"                       # count | exists | list | attribute | show | refused
     value: Any = None                           # int (count), bool (exists), list / dict / str
-    objects: list[dict] = field(default_factory=list)
+    objects: list[AnswerObject] = field(default_factory=list)
     query: Optional[Query] = None
-    steps: list[dict] = field(default_factory=list)   # [{template, params}] for --explain
+    steps: list[TemplateStep] = field(default_factory=list)   # for --explain
     thumbnail: Optional[bytes] = None
     # the objects the answer rests on: id, name, label, score, observations, n_frames, last seen
-    provenance: list[dict] = field(default_factory=list)
+    provenance: list[Provenance] = field(default_factory=list)
     logical: Optional[dict] = None          # the logical form the grammar read (queries/logic.py)
     # no object of an asked kind is in scope: the answer says it was not found, not that none is
     absent_evidence: bool = False
@@ -98,7 +100,7 @@ class Answer:
         return out
 
 
-class Refusal(Exception):
+class Refusal(Sg3dError):
     pass
 
 
@@ -108,7 +110,7 @@ class _Run:
 
     def __init__(self, store, viewpoint=None, seen_from: Optional[str] = None):
         self.store = store
-        self.steps: list[dict] = []
+        self.steps: list[TemplateStep] = []
         self.viewpoint, self.seen_from = viewpoint, seen_from     # see queries/viewpoint.py
         self._names: dict[str, str] = {}
         self.notes: list[str] = []                 # what the answer must say it did (main colour)
@@ -127,7 +129,7 @@ class _Run:
         self.steps.append({"template": f"cypher/{name}.cypher", "params": params})
         return self.store.read(name, **params)
 
-    def read_rel(self, name: str, rel_type: str, **params) -> list[dict]:
+    def read_rel(self, name: str, rel_type: Union[str, Sequence[str]], **params) -> list[dict]:
         if not isinstance(rel_type, str):
             # several types ("near" = NEAR or NEXT_TO): one run each, rows in order
             return [r for t in rel_type for r in self.read_rel(name, t, **params)]
@@ -206,11 +208,11 @@ def _scope(run: _Run, room: Optional[str], building: Optional[str],
     else:
         rows = run.read("vqa_rooms", room=None, building=building.lower())
     if not rows:
-        known = sorted({f"{r['building']}/{r['name']}" for r in run.store.read("vqa_rooms", room=None, building=None)})
-        if not known:
+        stored = sorted({f"{r['building']}/{r['name']}" for r in run.store.read("vqa_rooms", room=None, building=None)})
+        if not stored:
             raise Refusal("the store holds no scene graph yet: build one first (sg3d build ...)")
         what = " in ".join(x for x in (f"room '{room}'" if room else "", f"building '{building}'" if building else "") if x)
-        raise Refusal(f"no {what} in the store (rooms: {', '.join(known) or 'none'})")
+        raise Refusal(f"no {what} in the store (rooms: {', '.join(stored) or 'none'})")
     return [r["id"] for r in rows]
 
 
@@ -276,8 +278,8 @@ def _main_colour(run: _Run, q: Query, rows: list[dict]) -> list[dict]:
     return [r for r in rows if r.get("colour") == q.colour]
 
 
-def _brief(r: dict) -> dict:
-    out = {k: r.get(k) for k in ("id", "label", "colour", "volume", "room") if r.get(k) is not None}
+def _brief(r: dict) -> AnswerObject:
+    out = cast(AnswerObject, {k: r.get(k) for k in ("id", "label", "colour", "volume", "room") if r.get(k) is not None})
     for k in ("anchor_id", "anchor_label", "distance"):
         if r.get(k) is not None:
             out[k] = r[k]
@@ -402,7 +404,7 @@ def rooms_with(run: _Run, q: Query, rooms) -> Answer:
     text = f"{names}; {n} {_what(q, n)} in all"
     if extra:
         text += f" [{extra} seen from two rooms counted once]"
-    value = [{"room": rid, "n": k} for rid, k in sorted(per_room.items())]
+    value: list[AnswerObject] = [{"room": rid, "n": k} for rid, k in sorted(per_room.items())]
     return Answer("", True, text, "rooms", value, value, q)
 
 
@@ -424,7 +426,8 @@ def where(run: _Run, q: Query, rooms) -> Answer:
             if not any(x["other_id"] == e["other_id"] and x["rel"] == e["rel"] for x in rels[e["id"]]):
                 rels[e["id"]].append({"rel": e["rel"], "other_id": e["other_id"], "other_label": e["other_label"]})
                 placed[e["id"]].append(dict(e))
-    value, parts = [], []
+    value: list[AnswerObject] = []
+    parts = []
     named = run.names(rows[:LIST_SHOWN] + [{"id": x["other_id"], "label": x["other_label"], "room": r.get("room")}
                                            for r in rows[:LIST_SHOWN] for x in rels[r["id"]]])
     for r in rows[:LIST_SHOWN]:
@@ -537,8 +540,8 @@ def _composed(question: str, o, notes: list[str], run: _Run) -> Answer:
     """An answer of the compiler (queries/compose.py) as an Answer."""
     extra = notes + o.notes
     text = o.text + (f" [{'; '.join(extra)}]" if extra else "")
-    objects = [row_value(r, run.names([r]).get(r["id"], r["label"])) for r in o.rows[:PROVENANCE_MAX]] \
-        if o.rows else []
+    objects = [cast(AnswerObject, row_value(r, run.names([r]).get(r["id"], r["label"])))
+               for r in o.rows[:PROVENANCE_MAX]] if o.rows else []
     a = Answer(question, True, text, o.op, o.value, objects, steps=run.steps, logical=o.form,
                absent_evidence=o.absent, thumbnail=bytes(o.thumbnail) if o.thumbnail else None)
     ids = [r["id"] for r in o.rows[:PROVENANCE_MAX]]
@@ -580,7 +583,7 @@ def _nothing(a: Answer) -> bool:
     return a.value in (0, False, None, [], {})
 
 
-def _provenance(run: _Run, a: Answer, q: Query, rooms) -> list[dict]:
+def _provenance(run: _Run, a: Answer, q: Query, rooms) -> list[Provenance]:
     """The objects an answer rests on, each with its name and how sure the store is of it:
     score (detector), observations (merged detections), n_frames, the frames that saw it and
     when it was last updated. A count fetches its objects only when there are few."""
@@ -596,7 +599,7 @@ def _provenance(run: _Run, a: Answer, q: Query, rooms) -> list[dict]:
     else:
         rows = run.read("vqa_provenance", ids=ids)
     names = run.names(rows)
-    out = []
+    out: list[Provenance] = []
     for r in rows:
         seen = r.get("updated_at")
         out.append({"id": r["id"], "name": names.get(r["id"], r["label"]), "label": r["label"],

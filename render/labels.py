@@ -13,6 +13,7 @@ from dataclasses import dataclass
 from typing import Optional, Sequence
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 Box = tuple[float, float, float, float]          # x0, y0, x1, y1 (display pixels, y up)
 
@@ -71,13 +72,13 @@ def place(anchor: Sequence[float], size: Sequence[float], occ: Occupancy, bounds
     return None
 
 
-def place_on_segment(a: Sequence[float], b: Sequence[float], size: Sequence[float], occ: Occupancy,
+def place_on_segment(a: ArrayLike, b: ArrayLike, size: Sequence[float], occ: Occupancy,
                      bounds: Box, fractions=(0.5, 0.4, 0.6, 0.3, 0.7)) -> Optional[Placed]:
     """A free position for an edge label on the segment a-b (middle first), or None."""
     w, h = size
-    a, b = np.asarray(a, float), np.asarray(b, float)
+    pa, pb = np.asarray(a, float), np.asarray(b, float)
     for t in fractions:
-        cx, cy = a + (b - a) * t
+        cx, cy = pa + (pb - pa) * t
         box = (cx - w / 2, cy - h / 2, cx + w / 2, cy + h / 2)
         if box[0] < bounds[0] or box[1] < bounds[1] or box[2] > bounds[2] or box[3] > bounds[3]:
             continue

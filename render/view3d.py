@@ -82,6 +82,7 @@ def _box_traces(nodes: list[dict], corners: dict, names: dict, room_of: dict) ->
     traces = []
     for cat in sorted(by_cat):
         colour = category_colour(cat)
+        xs: list[float]
         xs, ys, zs, ii, jj, kk, text = [], [], [], [], [], [], []
         lx, ly, lz = [], [], []
         for n in by_cat[cat]:

@@ -5,8 +5,10 @@ import os
 
 import click
 
+from core.errors import Sg3dError
 
-class UserError(click.ClickException):
+
+class UserError(Sg3dError, click.ClickException):
     """A failure the user can act on; printed as one line, exit status 2."""
 
     exit_code = 2

@@ -76,7 +76,7 @@ class Settings:
                                 f"store uses its own generated users (unset SG3D_USER/SG3D_PASSWORD/"
                                 f"SG3D_DATABASE/SG3D_READ_* or add --uri)")
             return
-        scheme = urlsplit(self.uri).scheme.lower()
+        scheme = urlsplit(self.uri or "").scheme.lower()      # not embedded: --uri is given
         if scheme not in URI_SCHEMES:
             raise UserError(f"--uri {self.uri}: unsupported scheme {scheme + '://' if scheme else '(none)'}; "
                             f"use one of {', '.join(s + '://' for s in URI_SCHEMES)}")
@@ -88,7 +88,7 @@ class Settings:
 
         return EmbeddedServer(self.embedded_home()).ensure_running()
 
-    @functools.cache
+    @functools.cache  # noqa: B019 - one Settings per command: the cache lives as long as it
     def store(self):
         """The writer store for this command (the embedded one is started on demand)."""
         from graphdb.store import Store
@@ -99,7 +99,7 @@ class Settings:
             return _open_embedded(lambda: Store(info.uri, info.writer_auth, info.database), self, "writer")
         return Store(self.uri, (self.user or "neo4j", self.password or ""), self.database or "neo4j")
 
-    @functools.cache
+    @functools.cache  # noqa: B019 - as store()
     def reader(self):
         """The read-only store: the embedded reader user, or with --uri the --read-user (else the
         same user, in READ transactions). sg3d's own template writes go to `store()`."""

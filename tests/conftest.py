@@ -49,6 +49,14 @@ def store(store_session):
     return store_session
 
 
+@pytest.fixture
+def house(store):
+    """The hand-made two-room house `ask` is tested on (tests/scenes.py): local id -> global id."""
+    from tests.scenes import build_house
+
+    return build_house(store)
+
+
 @pytest.fixture(scope="module")
 def served(store_session, embedded_home):
     """`sg3d serve`'s app on a free loopback port over the session's store: (url, token)."""

@@ -1,8 +1,6 @@
 """A tiny ONNX writer: protobuf wire format by hand (no `onnx` package needed) for test models."""
 from __future__ import annotations
 
-import struct
-
 import numpy as np
 
 FLOAT = 1  # TensorProto.DataType.FLOAT

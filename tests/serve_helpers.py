@@ -1,23 +1,11 @@
-"""A real `sg3d serve` application on a free loopback port (uvicorn in a thread) and the JSON
-body of a hand-made kitchen for POST /ingest."""
+"""A real `sg3d serve` application on a free loopback port (uvicorn in a thread)."""
 from __future__ import annotations
 
 import threading
 import time
 from contextlib import contextmanager
 
-from tests.test_planning import KITCHEN_RELATIONS, kitchen_objects
-
-
-def kitchen_body(observation_id: str = "obs-1", building: str = "home", room: str = "kitchen") -> dict:
-    """Ten objects and seven relations (tests/test_planning.py's kitchen) as local graph JSON."""
-    objects = [{"id": o.local_id, "labels": o.labels, "scores": o.scores, "mean": list(o.mean),
-                "var": list(o.var), "n_points": o.n_points, "size": list(o.size),
-                "hist": [float(v) for v in o.hist], "colour": "grey" if o.colour == "gray" else o.colour,
-                "frames": [3, 4, 9]} for o in kitchen_objects()]
-    relations = [{"subject": s, "predicate": p, "object": o, "score": sc} for s, p, o, sc in KITCHEN_RELATIONS]
-    return {"building": building, "room": room, "observation_id": observation_id,
-            "graph": {"objects": objects, "relations": relations, "frames": [3, 4, 9]}}
+from sg3d.testing import kitchen_body  # noqa: F401 - the tests take the body from here
 
 
 @contextmanager

@@ -14,7 +14,7 @@ from click.testing import CliRunner
 from benchmarks.common import CountingStore
 from queries.naming import object_names
 from queries.vqa import answer
-from tests.test_vqa import _Settings, house  # noqa: F401 - the fixture is used by name
+from tests.scenes import StoreSettings
 
 ID = re.compile(r"\bo-[0-9a-f]{6,}")
 
@@ -186,10 +186,10 @@ def test_printed_answers_contain_no_ids(store, house, question, tmp_path):
     from sg3d.commands.ask import ask as ask_cmd
 
     runner = CliRunner()
-    r = runner.invoke(ask_cmd, [question, "--room", "kitchen", "--out", str(tmp_path / "x.png")], obj=_Settings(store))
+    r = runner.invoke(ask_cmd, [question, "--room", "kitchen", "--out", str(tmp_path / "x.png")], obj=StoreSettings(store))
     assert r.exit_code == 0, r.output
     assert not ID.search(r.output), r.output
-    r = runner.invoke(ask_cmd, [question, "--room", "kitchen", "--json"], obj=_Settings(store))
+    r = runner.invoke(ask_cmd, [question, "--room", "kitchen", "--json"], obj=StoreSettings(store))
     data = json.loads(r.output)
     assert data["provenance"] and all(ID.match(p["id"]) for p in data["provenance"])   # ids in --json
 

@@ -108,7 +108,7 @@ def test_tiles_run_through_openvino_too(ov_ssd, kitchen_dir):
 
 
 def test_the_cache_is_reused_and_a_corrupt_entry_is_rebuilt(ov_ssd, ov_cache, tmp_path):
-    ov_ssd.net                                   # converted and cached by the detector
+    _ = ov_ssd.net                               # converted and cached by the detector
     entries = [p for p in (ov_cache / "openvino").iterdir() if not p.name.startswith(".")]
     assert len(entries) == 1
     entry = entries[0]

@@ -33,7 +33,7 @@ def test_frames_come_in_order_with_the_pixels_a_direct_decode_gives(short_kitche
         if frame.index == 7:
             assert seq.skipped == []                 # decoded ahead, but not reported yet
             with pytest.raises(FrameError, match="frame-000007"):
-                frame.color
+                _ = frame.color
             continue
         assert frame.is_loaded                       # the reader thread did the work
         direct = seq.frame(frame.index)

@@ -6,67 +6,14 @@ import json
 import pytest
 from click.testing import CliRunner
 
-from graphdb.merge import merge_local_graph
 from graphdb.values import room_id
 from evaluation.ground_truth import coco_class, parse_gt, relation_type
 from evaluation.matching import Node, match
 from evaluation.evaluate import evaluate
-from tests.factories import graph, hist_of, obj
+from tests.scenes import EVAL_BUILDING as BUILDING, EVAL_GT as GT, EVAL_ROOM as ROOM
+from tests.scenes import build_eval_room as build_room
 
 COCO = {"cup", "chair", "dining table", "book", "tv", "mouse", "wine glass", "remote"}
-
-# A made-up room: a table with a cup on it, a chair beside it, a book nobody detected, a shelf
-# no COCO detector can name, and a chair the annotator could not place.
-GT = {
-    "sequence": "test room",
-    "objects": [
-        {"id": "T", "category": "table", "coco_category": "dining table", "count_confidence": "sure",
-         "world_position": [0.0, 0.0, -0.5]},
-        {"id": "C", "category": "mug", "coco_category": "cup", "count_confidence": "sure",
-         "world_position": [0.0, 0.0, 0.0]},
-        {"id": "H", "category": "chair", "coco_category": "chair", "count_confidence": "sure",
-         "world_position": [3.0, 0.0, 0.0]},
-        {"id": "B", "category": "booklet", "coco_category": "(book)", "count_confidence": "unsure",
-         "world_position": [6.0, 0.0, 0.0]},
-        {"id": "S", "category": "wall shelf", "coco_category": "(none)", "count_confidence": "sure",
-         "world_position": [0.0, 3.0, 0.0]},
-        {"id": "X", "category": "chair far away", "coco_category": "chair", "count_confidence": "unsure",
-         "world_position": None},
-    ],
-    "relations": [
-        {"subject": "C", "predicate": "on", "object": "T"},        # in the graph
-        {"subject": "H", "predicate": "next to", "object": "T"},   # both ends matched, edge absent
-        {"subject": "B", "predicate": "on", "object": "T"},        # B has no node
-        {"subject": "S", "predicate": "above", "object": "C"},     # S is not a COCO object
-        {"subject": "C", "predicate": "leaning on", "object": "T"},  # no such relation type
-    ],
-    "questions": [
-        {"text": "How many cups are there?", "answer": 1, "kind": "counting", "sure": True},
-        {"text": "Is there a tv?", "answer": "yes", "kind": "existence", "sure": True},
-        {"text": "What colour is the cup?", "answer": "white", "kind": "attribute", "sure": True},
-        {"text": "Where is the chair?", "answer": "beside the table", "kind": "relation", "sure": True},
-        {"text": "How many books?", "answer": 1, "kind": "counting", "sure": False},
-    ],
-}
-
-ROOM, BUILDING = "evalroom", "home"
-
-
-def build_room(store):
-    """5 nodes: table, cup and chair match; a second chair repeats H; a tv matches nothing."""
-    merge_local_graph(store, graph([
-        obj("t", "dining table", (0.1, 0.0, -0.45), size=(1.5, 0.8, 0.7), hist=hist_of({30: 500}), colour="brown"),
-        obj("c", "cup", (0.1, 0.05, 0.0)),
-        obj("h", "chair", (3.2, 0.0, 0.0), hist=hist_of({200: 100}), colour="black"),
-        obj("h2", "chair", (2.8, 0.2, 0.0), hist=hist_of({400: 100}), colour="red"),
-        obj("tv", "tv", (10.0, 0.0, 0.0), hist=hist_of({300: 100}), colour="black"),
-    ], relations=[("c", "ON", "t", 0.9), ("h", "NEXT_TO", "c", 0.8), ("c", "BIGGER_THAN", "t", 0.7)],
-        room=ROOM, building=BUILDING))
-    nodes = {r["o"]["label"] + ("@%.1f" % r["o"]["x"]): r["o"]["id"]
-             for r in store.read("object_all", room=room_id(BUILDING, ROOM))}
-    assert len(nodes) == 5, nodes
-    return nodes
-
 
 def test_hedged_coco_categories_and_english_predicates_are_normalised():
     assert coco_class("cup", COCO) == ("cup", False)

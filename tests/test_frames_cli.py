@@ -2,41 +2,12 @@
 from __future__ import annotations
 
 import json
-from pathlib import Path
 
 import cv2
-import numpy as np
 from click.testing import CliRunner
 
 from sg3d.cli import cli
-from tests.test_readers import write_7scenes
-
-W, H = 320, 240
-
-
-def _textured(seed: int, contrast: float = 0.1) -> np.ndarray:
-    rng = np.random.default_rng(seed)
-    tex = cv2.resize(rng.integers(0, 256, size=(60, 80), dtype=np.uint8), (W, H), interpolation=cv2.INTER_NEAREST)
-    grey = (128 + (tex.astype(np.float64) - 128) * contrast).astype(np.uint8)
-    return cv2.cvtColor(grey, cv2.COLOR_GRAY2BGR)
-
-
-def write_walk(root: Path, n: int = 12, blurry: tuple[int, ...] = (6,)) -> Path:
-    """A camera sliding along a textured wall 2 m away; frames in `blurry` get motion blur."""
-    root.mkdir(parents=True)
-    np.savetxt(root / "camera-intrinsics.txt", [[300.0, 0, 160.0], [0, 300.0, 120.0], [0, 0, 1]])
-    kernel = np.full((1, 15), 1 / 15, np.float32)
-    for i in range(n):
-        img = _textured(0)
-        if i in blurry:
-            img = cv2.filter2D(img, -1, kernel)
-        cv2.imwrite(str(root / f"frame-{i:06d}.color.png"), img)
-        cv2.imwrite(str(root / f"frame-{i:06d}.depth.png"), np.full((H, W), 2000, np.uint16))
-        pose = np.eye(4)
-        pose[0, 3] = 0.25 * i        # 0.25 m per frame = 37.5 px of image motion
-        np.savetxt(root / f"frame-{i:06d}.pose.txt", pose)
-    return root
-
+from tests.sequences import WALK_W as W, write_7scenes, write_walk
 
 def test_frames_json_reports_counts(tmp_path):
     seq = write_walk(tmp_path / "walk")

@@ -11,34 +11,11 @@ from graphdb.merge import merge_local_graph
 from queries.planning import (InvalidPlan, PlanningError, build_problem, load_domain, plan_task,
                               simulate)
 from queries.planning.pipeline import write_files
+from sg3d.testing import KITCHEN_RELATIONS, kitchen_objects
 from tests.factories import graph, hist_of, obj
 
 ROOM = "home/kitchen"
 ITEMS_ON_TABLE = {"white_cup", "red_cup", "blue_cup", "bowl"}
-
-
-def kitchen_objects():
-    """Three cups and a bowl on a dining table, a bottle in a microwave, a sink, a chair by the
-    table and a tv. Same-label objects get distinct colour histograms so they stay separate nodes."""
-    return [
-        obj("table", "dining table", (0.0, 0.0, 0.70), size=(1.6, 0.9, 0.7), hist=hist_of({30: 500}), colour="brown"),
-        obj("cupA", "cup", (-0.30, 0.0, 0.76), hist=hist_of({1: 100})),
-        obj("cupB", "cup", (0.00, 0.0, 0.76), hist=hist_of({200: 100}), colour="red"),
-        obj("cupC", "cup", (0.30, 0.0, 0.76), hist=hist_of({400: 100}), colour="blue"),
-        obj("bowl", "bowl", (0.10, 0.25, 0.75), hist=hist_of({60: 100})),
-        obj("sink", "sink", (2.0, 0.0, 0.90), size=(0.6, 0.5, 0.2), hist=hist_of({300: 100}), colour="gray"),
-        obj("micro", "microwave", (2.6, 0.0, 1.00), size=(0.5, 0.4, 0.3), hist=hist_of({500: 100}), colour="black"),
-        obj("bottle", "bottle", (2.6, 0.0, 1.02), hist=hist_of({120: 100}), colour="green"),
-        obj("chair", "chair", (0.0, 0.9, 0.45), size=(0.5, 0.5, 0.9), hist=hist_of({31: 100}), colour="brown"),
-        obj("tv", "tv", (4.5, 0.0, 1.20), size=(1.0, 0.1, 0.6), hist=hist_of({511: 100}), colour="black"),
-    ]
-
-
-KITCHEN_RELATIONS = [
-    ("cupA", "ON", "table", 0.9), ("cupB", "ON", "table", 0.9), ("cupC", "ON", "table", 0.8),
-    ("bowl", "ON", "table", 0.85), ("bottle", "IN", "micro", 0.8), ("chair", "NEXT_TO", "table", 0.7),
-    ("cupA", "NEAR", "bowl", 0.6),
-]
 
 
 @pytest.fixture

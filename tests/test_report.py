@@ -8,7 +8,8 @@ import numpy as np
 from click.testing import CliRunner
 
 from sg3d.cli import cli
-from tests.test_eval import BUILDING, GT, ROOM, build_room
+from tests.scenes import EVAL_BUILDING as BUILDING, EVAL_GT as GT, EVAL_ROOM as ROOM
+from tests.scenes import build_eval_room as build_room
 
 
 def _report(store, home, tmp_path, *extra):

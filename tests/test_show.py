@@ -16,46 +16,11 @@ from click.testing import CliRunner
 from graphdb.merge import merge_local_graph
 from sg3d.cli import cli
 from tests.factories import graph, obj
+from tests.scenes import PLACES, UP, world
+from tests.scenes import SHOW_BUILDING as BUILDING, SHOW_ROOM as ROOM
+from tests.scenes import build_show_room as build, run_show as show
 
-ROOM, BUILDING = "showroom", "home"
 NS = "{http://www.w3.org/2000/svg}"
-UP = np.array([0.0058, -0.9052, -0.4249])       # tilted, like the real kitchen's world frame
-UP = UP / np.linalg.norm(UP)
-
-
-def floor_basis(up):
-    """Two horizontal unit vectors, made here independently of the renderer (any pair works:
-    the checks below only use distances)."""
-    a = np.cross(up, [0.0, 0.0, 1.0])
-    a /= np.linalg.norm(a)
-    return a, np.cross(up, a)
-
-
-A, B = floor_basis(UP)
-# (floor a, floor b, height) of each object: the table, a cup and a book on it, a chair beside it
-PLACES = {"t": (0.0, 0.0, 0.4), "c": (0.2, 0.1, 0.8), "b": (-0.4, -0.2, 0.8), "h": (1.4, 0.0, 0.45)}
-
-
-def world(a, b, h):
-    return tuple(a * A + b * B + h * UP)
-
-
-def build(store, room=ROOM, up=UP, places=PLACES):
-    g = graph([
-        obj("t", "dining table", world(*places["t"]), size=(1.5, 0.8, 0.7), colour="brown"),
-        obj("c", "cup", world(*places["c"]), colour="white"),
-        obj("b", "book", world(*places["b"]), colour="red"),
-        obj("h", "chair", world(*places["h"]), colour="black"),
-    ], relations=[("c", "ON", "t", 0.9), ("b", "ON", "t", 0.9), ("h", "NEXT_TO", "t", 0.8),
-                  ("t", "BIGGER_THAN", "c", 0.9), ("t", "BIGGER_THAN", "h", 0.9)],
-        room=room, building=BUILDING)
-    g.up = tuple(up)
-    merge_local_graph(store, g)
-
-
-def show(home, *args, room=ROOM):
-    room_args = ["--room", room] if room else []
-    return CliRunner().invoke(cli, ["--home", str(home), "show", *room_args, "--building", BUILDING, *args])
 
 
 def svg_nodes(root) -> dict[str, np.ndarray]:

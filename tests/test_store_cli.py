@@ -4,8 +4,6 @@ from __future__ import annotations
 
 import os
 import stat
-import subprocess
-import sys
 
 import pytest
 from click.testing import CliRunner
@@ -13,21 +11,7 @@ from click.testing import CliRunner
 from graphdb.embedded import PRIVATE_SUBDIR, EmbeddedServer, EmbeddedStoreError
 from sg3d.cli import cli
 from sg3d.commands.cypher_cmd import Shell, parse_param
-
-
-def sg3d(home, *args, timeout=60, **env):
-    full = {k: v for k, v in os.environ.items() if not k.startswith("SG3D_")}
-    full.update(SG3D_HOME=str(home), **env)
-    return subprocess.run([sys.executable, "-m", "sg3d", *args], capture_output=True, text=True,
-                          env=full, timeout=timeout)
-
-
-def one_error_line(out) -> str:
-    assert out.returncode == 2, (out.returncode, out.stdout, out.stderr)
-    lines = out.stderr.strip().splitlines()
-    assert len(lines) == 1 and lines[0].lower().startswith("error"), out.stderr
-    assert "Traceback" not in out.stderr
-    return lines[0]
+from tests.cli_helpers import one_error_line, sg3d
 
 
 # -- the home directory ------------------------------------------------------------------------

@@ -44,7 +44,7 @@ def test_two_concurrent_merges_of_one_new_room_equal_a_sequential_merge(store):
         barrier = threading.Barrier(2)
         errors, reports = [], []
 
-        def build(view):
+        def build(view, room, barrier, errors, reports):
             g = local_graph(room, view)
             barrier.wait()
             try:
@@ -52,7 +52,7 @@ def test_two_concurrent_merges_of_one_new_room_equal_a_sequential_merge(store):
             except Exception as exc:  # noqa: BLE001 - the test reports what failed
                 errors.append(exc)
 
-        threads = [threading.Thread(target=build, args=(view,)) for view in (1, 2)]
+        threads = [threading.Thread(target=build, args=(view, room, barrier, errors, reports)) for view in (1, 2)]
         for t in threads:
             t.start()
         for t in threads:

@@ -8,7 +8,7 @@ from pathlib import Path
 
 import pytest
 
-from tests.test_store_cli import one_error_line, sg3d
+from tests.cli_helpers import one_error_line, sg3d
 
 KITCHEN = Path(__file__).resolve().parents[2] / "shared" / "data" / "7scenes-redkitchen"
 
@@ -31,7 +31,7 @@ def test_a_usage_error_is_one_line_naming_the_help(tmp_path, args):
 @pytest.fixture(scope="module")
 def walk_builds(tmp_path_factory):
     """A 12-frame synthetic walk built twice into one home: as text and as --json."""
-    from tests.test_frames_cli import write_walk
+    from tests.sequences import write_walk
 
     root = tmp_path_factory.mktemp("walk")
     seq = write_walk(root / "walk", blurry=())
@@ -72,7 +72,8 @@ def test_an_interrupted_summary_says_so_and_how_far_detection_got(walk_builds):
 
 
 def test_eval_tables_name_objects_not_ids(store, embedded_home, tmp_path):
-    from tests.test_eval import BUILDING, GT, ROOM, build_room
+    from tests.scenes import EVAL_BUILDING as BUILDING, EVAL_GT as GT, EVAL_ROOM as ROOM
+    from tests.scenes import build_eval_room as build_room
 
     nodes = build_room(store)
     gt_file = tmp_path / "gt.json"
@@ -165,8 +166,9 @@ def test_a_build_that_read_no_frame_prints_no_speed(walk_builds):
 
 
 def test_show_sequence_shows_progress_over_the_frames(store, embedded_home, tmp_path):
-    from tests.test_eval import BUILDING, ROOM, build_room
-    from tests.test_frames_cli import write_walk
+    from tests.scenes import EVAL_BUILDING as BUILDING, EVAL_ROOM as ROOM
+    from tests.scenes import build_eval_room as build_room
+    from tests.sequences import write_walk
 
     build_room(store)
     seq = write_walk(tmp_path / "walk", n=6, blurry=())

@@ -6,56 +6,9 @@ import json
 import pytest
 from click.testing import CliRunner
 
-from graphdb.merge import merge_local_graph
 from queries.parse import ParseError, parse
 from queries.vqa import answer
-from tests.factories import graph, obj
-
-BROWN, GREY = "brown", "grey"
-
-
-def _jpeg(w: int, h: int) -> bytes:
-    """A real small JPEG (a stored thumbnail is at most 128 px)."""
-    import cv2
-    import numpy as np
-
-    img = np.zeros((h, w, 3), np.uint8)
-    img[:, : w // 2] = (0, 0, 255)
-    return cv2.imencode(".jpg", img)[1].tobytes()
-
-
-BOWL_JPEG = _jpeg(37, 49)
-
-
-@pytest.fixture
-def house(store):
-    """kitchen: 3 chairs (2 red), table, couch, 2 cups + 4 things on the table, 3 bowls, cutlery,
-    monitor, sink; living room: 1 red chair, 1 couch, 1 tv. Returns local id -> global id."""
-    kitchen = graph([
-        obj("c1", "chair", (0, 0, 0), colour="red", size=(0.5, 0.5, 0.9)),
-        obj("c2", "chair", (3, 0, 0), colour="red", size=(0.5, 0.5, 0.9)),
-        obj("c3", "chair", (6, 0, 0), colour="blue", size=(0.5, 0.5, 0.9)),
-        obj("t", "dining table", (0, 0, 3), colour=BROWN, size=(1.5, 0.8, 0.7)),
-        obj("s", "couch", (6, 0, 6), colour=GREY, size=(2.0, 0.9, 0.8)),
-        obj("u1", "cup", (0.2, 0.8, 3), colour="white"),
-        obj("u2", "cup", (-0.3, 0.8, 3.1), colour="red", size=(0.12, 0.12, 0.12)),   # the bigger cup
-        obj("b1", "bowl", (0.4, 0.8, 2.8), size=(0.2, 0.2, 0.1)),
-        obj("b2", "bowl", (9, 0.9, 9.2), size=(0.3, 0.3, 0.15), thumbnail=BOWL_JPEG),
-        obj("b3", "bowl", (12, 0.9, 12), size=(0.1, 0.1, 0.05)),
-        obj("f1", "fork", (0.1, 0.8, 3.3)), obj("k1", "knife", (9, 0.8, 9.5)), obj("sp", "spoon", (15, 1, 1)),
-        obj("m", "tv", (15, 1, 15), colour="black", size=(0.6, 0.1, 0.4)),
-        obj("sk", "sink", (9, 0.9, 9.6), colour="grey", size=(0.6, 0.5, 0.2)),
-    ], relations=[("u1", "ON", "t", 0.9), ("u2", "ON", "t", 0.8), ("b1", "ON", "t", 0.9), ("f1", "ON", "t", 0.7),
-                  ("b2", "NEXT_TO", "sk", 0.8), ("k1", "IN", "sk", 0.9)], room="kitchen", building="home")
-    living = graph([
-        obj("c4", "chair", (0, 0, 0), colour="red", size=(0.5, 0.5, 0.9)),
-        obj("s2", "couch", (4, 0, 0), colour="black", size=(2.0, 0.9, 0.8)),
-        obj("tv", "tv", (8, 1, 0), colour="black", size=(1.0, 0.1, 0.6)),
-    ], room="living room", building="home")
-    ids = dict(merge_local_graph(store, kitchen).node_ids)
-    ids.update(merge_local_graph(store, living).node_ids)
-    return ids
-
+from tests.scenes import BOWL_JPEG, StoreSettings
 
 def ask(store, q, **kw):
     a = answer(store, q, **kw)
@@ -176,21 +129,11 @@ def test_parser_plurals_and_multiword():
         parse("how many florps", use_embedding=False)
 
 
-class _Settings:
-    def __init__(self, store):
-        self._store = store
-
-    def store(self):
-        return self._store
-
-    reader = store
-
-
 def test_cli_answers_explains_writes_thumbnail_and_refuses(store, house, tmp_path):
     from sg3d.commands.ask import ask as ask_cmd
 
     runner = CliRunner()
-    r = runner.invoke(ask_cmd, ["how many red chairs", "--room", "kitchen", "--explain"], obj=_Settings(store))
+    r = runner.invoke(ask_cmd, ["how many red chairs", "--room", "kitchen", "--explain"], obj=StoreSettings(store))
     assert r.exit_code == 0, r.output
     assert r.output.splitlines()[0].startswith("2 red chairs")
     assert "cypher/vqa_objects_in_rooms.cypher" in r.output and '"colour": "red"' in r.output
@@ -198,14 +141,14 @@ def test_cli_answers_explains_writes_thumbnail_and_refuses(store, house, tmp_pat
 
     for name, magic in (("bowl.png", b"\x89PNG"), ("bowl.jpg", b"\xff\xd8"), ("bowl.JPEG", b"\xff\xd8")):
         out = tmp_path / name
-        r = runner.invoke(ask_cmd, ["show me the biggest bowl", "--out", str(out), "--json"], obj=_Settings(store))
+        r = runner.invoke(ask_cmd, ["show me the biggest bowl", "--out", str(out), "--json"], obj=StoreSettings(store))
         assert r.exit_code == 0, r.output
         assert out.read_bytes().startswith(magic), name      # the format the extension names
         assert max(cv2.imread(str(out)).shape[:2]) >= 256     # upscaled from 49 px to be visible
         assert json.loads(r.output)["thumbnail"] == str(out)
-    r = runner.invoke(ask_cmd, ["show me the biggest bowl", "--out", str(tmp_path / "bowl.gif")], obj=_Settings(store))
+    r = runner.invoke(ask_cmd, ["show me the biggest bowl", "--out", str(tmp_path / "bowl.gif")], obj=StoreSettings(store))
     assert r.exit_code == 2 and ".png" in r.output
-    r = runner.invoke(ask_cmd, ["what is the meaning of life"], obj=_Settings(store))
+    r = runner.invoke(ask_cmd, ["what is the meaning of life"], obj=StoreSettings(store))
     assert r.exit_code != 0 and "try e.g." in r.output and len(r.output.strip().splitlines()) == 1
 
 

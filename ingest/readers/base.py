@@ -9,13 +9,14 @@ from typing import Iterator, Optional
 import cv2
 import numpy as np
 
+from core.errors import Sg3dError
 from ingest.frames import Frame, FrameError, FrameSource
 from ingest.image_checks import image_problem
 from ingest.pose_check import pose_problem, rigid
 from ingest.registration import DepthRegistrar, Registration
 
 
-class SequenceError(ValueError):
+class SequenceError(Sg3dError, ValueError):
     """The sequence as a whole cannot be read (missing folder, unknown layout, no intrinsics);
     front ends show it as one line (ingest knows nothing of them)."""
 

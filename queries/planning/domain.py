@@ -5,14 +5,14 @@ from __future__ import annotations
 import functools
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Optional
+from typing import Any, Optional
 
 from queries.planning.rules import DOMAIN_FILE
 
 
 @dataclass(frozen=True)
 class Domain:
-    parsed: object                          # pddl.core.Domain
+    parsed: Any                             # pddl.core.Domain (pddl ships no type hints)
     predicates: dict[str, tuple[str, ...]]  # name -> parameter types
     parents: dict[str, Optional[str]]       # type -> parent type (None = object)
     path: Path
@@ -43,8 +43,8 @@ def _one_type(tags) -> str:
 def load_domain(path: Optional[str] = None) -> Domain:
     from pddl import parse_domain
 
-    path = Path(path or DOMAIN_FILE)
-    parsed = parse_domain(str(path))
+    domain_path = Path(path or DOMAIN_FILE)
+    parsed = parse_domain(str(domain_path))
     predicates = {str(p.name): tuple(_one_type(t.type_tags) for t in p.terms) for p in parsed.predicates}
     parents = {str(k): (str(v) if v else None) for k, v in parsed.types.items()}
-    return Domain(parsed=parsed, predicates=predicates, parents=parents, path=path)
+    return Domain(parsed=parsed, predicates=predicates, parents=parents, path=domain_path)

@@ -33,7 +33,7 @@ def _clear_goal(source: str, problem: Problem, rules: Rules) -> list[Atom]:
     (tableware to the sink, books to a shelf or another table, electronics stay, ...); the
     chosen destination and the rule are kept in `problem.placement` for the plan's text."""
     surfaces = _one_unless_plural(source, problem, rules, role="surface to clean up")
-    goal = []
+    goal: list[tuple[str, ...]] = []
     for s in surfaces:
         if s.type != "surface":
             raise PlanningError(f"{s.name} is {_a(s.type)}, not a surface to clean up")
@@ -43,6 +43,7 @@ def _clear_goal(source: str, problem: Problem, rules: Rules) -> list[Atom]:
             if a[0] != "on" or a[2] != s.name:
                 continue
             item = problem.get(a[1])
+            assert item is not None                  # the initial state names known objects
             rule = rules.placement_rule(item.label)
             dest = _destination(rule["to"], problem, cleared)
             why = rule["rule"]
@@ -91,7 +92,7 @@ def _move_goal(items_phrase: str, prep: str, target_phrase: str, problem: Proble
                             f"{predicate or 'on or in'} it")
     if len(items) > 1 and any(i.type == "item" for i in items):
         items = [i for i in items if i.type == "item"]   # "the tableware", "all objects": the carriable ones
-    goal = []
+    goal: list[tuple[str, ...]] = []
     for item in items:
         if item.type != "item":
             raise PlanningError(f"unsolvable: {item.name} is {_a(item.type)}, not something the robot can carry")
@@ -119,8 +120,9 @@ def resolve_phrase(phrase: str, problem: Problem, rules: Rules) -> tuple[list[Pl
     plural = any(w in ("all", "every") for w in phrase.split())
     noun = " ".join(words)
     for name in (noun, slug(noun)):        # a PDDL name, or the readable name it spells
-        if problem.get(name) is not None:
-            return [problem.get(name)], False
+        found = problem.get(name)
+        if found is not None:
+            return [found], False
     if noun in problem.left_out:
         raise PlanningError(f"the {readable(noun)} is not in the planning problem: {problem.left_out[noun]}")
     candidates = [(noun, False)] + [(s, True) for s in singulars(noun)]
@@ -164,7 +166,7 @@ def goal_from_pddl(expr: str, problem: Problem, domain: Domain) -> list[Atom]:
     """`(and (in cup_1 sink_1) ...)` or one atom; every name and type checked against the problem."""
     tree = _parse_sexpr(expr)
     atoms = tree[1:] if tree and tree[0] == "and" else [tree]
-    goal = []
+    goal: list[tuple[str, ...]] = []
     for atom in atoms:
         if not isinstance(atom, list) or not atom or any(isinstance(t, list) for t in atom):
             raise PlanningError(f"goal: expected atoms like (in cup_1 sink_1), got {_show(atom)}")

@@ -81,7 +81,7 @@ def plan_task(store, command: Optional[str] = None, *, goal: Optional[str] = Non
     rules, domain = load_rules(), load_domain()
     room_id = resolve_room(store, room, building)
     problem = build_problem(store, room_id, start=start, rules=rules)
-    problem.goal = goal_from_pddl(goal, problem, domain) if goal else goal_from_command(command, problem, rules)
+    problem.goal = goal_from_pddl(goal, problem, domain) if goal else goal_from_command(command or "", problem, rules)
     out_dir = Path(out_dir) if out_dir else Path(tempfile.mkdtemp(prefix="sg3d-plan-"))
     domain_file, problem_file = write_files(out_dir, domain, problem)
     result = solve(domain_file, problem_file, planner)

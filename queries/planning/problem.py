@@ -91,7 +91,8 @@ def name_objects(rows: Iterable[dict], edges: Iterable[dict] = ()) -> dict[str, 
     rows = list(rows)
     labels = {r["id"]: r["label"] or "object" for r in rows}
     readable = object_names(rows, supports_from_edges(edges, labels))
-    names, used = {}, defaultdict(int)
+    names: dict[str, str] = {}
+    used: defaultdict[str, int] = defaultdict(int)
     for row in rows:
         stem = slug(readable[row["id"]])
         used[stem] += 1
@@ -190,7 +191,8 @@ def _supports(edges: list[dict], typed: dict[str, PlanObject], rules: Rules) -> 
                 fact = direct[below]
                 direct[node_id] = (fact[0], typed[node_id].name, fact[2])
                 break
-            below = on_item.get(below)
-            if below is None:
+            further = on_item.get(below)
+            if further is None:
                 break
+            below = further
     return direct

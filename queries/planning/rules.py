@@ -12,6 +12,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Optional
 
+from core.errors import Sg3dError
 from queries.taxonomy import Taxonomy
 
 DATA = Path(__file__).resolve().parent.parent / "data"
@@ -19,7 +20,7 @@ RULES_FILE = DATA / "planning_rules.json"
 DOMAIN_FILE = DATA / "household_domain.pddl"
 
 
-class PlanningError(Exception):
+class PlanningError(Sg3dError):
     """A request the planner cannot serve, with a message a user can act on (one line)."""
 
 

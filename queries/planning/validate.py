@@ -9,12 +9,13 @@ from pathlib import Path
 from pddl.logic.base import And, Not
 from pddl.logic.predicates import Predicate
 
+from core.errors import Sg3dError
 from queries.planning.domain import Domain
 
 Atom = tuple[str, ...]
 
 
-class InvalidPlan(Exception):
+class InvalidPlan(Sg3dError):
     """The plan does not do what it claims; `step` is 1-based (0: the goal check at the end)."""
 
     def __init__(self, step: int, message: str):

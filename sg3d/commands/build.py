@@ -3,7 +3,7 @@ from __future__ import annotations
 
 import json
 from pathlib import Path
-from typing import Optional
+from typing import Any, Optional
 
 import click
 
@@ -175,7 +175,7 @@ def build(settings, sequence: Path, room: str, building: str, method: str, quali
                            bag_options=bag, estimate_poses=estimate_poses, trajectory_out=trajectory_out)
     selection = {"--abir-gain": abir_gain, "--t-key": t_key, "--t-anchor": t_anchor}
     given = [flag for flag, value in selection.items() if value is not None]
-    tuned = {k: v for k, v in (("t_key", t_key), ("t_anchor", t_anchor)) if v is not None}
+    tuned: dict[str, Any] = {k: v for k, v in (("t_key", t_key), ("t_anchor", t_anchor)) if v is not None}
     options = Settings(method=METHODS[method], abir_gain=abir_gain, **tuned,
                        detect_fraction=detect_fraction or coverage.DEFAULT_FRACTION,
                        chunk_frames=chunk_frames or DEFAULT_CHUNK_FRAMES,

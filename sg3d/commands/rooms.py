@@ -57,6 +57,7 @@ def link(ctx: click.Context, room_a: str, room_b: str, building: Optional[str], 
     """Align ROOM_B to ROOM_A from their shared objects (or a transform file), store both rooms'
     building transforms and link the shared objects (SAME_AS) and the rooms (ADJACENT_TO)."""
     settings = ctx.obj
+    assert ctx.parent is not None                 # a subcommand: the group's context holds --building
     outer = ctx.parent.params["building"]
     if building is not None and outer != building and \
             ctx.parent.get_parameter_source("building") is not click.core.ParameterSource.DEFAULT:
@@ -100,6 +101,7 @@ def delete(ctx: click.Context, room: str, building: Optional[str], yes: bool) ->
     from app.rooms import delete_room
     from graphdb.values import room_id
 
+    assert ctx.parent is not None
     building = building or ctx.parent.params["building"]
     rid = room_id(building, room)
     store = ctx.obj.store()

@@ -57,6 +57,7 @@ def show(settings, room: Optional[str], building: str, out: Path, layout: str, a
     except AppError as exc:
         raise UserError(str(exc)) from None
     title = f"{building}/{room}" if room else building
+    data: str | bytes
     if fmt == "html":
         from render.view3d import render_html
 

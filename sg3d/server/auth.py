@@ -11,10 +11,12 @@ import secrets
 import stat
 from pathlib import Path
 
+from core.errors import Sg3dError
+
 TOKEN_FILE = "api-token"
 
 
-class TokenError(RuntimeError):
+class TokenError(Sg3dError, RuntimeError):
     """The token file cannot be trusted or made; the message says why and what to do."""
 
 

@@ -13,7 +13,7 @@ JSON encoded once (`json_response`, where the call ran), which FastAPI sends as 
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Literal, Optional
+from typing import Any, Literal, Optional
 
 from fastapi import Depends, FastAPI, HTTPException, Query, Request
 from fastapi.exceptions import RequestValidationError
@@ -190,7 +190,7 @@ def _add_health_route(api: FastAPI, stores: StoreHandle, settings, calls: Dispat
 
 def _add_read_routes(api: FastAPI, stores: StoreHandle, calls: Dispatcher, auth: list) -> None:
     read = stores.call
-    opts = {"dependencies": auth, "tags": ["read"], "responses": ROUTE_ERRORS}
+    opts: dict[str, Any] = {"dependencies": auth, "tags": ["read"], "responses": ROUTE_ERRORS}
 
     @api.post("/ask", response_model=schemas.AskAnswer, **opts)
     async def ask(body: AskBody):

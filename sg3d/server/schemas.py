@@ -162,7 +162,7 @@ class IngestResult(_Open):
     room_objects: int
 
 
-ROUTE_ERRORS = {
+ROUTE_ERRORS: dict[int | str, dict[str, Any]] = {
     400: {"model": Error, "description": "the request cannot be answered as asked"},
     401: {"model": Error, "description": "missing or wrong token"},
     404: {"model": Error, "description": "no such room or building"},

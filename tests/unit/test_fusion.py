@@ -1,8 +1,7 @@
 """Whole-sequence fusion, frame coverage and the existence test.
 
-Hand-made sightings and poses check the rules exactly; real kitchen frames (real depth, real
-poses, the real detector) check that the existence test keeps what the detector keeps finding
-and rejects a detection that one frame made up.
+Hand-made sightings and poses check the rules exactly (the existence test on real kitchen frames:
+tests/test_kitchen_ingest.py).
 """
 from __future__ import annotations
 
@@ -129,65 +128,6 @@ def test_size_prior_allows_for_the_percentile_box():
     assert existence.size_plausible("dining table", (measured, 0.3, 0.4))
     assert not existence.size_plausible("dining table", (0.8 * smallest, 0.3, 0.4))
     assert not existence.size_plausible("dining table", (largest * 1.01, 0.3, 0.4))
-
-
-@pytest.fixture(scope="module")
-def kitchen_views(kitchen_dir):
-    """Twelve real frames of the kitchen's first second (the table and chairs in view)."""
-    from ingest.readers import open_sequence
-
-    seq = open_sequence(kitchen_dir)
-    return [seq.frame(i) for i in range(0, 120, 10)]
-
-
-def _centre_point(frame, u: int, v: int):
-    d = float(frame.depth[v, u])
-    K = frame.K
-    cam = np.array([(u - K[0, 2]) / K[0, 0] * d, (v - K[1, 2]) / K[1, 1] * d, d])
-    return frame.pose[:3, :3] @ cam + frame.pose[:3, 3], d
-
-
-def test_visibility_on_real_frames_sees_inside_and_knows_occlusion(kitchen_views):
-    frame = kitchen_views[0]
-    view = existence.View.of(frame)
-    v, u = np.argwhere(frame.depth[200:280, 280:360] > 0)[0] + (200, 280)
-    point, d = _centre_point(frame, int(u), int(v))
-    assert existence.expected_in_view(point, 0.3, view) > 0
-    behind = point + (point - frame.pose[:3, 3]) / d * 1.5   # 1.5 m further along the same ray
-    assert existence.expected_in_view(behind, 0.3, view) == 0.0
-    assert existence.expected_in_view(frame.pose[:3, 3] - 2 * frame.pose[:3, 2], 0.3, view) == 0.0  # behind the camera
-
-
-def test_existence_keeps_what_the_detector_keeps_finding_and_rejects_a_made_up_detection(kitchen_views):
-    from ingest.attributes import measure_object
-    from ingest.detect import SsdMobilenetDetector
-    from ingest.gravity import estimate_gravity
-
-    up = estimate_gravity(kitchen_views).up
-    detector = SsdMobilenetDetector()
-    sightings, views = [], []
-    for frame in kitchen_views:
-        for det in detector.detect(frame.color):
-            attrs = measure_object(frame, det.box, up)
-            if attrs is not None:
-                sightings.append(fusion.Sighting.of(frame.index, det, attrs, np.eye(3)))
-        views.append(existence.View.of(frame))
-    # a "tv" the detector never said, in one frame, on the middle of the table
-    fake_frame = kitchen_views[4]
-    fake = Detection((300, 260, 360, 300), ["tv"], [0.9])
-    made_up = fusion.Sighting.of(fake_frame.index, fake, measure_object(fake_frame, fake.box, up), np.eye(3))
-    sightings.append(made_up)
-
-    hyps = fusion.consolidate(fusion.associate(sightings))
-    verdict = {}
-    for h in hyps:
-        ev = existence.evidence((h.lo + h.hi) / 2, h.extent, set(h.frames), views)
-        verdict.setdefault(h.label, []).append((existence.exists(ev), ev))
-        if any(s is made_up for s in h.sightings):
-            assert h.sightings == [made_up] and not existence.exists(ev) and ev.expected > 1
-    kept = [(label, ev) for label, v in verdict.items() for ok, ev in v if ok]
-    assert {"dining table", "chair"} <= {label for label, _ in kept}
-    assert all(ev.detected >= 0.5 * ev.expected for label, ev in kept if label == "dining table")
 
 
 def test_fuse_labels_means_over_all_detections():

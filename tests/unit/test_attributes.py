@@ -1,4 +1,5 @@
-"""Per-object attributes on synthetic frames with known answers, and gravity on the real kitchen."""
+"""Per-object attributes on synthetic frames with known answers (gravity on the real kitchen:
+tests/test_kitchen_ingest.py)."""
 from __future__ import annotations
 
 import cv2
@@ -8,9 +9,8 @@ import pytest
 from ingest.attributes import (dominant_colour, hsv_histogram, measure_object, object_size,
                                position_gaussian, thumbnail, world_points)
 from ingest.frames import Frame
-from ingest.gravity import estimate_gravity, estimate_up, sample_frames
 from core.model import COLOUR_NAMES, HIST_SIZE
-from ingest.readers import open_sequence, quaternion_to_matrix
+from ingest.readers import quaternion_to_matrix
 
 W, H = 160, 120
 K = np.array([[100.0, 0, 80.0], [0, 100.0, 60.0], [0, 0, 1]])
@@ -135,28 +135,3 @@ def test_measure_object_bundles_everything():
     thumb = cv2.imdecode(np.frombuffer(a.thumbnail, np.uint8), cv2.IMREAD_COLOR)
     assert thumb.shape[:2] == (50, 50)
     assert thumb[..., 2].min() > 200 and thumb[..., :2].max() < 60     # the red box, nothing around it
-
-
-def test_up_is_perpendicular_to_the_kitchen_table(kitchen_dir):
-    seq = open_sequence(kitchen_dir)
-    gravity = estimate_gravity(sample_frames(seq, 12))
-    up = np.asarray(gravity.up)
-    assert np.linalg.norm(up) == pytest.approx(1.0)
-    np.testing.assert_allclose(estimate_up(sample_frames(seq, 12)), up)
-    # a patch of the table top in frame 1 (chosen by looking at the image): fit its plane here
-    f = seq.frame(1)
-    x1, y1, x2, y2 = 300, 240, 420, 320
-    d = f.depth[y1:y2, x1:x2]
-    v, u = np.nonzero(d > 0)
-    pts = world_points(u + float(x1), v + float(y1), d[v, u].astype(float), f.K, f.pose)
-    centred = pts - pts.mean(axis=0)
-    _, sv, vt = np.linalg.svd(centred, full_matrices=False)
-    assert sv[2] / np.sqrt(len(pts)) < 0.02          # it is a plane (rms off-plane < 2 cm)
-    angle = np.degrees(np.arccos(abs(vt[2] @ up)))
-    assert angle < 5.0
-    # up points against gravity: cameras are held upright, their image-up agrees
-    assert np.mean([(-g.pose[:3, 1]) @ up > 0 for g in sample_frames(seq, 12)]) > 0.9
-    # the table top lies well above the floor, below the cameras
-    assert gravity.floor_height is not None
-    table = float(pts.mean(axis=0) @ up) - gravity.floor_height
-    assert 0.5 < table < 1.1

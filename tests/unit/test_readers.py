@@ -9,51 +9,9 @@ import numpy as np
 import pytest
 
 from ingest.frames import FrameError
-from ingest.readers import SequenceError, open_sequence, quaternion_to_matrix
+from ingest.readers import SequenceError, open_sequence
 from ingest.registration import Registration
-
-W, H = 64, 48
-K = np.array([[60.0, 0, 32.0], [0, 60.0, 24.0], [0, 0, 1]])
-
-
-def _colour(i: int) -> np.ndarray:
-    rng = np.random.default_rng(i)
-    return rng.integers(0, 255, size=(H, W, 3), dtype=np.uint8)
-
-
-def _depth_mm(i: int, w: int = W, h: int = H) -> np.ndarray:
-    # a ramp: every column has its own depth, so registration shifts can be read off
-    d = np.tile((1000 + 10 * np.arange(w) + i).astype(np.uint16), (h, 1))
-    d[0, 0] = 0
-    d[0, 1] = 65535
-    return d
-
-
-def _pose(i: int) -> np.ndarray:
-    T = np.eye(4)
-    T[:3, :3] = quaternion_to_matrix(np.array([0, 0, math.sin(0.05 * i), math.cos(0.05 * i)]))
-    T[:3, 3] = (0.1 * i, 0.0, 0.5)
-    return T
-
-
-def write_7scenes(root: Path, n: int = 5, corrupt: int | None = 1, nan_pose: int | None = 2,
-                  intrinsics: bool = True) -> Path:
-    root.mkdir(parents=True, exist_ok=True)
-    if intrinsics:
-        np.savetxt(root / "camera-intrinsics.txt", K)
-    for i in range(n):
-        stem = root / f"frame-{i:06d}"
-        if i == corrupt:
-            Path(f"{stem}.color.png").write_bytes(b"not a png at all")
-        else:
-            cv2.imwrite(f"{stem}.color.png", _colour(i))
-        cv2.imwrite(f"{stem}.depth.png", _depth_mm(i))
-        pose = _pose(i)
-        if i == nan_pose:
-            pose[0, 3] = np.nan
-        np.savetxt(f"{stem}.pose.txt", pose)
-    return root
-
+from tests.sequences import H, K, W, colour_image, depth_ramp_mm, pose_of, write_7scenes
 
 def test_7scenes_reads_frames_and_skips_bad_ones(tmp_path):
     seq = open_sequence(write_7scenes(tmp_path / "seven"), registration=Registration())
@@ -64,9 +22,9 @@ def test_7scenes_reads_frames_and_skips_bad_ones(tmp_path):
     f = frames[1]
     assert f.color.shape == (H, W, 3) and f.color.dtype == np.uint8
     assert f.depth.dtype == np.float32 and f.depth.shape == (H, W)
-    np.testing.assert_allclose(f.depth[5], _depth_mm(3)[5] / 1000.0, rtol=1e-6)
+    np.testing.assert_allclose(f.depth[5], depth_ramp_mm(3)[5] / 1000.0, rtol=1e-6)
     assert f.depth[0, 0] == 0 and f.depth[0, 1] == 0  # 0 and 65535 both mean "no depth"
-    np.testing.assert_allclose(f.pose, _pose(3))
+    np.testing.assert_allclose(f.pose, pose_of(3))
     skipped = dict(seq.skipped)
     assert set(skipped) == {"frame-000001", "frame-000002"}
     assert "frame-000001.color.png" in skipped["frame-000001"]
@@ -129,16 +87,16 @@ def write_tum(root: Path) -> Path:
     (root / "depth").mkdir()
     np.savetxt(root / "camera-intrinsics.txt", K)
     rgb_t = [10.00, 10.033, 10.066, 10.100]
-    depth_t = [10.01, 10.040, 10.200]        # 10.066 and 10.100 have no depth within 0.02 s... 
+    depth_t = [10.01, 10.040, 10.200]        # 10.066 and 10.100 have no depth within 0.02 s...
     depth_t = [10.01, 10.040, 10.075]        # ...except 10.066 (0.009 s); 10.100 has none (0.025 s)
     rgb_lines, depth_lines = ["# timestamp filename"], ["# timestamp filename"]
     for t in rgb_t:
         name = f"rgb/{t:.6f}.png"
-        cv2.imwrite(str(root / name), _colour(int(t * 1000)))
+        cv2.imwrite(str(root / name), colour_image(int(t * 1000)))
         rgb_lines.append(f"{t:.6f} {name}")
     for t in depth_t:
         name = f"depth/{t:.6f}.png"
-        cv2.imwrite(str(root / name), (_depth_mm(0).astype(np.float64) * 5).astype(np.uint16))
+        cv2.imwrite(str(root / name), (depth_ramp_mm(0).astype(np.float64) * 5).astype(np.uint16))
         depth_lines.append(f"{t:.6f} {name}")
     (root / "rgb.txt").write_text("\n".join(rgb_lines) + "\n")
     (root / "depth.txt").write_text("\n".join(depth_lines) + "\n")
@@ -159,7 +117,7 @@ def test_tum_associates_timestamps(tmp_path):
     assert dict(seq.skipped).keys() == {"10.100000"}
     assert "depth.txt" in dict(seq.skipped)["10.100000"]
     f = frames[2]
-    np.testing.assert_allclose(f.depth[5], _depth_mm(0)[5] / 1000.0, rtol=1e-4)  # 5000 per metre
+    np.testing.assert_allclose(f.depth[5], depth_ramp_mm(0)[5] / 1000.0, rtol=1e-4)  # 5000 per metre
     np.testing.assert_allclose(f.pose[:3, :3], [[0, -1, 0], [1, 0, 0], [0, 0, 1]], atol=1e-9)
     # nearest ground truth to 10.066 is 10.07 (k=8)
     np.testing.assert_allclose(f.pose[:3, 3], [1.08, 2, 3], atol=1e-9)
@@ -182,16 +140,16 @@ def write_scannet(root: Path) -> Path:
     np.savetxt(root / "intrinsic" / "intrinsic_color.txt", Kc)
     np.savetxt(root / "intrinsic" / "intrinsic_depth.txt", Kd)
     for i in range(4):
-        cv2.imwrite(str(root / "color" / f"{i}.jpg"), cv2.resize(_colour(i), (128, 96)))
-        cv2.imwrite(str(root / "depth" / f"{i}.png"), _depth_mm(i))
-        pose = _pose(i)
+        cv2.imwrite(str(root / "color" / f"{i}.jpg"), cv2.resize(colour_image(i), (128, 96)))
+        cv2.imwrite(str(root / "depth" / f"{i}.png"), depth_ramp_mm(i))
+        pose = pose_of(i)
         if i == 2:
             pose[:] = -np.inf  # how ScanNet marks frames where tracking was lost
         np.savetxt(root / "pose" / f"{i}.txt", pose)
     return root
 
 
-def test_scannet_resamples_depth_to_colour(tmp_path):
+def test_scannet_resamples_depth_tocolour_image(tmp_path):
     seq = open_sequence(write_scannet(tmp_path / "scene0000_00"))
     assert seq.layout == "scannet" and len(seq) == 4 and seq.image_size == (128, 96)
     frames = list(seq.frames())
@@ -209,10 +167,3 @@ def test_scannet_missing_intrinsics(tmp_path):
     (root / "intrinsic" / "intrinsic_color.txt").unlink()
     with pytest.raises(SequenceError, match="intrinsic_color.txt"):
         open_sequence(root)
-
-
-def test_kitchen_opens_with_its_intrinsics(kitchen_dir):
-    seq = open_sequence(kitchen_dir)
-    assert seq.layout == "7scenes" and len(seq) == 1000 and seq.image_size == (640, 480)
-    f = seq.frame(0)
-    assert f.depth.shape == (480, 640) and 0.5 < float(np.median(f.depth[f.depth > 0])) < 5.0

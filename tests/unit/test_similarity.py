@@ -77,8 +77,8 @@ def test_label_similarity_matrix_matches_the_pairwise_equation():
     emb = default_embedding()
     new = [(["cup", "bowl"], [0.8, 0.1]), (["couch"], [0.6])]
     old = [(["cup", "vase"], [0.5, 0.2]), (["mug"], [0.9]), (["chair", "couch"], [0.7, 0.4])]
-    mat = label_similarity_matrix([l for l, _ in new], [s for _, s in new],
-                                  [l for l, _ in old], [s for _, s in old], emb)
+    mat = label_similarity_matrix([lbl for lbl, _ in new], [s for _, s in new],
+                                  [lbl for lbl, _ in old], [s for _, s in old], emb)
     for i, (lc, sc) in enumerate(new):
         for j, (lo, so) in enumerate(old):
             word = max(0.0, similarity(emb, lo[0], lc[0]))
