@@ -66,6 +66,9 @@ def _fetch_candidates(tx: ManagedTransaction, rid: str, objects: list[ObjectObse
     near = _rows(tx.run(cypher.load("merge_candidates"), room=rid, **_window(objects, margin)))
     if not near:
         return [], np.zeros((len(objects), 0))
+    # in the order of their place, not of their (random) ids: equal scores are then paired the
+    # same way in every build of the same frames
+    near.sort(key=lambda c: (c["x"], c["y"], c["z"], c["label"]))
     # a batch spans the room, so most pairs are far apart: a cheap test drops the candidates
     # nothing local can reach before the exact scores (same result, without their tails)
     near = [near[j] for j in np.flatnonzero(may_pass(objects, near, params, basis).any(axis=0))]
