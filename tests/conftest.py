@@ -67,3 +67,16 @@ def served(store_session, embedded_home):
     token = ensure_token(embedded_home)
     with running_server(Settings(home=embedded_home), token) as url:
         yield url, token
+
+
+@pytest.fixture
+def kitchen_client(served, store):
+    """An authenticated httpx client of the served app, with the sample kitchen ingested."""
+    import httpx
+
+    from tests.serve_helpers import kitchen_body
+
+    url, token = served
+    with httpx.Client(base_url=url, headers={"Authorization": f"Bearer {token}"}, timeout=60) as c:
+        assert c.post("/ingest", json=kitchen_body()).status_code == 200
+        yield c

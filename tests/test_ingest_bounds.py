@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import json
 
-import httpx
 import pytest
 from click.testing import CliRunner
 
@@ -17,11 +16,8 @@ ROUTES = [("get", "/rooms", None), ("get", "/rooms/home/kitchen/objects", None),
 
 
 @pytest.fixture
-def client(served, store):
-    url, token = served
-    with httpx.Client(base_url=url, headers={"Authorization": f"Bearer {token}"}, timeout=60) as c:
-        assert c.post("/ingest", json=kitchen_body()).status_code == 200
-        yield c
+def client(kitchen_client):
+    return kitchen_client
 
 
 def _edit(fn, observation="bad"):

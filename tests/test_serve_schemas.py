@@ -17,11 +17,8 @@ AUTHED = {("post", "/ask"), ("post", "/plan"), ("get", "/rooms"), ("get", "/room
 
 
 @pytest.fixture
-def kitchen(served, store):
-    url, token = served
-    with httpx.Client(base_url=url, headers={"Authorization": f"Bearer {token}"}, timeout=60) as c:
-        assert c.post("/ingest", json=kitchen_body()).status_code == 200
-        yield c
+def kitchen(kitchen_client):
+    return kitchen_client
 
 
 def _resolve(spec: dict, schema: dict) -> dict:
