@@ -26,6 +26,9 @@ FORMATS = ("png", "svg", "pdf")
 LAYOUTS = ("topdown", "spring")
 DPI = 100
 PLOT_RECT = (0.035, 0.045, 0.685, 0.90)       # left, bottom, width, height of the map (figure fraction)
+SIDE_TABLE_PT = 7.5                           # the side table's font size and line spacing
+SIDE_TABLE_SPACING = 1.25
+SIDE_TABLE_FOOT = 0.08                        # figure fraction it stops at: the scale bar is below
 PANEL_X = 0.74                              # the legend and side table column starts here
 NODE_SIZE = 90                              # scatter marker area, points^2
 NODE_R_PX = 6.5
@@ -443,13 +446,14 @@ def _side_table(fig, placed: _Labels, y: float, height: int) -> None:
     """The names and relations that found no place on the map, as many as the column holds."""
     listed_edges = placed.listed_edges
     rows = placed.listed_nodes + ([""] + ["relations without room on their line:"] + listed_edges if listed_edges else [])
-    line_h = 11.5 / height
-    room_for = max(0, int((y - 0.08) / line_h))
+    # a text line's height at the figure's resolution; the table ends above the scale bar
+    line_h = SIDE_TABLE_PT * SIDE_TABLE_SPACING * DPI / 72 / height
+    room_for = max(0, int((y - SIDE_TABLE_FOOT) / line_h))
     if rows and room_for:
         shown = rows[:room_for] if len(rows) <= room_for else rows[:room_for - 1] + [
             f"+ {len(rows) - room_for + 1} more (sg3d export lists every relation)"]
-        fig.text(PANEL_X, y, "\n".join(_clip(r, 58) for r in shown), fontsize=7.5, va="top", color="#333333",
-                 linespacing=1.25, gid="side-table")
+        fig.text(PANEL_X, y, "\n".join(_clip(r, 58) for r in shown), fontsize=SIDE_TABLE_PT, va="top",
+                 color="#333333", linespacing=SIDE_TABLE_SPACING, gid="side-table")
 
 
 def _clip(text: str, n: int) -> str:
