@@ -4,12 +4,12 @@ from __future__ import annotations
 
 import json
 import os
-import subprocess
-import sys
 
 import cv2
 import numpy as np
 import pytest
+
+from tests.cli_helpers import sg3d
 
 
 @pytest.fixture(scope="module")
@@ -35,10 +35,8 @@ def damaged(kitchen_dir, tmp_path_factory):
 
 
 def test_build_names_every_damaged_frame_and_prints_no_decoder_noise(damaged, tmp_path):
-    env = dict(os.environ, SG3D_HOME=str(tmp_path / "home"))
-    env.pop("SG3D_URI", None)
-    out = subprocess.run([sys.executable, "-m", "sg3d", "build", str(damaged), "--room", "damaged", "--json"],
-                         capture_output=True, text=True, env=env, timeout=600)
+    home = tmp_path / "home"
+    out = sg3d(home, "build", str(damaged), "--room", "damaged", "--json", timeout=600)
     try:
         assert out.returncode == 0, out.stderr
         summary = json.loads(out.stdout)
@@ -51,4 +49,4 @@ def test_build_names_every_damaged_frame_and_prints_no_decoder_noise(damaged, tm
         for noise in ("libpng", "Premature end", "WARN", "Traceback"):
             assert noise not in out.stderr
     finally:
-        subprocess.run([sys.executable, "-m", "sg3d", "db", "stop"], env=env, capture_output=True)
+        sg3d(home, "db", "stop")

@@ -3,9 +3,6 @@ real kitchen frames, damaged on disk, read through the real readers (and one rea
 from __future__ import annotations
 
 import json
-import os
-import subprocess
-import sys
 import warnings
 
 import numpy as np
@@ -13,6 +10,7 @@ import pytest
 
 from ingest.pose_check import pose_problem, rigid
 from ingest.readers import SequenceError, open_sequence
+from tests.cli_helpers import sg3d
 
 
 def test_pose_problem_names_each_rule():
@@ -82,10 +80,8 @@ def test_a_bad_pose_skips_only_its_frame(bad_poses):
 
 
 def test_a_build_with_bad_poses_uses_the_good_frames(bad_poses, tmp_path):
-    env = dict(os.environ, SG3D_HOME=str(tmp_path / "home"))
-    env.pop("SG3D_URI", None)
-    out = subprocess.run([sys.executable, "-m", "sg3d", "build", str(bad_poses), "--room", "poses", "--json"],
-                         capture_output=True, text=True, env=env, timeout=600)
+    home = tmp_path / "home"
+    out = sg3d(home, "build", str(bad_poses), "--room", "poses", "--json", timeout=600)
     try:
         assert out.returncode == 0, out.stderr[-2000:]
         summary = json.loads(out.stdout)
@@ -94,7 +90,7 @@ def test_a_build_with_bad_poses_uses_the_good_frames(bad_poses, tmp_path):
         for noise in ("RuntimeWarning", "overflow", "Traceback"):
             assert noise not in out.stderr
     finally:
-        subprocess.run([sys.executable, "-m", "sg3d", "db", "stop"], env=env, capture_output=True)
+        sg3d(home, "db", "stop")
 
 
 def test_damaged_images_are_named_and_decoders_print_nothing(kitchen_dir, tmp_path, capfd):
