@@ -35,7 +35,7 @@ from ingest.detect import Detector
 from ingest.frames import FrameError, decoded_ahead
 from ingest.kge import KeyframeGrouper
 from core.model import KnownObject, LocalGraph, ObjectObservation, RelationObservation, ScanInfo
-from ingest.relations import (ObjectGeometry, horizontal_basis, side_by_side_on_one_support,
+from ingest.relations import (ObjectGeometry, floor_under_room, horizontal_basis, side_by_side_on_one_support,
                               spatial_relations)
 from ingest.sdr import filter_relations, reject_irrelevant, vote_relations, with_whole_geometry
 from ingest.selection import FrameSelector
@@ -321,6 +321,8 @@ def _structure_relations(objects: list[ObjectObservation], up) -> list[RelationO
         return []
     geoms = [ObjectGeometry(o.local_id, o.label, o.box_centre, o.size) for o in objects
              if o.layer != "structure" or o.local_id in structure]
+    things = [g for g in geoms if g.local_id not in structure]
+    geoms = [floor_under_room(g, things, up) if g.label == "floor" else g for g in geoms]
     return [r for r in spatial_relations(geoms, up)
             if r.predicate == "ON" and r.object in structure and r.subject not in structure]
 

@@ -197,6 +197,20 @@ class _Box:
         return centre - half, centre + half
 
 
+def floor_under_room(floor: ObjectGeometry, others: Sequence[ObjectGeometry],
+                     up: Sequence[float]) -> ObjectGeometry:
+    """Rule "the floor is under the whole room": the floor is seen only where nothing stands on
+    it, so for support its footprint is the union of its own and every other object's (its level
+    and thickness stay its own)."""
+    R = np.stack(horizontal_basis(up))
+    boxes = [_Box(g, R) for g in (floor, *others)]
+    lo = np.min([b.lo for b in boxes], axis=0)
+    hi = np.max([b.hi for b in boxes], axis=0)
+    base = boxes[0]
+    lo[2], hi[2] = base.lo[2], base.hi[2]
+    return ObjectGeometry(floor.local_id, floor.label, vec3(R.T @ ((lo + hi) / 2)), vec3(hi - lo))
+
+
 def _overlap_1d(lo_a, hi_a, lo_b, hi_b) -> float:
     return max(0.0, min(hi_a, hi_b) - max(lo_a, lo_b))
 

@@ -10,7 +10,7 @@ room's objects (`ingest.segments`). Each element is found by a named rule:
   connected footprints of at least SURFACE_MIN_AREA, seen from several frames;
 - walls (`walls`): vertical planes (a Hough vote over horizontal normal direction and offset)
   that are tall (WALL_MIN_HEIGHT), long (WALL_MIN_LENGTH) and bound the room: almost no point
-  lies behind them;
+  lies behind them; the other planes are fronts when their points fill them (`plane_fill`);
 - a surface's name (`surface_name`) from its height and depth: counter, shelf or surface.
 """
 from __future__ import annotations
@@ -43,6 +43,11 @@ WALL_MAX_BEHIND = 0.10                # share of the room's points that may lie 
 WALL_FAR_M = 0.3
 WALL_SURE_FAR = 0.01
 MAX_WALLS = 10
+# A front is a face (cabinet doors, a backsplash): its points fill at least FRONT_MIN_FILL of the
+# FILL_CELL_M cells of its rectangle. The folds of a curtain or the bars of a frame line up on a
+# plane in strips and fill far less.
+FRONT_MIN_FILL = 0.45
+FILL_CELL_M = 0.05
 # Surface names: a counter is a deep surface at worktop height; a shelf a narrow one, or any
 # surface above reach-in height; anything else a surface (a desk or table top no detector named).
 COUNTER_HEIGHT = (0.75, 1.10)
@@ -177,11 +182,23 @@ def horizontal_surfaces(cloud: RoomCloud) -> list[Element]:
     return out
 
 
+def plane_fill(along: np.ndarray, height: np.ndarray) -> float:
+    """Rule "a front is a face": the share of the FILL_CELL_M cells of a plane's rectangle (its
+    2-98 percentile extent along the plane and in height) that hold at least one of its points."""
+    a_lo, a_hi = np.percentile(along, [2, 98])
+    h_lo, h_hi = np.percentile(height, [2, 98])
+    inside = (along >= a_lo) & (along <= a_hi) & (height >= h_lo) & (height <= h_hi)
+    cells = np.floor(np.stack([along[inside] - a_lo, height[inside] - h_lo], axis=1) / FILL_CELL_M)
+    total = np.ceil((a_hi - a_lo) / FILL_CELL_M) * np.ceil((h_hi - h_lo) / FILL_CELL_M)
+    return float(len(np.unique(cells.astype(int), axis=0)) / max(total, 1.0))
+
+
 def walls(cloud: RoomCloud) -> list[Element]:
     """Rule "wall": the strongest vertical planes of a Hough vote (horizontal normal angle in
     WALL_ANGLE_BIN_DEG bins, offset in WALL_OFFSET_BIN_M bins) whose points span at least
     WALL_MIN_HEIGHT in height and WALL_MIN_LENGTH along the plane, with at most WALL_MAX_BEHIND
-    of the room's points behind them (a wall bounds the room; a cabinet front does not)."""
+    of the room's points behind them (a wall bounds the room; a cabinet front does not). A plane
+    with more behind it is a front when it is a face (`plane_fill`), and no element otherwise."""
     p, n = cloud.points, cloud.normals
     vert = (np.abs(n[:, 2]) < WALL_NORMAL_COS) & (np.linalg.norm(n[:, :2], axis=1) > 0.5)
     if np.count_nonzero(vert) < 500:
@@ -215,7 +232,10 @@ def walls(cloud: RoomCloud) -> list[Element]:
             continue
         rh = rh + float(np.median(off[inl]))
         pts = q[inl]
-        along = -pts[:, 0] * np.sin(th) + pts[:, 1] * np.cos(th)
+        # its extent and its face count what a stronger plane took too (a wall's foot, the
+        # wall beside a front): that plane's points still show where this one runs
+        near = np.abs(off) <= WALL_SLAB_M
+        along = -q[near, 0] * np.sin(th) + q[near, 1] * np.cos(th)
         a_lo, a_hi = np.percentile(along, [2, 98])
         h_lo, h_hi = np.percentile(pts[:, 2], [2, 98])
         if h_hi - h_lo < WALL_MIN_HEIGHT or a_hi - a_lo < WALL_MIN_LENGTH:
@@ -224,10 +244,12 @@ def walls(cloud: RoomCloud) -> list[Element]:
         s_off = sample[:, 0] * np.cos(th) + sample[:, 1] * np.sin(th) - rh
         behind = float(np.mean(side * s_off < -WALL_SLAB_M))
         far = float(np.mean(side * s_off < -WALL_FAR_M))
+        label = "wall" if behind <= WALL_MAX_BEHIND else "front"
         taken |= inl
+        if label == "front" and plane_fill(along, q[near, 2]) < FRONT_MIN_FILL:
+            continue           # its points are no other plane's either
         lo = np.min(pts, axis=0)
         hi = np.max(pts, axis=0)
-        label = "wall" if behind <= WALL_MAX_BEHIND else "front"
         out.append(Element(label, lo, hi, int(inl.sum()), 0, plane=(float(th), float(rh)), side=float(side or 1.0),
                            far_behind=far))
     return out

@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from core.model import ObjectObservation, RELATION_TYPES
-from ingest.relations import ObjectGeometry, horizontal_basis, spatial_relations
+from ingest.relations import ObjectGeometry, floor_under_room, horizontal_basis, spatial_relations
 
 UP = (0.0, 0.0, 1.0)
 
@@ -319,3 +319,17 @@ def test_a_chair_at_the_end_of_a_table_is_next_to_it_whatever_its_box_height():
     # a box on the floor at the same spot is not at the table (it is no furniture)
     box = ObjectGeometry("box", "suitcase", (1.2, 0.0, 0.45), (0.33, 0.5, 0.9))
     assert not any({k[0], k[2]} == {"box", "table"} and k[1] == "NEXT_TO" for k in rels([slab, box]))
+
+
+def test_a_chair_beyond_the_floor_seen_stands_on_the_floor():
+    """The floor was seen only in front of the chair (the chair hides the floor under it): by
+    its own box the chair is not over it, by the rule "the floor is under the whole room" it is."""
+    floor = ObjectGeometry("floor", "floor", (0.0, 0.0, -0.005), (2.0, 2.0, 0.01))
+    chair = ObjectGeometry("chair", "chair", (1.3, 0.0, 0.4), (0.45, 0.45, 0.8))
+    assert ("chair", "ON", "floor") not in rels([floor, chair])
+    whole = floor_under_room(floor, [chair], UP)
+    assert whole.size[2] <= 0.02 and whole.center[2] == pytest.approx(-0.005)
+    assert ("chair", "ON", "floor") in rels([whole, chair])
+    # a picture on the wall is over the floor's footprint too, but does not rest on it
+    picture = ObjectGeometry("picture", "object", (0.0, 1.5, 1.5), (0.4, 0.02, 0.3))
+    assert ("picture", "ON", "floor") not in rels([floor_under_room(floor, [chair, picture], UP), picture])
