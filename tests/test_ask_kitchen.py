@@ -3,13 +3,11 @@ paraphrases (benchmarks/paraphrases_kitchen.txt) on the real kitchen, built fres
 an oracle over the built graph (benchmarks/questions_kitchen.py)."""
 from __future__ import annotations
 
-import os
-import subprocess
-import sys
 
 import pytest
 
 from benchmarks.questions_kitchen import load_questions, run
+from tests.cli_helpers import sg3d
 
 
 @pytest.fixture(scope="module")
@@ -18,10 +16,7 @@ def kitchen_store(tmp_path_factory, kitchen_dir):
     from graphdb.store import Store
 
     home = tmp_path_factory.mktemp("ask-kitchen")
-    env = dict(os.environ, SG3D_HOME=str(home))
-    env.pop("SG3D_URI", None)
-    out = subprocess.run([sys.executable, "-m", "sg3d", "build", str(kitchen_dir), "--room", "kitchen"],
-                         capture_output=True, text=True, env=env, timeout=900)
+    out = sg3d(home, "build", kitchen_dir, "--room", "kitchen")
     assert out.returncode == 0, out.stderr
     server = EmbeddedServer(home)
     info = server.ensure_running()

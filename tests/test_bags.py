@@ -3,7 +3,6 @@ back as the folder reader reads the same frames."""
 from __future__ import annotations
 
 import json
-import os
 import subprocess
 import sys
 
@@ -14,6 +13,7 @@ pytest.importorskip("rosbags", reason="rosbags (PyPI) is needed to write and rea
 
 from ingest.readers import SequenceError, open_sequence  # noqa: E402
 from tests.bagwriter import frames_from, write_bag  # noqa: E402
+from tests.cli_helpers import sg3d_env
 
 INDICES = list(range(0, 200, 10))  # 20 kitchen frames, 1/3 s apart
 
@@ -144,9 +144,7 @@ BUILD_CASES = [("ros1", "raw", "topic", "raw"), ("sqlite3", "jpeg", "tf", "compr
 
 
 def _env(home):
-    env = dict(os.environ, SG3D_HOME=str(home))
-    env.pop("SG3D_URI", None)
-    return env
+    return sg3d_env(home)
 
 
 def _built_objects(home, building):

@@ -8,13 +8,7 @@ import sys
 import xml.etree.ElementTree as ET
 
 import pytest
-
-
-def sg3d(home, *args, timeout=600):
-    env = dict(os.environ, SG3D_HOME=str(home))
-    env.pop("SG3D_URI", None)
-    return subprocess.run([sys.executable, "-m", "sg3d", *args], capture_output=True, text=True,
-                          env=env, timeout=timeout)
+from tests.cli_helpers import sg3d, sg3d_env
 
 
 @pytest.fixture(scope="module")
@@ -96,8 +90,7 @@ def test_kill_during_build_then_resume_equals_a_clean_build(home, kitchen_dir):
     info = EmbeddedServer(home).ensure_running()
     store = Store(info.uri, (info.user, info.password), info.database)
     before = {r["key"] for r in store.read("merge_log_keys", prefix="")}
-    env = dict(os.environ, SG3D_HOME=str(home))
-    env.pop("SG3D_URI", None)
+    env = sg3d_env(home)
     proc = subprocess.Popen([sys.executable, "-m", "sg3d", "build", *args[:1], "--room", "crashed", *args[1:]],
                             stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=env)
     merged = 0
@@ -149,8 +142,7 @@ def test_two_concurrent_builds_of_one_new_room_equal_one_build(home, kitchen_dir
     """Two `sg3d build` processes racing on the same new room: both succeed, and the room holds
     what one build gives (the second finds the chunk merged inside its own transaction)."""
     args = [str(kitchen_dir), "--building", "race", "--start", "0", "--stop", "60", "--json"]
-    env = dict(os.environ, SG3D_HOME=str(home))
-    env.pop("SG3D_URI", None)
+    env = sg3d_env(home)
     procs = [subprocess.Popen([sys.executable, "-m", "sg3d", "build", *args[:1], "--room", "twice", *args[1:]],
                               stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env)
              for _ in range(2)]

@@ -16,6 +16,7 @@ import pytest
 from click.testing import CliRunner
 
 from tests.serve_helpers import kitchen_body
+from tests.cli_helpers import sg3d_env
 
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
@@ -88,8 +89,7 @@ def test_ask_and_plan_write_no_file_without_out(two_rooms, embedded_home, tmp_pa
 
 
 def test_export_to_a_terminal_prints_a_summary(two_rooms, embedded_home):
-    env = {**os.environ, "PYTHONPATH": REPO, "SG3D_HOME": str(embedded_home)}
-    env.pop("SG3D_URI", None)
+    env = sg3d_env(embedded_home, PYTHONPATH=REPO)
 
     def on_terminal(*args):
         leader, follower = pty.openpty()

@@ -4,9 +4,6 @@ layout and a RealSense-style ROS bag built end to end."""
 from __future__ import annotations
 
 import json
-import os
-import subprocess
-import sys
 
 import cv2
 import numpy as np
@@ -16,6 +13,7 @@ from scipy.spatial.transform import Rotation
 from ingest.poses.sequence import estimate_sequence_poses
 from ingest.poses.trajectory import align_trajectory, ate_rmse, interpolate_poses, read_tum, write_tum
 from ingest.readers import SequenceError, open_sequence
+from tests.cli_helpers import sg3d
 
 
 def _random_trajectory(rng, n=60):
@@ -195,12 +193,8 @@ def test_realsense_bag_without_poses_builds_end_to_end(kitchen_dir, tmp_path):
                     poses="none")
     seq = open_sequence(bag)
     assert not seq.has_poses() and seq.sources["poses"].startswith("none")
-    env = dict(os.environ, SG3D_HOME=str(tmp_path / "home"))
-    env.pop("SG3D_URI", None)
-    out = subprocess.run([sys.executable, "-m", "sg3d", "build", str(bag), "--room", "own", "--json",
-                          "--trajectory-out", str(tmp_path / "traj.txt")],
-                         capture_output=True, text=True, env=env, timeout=600)
-    subprocess.run([sys.executable, "-m", "sg3d", "db", "stop"], env=env, capture_output=True, timeout=60)
+    out = sg3d(tmp_path / "home", "build", bag, "--room", "own", "--json", "--trajectory-out", tmp_path / "traj.txt")
+    sg3d(tmp_path / "home", "db", "stop", timeout=60)
     assert out.returncode == 0, out.stderr
     summary = json.loads(out.stdout)
     poses = summary["poses"]

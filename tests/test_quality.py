@@ -8,13 +8,11 @@ frame choice, fusion, existence, relations or answers fails here. Each room is b
 from __future__ import annotations
 
 import json
-import os
-import subprocess
-import sys
 
 import pytest
 
 from tests.conftest import SHARED
+from tests.cli_helpers import sg3d
 
 GT = SHARED / "eval" / "kitchen_gt.json"
 LIVING = SHARED / "data" / "open3d-livingroom1-micro"
@@ -30,14 +28,6 @@ MIN_VQA_RIGHT = 6
 # every object, named or not, against every located GT object (measured: docs/figures.md, Table II)
 MIN_OBJECT_RECALL = 0.70
 MIN_OBJECT_PRECISION = 0.85
-
-
-def sg3d(home, *args, timeout=900):
-    env = dict(os.environ, SG3D_HOME=str(home))
-    env.pop("SG3D_URI", None)
-    out = subprocess.run([sys.executable, "-m", "sg3d", *args], capture_output=True, text=True, env=env,
-                         timeout=timeout)
-    return out
 
 
 @pytest.fixture(scope="module")

@@ -3,23 +3,15 @@ into a new building, and import a graph written the way Hydra writes one."""
 from __future__ import annotations
 
 import json
-import os
-import subprocess
-import sys
 
 import numpy as np
 import pytest
 
+from tests.cli_helpers import sg3d
+
 dsg = pytest.importorskip("spark_dsg", reason="spark-dsg (PyPI) has no wheel for this platform")
 
 from formats.spark_dsg import BUILDINGS, OBJECTS, ROOMS, STRUCTURE  # noqa: E402  (layer ids 2, 4, 5, 1)
-
-
-def sg3d(home, *args):
-    env = dict(os.environ, SG3D_HOME=str(home))
-    env.pop("SG3D_URI", None)
-    return subprocess.run([sys.executable, "-m", "sg3d", *map(str, args)], capture_output=True, text=True,
-                          env=env, timeout=600)
 
 
 @pytest.fixture(scope="module")

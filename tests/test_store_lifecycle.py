@@ -5,21 +5,13 @@ import fcntl
 import json
 import os
 import signal
-import subprocess
-import sys
 import time
 from concurrent.futures import ThreadPoolExecutor
 
 import pytest
 
 from graphdb.embedded import EmbeddedServer, process_alive
-
-
-def sg3d(home, *args, timeout=120):
-    env = dict(os.environ, SG3D_HOME=str(home))
-    env.pop("SG3D_URI", None)
-    return subprocess.run([sys.executable, "-m", "sg3d", *args], capture_output=True, text=True,
-                          env=env, timeout=timeout)
+from tests.cli_helpers import sg3d
 
 
 @pytest.fixture

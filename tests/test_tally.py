@@ -3,9 +3,6 @@ objects, rolled back with a failed merge, and what store-wide counts read."""
 from __future__ import annotations
 
 import json
-import os
-import subprocess
-import sys
 from collections import Counter
 
 import pytest
@@ -15,6 +12,7 @@ from graphdb.values import room_id
 from graphdb.tally import rebuild_tallies
 from queries.vqa import answer
 from tests.factories import graph, hist_of, obj
+from tests.cli_helpers import sg3d
 
 
 def tallies(store) -> dict[tuple, int]:
@@ -96,10 +94,7 @@ def test_sg3d_db_rebuild_tallies_repairs_stale_tallies(mixed, embedded_home):
     mixed.run_raw("MATCH (t:Tally) WHERE t.label = 'cup' SET t.n = t.n + 5", write=True)
     assert tallies(mixed) != recount(mixed)
     assert answer(mixed, "how many couches are there?").value == 0
-    env = dict(os.environ, SG3D_HOME=str(embedded_home))
-    env.pop("SG3D_URI", None)
-    r = subprocess.run([sys.executable, "-m", "sg3d", "db", "rebuild-tallies", "--json"], capture_output=True,
-                       text=True, env=env, timeout=300)
+    r = sg3d(embedded_home, "db", "rebuild-tallies", "--json", timeout=300)
     assert r.returncode == 0, r.stderr
     out = json.loads(r.stdout)
     assert out["objects"] == 5 and out["tallies"] == len(recount(mixed))
