@@ -17,7 +17,7 @@ Boxes are (x1, y1, x2, y2) in colour pixels, x2/y2 exclusive, clipped to the ima
 - Colour (`object_colour`): the object's own pixels (the box's inner region on the depth surface
   connected to the centre, as for the size, and at the object's own depth; the whole inner
   region when depth covers too little of it; a screen's whole box), the cast of the light on it
-  (estimated on its surround) divided out, named by `ingest.colour.read_colour`; the view's weight for
+  (estimated on its surround, the frame's screens left out) divided out, named by `ingest.colour.read_colour`; the view's weight for
   the vote across views (`ingest.colour.view_weight`) from its size, sharpness and whether the
   image border cuts the box.
 - Thumbnail: JPEG bytes of the box, longest side at most 128 px.
@@ -250,16 +250,18 @@ def within_object_depth(depth_crop: np.ndarray, bounds: tuple[int, int, int, int
     return (depth_crop > 0) & (np.abs(depth_crop - d0) <= band)
 
 
-def object_colour(frame: Frame, box: Box, label: Optional[str] = None) -> tuple[colour_model.ColourReading, float]:
+def object_colour(frame: Frame, box: Box, label: Optional[str] = None,
+                  screens: Sequence[Box] = ()) -> tuple[colour_model.ColourReading, float]:
     """(colour reading, view weight) of a boxed object in one frame: its own pixels
-    (`colour_pixels`) read with the cast of the light on it (`ingest.colour.surround_cast`) divided out, as a
+    (`colour_pixels`) read with the cast of the light on it (`ingest.colour.surround_cast`,
+    the boxes of the frame's `screens` left out of its surround) divided out, as a
     screen when `label` is one; the weight from the pixels' area, the crop's sharpness and
     whether the box touches the image border."""
     w, h = frame.size
     bounds = clip_box(box, w, h)
     screen = colour_model.is_screen(label)
     pixels, stride = colour_pixels(frame, bounds, screen)
-    cast = colour_model.surround_cast(frame.color, bounds)
+    cast = colour_model.surround_cast(frame.color, bounds, emitters=[clip_box(b, w, h) for b in screens])
     reading = colour_model.read_colour(pixels, cast, screen=screen)
     x1, y1, x2, y2 = bounds
     grey = frame.gray[y1:y2:stride, x1:x2:stride]
@@ -311,14 +313,14 @@ class ObjectAttributes:
 
 
 def measure_object(frame: Frame, box: Box, up: Optional[Sequence[float]] = None,
-                   label: Optional[str] = None) -> Optional[ObjectAttributes]:
-    """All attributes of a boxed object (detected as `label`, if given) in a frame; None when
-    the box has no usable depth."""
+                   label: Optional[str] = None, screens: Sequence[Box] = ()) -> Optional[ObjectAttributes]:
+    """All attributes of a boxed object (detected as `label`, if given) in a frame whose
+    detected screens have boxes `screens`; None when the box has no usable depth."""
     pos = position_gaussian(frame, box)
     if pos is None:
         return None
     centre, size = object_box(frame, box, up) or (pos.mean, (0.0, 0.0, 0.0))
     image = frame.color
-    reading, weight = object_colour(frame, box, label)
+    reading, weight = object_colour(frame, box, label, screens)
     return ObjectAttributes(pos.mean, pos.var, pos.n_points, size, hsv_histogram(image, box),
                             reading.name, thumbnail(image, box), centre, reading, weight)

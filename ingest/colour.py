@@ -9,8 +9,9 @@ of the survey colour nearest to it in CIELAB (CIE76 distance; cv2's sRGB -> Lab 
 Naming is a table look-up: every 8-level RGB cell (32^3 cells) is named once, on first use.
 
 Before naming, the colour cast of the light is divided out (`frame_cast`; white-patch by
-default, the best of the four methods measured on two rooms; estimated on the object's surround,
-`surround_cast`) and a reading drops what is not the object's own surface
+default, the best of the four methods measured on two rooms, on the pixels that can be white
+under a correctable light, `white_candidates`; estimated on the object's surround with the
+screens in view left out, `surround_cast`) and a reading drops what is not the object's own surface
 colour (`surface_pixels`: specular highlights; for screens the light they emit).
 
 White, grey and black are lightness, and lightness is relative: a pixel whose chroma lies under
@@ -86,6 +87,8 @@ BORDER_WEIGHT = 0.3
 # frame without any dark surface black-pointed by more than MAX_BLACK.
 MAX_GAIN = 1.4
 MAX_BLACK = 40
+# Fewer pixels than this are not enough to estimate a cast from.
+MIN_CAST_PIXELS = 100
 CAST_METHOD = "white-patch"
 # The light falling on an object is estimated on its surround: its box widened by SURROUND
 # times its own width and height on each side (clipped to the image), sampled to about
@@ -376,7 +379,9 @@ def frame_cast(image: np.ndarray, method: str = CAST_METHOD) -> Cast:
 
     "grey-world" (Buchsbaum 1980): the scene's mean colour is grey, so each channel is scaled to
     the largest of the three channel means (never darkened: a white stays white). "white-patch" (Land's retinex, max-RGB): the brightest
-    surfaces are white, so each channel is scaled until its 99th percentile meets the largest.
+    surfaces are white, so each channel is scaled until its 99th percentile meets the largest;
+    the percentiles are taken over the pixels that can be white under a correctable cast
+    (`white_candidates`), as max-RGB is otherwise led by any vivid bright colour.
     "levels": white-patch that also takes the darkest surfaces as black (each channel's 1st
     percentile becomes 0, its 99th 255), the camera's exposure undone as well as its tint.
     "none": no correction. Clipped and near-black pixels are left out of the estimates; gains
@@ -386,14 +391,14 @@ def frame_cast(image: np.ndarray, method: str = CAST_METHOD) -> Cast:
         return Cast.none()
     px = np.asarray(image, np.uint8).reshape(-1, 3)
     lit = px[(channel_max(px) < SPECULAR_CLIP) & (channel_min(px) > 10)]
-    if len(lit) < 100:
+    if len(lit) < MIN_CAST_PIXELS:
         return Cast.none()
     black = np.zeros(3, np.float32)
     if method == "grey-world":
         means = lit.mean(axis=0)
         gains = means.max() / np.maximum(means, 1.0)
     elif method == "white-patch":
-        top = np.percentile(lit, 99, axis=0)
+        top = np.percentile(white_candidates(lit), 99, axis=0)
         gains = top.max() / np.maximum(top, 1.0)
     elif method == "levels":
         black = np.minimum(np.percentile(px, 1, axis=0), MAX_BLACK).astype(np.float32)
@@ -403,6 +408,16 @@ def frame_cast(image: np.ndarray, method: str = CAST_METHOD) -> Cast:
         raise ValueError(f"unknown colour-cast method {method!r} (grey-world, white-patch, levels, none)")
     gains = np.clip(gains, 1 / MAX_GAIN, MAX_GAIN).astype(np.float32)
     return Cast(gains, black, white_reference(apply_cast(lit, Cast(gains, black))))
+
+
+def white_candidates(px: np.ndarray, max_gain: float = MAX_GAIN) -> np.ndarray:
+    """The pixels (N x 3) that can be a white surface under a light whose cast is correctable
+    (every channel's gain within [1 / max_gain, max_gain]): brightest channel at most max_gain^2
+    times the darkest. Others (the fire on a screen, a lamp's orange glow) are no light's white,
+    and white-patch would take their own colour for the light's. All pixels when under
+    MIN_CAST_PIXELS qualify (a view filled by one vivid surface: its light cannot be told)."""
+    white = channel_max(px).astype(np.float32) <= max_gain * max_gain * channel_min(px)
+    return px[white] if white.sum() >= MIN_CAST_PIXELS else px
 
 
 def channel_min(px: np.ndarray) -> np.ndarray:
@@ -426,13 +441,26 @@ def surround_bounds(bounds: tuple[int, int, int, int], width: int, height: int,
             min(height, int(np.ceil(y2 + dy))))
 
 
-def surround_cast(image: np.ndarray, bounds: tuple[int, int, int, int], method: str = CAST_METHOD) -> Cast:
+def surround_cast(image: np.ndarray, bounds: tuple[int, int, int, int], method: str = CAST_METHOD,
+                  emitters: Sequence[tuple[int, int, int, int]] = ()) -> Cast:
     """The colour cast and white reference of the light falling on the object in a box of a BGR
     image: `frame_cast` on the local framework of lightness perception (the object with its
-    surround, `surround_bounds`), sampled to about CAST_SAMPLES pixels."""
+    surround, `surround_bounds`), sampled to about CAST_SAMPLES pixels. The boxes of `emitters`
+    in view (screens: what they show is light they emit, not light falling on their
+    neighbours, and a bright picture would set the white of a shaded room) are left out of the
+    surround, except where they overlap the object's own box."""
     x1, y1, x2, y2 = surround_bounds(bounds, image.shape[1], image.shape[0])
     step = max(1, int(np.ceil(np.sqrt((x2 - x1) * (y2 - y1) / CAST_SAMPLES))))
-    return frame_cast(image[y1:y2:step, x1:x2:step], method)
+    sample = image[y1:y2:step, x1:x2:step]
+    if not emitters:
+        return frame_cast(sample, method)
+    ys, xs = np.arange(y1, y2, step)[:, None], np.arange(x1, x2, step)[None, :]
+    keep = np.ones(sample.shape[:2], bool)
+    for ex1, ey1, ex2, ey2 in emitters:
+        keep &= ~((ys >= ey1) & (ys < ey2) & (xs >= ex1) & (xs < ex2))
+    bx1, by1, bx2, by2 = bounds
+    keep |= (ys >= by1) & (ys < by2) & (xs >= bx1) & (xs < bx2)
+    return frame_cast(sample[keep], method)
 
 
 def white_reference(bgr: np.ndarray, percentile: float = WHITE_PERCENTILE) -> float:

@@ -213,12 +213,28 @@ def surface_sample(world: np.ndarray, n: int = SURFACE_SAMPLE) -> tuple[float, .
     return tuple(round(float(v), 4) for v in pick.reshape(-1))
 
 
+def screens_in_view(screens: Sequence[tuple[np.ndarray, np.ndarray]], cloud: RoomCloud,
+                    view) -> list[tuple[int, int, int, int]]:
+    """The pixel boxes in a view of the named screens' gravity-frame boxes (lo, hi): the box of
+    each one's projected corners (`_pixels`), those in front of the camera."""
+    out = []
+    for lo, hi in screens:
+        corners = np.array([[x, y, h] for x in (lo[0], hi[0]) for y in (lo[1], hi[1]) for h in (lo[2], hi[2])])
+        u, v, _ = _project(cloud.to_world(corners), view)
+        box = _pixels(u, v, view)
+        if box is not None:
+            out.append(box)
+    return out
+
+
 def segment_colour(u: np.ndarray, v: np.ndarray, z: np.ndarray, view, image: np.ndarray,
-                   box: tuple[int, int, int, int]) -> tuple[str, Optional[str]]:
+                   box: tuple[int, int, int, int],
+                   screens: Sequence[tuple[int, int, int, int]] = ()) -> tuple[str, Optional[str]]:
     """(colour, second colour) of a segment from its own pixels in one view: its projected voxel
     centres (`_project`), each marking the disc a voxel covers there, read with the cast of the
-    light around its pixel box divided out (`ingest.colour.surround_cast`, `read_colour`; `vote`
-    for the second colour's rule), as for named objects."""
+    light around its pixel box divided out (`ingest.colour.surround_cast`, the pixel boxes of
+    the `screens` in view left out; `read_colour`; `vote` for the second colour's rule), as for
+    named objects."""
     h, w = image.shape[:2]
     mask = np.zeros((h, w), np.uint8)
     for x, y, d in zip(u, v, z):
@@ -226,17 +242,19 @@ def segment_colour(u: np.ndarray, v: np.ndarray, z: np.ndarray, view, image: np.
     pixels = image[mask > 0]
     if len(pixels) == 0:
         return "grey", None
-    cast = colour_model.surround_cast(image, box)
+    cast = colour_model.surround_cast(image, box, emitters=screens)
     name, second, _ = colour_model.vote([colour_model.read_colour(pixels, cast)])
     return name, second
 
 
 def unnamed_object(local_id: str, seg: Segment, cloud: RoomCloud,
-                   colour_image: Callable[[int], Optional[np.ndarray]]) -> ObjectObservation:
+                   colour_image: Callable[[int], Optional[np.ndarray]],
+                   screens: Sequence[tuple[np.ndarray, np.ndarray]] = ()) -> ObjectObservation:
     """A node for a segment no detector named: label UNNAMED_LABEL, its voxels' Gaussian (Eq. 8
-    moments over the surface it showed), its box, the colour of its own pixels and the histogram
-    (Eq. 9) and thumbnail of its box in the view that saw it best; score = the share of its
-    voxels that are solid (`ingest.segments.depth_evidence`)."""
+    moments over the surface it showed), its box, the colour of its own pixels (the named
+    `screens`' gravity boxes left out of the light's estimate) and the histogram (Eq. 9) and
+    thumbnail of its box in the view that saw it best; score = the share of its voxels that are
+    solid (`ingest.segments.depth_evidence`)."""
     world = cloud.to_world(seg.voxels)
     mean = world.mean(axis=0)
     var = np.maximum(world.var(axis=0), VOXEL_VAR_FLOOR)
@@ -249,7 +267,7 @@ def unnamed_object(local_id: str, seg: Segment, cloud: RoomCloud,
         image = colour_image(view.index) if box is not None else None
         if image is not None:
             hist = hsv_histogram(image, box)
-            colour, colour2 = segment_colour(u, v, z, view, image, box)
+            colour, colour2 = segment_colour(u, v, z, view, image, box, screens_in_view(screens, cloud, view))
             thumb = thumbnail(image, box)
     return ObjectObservation(
         local_id=local_id, labels=[UNNAMED_LABEL], scores=[round(seg.hit_ratio, 3)],
@@ -287,11 +305,12 @@ def discover(named: list[ObjectObservation], cloud: RoomCloud, structure: Sequen
     claims = [b for o, b in zip(named, boxes) if o.label not in FLOOR_STANDING_LABELS]
     segments = separate_resting(room_segments(cloud, structure, claims), surfaces, cloud)
     planes = [e for e in structure if e.plane is not None]
+    screens = [b for o, b in zip(named, boxes) if colour_model.is_screen(o.label)]
     unnamed = []
     for seg in segments:
         if named_by(seg, boxes) or plane_remnant(seg, planes) or floor_remnant(seg):
             continue
-        unnamed.append(unnamed_object(f"u{len(unnamed)}", seg, cloud, colour_image))
+        unnamed.append(unnamed_object(f"u{len(unnamed)}", seg, cloud, colour_image, screens))
     nodes = [structure_node(f"s{k}", e, cloud) for k, e in enumerate(
         e for e in structure if e.label != "front" and id(e) not in owned)]
     return unnamed, nodes

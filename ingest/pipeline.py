@@ -31,6 +31,7 @@ import numpy as np
 from ingest import coverage, discovery, existence, fusion, rescan
 from ingest.abir import ABIR
 from ingest.attributes import measure_object
+from ingest.colour import is_screen
 from ingest.detect import Detector
 from ingest.frames import FrameError, decoded_ahead
 from ingest.kge import KeyframeGrouper
@@ -220,8 +221,9 @@ def _detect(seq, chosen: list[int], detector: Detector, up, basis, settings: Set
         if settings.method.sdr:
             dets = reject_irrelevant(dets)
         t0 = time.perf_counter()
+        screens = [det.box for det in dets if is_screen(det.label)]
         for det in dets:
-            attrs = measure_object(frame, det.box, up, det.label)
+            attrs = measure_object(frame, det.box, up, det.label, screens)
             if attrs is not None:
                 sightings.append(fusion.Sighting.of(i, det, attrs, basis))
         views.append(existence.View.of(frame))

@@ -152,3 +152,38 @@ def test_the_light_on_an_object_is_measured_on_its_surround():
     warm = C.surround_cast(img, (230, 100, 250, 120))
     assert warm.gains[0] > warm.gains[2]                        # blue raised there...
     assert np.allclose(C.surround_cast(img, (60, 100, 80, 120)).gains, 1.0)   # ...not on the left
+
+
+def test_white_patch_takes_no_cast_from_a_vivid_emitter():
+    img = np.full((120, 160, 3), 170, np.uint8)                 # a neutral wall under neutral light
+    img[80:, :40] = 200                                         # a white object on it
+    img[:40, 100:] = (40, 120, 240)                             # fire on a screen (B, G, R): no light's white
+    lit = img.reshape(-1, 3)
+    top = np.percentile(lit, 99, axis=0)
+    orange = C.Cast((top.max() / top).astype(np.float32), np.zeros(3, np.float32))
+    assert C.read_colour(img[80:, :40].reshape(-1, 3), orange).name == "blue"   # max-RGB on every pixel
+    assert len(C.white_candidates(lit)) == 120 * 160 - 40 * 60  # the fire is no white candidate
+    cast = C.frame_cast(img)
+    assert np.allclose(cast.gains, 1.0)
+    assert C.read_colour(img[80:, :40].reshape(-1, 3), cast).name == "white"
+
+
+def test_a_warm_light_still_has_its_white_candidates():
+    wall = np.full((4000, 3), (150, 190, 230), np.uint8)        # a white wall under warm light: ratio 1.53
+    assert len(C.white_candidates(wall)) == len(wall)
+    assert C.frame_cast(wall).gains[0] > 1.3                    # blue raised: the cast is still corrected
+
+
+def test_a_shaded_white_beside_a_bright_screen_is_white_when_the_screen_is_left_out():
+    img = np.full((240, 320, 3), 140, np.uint8)                 # a wall in shade
+    img[:100, 150:] = 235                                       # a screen showing a bright sky
+    img[100:110, 150:] = 20                                     # its dark frame
+    rng = np.random.default_rng(5)
+    vase = np.repeat(rng.uniform(138, 150, (60, 40))[..., None], 3, axis=2).astype(np.uint8)
+    img[130:190, 230:270] = vase                                # a white vase as light as the shaded wall
+    box, screen = (230, 130, 270, 190), (150, 0, 320, 110)
+    px = vase.reshape(-1, 3)
+    assert C.read_colour(px, C.surround_cast(img, box)).name == "grey"      # the picture's white
+    assert C.read_colour(px, C.surround_cast(img, box, emitters=[screen])).name == "white"
+    inside = C.surround_cast(img, (200, 50, 260, 120), emitters=[screen])  # an object overlapping the
+    assert inside.white > C.lab_luminance(90.0)                 # screen keeps its own pixels
