@@ -157,7 +157,6 @@ def separate_resting(segments: Sequence[Segment], surfaces: Sequence[Element], c
     """Things lying side by side on a table, a counter or a shelf touch: a segment resting on a
     surface is cut at its necks (`segments.split_at_necks`), and each part must pass the depth
     existence test on its own."""
-    rng = np.random.default_rng(0)
     out: list[Segment] = []
     for seg in segments:
         parts = split_at_necks(seg) if resting_on(seg, surfaces) else [seg]
@@ -165,7 +164,7 @@ def separate_resting(segments: Sequence[Segment], surfaces: Sequence[Element], c
             out.append(seg)
             continue
         for part in parts:
-            depth_evidence(part, cloud, rng)
+            depth_evidence(part, cloud)
             if exists(part):
                 out.append(part)
     return out
@@ -227,23 +226,45 @@ def screens_in_view(screens: Sequence[tuple[np.ndarray, np.ndarray]], cloud: Roo
     return out
 
 
-def segment_colour(u: np.ndarray, v: np.ndarray, z: np.ndarray, view, image: np.ndarray,
-                   box: tuple[int, int, int, int],
-                   screens: Sequence[tuple[int, int, int, int]] = ()) -> tuple[str, Optional[str]]:
-    """(colour, second colour) of a segment from its own pixels in one view: its projected voxel
-    centres (`_project`), each marking the disc a voxel covers there, read with the cast of the
-    light around its pixel box divided out (`ingest.colour.surround_cast`, the pixel boxes of
-    the `screens` in view left out; `read_colour`; `vote` for the second colour's rule), as for
-    named objects."""
+def segment_reading(u: np.ndarray, v: np.ndarray, z: np.ndarray, view, image: np.ndarray,
+                    box: tuple[int, int, int, int],
+                    screens: Sequence[tuple[int, int, int, int]] = ()) -> Optional[colour_model.ColourReading]:
+    """One view's colour reading of a segment from its own pixels: its projected voxel centres
+    (`_project`), each marking the disc a voxel covers there, read with the cast of the light
+    around its pixel box divided out (`ingest.colour.surround_cast`, the pixel boxes of the
+    `screens` in view left out; `read_colour`), as for named objects. None without pixels."""
     h, w = image.shape[:2]
     mask = np.zeros((h, w), np.uint8)
     for x, y, d in zip(u, v, z):
         cv2.circle(mask, (int(round(x)), int(round(y))), max(1, int(round(view.K[0, 0] * VOXEL_DISC_M / d))), 1, -1)
     pixels = image[mask > 0]
     if len(pixels) == 0:
+        return None
+    return colour_model.read_colour(pixels, colour_model.surround_cast(image, box, emitters=screens))
+
+
+def segment_colour(seg: Segment, world: np.ndarray, cloud: RoomCloud,
+                   colour_image: Callable[[int], Optional[np.ndarray]],
+                   screens: Sequence[tuple[np.ndarray, np.ndarray]] = ()) -> tuple[str, Optional[str]]:
+    """(colour, second colour) of a segment: its readings in its good views (`segment_reading`,
+    up to `segments.GOOD_VIEWS` that see it whole), voted with weights by how many of its pixels
+    each view shows (`ingest.colour.vote`, `view_weight`): one view's light or a screen beside it
+    does not name the object alone."""
+    readings, weights = [], []
+    for k in seg.good_views:
+        view = cloud.views[k]
+        u, v, z = _project(world, view)
+        box = _pixels(u, v, view)
+        image = colour_image(view.index) if box is not None else None
+        if image is None:
+            continue
+        reading = segment_reading(u, v, z, view, image, box, screens_in_view(screens, cloud, view))
+        if reading is not None:
+            readings.append(reading)
+            weights.append(colour_model.view_weight(reading.n, 1.0, False))
+    if not readings:
         return "grey", None
-    cast = colour_model.surround_cast(image, box, emitters=screens)
-    name, second, _ = colour_model.vote([colour_model.read_colour(pixels, cast)])
+    name, second, _ = colour_model.vote(readings, weights)
     return name, second
 
 
@@ -251,24 +272,24 @@ def unnamed_object(local_id: str, seg: Segment, cloud: RoomCloud,
                    colour_image: Callable[[int], Optional[np.ndarray]],
                    screens: Sequence[tuple[np.ndarray, np.ndarray]] = ()) -> ObjectObservation:
     """A node for a segment no detector named: label UNNAMED_LABEL, its voxels' Gaussian (Eq. 8
-    moments over the surface it showed), its box, the colour of its own pixels (the named
-    `screens`' gravity boxes left out of the light's estimate) and the histogram (Eq. 9) and
-    thumbnail of its box in the view that saw it best; score = the share of its voxels that are
-    solid (`ingest.segments.depth_evidence`)."""
+    moments over the surface it showed), its box, the colour of its own pixels over its good
+    views (`segment_colour`; the named `screens`' gravity boxes left out of the light's estimate)
+    and the histogram (Eq. 9) and thumbnail of its box in the view that saw it best; score = the
+    share of its voxels that are solid (`ingest.segments.depth_evidence`)."""
     world = cloud.to_world(seg.voxels)
     mean = world.mean(axis=0)
     var = np.maximum(world.var(axis=0), VOXEL_VAR_FLOOR)
-    hist, colour, colour2, thumb = np.zeros(HIST_SIZE), "grey", None, None
+    hist, thumb = np.zeros(HIST_SIZE), None
     frames = [int(cloud.views[k].index) for k in seg.frames]
     if seg.best_view >= 0:
         view = cloud.views[seg.best_view]
-        u, v, z = _project(world, view)
+        u, v, _ = _project(world, view)
         box = _pixels(u, v, view)
         image = colour_image(view.index) if box is not None else None
         if image is not None:
             hist = hsv_histogram(image, box)
-            colour, colour2 = segment_colour(u, v, z, view, image, box, screens_in_view(screens, cloud, view))
             thumb = thumbnail(image, box)
+    colour, colour2 = segment_colour(seg, world, cloud, colour_image, screens)
     return ObjectObservation(
         local_id=local_id, labels=[UNNAMED_LABEL], scores=[round(seg.hit_ratio, 3)],
         mean=tuple(float(v) for v in mean), var=tuple(float(v) for v in var), n_points=len(seg.voxels),

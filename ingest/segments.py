@@ -10,6 +10,7 @@ space). A shadow, a reflection or one frame's artefact is seen through from the 
 """
 from __future__ import annotations
 
+import zlib
 from dataclasses import dataclass
 from typing import Optional, Sequence
 
@@ -33,6 +34,10 @@ MAX_HEIGHT_M = 2.6            # above that: ceiling fittings, not the room's obj
 HIT_TOLERANCE_M = 0.04
 HIT_TOLERANCE_REL = 0.02
 SAMPLE_VOXELS = 60
+# Views kept per segment for its colour, best first (one view can be lit or cut badly): those
+# that show at least GOOD_VIEW_INSIDE of it inside the image.
+GOOD_VIEWS = 3
+GOOD_VIEW_INSIDE = 0.75
 CLAIM_MARGIN_M = 0.01
 MIN_SEEN_VIEWS = 5            # views where most of its visible voxels were hit
 MIN_SEEN_SHARE = 0.25          # of the views that could tell
@@ -56,6 +61,7 @@ class Segment:
     seen_views: int = 0
     looked_views: int = 0     # views that saw most of its place unoccluded (hit or through)
     best_view: int = -1       # the view that saw most of it, whole and near
+    good_views: tuple[int, ...] = ()   # up to GOOD_VIEWS views that saw it whole, best first
 
     @property
     def size(self) -> np.ndarray:
@@ -135,18 +141,26 @@ def voxel_segments(cloud: RoomCloud, mask: np.ndarray, too_big: Optional[list] =
     return out
 
 
-def depth_evidence(seg: Segment, cloud: RoomCloud, rng: np.random.Generator) -> None:
+def voxel_sample(voxels: np.ndarray, n: int = SAMPLE_VOXELS) -> np.ndarray:
+    """Up to `n` of a segment's voxels, drawn by a generator seeded from the voxels themselves:
+    the same segment gets the same sample whatever else the room holds."""
+    if len(voxels) <= n:
+        return voxels
+    rng = np.random.default_rng(zlib.crc32(np.ascontiguousarray(voxels).tobytes()))
+    return voxels[rng.choice(len(voxels), n, replace=False)]
+
+
+def depth_evidence(seg: Segment, cloud: RoomCloud) -> None:
     """Rule "seen, not seen through": project up to SAMPLE_VOXELS of the segment's voxels into
     every view; where the view's depth lies within the hit tolerance of a voxel it is a hit,
     where it lies beyond, free space (the camera saw through the place). A voxel is solid when
     its hits outnumber its looks through it. Sets hits (solid voxels), free (the others),
-    seen_views (views hitting most of the voxels they see) and best_view (the view hitting the
-    most voxels, the nearer on ties, with all of them inside the image)."""
-    vox = seg.voxels
-    if len(vox) > SAMPLE_VOXELS:
-        vox = vox[rng.choice(len(vox), SAMPLE_VOXELS, replace=False)]
+    seen_views (views hitting most of the voxels they see), best_view (the view hitting the
+    most voxels, the nearer on ties, with all of them inside the image) and good_views (the
+    GOOD_VIEWS best views with GOOD_VIEW_INSIDE of them inside the image)."""
+    vox = voxel_sample(seg.voxels)
     world = cloud.to_world(vox)
-    best = (-1, 0.0, -1)
+    whole_views: list[tuple[int, float, int, bool]] = []   # (hits, -median depth, view, whole)
     hit_v = np.zeros(len(vox), int)
     free_v = np.zeros(len(vox), int)
     seen = looked = 0
@@ -181,12 +195,14 @@ def depth_evidence(seg: Segment, cloud: RoomCloud, rng: np.random.Generator) -> 
             looked += 1
         if nh > 0 and nh >= 0.5 * int(known.sum()):
             seen += 1
-        whole = bool(inside.all())
-        score = (nh, -float(np.median(zi)))
-        if whole and (best[0] < 0 or score > best[:2]):
-            best = (*score, k)
+        if nh > 0 and float(inside.mean()) >= GOOD_VIEW_INSIDE:
+            whole_views.append((nh, -float(np.median(zi)), k, bool(inside.all())))
     solid = (hit_v >= 1) & (hit_v >= free_v)
-    seg.hits, seg.free, seg.seen_views, seg.best_view = int(solid.sum()), int((~solid).sum()), seen, int(best[2])
+    # most hits first, the nearer on ties, the earlier view on full ties
+    ranked = sorted(whole_views, key=lambda t: (-t[0], -t[1], t[2]))
+    seg.good_views = tuple(t[2] for t in ranked[:GOOD_VIEWS])
+    seg.hits, seg.free, seg.seen_views = int(solid.sum()), int((~solid).sum()), seen
+    seg.best_view = next((t[2] for t in ranked if t[3]), -1)
     seg.looked_views = looked
 
 
@@ -246,7 +262,6 @@ def room_segments(cloud: RoomCloud, structure: Sequence[Element],
     """Every segment of the room that passes the depth existence test. Points inside a
     `claimed` box (a named object's) are its object's and join no segment, so a cup does not
     weld the magazine beside it into one thing."""
-    rng = np.random.default_rng(0)
     free = object_points(cloud, structure)
     idx = np.flatnonzero(free)
     free[idx] = outside_boxes(cloud.points[idx], claimed)
@@ -260,5 +275,5 @@ def room_segments(cloud: RoomCloud, structure: Sequence[Element],
         segs += voxel_segments(cloud, again & free & object_points(cloud, structure, fronts=True))
     segs = [s for s in segs if not outside_room(s, structure)]
     for s in segs:
-        depth_evidence(s, cloud, rng)
+        depth_evidence(s, cloud)
     return [s for s in segs if exists(s)]
