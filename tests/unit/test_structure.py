@@ -1,4 +1,4 @@
-"""The room's structure on hand-made clouds: which vertical planes are walls and fronts."""
+"""The room's structure and its segments on hand-made clouds: walls, fronts, voxel samples."""
 from __future__ import annotations
 
 from types import SimpleNamespace
@@ -48,3 +48,15 @@ def test_a_front_is_a_face_and_the_folds_of_a_curtain_are_not():
     assert plane_fill(along.ravel(), height.ravel()) > 0.9
     strips = (np.floor(along / 0.05) % 9) == 0        # a fold touches the plane every 45 cm
     assert plane_fill(along[strips], height[strips]) < 0.45
+
+
+def test_a_segments_voxel_sample_depends_on_its_voxels_only():
+    from ingest.segments import SAMPLE_VOXELS, voxel_sample
+
+    rng = np.random.default_rng(3)
+    voxels = rng.uniform(0, 1, (500, 3))
+    first = voxel_sample(voxels)
+    rng.uniform(0, 1, 1000)          # whatever else was drawn in between
+    assert len(first) == SAMPLE_VOXELS and np.array_equal(first, voxel_sample(voxels.copy()))
+    assert not np.array_equal(first, voxel_sample(voxels[1:]))
+    assert np.array_equal(voxel_sample(voxels[:10]), voxels[:10])
