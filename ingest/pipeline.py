@@ -18,6 +18,8 @@ The ablation presets of the paper's Table I switch modules on and off (`METHODS`
 """
 from __future__ import annotations
 
+import functools
+
 import hashlib
 import json
 import threading
@@ -301,6 +303,7 @@ def _discover(seq, views, objects: list[ObjectObservation], up, floor: Optional[
     from ingest.room_cloud import room_cloud
     from ingest.structure import room_structure
 
+    @functools.lru_cache(maxsize=16)        # objects side by side are read in the same views
     def colour_image(index: int):
         try:
             return seq.frame(index).color
