@@ -1,20 +1,21 @@
-"""Which frames the detector runs on: KGE's keyframes and anchors, and one sharp frame from
-every stretch of the recording that KGE left without one, up to a frame budget.
+"""Which frames the detector runs on: KGE's keyframes and anchors, then the sharp frames that add
+the most new viewpoints, up to a frame budget; each choice then stands for its stretch of the
+recording, and the stretch's sharpest frame is the one detected.
 
 KGE (Algorithm 1) keeps a frame only when the view has moved far from the current keyframe and
 anchor, which leaves 2-5 % of a hand-held sequence: an object that the detector finds in one
-view in ten is then seen once or never. Detection is the expensive step, so extra frames are
-added, and they are chosen LOCALLY: the sharp frames, in recording order, are cut into
-budget-many consecutive windows, and a window that holds no KGE frame contributes its sharpest
-frame (ABIR's variance of Laplacian, an image-only score).
+view in ten is then seen once or never. Detection is the expensive step, so the extra frames are
+chosen for what they add: farthest-point sampling in a viewpoint space (camera position and
+viewing direction), starting from the KGE frames.
 
-Why local: KGE's decisions are sequential thresholds on poses, so a pose that moves by a tenth
-of a degree moves an anchor by a frame or two. A global choice that starts from the KGE frames
-(farthest-point sampling in viewpoint space) then shifts every later pick, and the graph
-becomes a property of the pose noise rather than of the recording. Here the windows come from
-the blur decisions alone, so a KGE frame that moves changes the picks of the windows it leaves
-and enters, nothing else; a recording whose poses are estimated detects nearly the same frames
-as one whose poses are given.
+Both choices are thresholds and maxima over poses, so a pose that moves by a tenth of a degree
+moves a KGE anchor or a farthest-point pick to a frame one to four frames away, and the
+detector, which finds an object in one view and misses it in the next, then makes a different
+graph. So the choices only say WHERE to detect: the sharp frames, in recording order, are cut
+into fixed windows of `SNAP_WINDOW` frames (from the blur decisions alone), and a window that
+received k choices detects its k sharpest frames (ABIR's variance of Laplacian, an image-only
+score). A choice that moves within its window changes nothing; one that crosses into the next
+window changes that window's frames only.
 
 The choice depends only on the poses, the blur decisions and the settings, never on timing, so
 a build and its `--resume` detect the same frames.
@@ -31,14 +32,32 @@ import numpy as np
 # walk through a room still sees every object from several views.
 DEFAULT_FRACTION = 0.15
 MIN_FRAMES = 40
+# Viewpoint space scales: moving this far, or turning the optical axis by this chord length
+# (0.25 ~ 14 degrees), counts as one unit of new view.
+POSITION_SCALE_M = 0.30
+DIRECTION_SCALE = 0.25
+# Sharp frames per window: a choice moved by pose noise (1-4 frames, measured on the kitchen)
+# mostly stays in its window; about a third of a second of a 30 Hz recording.
+SNAP_WINDOW = 7
 
 
 @dataclass(frozen=True)
 class Candidate:
-    """A sharp frame: its index and its sharpness (ABIR's variance of Laplacian V_t, Eq. 1)."""
+    """A sharp frame: its index, camera-to-world pose and sharpness (ABIR's variance of
+    Laplacian V_t, Eq. 1)."""
 
     index: int
+    pose: np.ndarray
     sharpness: float
+
+
+def viewpoint_features(poses: Sequence[np.ndarray]) -> np.ndarray:
+    """Each pose as (position / POSITION_SCALE_M, optical axis / DIRECTION_SCALE): Euclidean
+    distance in this space is the viewpoint distance d = sqrt(|dt|^2 / s_t^2 + |dz|^2 / s_r^2)."""
+    if not len(poses):
+        return np.zeros((0, 6))
+    P = np.asarray(poses, dtype=np.float64)
+    return np.hstack([P[:, :3, 3] / POSITION_SCALE_M, P[:, :3, 2] / DIRECTION_SCALE])
 
 
 def frame_budget(n_sharp: int, fraction: float = DEFAULT_FRACTION, min_frames: int = MIN_FRAMES) -> int:
@@ -46,31 +65,66 @@ def frame_budget(n_sharp: int, fraction: float = DEFAULT_FRACTION, min_frames: i
     return int(min(n_sharp, max(min_frames, round(fraction * n_sharp))))
 
 
-def window_edges(n: int, windows: int) -> np.ndarray:
-    """Cut n frames in order into `windows` consecutive windows of nearly equal count: window k
-    holds positions [round(k n / W), round((k + 1) n / W)), k = 0 .. W - 1 (W = min(windows, n))."""
-    count = max(1, min(int(windows), n))
+def farthest_viewpoints(candidates: Sequence[Candidate], required: Sequence[int], budget: int) -> list[int]:
+    """Every `required` frame (KGE keyframes and anchors) that is a candidate, then greedy
+    farthest-point sampling over `candidates` in viewpoint space until `budget` frames are chosen
+    (ties go to the earlier frame, so the choice is deterministic); in sequence order."""
+    if not candidates:
+        return []
+    index = np.array([c.index for c in candidates])
+    feats = viewpoint_features([c.pose for c in candidates])
+    chosen = [i for i in sorted(set(required)) if i in set(index.tolist())]
+    position = {int(i): k for k, i in enumerate(index)}
+    dist = np.full(len(candidates), np.inf)
+    for i in chosen:
+        dist = np.minimum(dist, np.linalg.norm(feats - feats[position[i]], axis=1))
+    picked = set(chosen)
+    if not chosen:  # nothing required: start from the first frame
+        first = int(index[0])
+        chosen.append(first)
+        picked.add(first)
+        dist = np.linalg.norm(feats - feats[0], axis=1)
+    while len(chosen) < min(budget, len(candidates)):
+        k = int(np.argmax(dist))  # argmax returns the first maximum: the earliest frame
+        i = int(index[k])
+        if i in picked or dist[k] <= 0:  # every remaining frame repeats a chosen view exactly
+            break
+        chosen.append(i)
+        picked.add(i)
+        dist = np.minimum(dist, np.linalg.norm(feats - feats[k], axis=1))
+    return sorted(chosen)
+
+
+def window_edges(n: int, window: int) -> np.ndarray:
+    """Cut n frames in order into W = max(1, round(n / window)) consecutive windows of nearly
+    equal count: window k holds positions [round(k n / W), round((k + 1) n / W))."""
+    count = max(1, min(n, int(round(n / max(1, window)))))
     return np.rint(np.linspace(0, n, count + 1)).astype(int)
 
 
-def choose_frames(candidates: Sequence[Candidate], required: Sequence[int], budget: int) -> list[int]:
-    """Frame indices to detect, in sequence order: every `required` frame (KGE keyframes and
-    anchors) that is a candidate, plus, for each of the `budget` windows of `window_edges` over
-    the candidates in order that holds no required frame, its sharpest frame (ties go to the
-    earlier frame, so the choice is deterministic).
-
-    A frame that joins or leaves `required` changes the picks of its own window only; the
-    result has at most budget + len(required) frames, and about max(budget, len(required))
-    where KGE's frames are spread along the recording."""
+def sharpest_in_windows(candidates: Sequence[Candidate], choices: Sequence[int], window: int = SNAP_WINDOW) -> list[int]:
+    """Each window of `window_edges` over the candidates (in sequence order) that holds k of the
+    `choices` detects its k sharpest frames instead (ties go to the earlier frame); in
+    sequence order. The number of frames is kept; only frames inside a choice's window move."""
     ordered = sorted(candidates, key=lambda c: c.index)
     if not ordered:
         return []
     index = np.array([c.index for c in ordered])
     sharpness = np.array([c.sharpness for c in ordered], dtype=np.float64)
-    is_required = np.isin(index, np.fromiter(set(required), dtype=np.int64, count=len(set(required))))
-    chosen = index[is_required].tolist()
-    edges = window_edges(len(ordered), budget)
-    for a, b in zip(edges[:-1], edges[1:]):
-        if b > a and not is_required[a:b].any():
-            chosen.append(int(index[a + int(np.argmax(sharpness[a:b]))]))  # argmax: the first maximum
-    return sorted(chosen)
+    edges = window_edges(len(ordered), window)
+    slot = np.searchsorted(index, [i for i in set(choices) if i in set(index.tolist())])
+    per_window = np.bincount(np.searchsorted(edges, slot, side="right") - 1, minlength=len(edges) - 1)
+    out: list[int] = []
+    for w in np.flatnonzero(per_window):
+        a, b = edges[w], edges[w + 1]
+        best = np.argsort(-sharpness[a:b], kind="stable")[:per_window[w]]
+        out.extend(int(index[a + k]) for k in best)
+    return sorted(out)
+
+
+def choose_frames(candidates: Sequence[Candidate], required: Sequence[int], budget: int) -> list[int]:
+    """Frame indices to detect, in sequence order: the KGE frames and the farthest new
+    viewpoints (`farthest_viewpoints`, at least `budget` frames), each moved to the sharpest
+    frame of its window (`sharpest_in_windows`)."""
+    budget = max(budget, len(set(required)))
+    return sharpest_in_windows(candidates, farthest_viewpoints(candidates, required, budget))

@@ -113,7 +113,7 @@ def _select(seq, selector, stop: int, step: int, keep_pairs: bool, quiet: bool) 
     def on_frame(frame, decision, role):
         progress.advance(task)
         if role in ("keyframe", "anchor", "garbage"):   # what `sg3d build` chooses its frames from
-            run.candidates.append(coverage.Candidate(frame.index, decision.variance))
+            run.candidates.append(coverage.Candidate(frame.index, frame.pose, decision.variance))
         if role in ("keyframe", "anchor"):
             run.required.append(frame.index)
         if not keep_pairs or decision is None:
@@ -154,9 +154,9 @@ def _print_report(sequence: Path, seq, stats, params: dict, run: _Selection, det
          + (" ..." if len(groups) > 20 else "")),
         ("keyframes+anchors", f"{100 * stats.fraction_kept:.1f} %", f"{stats.kept} of {stats.read} frames read"),
         ("detected by build", f"{len(detected)}", f"keyframes and anchors + {len(detected) - len(set(run.required))} "
-                                                   f"sharpest frames of the stretches without one (one stretch per "
-                                                   f"{1 / coverage.DEFAULT_FRACTION:.1f} sharp frames, at least "
-                                                   f"{coverage.MIN_FRAMES} stretches)"),
+                                                   f"frames with new viewpoints ({coverage.DEFAULT_FRACTION:.0%} "
+                                                   f"of the sharp frames, at least {coverage.MIN_FRAMES}), each the "
+                                                   f"sharpest of its {coverage.SNAP_WINDOW}-frame window"),
         ("time", f"{stats.seconds:.2f} s", f"{stats.frames_per_second:.0f} frames/s"),
     ]
     for role, what in (getattr(seq, "sources", None) or {}).items():
