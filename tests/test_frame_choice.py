@@ -43,11 +43,14 @@ def _turned(seq, degrees: float, seed: int) -> dict[int, np.ndarray]:
 
 def test_a_sub_degree_pose_drift_leaves_most_detected_frames_in_place(living):
     given = _detected(open_sequence(living))
+    overlaps = []
     for seed in (1, 2, 3):
         seq = open_sequence(living)
         seq.use_poses(_turned(seq, 0.3, seed), {})
         turned = _detected(seq)
-        assert len(given & turned) / len(given | turned) >= 0.75, (seed, sorted(given ^ turned))
+        overlaps.append(len(given & turned) / len(given | turned))
+        assert overlaps[-1] >= 0.7, (seed, sorted(given ^ turned))
+    assert np.mean(overlaps) >= 0.8, overlaps
 
 
 def test_frames_reports_the_frames_the_build_detects(living):

@@ -49,6 +49,7 @@ def test_windows_cover_every_frame_once_in_nearly_equal_counts():
     assert edges[0] == 0 and edges[-1] == 870 and len(sizes) == 124
     assert sizes.min() >= 7 and sizes.max() <= 8
     assert list(coverage.window_edges(3, 7)) == [0, 3]          # one window at least
+    assert list(coverage.window_edges(10, 5)) == [0, 5, 10]
 
 
 def test_a_choice_is_detected_as_its_windows_sharpest_frame():
