@@ -115,7 +115,8 @@ def perturbed(poses: dict[int, np.ndarray], degrees: float, seed: int) -> dict[i
     return out
 
 
-def aligned_build(path: Path, room: str, step: int, perturb_deg: float | None = None, seed: int = 1) -> None:
+def aligned_build(path: Path, room: str, step: int, perturb_deg: float | None = None, seed: int = 1,
+                  quality: str | None = None) -> None:
     """Build ROOM on estimated poses moved into the given poses' frame (see the module text), or,
     with `perturb_deg`, on the given poses turned by `perturbed` (how much the graph changes
     under a pose error of that size, through the same code path)."""
@@ -140,7 +141,8 @@ def aligned_build(path: Path, room: str, step: int, perturb_deg: float | None = 
 
     poses_module.estimate_sequence_poses = estimate_then_align  # type: ignore[assignment]  # swapped in for the run
     try:
-        cli.main(["build", str(path), "--room", room, "--estimate-poses"], standalone_mode=False, prog_name="sg3d")
+        cli.main(["build", str(path), "--room", room, "--estimate-poses", *(["--quality", quality] if quality else [])],
+                 standalone_mode=False, prog_name="sg3d")
     finally:
         poses_module.estimate_sequence_poses = original
 
@@ -189,6 +191,7 @@ def run(argv=None) -> None:
                     help="with --build-room: build on the given poses turned by a smooth rotation of this "
                          "amplitude instead (no estimation), to see how the graph reacts to a pose error that size")
     ap.add_argument("--seed", type=int, default=1, help="seed of --perturb-given's rotation")
+    ap.add_argument("--quality", default=None, help="with --build-room: the build's --quality preset")
     ap.add_argument("--frame-sets", action="store_true",
                     help="only compare the detected frame sets on given, turned and estimated poses (no build)")
     ap.add_argument("--seeds", type=int, default=3, help="with --frame-sets: how many turned copies of the poses")
@@ -205,7 +208,7 @@ def run(argv=None) -> None:
     if args.perturb_given is not None:
         if not args.build_room:
             ap.error("--perturb-given needs --build-room")
-        aligned_build(paths[0], args.build_room, args.step, args.perturb_given, args.seed)
+        aligned_build(paths[0], args.build_room, args.step, args.perturb_given, args.seed, args.quality)
         return
     print(f"load: {os.getloadavg()[0]:.2f} on {os.cpu_count()} cores; odometry on every {args.step}th frame")
     loads = []
@@ -221,7 +224,7 @@ def run(argv=None) -> None:
               f"{r['decode_ms_per_input_frame']} ms of decoding its images alone)")
     print(f"load after: {', '.join(f'{v:.2f}' for v in loads)}")
     if args.build_room:
-        aligned_build(paths[0], args.build_room, args.step)
+        aligned_build(paths[0], args.build_room, args.step, quality=args.quality)
 
 
 if __name__ == "__main__":
