@@ -2,6 +2,7 @@
 time it adds per input frame.
 
     python -m benchmarks.bench_poses [SEQUENCE ...] [--step N] [--build-room ROOM [--perturb-given DEG]]
+    python -m benchmarks.bench_poses [SEQUENCE ...] --frame-sets [--perturb-given DEG] [--seeds N]
 
 For each sequence (default: the kitchen and the living room under ../shared/data) the poses are
 estimated from the images alone (the given ones are only read for the comparison) and the
@@ -12,6 +13,12 @@ alignment, so `sg3d eval --gt ... --room ROOM` can compare it with ground truth 
 frame (a development aid; a product build keeps the first camera's frame). With
 `--perturb-given DEG` that build uses the given poses turned by a smooth rotation of DEG instead:
 the yardstick for how far the graph moves under a pose error of a given size.
+
+`--frame-sets` runs only the build's frame choice (blur rejection, KGE, coverage: no detection)
+on the given poses, on the given poses turned by `--perturb-given` (default 0.3 degrees) for
+`--seeds` seeds, and on the estimated poses, and prints the Jaccard overlap of each detected
+frame set with the given poses' set: how much the detected frames, and so the graph, depend on
+a sub-degree pose difference. The time of one frame choice is printed beside it.
 """
 from __future__ import annotations
 
@@ -108,7 +115,8 @@ def perturbed(poses: dict[int, np.ndarray], degrees: float, seed: int) -> dict[i
     return out
 
 
-def aligned_build(path: Path, room: str, step: int, perturb_deg: float | None = None, seed: int = 1) -> None:
+def aligned_build(path: Path, room: str, step: int, perturb_deg: float | None = None, seed: int = 1,
+                  quality: str | None = None) -> None:
     """Build ROOM on estimated poses moved into the given poses' frame (see the module text), or,
     with `perturb_deg`, on the given poses turned by `perturbed` (how much the graph changes
     under a pose error of that size, through the same code path)."""
@@ -133,9 +141,45 @@ def aligned_build(path: Path, room: str, step: int, perturb_deg: float | None = 
 
     poses_module.estimate_sequence_poses = estimate_then_align  # type: ignore[assignment]  # swapped in for the run
     try:
-        cli.main(["build", str(path), "--room", room, "--estimate-poses"], standalone_mode=False, prog_name="sg3d")
+        cli.main(["build", str(path), "--room", room, "--estimate-poses", *(["--quality", quality] if quality else [])],
+                 standalone_mode=False, prog_name="sg3d")
     finally:
         poses_module.estimate_sequence_poses = original
+
+
+def detected_frames(seq) -> tuple[list[int], float]:
+    """The frames a default `sg3d build` of the whole of `seq` detects (its own frame choice,
+    `pipeline._select`), and the seconds that choice took."""
+    from ingest.pipeline import PipelineStats, Settings, _select
+
+    stats = PipelineStats()
+    chosen = _select(seq, 0, len(seq), Settings(), stats, None)
+    return chosen, stats.seconds["select"]
+
+
+def jaccard(a, b) -> float:
+    """|A & B| / |A | B| of two frame sets (1 when both are empty)."""
+    a, b = set(a), set(b)
+    return len(a & b) / len(a | b) if a | b else 1.0
+
+
+def frame_set_stability(path: Path, degrees: float, seeds: int, step: int) -> dict:
+    """The detected frames on the given poses, on `seeds` smooth turns of `degrees` of them and on
+    the estimated poses; each set's size and Jaccard overlap with the given poses' set."""
+    seq = open_sequence(path)
+    given = given_poses(seq)
+    base, seconds = detected_frames(seq)
+    rows = {"given": (len(base), 1.0, seconds)}
+    for seed in range(1, seeds + 1):
+        seq = open_sequence(path)
+        seq.use_poses(perturbed(given, degrees, seed), {})
+        chosen, seconds = detected_frames(seq)
+        rows[f"turned {degrees} deg, seed {seed}"] = (len(chosen), jaccard(base, chosen), seconds)
+    seq = open_sequence(path)
+    estimate_sequence_poses(seq, step=step)
+    chosen, seconds = detected_frames(seq)
+    rows["estimated"] = (len(chosen), jaccard(base, chosen), seconds)
+    return rows
 
 
 def run(argv=None) -> None:
@@ -147,12 +191,24 @@ def run(argv=None) -> None:
                     help="with --build-room: build on the given poses turned by a smooth rotation of this "
                          "amplitude instead (no estimation), to see how the graph reacts to a pose error that size")
     ap.add_argument("--seed", type=int, default=1, help="seed of --perturb-given's rotation")
+    ap.add_argument("--quality", default=None, help="with --build-room: the build's --quality preset")
+    ap.add_argument("--frame-sets", action="store_true",
+                    help="only compare the detected frame sets on given, turned and estimated poses (no build)")
+    ap.add_argument("--seeds", type=int, default=3, help="with --frame-sets: how many turned copies of the poses")
     args = ap.parse_args(argv)
     paths = args.sequences or [p for p in DEFAULT if p.is_dir()]
+    if args.frame_sets:
+        print(f"load: {os.getloadavg()[0]:.2f} on {os.cpu_count()} cores")
+        for path in paths:
+            print(f"{path.name}: detected frames, Jaccard overlap with the given poses' set")
+            for name, (n, overlap, seconds) in frame_set_stability(
+                    path, args.perturb_given or 0.3, args.seeds, args.step).items():
+                print(f"  {name:<26} {n:4d} frames  Jaccard {overlap:.3f}  (frame choice {seconds:.2f} s)")
+        return
     if args.perturb_given is not None:
         if not args.build_room:
             ap.error("--perturb-given needs --build-room")
-        aligned_build(paths[0], args.build_room, args.step, args.perturb_given, args.seed)
+        aligned_build(paths[0], args.build_room, args.step, args.perturb_given, args.seed, args.quality)
         return
     print(f"load: {os.getloadavg()[0]:.2f} on {os.cpu_count()} cores; odometry on every {args.step}th frame")
     loads = []
@@ -168,7 +224,7 @@ def run(argv=None) -> None:
               f"{r['decode_ms_per_input_frame']} ms of decoding its images alone)")
     print(f"load after: {', '.join(f'{v:.2f}' for v in loads)}")
     if args.build_room:
-        aligned_build(paths[0], args.build_room, args.step)
+        aligned_build(paths[0], args.build_room, args.step, quality=args.quality)
 
 
 if __name__ == "__main__":

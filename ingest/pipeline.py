@@ -2,7 +2,9 @@
 
 Per chunk [a, b) of the sequence (a whole room is one chunk by default):
 1. frame selection: ABIR drops blurry frames, KGE (Algorithm 1) picks keyframes and anchors,
-   and `ingest.coverage` adds the sharp frames with the most new viewpoints up to a frame budget;
+   `ingest.coverage` adds the sharp frames with the most new viewpoints up to a frame budget,
+   and each chosen frame is replaced by the sharpest frame of its short window of the recording
+   (so a sub-degree pose change, which moves a choice by a frame or two, keeps the same frames);
 2. detection on the chosen frames, irrelevant classes dropped (SDR), every box lifted to 3-D;
 3. fusion of the detections of ALL chosen frames into object hypotheses (`ingest.fusion`);
 4. existence from multi-view evidence, negative evidence included (`ingest.existence`): the
@@ -161,7 +163,7 @@ def _select(seq, a: int, b: int, settings: Settings, stats: PipelineStats,
 
     def on_frame(frame, decision, role):
         if role in ("keyframe", "anchor", "garbage"):
-            candidates.append(coverage.Candidate(frame.index, frame.pose))
+            candidates.append(coverage.Candidate(frame.index, frame.pose, decision.variance))
         if role in ("keyframe", "anchor"):
             required.append(frame.index)
         if progress is not None and frame.index % 25 == 0:
@@ -176,7 +178,7 @@ def _select(seq, a: int, b: int, settings: Settings, stats: PipelineStats,
     stats.keyframes += st.keyframes
     stats.anchors += st.anchors
     budget = coverage.frame_budget(len(candidates), settings.detect_fraction, settings.min_detect_frames)
-    chosen = coverage.choose_frames(candidates, required, max(budget, len(set(required))))
+    chosen = coverage.choose_frames(candidates, required, budget)
     stats.coverage += len(chosen) - len(set(required))
     stats.seconds["select"] += time.perf_counter() - t0
     return chosen

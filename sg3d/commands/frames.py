@@ -52,7 +52,7 @@ def frames_command(sequence: Path, layout: Optional[str], abir_gain, abir_offset
     stop = len(seq) if limit is None else min(len(seq), limit * step)
     run = _select(seq, selector, stop, step, keep_pairs=sheet is not None, quiet=as_json)
     budget = coverage.frame_budget(len(run.candidates))
-    detected = coverage.choose_frames(run.candidates, run.required, max(budget, len(run.required)))
+    detected = coverage.choose_frames(run.candidates, run.required, budget)
     if sheet is not None:
         _write_sheet(seq, run.pairs, sheet)
     if as_json:
@@ -113,7 +113,7 @@ def _select(seq, selector, stop: int, step: int, keep_pairs: bool, quiet: bool) 
     def on_frame(frame, decision, role):
         progress.advance(task)
         if role in ("keyframe", "anchor", "garbage"):   # what `sg3d build` chooses its frames from
-            run.candidates.append(coverage.Candidate(frame.index, frame.pose))
+            run.candidates.append(coverage.Candidate(frame.index, frame.pose, decision.variance))
         if role in ("keyframe", "anchor"):
             run.required.append(frame.index)
         if not keep_pairs or decision is None:
@@ -155,7 +155,8 @@ def _print_report(sequence: Path, seq, stats, params: dict, run: _Selection, det
         ("keyframes+anchors", f"{100 * stats.fraction_kept:.1f} %", f"{stats.kept} of {stats.read} frames read"),
         ("detected by build", f"{len(detected)}", f"keyframes and anchors + {len(detected) - len(set(run.required))} "
                                                    f"frames with new viewpoints ({coverage.DEFAULT_FRACTION:.0%} "
-                                                   f"of the sharp frames, at least {coverage.MIN_FRAMES})"),
+                                                   f"of the sharp frames, at least {coverage.MIN_FRAMES}), each the "
+                                                   f"sharpest of its {coverage.SNAP_WINDOW}-frame window"),
         ("time", f"{stats.seconds:.2f} s", f"{stats.frames_per_second:.0f} frames/s"),
     ]
     for role, what in (getattr(seq, "sources", None) or {}).items():

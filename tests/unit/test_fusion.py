@@ -1,16 +1,14 @@
-"""Whole-sequence fusion, frame coverage and the existence test.
+"""Whole-sequence fusion and the existence test.
 
 Hand-made sightings and poses check the rules exactly (the existence test on real kitchen frames:
 tests/test_kitchen_ingest.py).
 """
 from __future__ import annotations
 
-import math
-
 import numpy as np
 import pytest
 
-from ingest import coverage, existence, fusion
+from ingest import existence, fusion
 from ingest.attributes import ObjectAttributes
 from ingest.detect import Detection
 from core.model import HIST_SIZE
@@ -22,38 +20,6 @@ def _sighting(frame: int, label: str, centre, size, score: float = 0.8, labels=N
     names = labels or [label]
     det = Detection((0, 0, 10, 10), names, [score / (k + 1) for k in range(len(names))])
     return fusion.Sighting.of(frame, det, attrs, np.eye(3))
-
-
-# --------------------------------------------------------------------------- coverage
-
-def _pose(x: float, yaw_deg: float = 0.0) -> np.ndarray:
-    a = math.radians(yaw_deg)
-    pose = np.eye(4)
-    pose[:3, :3] = [[math.cos(a), 0, math.sin(a)], [0, 1, 0], [-math.sin(a), 0, math.cos(a)]]
-    pose[0, 3] = x
-    return pose
-
-
-def test_budget_has_a_floor_and_never_exceeds_the_frames():
-    assert coverage.frame_budget(1000, 0.15, 40) == 150
-    assert coverage.frame_budget(100, 0.15, 40) == 40
-    assert coverage.frame_budget(25, 0.15, 40) == 25
-
-
-def test_coverage_keeps_required_frames_then_takes_the_newest_views_first():
-    # frames 0-9 stand still at x=0; frame 10 stands 2 m away; frame 11 turns 90 degrees
-    cands = [coverage.Candidate(i, _pose(0.0)) for i in range(10)]
-    cands += [coverage.Candidate(10, _pose(2.0)), coverage.Candidate(11, _pose(0.0, 90.0))]
-    chosen = coverage.choose_frames(cands, required=[3], budget=3)
-    assert chosen == [3, 10, 11]
-    # repeating the same view adds nothing: the choice stops rather than pick duplicates
-    assert coverage.choose_frames(cands, required=[3], budget=12) == [3, 10, 11]
-    assert coverage.choose_frames(cands, [3], 3) == coverage.choose_frames(list(cands), [3], 3)
-
-
-def test_viewpoint_distance_follows_its_formula():
-    f = coverage.viewpoint_features([_pose(0.0), _pose(0.3, 0.0)])
-    assert np.linalg.norm(f[1] - f[0]) == pytest.approx(0.3 / coverage.POSITION_SCALE_M)
 
 
 # --------------------------------------------------------------------------- association
