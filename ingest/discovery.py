@@ -31,7 +31,7 @@ from core.model import HIST_SIZE, UNNAMED_LABEL, ObjectObservation
 from ingest.attributes import hsv_histogram, thumbnail
 from ingest.relations import FLOOR_STANDING_LABELS
 from ingest.room_cloud import RoomCloud
-from ingest.segments import Segment, depth_evidence, exists, room_segments, split_at_necks
+from ingest.segments import Segment, depth_evidence, exists, room_candidates, split_at_necks
 from ingest.structure import Element
 
 # Furniture whose top is a surface others stand on (a chair tucked under a table does not own
@@ -155,16 +155,15 @@ def resting_on(seg: Segment, surfaces: Sequence[Element]) -> bool:
 
 def separate_resting(segments: Sequence[Segment], surfaces: Sequence[Element], cloud: RoomCloud) -> list[Segment]:
     """Things lying side by side on a table, a counter or a shelf touch: a segment resting on a
-    surface is cut at its necks (`segments.split_at_necks`), and each part must pass the depth
-    existence test on its own."""
+    surface is cut at its necks (`segments.split_at_necks`) before depth judges it, and each
+    part must pass the depth existence test on its own (a dark gamepad that depth sees through
+    does not take the white box it lies against with it); other segments are judged whole."""
     out: list[Segment] = []
     for seg in segments:
         parts = split_at_necks(seg) if resting_on(seg, surfaces) else [seg]
-        if len(parts) == 1:
-            out.append(seg)
-            continue
         for part in parts:
-            depth_evidence(part, cloud)
+            if part is not seg:
+                depth_evidence(part, cloud)
             if exists(part):
                 out.append(part)
     return out
@@ -324,7 +323,7 @@ def discover(named: list[ObjectObservation], cloud: RoomCloud, structure: Sequen
     owned = {id(e) for e in (whole_object_box(o, cloud, surfaces) for o in named) if e is not None}
     boxes = [gravity_box(o, cloud) for o in named]
     claims = [b for o, b in zip(named, boxes) if o.label not in FLOOR_STANDING_LABELS]
-    segments = separate_resting(room_segments(cloud, structure, claims), surfaces, cloud)
+    segments = separate_resting(room_candidates(cloud, structure, claims), surfaces, cloud)
     planes = [e for e in structure if e.plane is not None]
     screens = [b for o, b in zip(named, boxes) if colour_model.is_screen(o.label)]
     unnamed = []

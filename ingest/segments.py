@@ -33,7 +33,7 @@ MAX_HEIGHT_M = 2.6            # above that: ceiling fittings, not the room's obj
 # HIT_TOLERANCE_M + HIT_TOLERANCE_REL * range of it, seen through when the depth lies beyond it.
 HIT_TOLERANCE_M = 0.04
 HIT_TOLERANCE_REL = 0.02
-SAMPLE_VOXELS = 60
+SAMPLE_VOXELS = 200
 # Views kept per segment for its colour, best first (one view can be lit or cut badly): those
 # that show at least GOOD_VIEW_INSIDE of it inside the image.
 GOOD_VIEWS = 3
@@ -257,11 +257,11 @@ def outside_room(seg: Segment, structure: Sequence[Element]) -> bool:
                if e.label == "wall" and e.far_behind <= WALL_SURE_FAR)
 
 
-def room_segments(cloud: RoomCloud, structure: Sequence[Element],
-                  claimed: Sequence[tuple[np.ndarray, np.ndarray]] = ()) -> list[Segment]:
-    """Every segment of the room that passes the depth existence test. Points inside a
-    `claimed` box (a named object's) are its object's and join no segment, so a cup does not
-    weld the magazine beside it into one thing."""
+def room_candidates(cloud: RoomCloud, structure: Sequence[Element],
+                    claimed: Sequence[tuple[np.ndarray, np.ndarray]] = ()) -> list[Segment]:
+    """Every segment of the room inside its walls, with its depth evidence (`depth_evidence`)
+    but not yet judged (`exists`). Points inside a `claimed` box (a named object's) are its
+    object's and join no segment, so a cup does not weld the magazine beside it into one thing."""
     free = object_points(cloud, structure)
     idx = np.flatnonzero(free)
     free[idx] = outside_boxes(cloud.points[idx], claimed)
@@ -276,4 +276,11 @@ def room_segments(cloud: RoomCloud, structure: Sequence[Element],
     segs = [s for s in segs if not outside_room(s, structure)]
     for s in segs:
         depth_evidence(s, cloud)
-    return [s for s in segs if exists(s)]
+    return segs
+
+
+def room_segments(cloud: RoomCloud, structure: Sequence[Element],
+                  claimed: Sequence[tuple[np.ndarray, np.ndarray]] = ()) -> list[Segment]:
+    """Every segment of the room that passes the depth existence test (`room_candidates`,
+    `exists`)."""
+    return [s for s in room_candidates(cloud, structure, claimed) if exists(s)]
