@@ -65,6 +65,8 @@ BOX_RATIO = 2.5
 VOXEL_VAR_FLOOR = 0.01 ** 2
 # Surface points kept per unnamed object for re-scans (`ingest.rescan.surface_seen_empty`).
 SURFACE_SAMPLE = 32
+# A screen's box side this close to the image border (share of the image size) reaches it.
+SCREEN_BORDER_SHARE = 0.05
 # The half-width a voxel covers, for marking a segment's own pixels.
 VOXEL_DISC_M = 0.0125
 
@@ -214,14 +216,21 @@ def surface_sample(world: np.ndarray, n: int = SURFACE_SAMPLE) -> tuple[float, .
 def screens_in_view(screens: Sequence[tuple[np.ndarray, np.ndarray]], cloud: RoomCloud,
                     view) -> list[tuple[int, int, int, int]]:
     """The pixel boxes in a view of the named screens' gravity-frame boxes (lo, hi): the box of
-    each one's projected corners (`_pixels`), those in front of the camera."""
+    each one's projected corners (`_pixels`), those in front of the camera; a side within
+    SCREEN_BORDER_SHARE of the image border runs to it (the screen was seen cut there, so its
+    3-D box stops short of its edge)."""
     out = []
+    w, h = view.size
+    mx, my = SCREEN_BORDER_SHARE * w, SCREEN_BORDER_SHARE * h
     for lo, hi in screens:
-        corners = np.array([[x, y, h] for x in (lo[0], hi[0]) for y in (lo[1], hi[1]) for h in (lo[2], hi[2])])
+        corners = np.array([[x, y, z] for x in (lo[0], hi[0]) for y in (lo[1], hi[1]) for z in (lo[2], hi[2])])
         u, v, _ = _project(cloud.to_world(corners), view)
         box = _pixels(u, v, view)
         if box is not None:
-            out.append(box)
+            x1, y1, x2, y2 = box
+            # a screen seen only cut by the image border is measured short on that side
+            out.append((0 if x1 <= mx else x1, 0 if y1 <= my else y1,
+                        w if x2 >= w - mx else x2, h if y2 >= h - my else y2))
     return out
 
 
