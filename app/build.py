@@ -220,7 +220,7 @@ class _Chunks:
     progress: Optional[ProgressFn]
     totals: dict = field(default_factory=lambda: {
         "chunks": 0, "merged_chunks": 0, "skipped_chunks": 0, "objects_created": 0, "objects_updated": 0,
-        "objects_moved": 0, "objects_removed": 0, "relations": 0})
+        "objects_moved": 0, "objects_removed": 0, "objects_folded": 0, "relations": 0})
     merge_seconds: float = 0.0
     interrupted: bool = False
 
@@ -263,6 +263,7 @@ class _Chunks:
         totals["relations"] += report.relations
         totals["objects_moved"] += report.moved
         totals["objects_removed"] += report.removed
+        totals["objects_folded"] += report.absorbed
 
 
 def _summary(store, rid: str, seq, req: BuildRequest, settings, stop: int, up, chunks: _Chunks,

@@ -255,7 +255,7 @@ def segment_colour(seg: Segment, world: np.ndarray, cloud: RoomCloud,
                    colour_image: Callable[[int], Optional[np.ndarray]],
                    screens: Sequence[tuple[np.ndarray, np.ndarray]] = ()) -> tuple[str, Optional[str]]:
     """(colour, second colour) of a segment: its readings in its good views (`segment_reading`,
-    up to `segments.GOOD_VIEWS` that see it whole), voted with weights by how many of its pixels
+    up to `segments.GOOD_VIEWS` that show most of it), voted with weights by how many of its pixels
     each view shows (`ingest.colour.vote`, `view_weight`): one view's light or a screen beside it
     does not name the object alone."""
     readings, weights = [], []

@@ -61,7 +61,7 @@ class Segment:
     seen_views: int = 0
     looked_views: int = 0     # views that saw most of its place unoccluded (hit or through)
     best_view: int = -1       # the view that saw most of it, whole and near
-    good_views: tuple[int, ...] = ()   # up to GOOD_VIEWS views that saw it whole, best first
+    good_views: tuple[int, ...] = ()   # up to GOOD_VIEWS views that saw most of it, best first
 
     @property
     def size(self) -> np.ndarray:
@@ -160,7 +160,7 @@ def depth_evidence(seg: Segment, cloud: RoomCloud) -> None:
     GOOD_VIEWS best views with GOOD_VIEW_INSIDE of them inside the image)."""
     vox = voxel_sample(seg.voxels)
     world = cloud.to_world(vox)
-    whole_views: list[tuple[int, float, int, bool]] = []   # (hits, -median depth, view, whole)
+    candidates: list[tuple[int, float, int, bool]] = []   # (hits, -median depth, view, whole)
     hit_v = np.zeros(len(vox), int)
     free_v = np.zeros(len(vox), int)
     seen = looked = 0
@@ -196,10 +196,10 @@ def depth_evidence(seg: Segment, cloud: RoomCloud) -> None:
         if nh > 0 and nh >= 0.5 * int(known.sum()):
             seen += 1
         if nh > 0 and float(inside.mean()) >= GOOD_VIEW_INSIDE:
-            whole_views.append((nh, -float(np.median(zi)), k, bool(inside.all())))
+            candidates.append((nh, -float(np.median(zi)), k, bool(inside.all())))
     solid = (hit_v >= 1) & (hit_v >= free_v)
     # most hits first, the nearer on ties, the earlier view on full ties
-    ranked = sorted(whole_views, key=lambda t: (-t[0], -t[1], t[2]))
+    ranked = sorted(candidates, key=lambda t: (-t[0], -t[1], t[2]))
     seg.good_views = tuple(t[2] for t in ranked[:GOOD_VIEWS])
     seg.hits, seg.free, seg.seen_views = int(solid.sum()), int((~solid).sum()), seen
     seg.best_view = next((t[2] for t in ranked if t[3]), -1)

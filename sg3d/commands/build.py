@@ -38,8 +38,9 @@ def _summary_table(summary: dict):
                                 "room's structure (floor, walls, surfaces)")
     g = summary["graph"]
     t.add_row("merged", f"{g['merged_chunks']} of {g['chunks']} chunks ({g['skipped_chunks']} already merged)")
+    folded = f", {g['objects_folded']} folded into the object they were part of" if g.get("objects_folded") else ""
     t.add_row("objects", f"{g['objects_created']} new, {g['objects_updated']} updated, {g.get('objects_moved', 0)} moved, "
-                         f"{g.get('objects_removed', 0)} removed; room now holds {g['room_objects']}")
+                         f"{g.get('objects_removed', 0)} removed{folded}; room now holds {g['room_objects']}")
     if summary.get("scan"):
         t.add_row("scan", f"{summary['scan']} (`sg3d changes --room {summary['room']}` shows what it changed)")
     t.add_row("relations", f"{g['relations']} merged; room now holds {g['room_relations']}")
