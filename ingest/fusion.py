@@ -12,7 +12,8 @@ forgotten between keyframe groups:
   distance / gate + a label-mismatch cost), so two objects seen side by side never share one.
 
 After the pass, hypotheses with the same best label that were never detected in the same frame
-and whose boxes overlap or centres fall within the gate are folded together (`consolidate`):
+and whose boxes share APART_OVERLAP of the smaller or whose centres fall within the gate are
+folded together (`consolidate`):
 association is greedy in time, this undoes the splits it makes when a part view comes first.
 Parts seen on their own fold into their object too: a chair's back and base boxed in different
 tiles (two chairs cannot share floor space), a TV's corner a tile called "book".
@@ -44,6 +45,10 @@ ASSOC_EXTENT_FRACTION = 0.5
 LABEL_MISMATCH_COST = 0.5
 # Two boxes overlapping this much of the smaller one are parts of one object.
 PART_OVERLAP = 0.5
+# Two same-label hypotheses never detected in one frame whose boxes share this much of the
+# smaller one are one object: two solid things of one kind cannot share a quarter of the space,
+# and two that stand that close are seen together.
+APART_OVERLAP = 0.25
 # Two hypotheses seen together in at most this share of the smaller one's frames may still be
 # one object (a frame that boxed it twice, e.g. a whole table and one of its ends).
 MAX_SHARED_FRAMES = 0.1
@@ -287,12 +292,12 @@ def _may_fold(a: Hypothesis, b: Hypothesis) -> bool:
     gate = max(ASSOC_MAX_DISTANCE, ASSOC_EXTENT_FRACTION * max(a.extent, b.extent))
     if float(np.linalg.norm(a.centre_gravity - b.centre_gravity)) <= gate:
         return True
-    return box_overlap(a.lo, a.hi, b.lo, b.hi) >= PART_OVERLAP
+    return box_overlap(a.lo, a.hi, b.lo, b.hi) >= APART_OVERLAP
 
 
 def consolidate(hyps: Sequence[Hypothesis]) -> list[Hypothesis]:
     """Fold same-label hypotheses that nest, share floor space (`share_floor_space`), or were
-    never detected together and overlap or lie within the association gate, and parts read as
+    never detected together and overlap (APART_OVERLAP) or lie within the association gate, and parts read as
     another label (`part_read_as_other`), the closest pairs first, until none is left; ids are
     renumbered."""
     pool = [Hypothesis(h.hid, list(h.sightings)) for h in hyps]

@@ -169,3 +169,15 @@ def test_an_object_only_tiles_named_though_big_enough_for_the_full_frame_is_a_ti
     assert not existence.tile_artefact([det(200, False), det(180, True)])      # the full frame named it once
     assert not existence.tile_artefact([det(90, False), det(60, False)])       # small: what tiles are for
     assert not existence.tile_artefact([])
+
+
+def test_same_label_hypotheses_never_seen_together_that_share_space_are_one_object():
+    """A TV seen from one side with the wall behind it in its box, and later from the other side
+    with a wider box: the centres lie beyond the gate, but never in one frame and a quarter of
+    the smaller box shared, they are one TV. Seen in the same frames, they are two."""
+    first = [_sighting(i, "tv", (0.25, 0.0, 0.0), (0.49, 0.27, 0.39)) for i in range(0, 6)]
+    later = [_sighting(i, "tv", (0.67, -0.08, 0.0), (0.78, 0.08, 0.40)) for i in range(10, 16)]
+    hyps = fusion.consolidate(fusion.associate(first + later))
+    assert len(hyps) == 1 and hyps[0].n_frames == 12
+    together = [_sighting(i, "tv", (0.67, -0.08, 0.0), (0.78, 0.08, 0.40)) for i in range(0, 6)]
+    assert len(fusion.consolidate(fusion.associate(first + together))) == 2
