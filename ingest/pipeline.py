@@ -21,7 +21,6 @@ The ablation presets of the paper's Table I switch modules on and off (`METHODS`
 from __future__ import annotations
 
 import functools
-
 import hashlib
 import json
 import threading
