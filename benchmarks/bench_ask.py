@@ -4,7 +4,7 @@
 
 A scratch embedded store is filled through a bulk UNWIND CREATE (cypher/vqa_bench_load.cypher;
 merge_local_graph would take ~100 s for 100k objects) and its per-room tallies recounted, then each question is asked `--repeat`
-times through `queries.vqa.answer` (store running, taxonomy loaded, embedding never needed), and
+times through `sg3d.queries.vqa.answer` (store running, taxonomy loaded, embedding never needed), and
 once through `python -m sg3d ask` in a fresh process (cold: interpreter, imports, driver).
 Each question also says how many queries (Bolt round trips) one answer sends, a figure that
 does not move with the machine's load. The last lines sum up what the issue-19 goals name
@@ -26,7 +26,7 @@ from pathlib import Path
 import numpy as np
 
 from benchmarks.common import LABELS, CountingStore
-from core.model import COLOUR_NAMES
+from sg3d.core.model import COLOUR_NAMES
 
 QUESTIONS = [
     "how many cups are there?",
@@ -41,7 +41,7 @@ QUESTIONS = [
 
 
 def generate(store, n_objects: int, n_rooms: int, seed: int = 0, batch_rooms: int = 20) -> float:
-    from graphdb.tally import rebuild_tallies
+    from sg3d.graphdb.tally import rebuild_tallies
 
     rng = np.random.default_rng(seed)
     per_room = max(1, n_objects // n_rooms)
@@ -79,7 +79,7 @@ def room_scoped(question: str) -> bool:
 
 
 def warm(store, repeat: int) -> list[dict]:
-    from queries.vqa import answer
+    from sg3d.queries.vqa import answer
 
     out = []
     for q in QUESTIONS:
@@ -129,8 +129,8 @@ def main() -> None:
     ap.add_argument("--json", action="store_true", help="Also print every figure as one JSON object.")
     args = ap.parse_args()
 
-    from graphdb.embedded import EmbeddedServer
-    from graphdb.store import Store
+    from sg3d.graphdb.embedded import EmbeddedServer
+    from sg3d.graphdb.store import Store
 
     with tempfile.TemporaryDirectory(prefix="sg3d-bench-ask-") as home:
         server = EmbeddedServer(Path(home))

@@ -48,9 +48,9 @@ def main() -> None:
     ap.add_argument("--runtimes", default="", help="detector runtimes to compare, e.g. opencv,openvino "
                                                    "(default: the one a build picks)")
     args = ap.parse_args()
-    from graphdb.embedded import EmbeddedServer
-    from ingest.detect import SSD_MODEL_FILE, packaged_model_dir
-    from ingest.detect_openvino import converted_model, openvino_available
+    from sg3d.graphdb.embedded import EmbeddedServer
+    from sg3d.ingest.detect.models import SSD_MODEL_FILE, packaged_model_dir
+    from sg3d.ingest.detect.openvino import converted_model, openvino_available
 
     if openvino_available():    # the one-time conversion, so that no timed build pays it
         converted_model(packaged_model_dir() / SSD_MODEL_FILE)

@@ -5,8 +5,8 @@
 SEQUENCE defaults to ../shared/data/7scenes-redkitchen beside the repository. On --frames frames
 spread over the sequence, --boxes boxes of 40 to 250 pixels a side (a fixed random draw) stand
 for detections; each one's own pixels are taken as the pipeline takes them
-(`ingest.attributes.colour_pixels`), then timed: `ingest.colour.surround_cast` (the cast and
-white reference of the light on the object) and `ingest.colour.read_colour` (the naming). Each
+(`sg3d.ingest.objects.attributes.colour_pixels`), then timed: `sg3d.ingest.objects.colour.surround_cast` (the cast and
+white reference of the light on the object) and `sg3d.ingest.objects.colour.read_colour` (the naming). Each
 figure is the best of --repeat passes after one warm-up pass (which also builds the survey table).
 """
 from __future__ import annotations
@@ -22,9 +22,9 @@ sys.path.insert(0, str(REPO))
 
 import numpy as np  # noqa: E402
 
-from ingest import colour  # noqa: E402
-from ingest.attributes import clip_box, colour_pixels  # noqa: E402
-from ingest.readers import open_sequence  # noqa: E402
+from sg3d.ingest.objects import colour  # noqa: E402
+from sg3d.ingest.objects.attributes import clip_box, colour_pixels  # noqa: E402
+from sg3d.ingest.readers import open_sequence  # noqa: E402
 
 DEFAULT = Path(os.environ.get("SG3D_SHARED", REPO.parent / "shared")) / "data" / "7scenes-redkitchen"
 

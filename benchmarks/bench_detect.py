@@ -24,9 +24,9 @@ def main() -> None:
     ap.add_argument("--frames", type=int, default=100, help="frames spread evenly over the sequence")
     ap.add_argument("--threads", type=int, default=None, help="inference threads (default: every core)")
     args = ap.parse_args()
-    from ingest.detect import SsdMobilenetDetector
-    from ingest.detect_openvino import OpenVinoSsdDetector
-    from ingest.readers import open_sequence
+    from sg3d.ingest.detect.models import SsdMobilenetDetector
+    from sg3d.ingest.detect.openvino import OpenVinoSsdDetector
+    from sg3d.ingest.readers import open_sequence
 
     seq = open_sequence(args.sequence)
     picks = np.linspace(0, len(seq) - 1, min(args.frames, len(seq))).astype(int)

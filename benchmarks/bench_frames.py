@@ -21,10 +21,10 @@ sys.path.insert(0, str(REPO))
 
 import cv2  # noqa: E402
 
-from ingest.abir import ABIR  # noqa: E402
-from ingest.kge import KeyframeGrouper  # noqa: E402
-from ingest.readers import open_sequence  # noqa: E402
-from ingest.selection import FrameSelector  # noqa: E402
+from sg3d.ingest.readers import open_sequence  # noqa: E402
+from sg3d.ingest.select.abir import ABIR  # noqa: E402
+from sg3d.ingest.select.kge import KeyframeGrouper  # noqa: E402
+from sg3d.ingest.select.selection import FrameSelector  # noqa: E402
 
 DEFAULT = Path(os.environ.get("SG3D_SHARED", REPO.parent / "shared")) / "data" / "7scenes-redkitchen"
 

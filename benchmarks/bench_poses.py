@@ -29,10 +29,10 @@ from pathlib import Path
 
 import numpy as np
 
-from ingest.poses.estimate import DEFAULT_STEP
-from ingest.poses.sequence import estimate_sequence_poses
-from ingest.poses.trajectory import align_trajectory, ate_rmse
-from ingest.readers import open_sequence
+from sg3d.ingest.poses.estimate import DEFAULT_STEP
+from sg3d.ingest.poses.sequence import estimate_sequence_poses
+from sg3d.ingest.poses.trajectory import align_trajectory, ate_rmse
+from sg3d.ingest.readers import open_sequence
 
 DATA = Path(__file__).resolve().parents[1].parent / "shared" / "data"
 DEFAULT = [DATA / "7scenes-redkitchen", DATA / "open3d-livingroom1-micro"]
@@ -120,9 +120,9 @@ def aligned_build(path: Path, room: str, step: int, perturb_deg: float | None = 
     """Build ROOM on estimated poses moved into the given poses' frame (see the module text), or,
     with `perturb_deg`, on the given poses turned by `perturbed` (how much the graph changes
     under a pose error of that size, through the same code path)."""
-    import ingest.poses.sequence as poses_module
-    from ingest.poses.estimate import PoseEstimate
+    import sg3d.ingest.poses.sequence as poses_module
     from sg3d.cli import cli
+    from sg3d.ingest.poses.estimate import PoseEstimate
 
     original = poses_module.estimate_sequence_poses
 
@@ -149,12 +149,12 @@ def aligned_build(path: Path, room: str, step: int, perturb_deg: float | None = 
 
 def detected_frames(seq) -> tuple[list[int], float]:
     """The frames a default `sg3d build` of the whole of `seq` detects (its own frame choice,
-    `pipeline._select`), and the seconds that choice took."""
-    from ingest.pipeline import PipelineStats, Settings, _select
+    `choose_detected_frames`), and the seconds that choice took."""
+    from sg3d.ingest.select.selection import choose_detected_frames
 
-    stats = PipelineStats()
-    chosen = _select(seq, 0, len(seq), Settings(), stats, None)
-    return chosen, stats.seconds["select"]
+    t0 = time.perf_counter()
+    chosen = choose_detected_frames(seq).detected
+    return chosen, time.perf_counter() - t0
 
 
 def jaccard(a, b) -> float:

@@ -1,6 +1,6 @@
 """`sg3d serve` under load: p10/p50/p95 latency of POST /ask (room-scoped questions, one client: httpx,
 and the standard library's http.client, whose own cost per request is smaller), the same questions
-answered in this process through `app.ask`, interleaved with them (the service's overhead is the
+answered in this process through `sg3d.app.ask`, interleaved with them (the service's overhead is the
 ratio, measured in the same run), then C concurrent clients x Q questions each (errors, requests/s).
 
     python -m benchmarks.bench_serve                       # scratch store, builds the real kitchen
@@ -86,7 +86,7 @@ def latencies(url: str, token: str, home: Path, room: str, repeat: int) -> dict[
     question through the application layer in this process (the reader store, the dict the route
     encodes, thumbnail inlined). Interleaved, so load that drifts during the run meets all three
     alike; what the service adds is the difference."""
-    from app import ask as app_ask
+    from sg3d.app import ask as app_ask
     from sg3d.settings import Settings
 
     store = Settings(home=home).reader()
@@ -156,7 +156,7 @@ def main() -> None:
     if args.tiny and args.home:
         ap.error("--tiny ingests a hand-made kitchen into the store: use it without --home (a scratch store)")
 
-    from graphdb.embedded import EmbeddedServer, free_port
+    from sg3d.graphdb.embedded import EmbeddedServer, free_port
 
     scratch = None if args.home else tempfile.TemporaryDirectory(prefix="sg3d-bench-serve-")
     home = Path(scratch.name) if scratch is not None else args.home

@@ -18,9 +18,9 @@ import time
 import numpy as np
 
 from benchmarks.common import scratch_store, synthetic_object
-from graphdb.merge import merge_local_graph
-from core.embedding import default_embedding
-from core.model import LocalGraph
+from sg3d.core.embedding import default_embedding
+from sg3d.core.model import LocalGraph
+from sg3d.graphdb.merge import merge_local_graph
 
 
 def room_name(k: int) -> str:

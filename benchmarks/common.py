@@ -7,7 +7,7 @@ from pathlib import Path
 
 import numpy as np
 
-from core.model import HIST_SIZE, ObjectObservation
+from sg3d.core.model import HIST_SIZE, ObjectObservation
 
 LABELS = ["cup", "bowl", "chair", "dining table", "tv", "bottle", "sink", "couch", "book", "vase"]
 
@@ -15,8 +15,8 @@ LABELS = ["cup", "bowl", "chair", "dining table", "tv", "bottle", "sink", "couch
 @contextmanager
 def scratch_store():
     """A fresh embedded store in a temporary home, stopped afterwards."""
-    from graphdb.embedded import EmbeddedServer
-    from graphdb.store import Store
+    from sg3d.graphdb.embedded import EmbeddedServer
+    from sg3d.graphdb.store import Store
 
     with tempfile.TemporaryDirectory(prefix="sg3d-bench-") as home:
         server = EmbeddedServer(Path(home))

@@ -16,7 +16,7 @@ import re
 from pathlib import Path
 from typing import Callable, Optional
 
-from core.model import RELATION_TYPES
+from sg3d.core.model import RELATION_TYPES
 
 HERE = Path(__file__).resolve().parent
 QUESTIONS = HERE / "questions_kitchen.txt"
@@ -27,7 +27,7 @@ class Graph:
     """The room as the store holds it: objects (with their printed names) and edges."""
 
     def __init__(self, store, room_id: str):
-        from queries.naming import names_in_store
+        from sg3d.queries.naming import names_in_store
 
         self.objects = [dict(r["o"]) for r in store.read("object_all", room=room_id)
                         if r["o"].get("removed_at") is None]
@@ -210,7 +210,7 @@ def load_questions(paraphrases: Optional[Path] = PARAPHRASES) -> list[tuple[str,
 
 
 def run(store, room_id: str, room: str, questions) -> list[dict]:
-    from queries.vqa import answer
+    from sg3d.queries.vqa import answer
 
     g = Graph(store, room_id)
     rows = []
@@ -249,7 +249,7 @@ def main(argv=None) -> int:
     ap.add_argument("--paraphrases", type=Path, default=PARAPHRASES)
     ap.add_argument("--out", type=Path, default=None)
     args = ap.parse_args(argv)
-    from graphdb.values import room_id
+    from sg3d.graphdb.values import room_id
 
     store = Settings.from_options().store()
     rows = run(store, room_id(args.building, args.room), args.room, load_questions(args.paraphrases))

@@ -1,8 +1,8 @@
-"""Run the questions of a ground-truth file through `queries.vqa.answer` and print each verdict.
+"""Run the questions of a ground-truth file through `sg3d.queries.vqa.answer` and print each verdict.
 
     python scripts/eval_questions.py [--gt ../shared/eval/kitchen_gt.json] [--room kitchen] [--all]
 
-The verdicts are `sg3d eval`'s own (`evaluation.vqa.score`, with the node matching, so answers
+The verdicts are `sg3d eval`'s own (`sg3d.evaluation.vqa.score`, with the node matching, so answers
 citing objects are judged too): right, wrong, unsupported (a refusal: never right) or not
 scorable. Only the `sure` questions unless --all.
 """
@@ -25,9 +25,9 @@ def main(argv=None) -> int:
     ap.add_argument("--all", action="store_true", help="also the questions not marked sure")
     args = ap.parse_args(argv)
 
-    from graphdb.values import room_id
-    from evaluation.ground_truth import load_gt
-    from evaluation.evaluate import evaluate
+    from sg3d.evaluation.evaluate import evaluate
+    from sg3d.evaluation.ground_truth import load_gt
+    from sg3d.graphdb.values import room_id
     from sg3d.settings import Settings
 
     gt = load_gt(args.gt)

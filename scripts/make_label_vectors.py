@@ -34,7 +34,7 @@ def words() -> list[str]:
 
 def main() -> int:
     os.environ.setdefault("HF_HUB_OFFLINE", "1")
-    from core.embedding import MiniLMEmbedding, SHIPPED_VECTORS, SHIPPED_WORDS
+    from sg3d.core.embedding import SHIPPED_VECTORS, SHIPPED_WORDS, MiniLMEmbedding
 
     vocab = words()
     vecs = MiniLMEmbedding(cache_dir=None, shipped=False)._encode(vocab)

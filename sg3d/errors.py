@@ -5,7 +5,7 @@ import os
 
 import click
 
-from core.errors import Sg3dError
+from sg3d.core.errors import Sg3dError
 
 
 class UserError(Sg3dError, click.ClickException):
@@ -15,11 +15,17 @@ class UserError(Sg3dError, click.ClickException):
 
 
 def run_cli(group: click.Group) -> int:
-    from neo4j.exceptions import (AuthError, ClientError, CypherSyntaxError, DatabaseError, ServiceUnavailable,
-                                  TransientError)
+    from neo4j.exceptions import (
+        AuthError,
+        ClientError,
+        CypherSyntaxError,
+        DatabaseError,
+        ServiceUnavailable,
+        TransientError,
+    )
 
-    from graphdb.embedded import EmbeddedStoreError
-    from graphdb.store import ReadOnlyStoreError
+    from sg3d.graphdb.embedded import EmbeddedStoreError
+    from sg3d.graphdb.store import ReadOnlyStoreError
 
     try:
         group.main(standalone_mode=False, prog_name="sg3d")
@@ -61,7 +67,7 @@ def run_cli(group: click.Group) -> int:
 def _disk_full():
     """The full-disk line for the embedded store's disk, or None (a commit that failed for lack of
     space reaches the driver only as a transaction error)."""
-    from graphdb.embedded import default_home, disk_full_message, store_dir
+    from sg3d.graphdb.embedded import default_home, disk_full_message, store_dir
 
     try:
         return disk_full_message(store_dir(default_home().resolve()))

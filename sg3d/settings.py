@@ -61,7 +61,7 @@ class Settings:
         return self.uri is None
 
     def embedded_home(self) -> Path:
-        from graphdb.embedded import default_home
+        from sg3d.graphdb.embedded import default_home
 
         return self.home or default_home()
 
@@ -84,14 +84,14 @@ class Settings:
             raise UserError("--read-password needs --read-user")
 
     def _embedded_info(self):
-        from graphdb.embedded import EmbeddedServer
+        from sg3d.graphdb.embedded import EmbeddedServer
 
         return EmbeddedServer(self.embedded_home()).ensure_running()
 
     @functools.cache  # noqa: B019 - one Settings per command: the cache lives as long as it
     def store(self):
         """The writer store for this command (the embedded one is started on demand)."""
-        from graphdb.store import Store
+        from sg3d.graphdb.store import Store
 
         self.check()
         if self.embedded:
@@ -103,7 +103,7 @@ class Settings:
     def reader(self):
         """The read-only store: the embedded reader user, or with --uri the --read-user (else the
         same user, in READ transactions). sg3d's own template writes go to `store()`."""
-        from graphdb.store import Store
+        from sg3d.graphdb.store import Store
 
         self.check()
         if self.embedded:
@@ -123,7 +123,7 @@ def _open_embedded(open_store, settings: Settings, role: str):
     try:
         return open_store()
     except AuthError:
-        from graphdb.embedded import EmbeddedServer
+        from sg3d.graphdb.embedded import EmbeddedServer
 
         users = EmbeddedServer(settings.embedded_home()).users_path
         raise UserError(

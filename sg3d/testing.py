@@ -5,7 +5,12 @@ from __future__ import annotations
 
 import numpy as np
 
-from core.model import HIST_SIZE, LocalGraph, ObjectObservation, RelationObservation
+from sg3d.core.model import (
+    HIST_SIZE,
+    LocalGraph,
+    ObjectObservation,
+    RelationObservation,
+)
 
 
 def hist_of(bins: dict[int, float]) -> np.ndarray:

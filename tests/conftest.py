@@ -29,8 +29,8 @@ def embedded_home(tmp_path_factory) -> Path:
 @pytest.fixture(scope="session")
 def store_session(embedded_home):
     """One real embedded ArcadeDB server for the whole test session, reached over Bolt."""
-    from graphdb.embedded import EmbeddedServer
-    from graphdb.store import Store
+    from sg3d.graphdb.embedded import EmbeddedServer
+    from sg3d.graphdb.store import Store
 
     server = EmbeddedServer(embedded_home)
     info = server.ensure_running()

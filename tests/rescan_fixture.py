@@ -14,8 +14,8 @@ from pathlib import Path
 import cv2
 import numpy as np
 
-from ingest.registration import DepthRegistrar, Registration
-from ingest.relations import horizontal_basis
+from sg3d.core.geometry import horizontal_frame
+from sg3d.ingest.readers.registration import DepthRegistrar, Registration
 
 GROW = 1.5            # the painted box: the object's box grown by this factor ...
 MARGIN_M = 0.04       # ... and this margin on each side (the handle, the box's own error)
@@ -39,7 +39,7 @@ def paint_out(src: Path, dst: Path, centre, size, up) -> list[int]:
     dst.mkdir(parents=True, exist_ok=True)
     K = np.loadtxt(src / "camera-intrinsics.txt").reshape(3, 3)
     reg = Registration.seven_scenes()
-    basis = np.stack(horizontal_basis(np.asarray(up, float)))
+    basis = horizontal_frame(np.asarray(up, float))
     corners = _corners(centre, size, basis)
     support = float(basis[2] @ np.asarray(centre, float)) - float(size[2]) / 2   # the box's bottom
     os.symlink(src / "camera-intrinsics.txt", dst / "camera-intrinsics.txt")

@@ -5,9 +5,9 @@ from __future__ import annotations
 import numpy as np
 from click.testing import CliRunner
 
-from graphdb.merge import merge_local_graph
-from graphdb.values import room_id
 from sg3d.cli import cli
+from sg3d.graphdb.merge import merge_local_graph
+from sg3d.graphdb.values import room_id
 from tests.factories import graph, hist_of, obj
 
 BROWN, GREY = "brown", "grey"

@@ -8,7 +8,7 @@ from pathlib import Path
 import cv2
 import numpy as np
 
-from ingest.readers import quaternion_to_matrix
+from sg3d.ingest.readers import quaternion_to_matrix
 
 W, H = 64, 48
 K = np.array([[60.0, 0, 32.0], [0, 60.0, 24.0], [0, 0, 1]])

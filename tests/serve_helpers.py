@@ -14,7 +14,7 @@ def running_server(settings, token: str, **app_options):
     yields the base URL."""
     import uvicorn
 
-    from graphdb.embedded import free_port
+    from sg3d.graphdb.embedded import free_port
     from sg3d.server.http import create_app
 
     api = create_app(settings, token, **app_options)

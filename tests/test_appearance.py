@@ -4,13 +4,13 @@ from __future__ import annotations
 
 import numpy as np
 
-from graphdb import store as store_module
-from graphdb.export import fetch_graph
-from graphdb.merge import merge_local_graph
-from graphdb.merge_plan import _new_props
-from graphdb.values import pack_hist, room_id, unpack_hist
-from core.model import ScanInfo
-from queries.vqa import answer
+from sg3d.core.model import ScanInfo
+from sg3d.graphdb import store as store_module
+from sg3d.graphdb.export import fetch_graph
+from sg3d.graphdb.merge import merge_local_graph
+from sg3d.graphdb.merge_plan import _new_props
+from sg3d.graphdb.values import pack_hist, room_id, unpack_hist
+from sg3d.queries.vqa import answer
 from tests.factories import graph, hist_of, obj
 
 ROOM = room_id("home", "kitchen")

@@ -1,4 +1,4 @@
-"""Compositional questions (queries/grammar.py -> queries/compose.py) on a real store holding
+"""Compositional questions (sg3d/queries/grammar.py -> sg3d/queries/compose.py) on a real store holding
 hand-made rooms merged through the real merge: unnamed objects, structure, second colours,
 distances, negation, comparisons, rooms, names printed by `ask` asked back, typos, refusals."""
 from __future__ import annotations
@@ -8,9 +8,9 @@ import json
 import pytest
 from click.testing import CliRunner
 
-from graphdb.merge import merge_local_graph
-from graphdb.values import room_id
-from queries.vqa import answer
+from sg3d.graphdb.merge import merge_local_graph
+from sg3d.graphdb.values import room_id
+from sg3d.queries.vqa import answer
 from tests.factories import graph, obj
 
 
@@ -246,8 +246,8 @@ def test_phrasings_read_as_the_plain_question(store, flat, question, same_as):
 
 
 def test_common_words_are_not_read_as_typos():
-    from queries.phrasing import fix_typos, tidy
-    from queries.compose import typo_vocabulary
+    from sg3d.queries.compose import typo_vocabulary
+    from sg3d.queries.phrasing import fix_typos, tidy
 
     text, notes = fix_typos(tidy("how many mugs with a white glaze are there").text, typo_vocabulary())
     assert notes == [] and "with" in text.split()
@@ -266,7 +266,7 @@ def test_common_words_are_not_read_as_typos():
     ("how many cups are between 50 cm and 1 m from the sink", (0.5, 1.0)),
 ])
 def test_the_grammar_reads_distances_with_units(text, band):
-    from queries.grammar import read
+    from sg3d.queries.grammar import read
 
     form = read(text)
     (f,) = form.filters
@@ -276,7 +276,7 @@ def test_the_grammar_reads_distances_with_units(text, band):
 
 
 def test_the_grammar_reads_negation_conjunction_and_nesting():
-    from queries.grammar import read
+    from sg3d.queries.grammar import read
 
     form = read("how many chairs are not near the tv or the sink and next to the table")
     assert form.op == "count" and [f.negated for f in form.filters] == [True, False]

@@ -3,7 +3,6 @@ paraphrases (benchmarks/paraphrases_kitchen.txt) on the real kitchen, built fres
 an oracle over the built graph (benchmarks/questions_kitchen.py)."""
 from __future__ import annotations
 
-
 import pytest
 
 from benchmarks.questions_kitchen import load_questions, run
@@ -12,8 +11,8 @@ from tests.cli_helpers import sg3d
 
 @pytest.fixture(scope="module")
 def kitchen_store(tmp_path_factory, kitchen_dir):
-    from graphdb.embedded import EmbeddedServer
-    from graphdb.store import Store
+    from sg3d.graphdb.embedded import EmbeddedServer
+    from sg3d.graphdb.store import Store
 
     home = tmp_path_factory.mktemp("ask-kitchen")
     out = sg3d(home, "build", kitchen_dir, "--room", "kitchen")

@@ -12,8 +12,8 @@ import pytest
 from click.testing import CliRunner
 
 from benchmarks.common import CountingStore
-from queries.naming import object_names
-from queries.vqa import answer
+from sg3d.queries.naming import object_names
+from sg3d.queries.vqa import answer
 from tests.scenes import StoreSettings
 
 ID = re.compile(r"\bo-[0-9a-f]{6,}")
@@ -195,8 +195,8 @@ def test_printed_answers_contain_no_ids(store, house, question, tmp_path):
 
 
 def test_ask_plan_show_and_export_use_the_same_names(store, house, embedded_home):
+    from sg3d.app.scene import fetch_scene
     from sg3d.cli import cli
-    from app.scene import fetch_scene
 
     asked = {p["id"]: p["name"] for p in ask(store, "what is on the table?", room="kitchen").provenance}
     r = CliRunner().invoke(cli, ["--home", str(embedded_home), "export", "--building", "home", "--room", "kitchen"])

@@ -11,7 +11,7 @@ import pytest
 
 pytest.importorskip("rosbags", reason="rosbags (PyPI) is needed to write and read ROS bags")
 
-from ingest.readers import SequenceError, open_sequence  # noqa: E402
+from sg3d.ingest.readers import SequenceError, open_sequence  # noqa: E402
 from tests.bagwriter import frames_from, write_bag  # noqa: E402
 from tests.cli_helpers import sg3d_env
 
@@ -127,7 +127,7 @@ def test_bad_bags_are_one_line_and_exit_2(tmp_path, frames):
 
 @pytest.fixture(scope="module")
 def home(tmp_path_factory):
-    from graphdb.embedded import EmbeddedServer
+    from sg3d.graphdb.embedded import EmbeddedServer
 
     home = tmp_path_factory.mktemp("bags-home")
     yield home

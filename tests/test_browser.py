@@ -13,7 +13,8 @@ import cv2
 import numpy as np
 import pytest
 
-from tests.scenes import build_show_room as build, run_show as show
+from tests.scenes import build_show_room as build
+from tests.scenes import run_show as show
 
 WINDOW = (1400, 900)
 # Before the page's own scripts: console.error and uncaught errors get a marker we look for.

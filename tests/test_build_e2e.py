@@ -8,12 +8,13 @@ import sys
 import xml.etree.ElementTree as ET
 
 import pytest
+
 from tests.cli_helpers import sg3d, sg3d_env
 
 
 @pytest.fixture(scope="module")
 def home(tmp_path_factory):
-    from graphdb.embedded import EmbeddedServer
+    from sg3d.graphdb.embedded import EmbeddedServer
 
     home = tmp_path_factory.mktemp("build-home")
     yield home
@@ -78,8 +79,8 @@ def test_kill_during_build_then_resume_equals_a_clean_build(home, kitchen_dir):
     import signal
     import time
 
-    from graphdb.embedded import EmbeddedServer
-    from graphdb.store import Store
+    from sg3d.graphdb.embedded import EmbeddedServer
+    from sg3d.graphdb.store import Store
 
     args = [str(kitchen_dir), "--building", "test", "--start", "0", "--stop", "300",
             "--chunk-frames", "60", "--json"]
@@ -158,7 +159,7 @@ def test_two_concurrent_builds_of_one_new_room_equal_one_build(home, kitchen_dir
 @pytest.mark.parametrize("method", ["2d-basic", "3d-basic"])
 def test_frame_selection_options_with_a_basic_preset_are_one_clear_error(tmp_path, kitchen_dir, method):
     """The basic presets run neither ABIR nor KGE: tuning them would silently do nothing."""
-    from graphdb.embedded import EmbeddedServer
+    from sg3d.graphdb.embedded import EmbeddedServer
 
     home = tmp_path / "home"
     for option in (["--abir-gain", "5"], ["--t-key", "0.3"], ["--t-anchor", "0.8"]):
@@ -192,7 +193,7 @@ def test_recognizer_option_reaches_the_build(home, kitchen_dir, tmp_path):
         out = sg3d(bare, "build", *args, "--room", "recognized", "--recognizer", "efficientnet")
         assert out.returncode == 2 and len(out.stderr.strip().splitlines()) == 1, out.stderr
         assert "ai-edge-litert" in out.stderr
-        from graphdb.embedded import EmbeddedServer
+        from sg3d.graphdb.embedded import EmbeddedServer
 
         assert EmbeddedServer(bare).daemon_pids() == []
         pytest.skip("ai-edge-litert not installed (pip install -e '.[recognize]'): only its refusal was checked")

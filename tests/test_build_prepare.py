@@ -1,4 +1,4 @@
-"""A build's checks before the store starts (`app.build.prepare`): each refusal one BuildError,
+"""A build's checks before the store starts (`sg3d.app.build.prepare`): each refusal one BuildError,
 the detector built once and handed on (no store, no frames read)."""
 from __future__ import annotations
 
@@ -6,8 +6,8 @@ from pathlib import Path
 
 import pytest
 
-from app.build import BuildError, BuildRequest, BuildSummary, prepare
-from ingest.pipeline import METHODS, Settings
+from sg3d.app.build import BuildError, BuildRequest, BuildSummary, prepare
+from sg3d.ingest.pipeline import METHODS, Settings
 
 REQUEST = BuildRequest(sequence=Path("unused-sequence"), room="kitchen")
 

@@ -13,7 +13,7 @@ REPO = Path(__file__).resolve().parents[1]
 
 
 def test_shipped_vectors_cover_the_vocabulary_and_are_unit_vectors():
-    from core.embedding import shipped_vectors
+    from sg3d.core.embedding import shipped_vectors
     sys.path.insert(0, str(REPO / "scripts"))
     from make_label_vectors import words
 
@@ -25,7 +25,7 @@ def test_shipped_vectors_cover_the_vocabulary_and_are_unit_vectors():
 
 def test_a_household_word_outside_the_categories_needs_no_torch(tmp_path):
     code = ("import sys\n"
-            "from queries.lexicon import resolve\n"
+            "from sg3d.queries.lexicon import resolve\n"
             "for w in ('plates', 'kettles', 'coffee tables', 'armchairs', 'cupboard'):\n"
             "    t, why = resolve(w)\n"
             "    assert t is not None, why\n"
@@ -38,7 +38,7 @@ def test_a_household_word_outside_the_categories_needs_no_torch(tmp_path):
 
 
 def test_the_label_cache_survives_labels_named_like_savez_arguments(tmp_path):
-    from core.embedding import _DiskCachedEmbedding
+    from sg3d.core.embedding import _DiskCachedEmbedding
 
     class Fixed(_DiskCachedEmbedding):
         name = "fixed"
@@ -58,7 +58,7 @@ def test_the_label_cache_lives_in_sg3d_home(tmp_path):
 
     env = {k: v for k, v in os.environ.items() if k not in ("SG3D_CACHE",)}
     env["SG3D_HOME"] = str(tmp_path)
-    out = subprocess.run([sys.executable, "-c", "from core.embedding import default_embedding as d; "
+    out = subprocess.run([sys.executable, "-c", "from sg3d.core.embedding import default_embedding as d; "
                                                 "print(d()._cache_file)"],
                          capture_output=True, text=True, env=env, cwd=str(Path(__file__).resolve().parents[1]))
     assert out.returncode == 0, out.stderr

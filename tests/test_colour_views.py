@@ -7,13 +7,13 @@ import os
 import numpy as np
 import pytest
 
-from graphdb.merge import merge_local_graph
-from graphdb.values import room_id
-from ingest import fusion
-from ingest.attributes import ObjectAttributes, object_colour
-from ingest.colour import ColourReading
-from ingest.detect import Detection
-from core.model import COLOUR_NAMES, HIST_SIZE, LocalGraph
+from sg3d.core.model import COLOUR_NAMES, HIST_SIZE, LocalGraph
+from sg3d.graphdb.merge import merge_local_graph
+from sg3d.graphdb.values import room_id
+from sg3d.ingest.detect.models import Detection
+from sg3d.ingest.objects import fusion
+from sg3d.ingest.objects.attributes import ObjectAttributes, object_colour
+from sg3d.ingest.objects.colour import ColourReading
 from tests.conftest import SHARED
 
 LIVING = SHARED / "data" / "open3d-livingroom1-micro"
@@ -69,7 +69,7 @@ def living_frame():
         if os.environ.get("CI", "").lower() == "true":
             pytest.fail("living-room data not found at ../shared/data/open3d-livingroom1-micro in CI")
         pytest.skip("living-room data not found at ../shared/data/open3d-livingroom1-micro (set SG3D_SHARED)")
-    from ingest.readers import open_sequence
+    from sg3d.ingest.readers import open_sequence
     return open_sequence(LIVING).frame(60).load()
 
 
@@ -104,8 +104,8 @@ def test_the_living_rooms_unnamed_vase_is_white_in_a_default_build(store):
     the TV and the cabinet (the detector's "dining table") as a person sees them in frame 60."""
     if not (LIVING / "trajectory.log").exists():
         pytest.skip("living-room data not found at ../shared/data/open3d-livingroom1-micro (set SG3D_SHARED)")
-    from app.build import BuildRequest, build_room
-    from ingest.pipeline import Settings
+    from sg3d.app.build import BuildRequest, build_room
+    from sg3d.ingest.pipeline import Settings
 
     build_room(store, BuildRequest(sequence=LIVING, room="living", building="flat"), Settings())
     objects = [r["o"] for r in store.read("object_all", room=room_id("flat", "living"))]
@@ -117,7 +117,7 @@ def test_the_living_rooms_unnamed_vase_is_white_in_a_default_build(store):
 
 @pytest.fixture(scope="module")
 def kitchen(kitchen_dir):
-    from ingest.readers import open_sequence
+    from sg3d.ingest.readers import open_sequence
     return open_sequence(kitchen_dir)
 
 
@@ -128,8 +128,8 @@ def test_a_white_cup_in_shade_on_the_kitchen_table_is_white(kitchen):
 
 
 def test_a_cup_lit_warm_by_the_table_is_white_under_the_light_of_its_surround(kitchen):
-    from ingest import colour
-    from ingest.attributes import clip_box, colour_pixels
+    from sg3d.ingest.objects import colour
+    from sg3d.ingest.objects.attributes import clip_box, colour_pixels
     frame = kitchen.frame(295).load()
     box = (492, 295, 535, 349)                                # the cup with red flowers
     reading, _ = object_colour(frame, box, "cup")

@@ -5,7 +5,8 @@ import cv2
 import numpy as np
 import pytest
 
-from ingest.detect import (
+from sg3d.ingest.detect.choice import make_detector
+from sg3d.ingest.detect.models import (
     COCO_LABELS_FILE,
     Detection,
     OnnxDetector,
@@ -14,7 +15,6 @@ from ingest.detect import (
     detections_from_candidates,
     load_label_map,
 )
-from ingest.detectors import make_detector
 
 
 def test_label_map_has_80_classes_with_tf_zoo_ids():
@@ -128,7 +128,7 @@ def test_real_ssd_on_blank_image_finds_nothing_confident(ssd):
 # --------------------------------------------------------------------------- recognition
 
 def test_classifier_evidence_promotes_and_enriches_but_never_demotes():
-    from ingest.recognize import fuse_with_classifier
+    from sg3d.ingest.detect.recognize import fuse_with_classifier
 
     d = Detection((0, 0, 10, 10), ["bowl", "cup"], [0.30, 0.24])
     fused = fuse_with_classifier(d, [("coffee mug", 0.5), ("cup", 0.3), ("espresso", 0.1)], weight=0.5)
@@ -143,7 +143,11 @@ def test_classifier_evidence_promotes_and_enriches_but_never_demotes():
 
 def test_real_recognizer_on_a_kitchen_crop(ssd, kitchen_dir):
     pytest.importorskip("ai_edge_litert")
-    from ingest.recognize import EfficientNetRecognizer, RecognizingDetector, crop
+    from sg3d.ingest.detect.recognize import (
+        EfficientNetRecognizer,
+        RecognizingDetector,
+        crop,
+    )
 
     image = cv2.imread(str(kitchen_dir / "frame-000000.color.jpg"))
     table = next(d for d in ssd.detect(image) if d.label == "dining table")
@@ -184,7 +188,7 @@ def _write_constant_onnx_detector(folder, size=(640, 640)):
 
 
 def test_onnx_plugin_runs_a_real_model_on_a_kitchen_frame(tmp_path, kitchen_dir):
-    from ingest.detectors import detector_for
+    from sg3d.ingest.detect.choice import detector_for
 
     image = cv2.imread(str(kitchen_dir / "frame-000000.color.jpg"))
     h, w = image.shape[:2]
@@ -207,7 +211,7 @@ def test_onnx_plugin_runs_a_real_model_on_a_kitchen_frame(tmp_path, kitchen_dir)
 
 
 def test_named_by_full_frame_needs_its_label_its_place_and_the_threshold():
-    from ingest.detect import named_by_full_frame
+    from sg3d.ingest.detect.models import named_by_full_frame
 
     labels = load_label_map()
     chair_id = next(k for k, v in labels.items() if v == "chair")
@@ -221,7 +225,7 @@ def test_named_by_full_frame_needs_its_label_its_place_and_the_threshold():
 
 
 def test_tiles_flag_what_only_they_named_on_a_real_frame(ssd, kitchen_dir):
-    from ingest.detect import TiledDetector
+    from sg3d.ingest.detect.models import TiledDetector
 
     image = cv2.imread(str(kitchen_dir / "frame-000000.color.jpg"))
     plain = ssd.detect(image)

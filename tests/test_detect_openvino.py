@@ -10,10 +10,20 @@ import cv2
 import numpy as np
 import pytest
 
-from ingest.detect import SSD_MODEL_FILE, SsdMobilenetDetector, packaged_model_dir
-from ingest.detect_openvino import (MANIFEST, OpenVinoSsdDetector, _read_cached, converted_model,
-                                    greedy_nms_per_class, ssd_detection_output)
-from ingest.detectors import RUNTIME_ENV, detector_for, ssd_runtime
+from sg3d.ingest.detect.choice import RUNTIME_ENV, detector_for, ssd_runtime
+from sg3d.ingest.detect.models import (
+    SSD_MODEL_FILE,
+    SsdMobilenetDetector,
+    packaged_model_dir,
+)
+from sg3d.ingest.detect.openvino import (
+    MANIFEST,
+    OpenVinoSsdDetector,
+    _read_cached,
+    converted_model,
+    greedy_nms_per_class,
+    ssd_detection_output,
+)
 
 
 def _scores(rows: dict[int, dict[int, float]], anchors: int, classes: int = 4) -> np.ndarray:

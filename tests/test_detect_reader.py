@@ -7,10 +7,10 @@ import time
 import numpy as np
 import pytest
 
-import ingest.selection as selection
-from ingest.frames import FrameError, decoded_ahead
-from ingest.pipeline import PipelineStats, Settings, _select
-from ingest.readers import open_sequence
+import sg3d.ingest.select.selection as selection
+from sg3d.ingest.readers import open_sequence
+from sg3d.ingest.readers.frames import FrameError, decoded_ahead
+from sg3d.ingest.select.selection import choose_detected_frames
 
 
 @pytest.fixture(scope="module")
@@ -58,7 +58,7 @@ def test_a_consumer_that_stops_early_leaves_no_thread_behind(short_kitchen):
 
 def test_the_kitchen_build_chooses_the_same_frames_with_and_without_the_reader(kitchen_dir, monkeypatch):
     seq = open_sequence(kitchen_dir)
-    ahead = _select(seq, 0, 300, Settings(), PipelineStats(), None)
+    ahead = choose_detected_frames(seq, 0, 300).detected
     monkeypatch.setattr(selection, "decoded_ahead", lambda frames, what, ahead=4: frames)
-    plain = _select(seq, 0, 300, Settings(), PipelineStats(), None)
+    plain = choose_detected_frames(seq, 0, 300).detected
     assert ahead == plain and len(ahead) >= 20

@@ -8,17 +8,17 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from ingest import discovery
-from ingest.existence import View
-from core.model import ObjectObservation
-from ingest.room_cloud import room_cloud
-from ingest.segments import room_segments
-from ingest.structure import Element, room_structure, surface_name
+from sg3d.core.model import ObjectObservation
+from sg3d.ingest.discover import discovery
+from sg3d.ingest.discover.room_cloud import room_cloud
+from sg3d.ingest.discover.segments import room_segments
+from sg3d.ingest.discover.structure import Element, room_structure, surface_name
+from sg3d.ingest.objects.existence import View
 
 
 def _views(kitchen_dir, indices):
-    from ingest.gravity import estimate_gravity, sample_frames
-    from ingest.readers import open_sequence
+    from sg3d.ingest.poses.gravity import estimate_gravity, sample_frames
+    from sg3d.ingest.readers import open_sequence
 
     seq = open_sequence(kitchen_dir)
     gravity = estimate_gravity(sample_frames(seq, 20))
@@ -105,7 +105,7 @@ def test_a_table_box_reaches_the_floor_and_ends_at_its_own_top():
 
 
 def test_flat_pieces_on_the_floor_are_floor_and_a_box_on_it_is_not():
-    from ingest.segments import Segment
+    from sg3d.ingest.discover.segments import Segment
 
     def seg(lo, hi):
         return Segment(np.zeros((12, 3)), np.array(lo, float), np.array(hi, float), np.arange(6))
@@ -121,7 +121,7 @@ def _voxel_block(lo, hi, step=0.025):
 
 
 def test_two_things_touching_at_a_neck_come_apart_and_one_thing_stays_whole():
-    from ingest.segments import VOXEL_M, Segment, split_at_necks
+    from sg3d.ingest.discover.segments import VOXEL_M, Segment, split_at_necks
 
     def seg(vox):
         return Segment(vox, vox.min(axis=0) - VOXEL_M / 2, vox.max(axis=0) + VOXEL_M / 2, np.arange(6))
@@ -139,7 +139,7 @@ def test_two_things_touching_at_a_neck_come_apart_and_one_thing_stays_whole():
 
 
 def test_a_segment_rests_on_the_surface_under_it_only():
-    from ingest.segments import Segment
+    from sg3d.ingest.discover.segments import Segment
 
     top = Element("surface", np.array([0.0, 0.0, 0.70]), np.array([1.0, 1.0, 0.72]), 500, 10, height=0.72,
                   footprint=np.ones((20, 20), bool), origin=np.array([0.0, 0.0]))
@@ -175,7 +175,7 @@ def test_structure_merges_where_boxes_overlap_and_never_with_objects(store):
     """Two scans of a room with a wall and a cabinet front 0.4 m before it and a floor, the second
     seeing only the wall: the two stay two (one wall's view does not fold the other in), the floor
     is one, and a shelf-top surface never absorbs the book lying on it."""
-    from graphdb.merge import merge_local_graph
+    from sg3d.graphdb.merge import merge_local_graph
     from tests.factories import graph, obj
 
     def scan(key, dx, both=True):

@@ -6,11 +6,13 @@ import json
 import pytest
 from click.testing import CliRunner
 
-from graphdb.values import room_id
-from evaluation.ground_truth import coco_class, parse_gt, relation_type
-from evaluation.matching import Node, match
-from evaluation.evaluate import evaluate
-from tests.scenes import EVAL_BUILDING as BUILDING, EVAL_GT as GT, EVAL_ROOM as ROOM
+from sg3d.evaluation.evaluate import evaluate
+from sg3d.evaluation.ground_truth import coco_class, parse_gt, relation_type
+from sg3d.evaluation.matching import Node, match
+from sg3d.graphdb.values import room_id
+from tests.scenes import EVAL_BUILDING as BUILDING
+from tests.scenes import EVAL_GT as GT
+from tests.scenes import EVAL_ROOM as ROOM
 from tests.scenes import build_eval_room as build_room
 
 COCO = {"cup", "chair", "dining table", "book", "tv", "mouse", "wine glass", "remote"}
@@ -28,9 +30,9 @@ def test_hedged_coco_categories_and_english_predicates_are_normalised():
 
 
 def test_edges_read_symmetric_relations_both_ways_and_skip_viewpoint_gt():
-    from evaluation.edges import edge_metrics
-    from evaluation.ground_truth import GTRelation
-    from evaluation.matching import Matching
+    from sg3d.evaluation.edges import edge_metrics
+    from sg3d.evaluation.ground_truth import GTRelation
+    from sg3d.evaluation.matching import Matching
 
     m = Matching(pairs=[("n1", "A", 0.0), ("n2", "B", 0.0), ("n3", "C", 0.0)], spurious=[], duplicates=[], missing=[])
     gt = [GTRelation("B", "next to", "A", "NEXT_TO"), GTRelation("C", "on", "A", "ON"),
@@ -117,7 +119,7 @@ def test_a_symmetric_gt_relation_is_found_in_either_direction(store):
 
 
 def test_without_vqa_module_every_question_is_unsupported(store, monkeypatch):
-    import evaluation.vqa as eval_vqa
+    import sg3d.evaluation.vqa as eval_vqa
 
     build_room(store)
     monkeypatch.setattr(eval_vqa, "load_answerer", lambda: None)
@@ -159,9 +161,9 @@ def test_cli_unknown_room_and_bad_gt_are_one_line_errors(store, embedded_home, t
 
 
 def test_eval_scores_the_real_vqa_answers(store):
-    """The real `queries.vqa.answer` (an Answer object): counts and yes/no are scored, refusals
+    """The real `sg3d.queries.vqa.answer` (an Answer object): counts and yes/no are scored, refusals
     are listed as unsupported, never as right."""
-    from queries.vqa import answer
+    from sg3d.queries.vqa import answer
 
     build_room(store)
     gt = parse_gt(GT, COCO)
@@ -173,7 +175,7 @@ def test_eval_scores_the_real_vqa_answers(store):
 
 
 def test_eval_reads_labels_with_the_vocabulary_of_ask_and_plan():
-    from evaluation.evaluate import category_matcher
+    from sg3d.evaluation.evaluate import category_matcher
 
     same = category_matcher()
     assert same("cup", "cup") and same("Dining  Table", "dining table")

@@ -9,9 +9,9 @@ import pytest
 from click.testing import CliRunner
 from scipy.spatial.transform import Rotation
 
-from ingest.pipeline import PipelineStats, Settings, _select
-from ingest.readers import open_sequence
 from sg3d.cli import cli
+from sg3d.ingest.readers import open_sequence
+from sg3d.ingest.select.selection import choose_detected_frames
 from tests.conftest import SHARED
 
 LIVING = SHARED / "data" / "open3d-livingroom1-micro"
@@ -25,7 +25,7 @@ def living() -> str:
 
 
 def _detected(seq) -> set[int]:
-    return set(_select(seq, 0, len(seq), Settings(), PipelineStats(), None))
+    return set(choose_detected_frames(seq).detected)
 
 
 def _turned(seq, degrees: float, seed: int) -> dict[int, np.ndarray]:

@@ -7,7 +7,9 @@ import cv2
 from click.testing import CliRunner
 
 from sg3d.cli import cli
-from tests.sequences import WALK_W as W, write_7scenes, write_walk
+from tests.sequences import WALK_W as W
+from tests.sequences import write_7scenes, write_walk
+
 
 def test_frames_json_reports_counts(tmp_path):
     seq = write_walk(tmp_path / "walk")

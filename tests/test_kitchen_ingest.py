@@ -6,12 +6,12 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from ingest import existence, fusion
-from ingest.attributes import world_points
-from ingest.detect import Detection
-from ingest.gravity import estimate_gravity, estimate_up, sample_frames
-from ingest.readers import open_sequence
-from ingest.selection import select_frames
+from sg3d.ingest.detect.models import Detection
+from sg3d.ingest.objects import existence, fusion
+from sg3d.ingest.objects.attributes import world_points
+from sg3d.ingest.poses.gravity import estimate_gravity, estimate_up, sample_frames
+from sg3d.ingest.readers import open_sequence
+from sg3d.ingest.select.selection import select_frames
 
 
 def test_kitchen_opens_with_its_intrinsics(kitchen_dir):
@@ -62,7 +62,7 @@ def test_up_is_perpendicular_to_the_kitchen_table(kitchen_dir):
 @pytest.fixture(scope="module")
 def kitchen_views(kitchen_dir):
     """Twelve real frames of the kitchen's first second (the table and chairs in view)."""
-    from ingest.readers import open_sequence
+    from sg3d.ingest.readers import open_sequence
 
     seq = open_sequence(kitchen_dir)
     return [seq.frame(i) for i in range(0, 120, 10)]
@@ -87,9 +87,9 @@ def test_visibility_on_real_frames_sees_inside_and_knows_occlusion(kitchen_views
 
 
 def test_existence_keeps_what_the_detector_keeps_finding_and_rejects_a_made_up_detection(kitchen_views):
-    from ingest.attributes import measure_object
-    from ingest.detect import SsdMobilenetDetector
-    from ingest.gravity import estimate_gravity
+    from sg3d.ingest.detect.models import SsdMobilenetDetector
+    from sg3d.ingest.objects.attributes import measure_object
+    from sg3d.ingest.poses.gravity import estimate_gravity
 
     up = estimate_gravity(kitchen_views).up
     detector = SsdMobilenetDetector()

@@ -15,8 +15,8 @@ import numpy as np
 import pytest
 from click.testing import CliRunner
 
-from tests.serve_helpers import kitchen_body
 from tests.cli_helpers import sg3d_env
+from tests.serve_helpers import kitchen_body
 
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
@@ -28,7 +28,7 @@ def _jpeg() -> str:
 
 @pytest.fixture
 def two_rooms(store):
-    from app.ingest import IngestRequest, ingest_graph
+    from sg3d.app.ingest import IngestRequest, ingest_graph
 
     kitchen = kitchen_body("k-1", room="kitchen")
     for o in kitchen["graph"]["objects"]:
@@ -65,7 +65,7 @@ def test_rooms_delete_removes_one_room_only(two_rooms, embedded_home):
     missing = _cli(embedded_home, "rooms", "--building", "home", "delete", "kitchen", "--yes")
     assert missing.exit_code == 2 and "no room" in missing.output
 
-    from app.ingest import IngestRequest, ingest_graph
+    from sg3d.app.ingest import IngestRequest, ingest_graph
 
     again = ingest_graph(store, IngestRequest.model_validate(kitchen_body("k-1", room="kitchen")))
     assert again["created"] == 10                      # its merge log went with it

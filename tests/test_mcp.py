@@ -8,8 +8,13 @@ import sys
 import anyio
 import pytest
 
-from app.errors import Refused
-from app.graph import explain_writes, read_only_cypher, run_rolled_back, write_words
+from sg3d.app.errors import Refused
+from sg3d.app.graph import (
+    explain_writes,
+    read_only_cypher,
+    run_rolled_back,
+    write_words,
+)
 from tests.serve_helpers import kitchen_body
 
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -18,7 +23,7 @@ TOOLS = {"ask", "plan", "list_rooms", "list_objects", "cypher", "graph_schema"}
 
 @pytest.fixture
 def kitchen(store):
-    from app.ingest import IngestRequest, ingest_graph
+    from sg3d.app.ingest import IngestRequest, ingest_graph
 
     ingest_graph(store, IngestRequest.model_validate(kitchen_body()))
     return store

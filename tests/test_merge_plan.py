@@ -1,15 +1,20 @@
 """The merge's decisions without a store: hand-made local graphs against hand-made stored nodes
-(the rows cypher/merge_candidates returns), planned by `graphdb.merge_plan.plan_merge`."""
+(the rows cypher/merge_candidates returns), planned by `sg3d.graphdb.merge_plan.plan_merge`."""
 from __future__ import annotations
 
 import numpy as np
 import pytest
 
-from graphdb.merge_plan import _new_props, gravity_basis, plan_merge, position_scores
-from graphdb.similarity import SimilarityParams
-from graphdb.values import unpack_hist
-from core.embedding import shipped_vectors
-from core.model import ScanInfo
+from sg3d.core.embedding import shipped_vectors
+from sg3d.core.model import ScanInfo
+from sg3d.graphdb.merge_plan import (
+    _new_props,
+    gravity_basis,
+    plan_merge,
+    position_scores,
+)
+from sg3d.graphdb.similarity import SimilarityParams
+from sg3d.graphdb.values import unpack_hist
 from tests.factories import graph, hist_of, obj
 
 ROOM = "home/kitchen"

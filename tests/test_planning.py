@@ -7,10 +7,16 @@ import os
 import pytest
 from click.testing import CliRunner
 
-from graphdb.merge import merge_local_graph
-from queries.planning import (InvalidPlan, PlanningError, build_problem, load_domain, plan_task,
-                              simulate)
-from queries.planning.pipeline import write_files
+from sg3d.graphdb.merge import merge_local_graph
+from sg3d.queries.planning import (
+    InvalidPlan,
+    PlanningError,
+    build_problem,
+    load_domain,
+    plan_task,
+    simulate,
+)
+from sg3d.queries.planning.pipeline import write_files
 from sg3d.testing import KITCHEN_RELATIONS, kitchen_objects
 from tests.factories import graph, hist_of, obj
 
@@ -39,7 +45,7 @@ def test_generated_problem_parses_and_names_objects_by_label_and_position(kitche
         "robot", "dining_table", "white_cup", "red_cup", "blue_cup", "bowl", "sink", "microwave", "bottle", "chair"}
     ids = problem.node_ids()
     by_id = {r["id"]: r for r in kitchen.read("plan_objects", room=ROOM)}
-    # the names ask and show print (queries/naming.py): colour where it tells cups apart
+    # the names ask and show print (sg3d/queries/naming.py): colour where it tells cups apart
     assert [by_id[ids[n]]["x"] for n in ("white_cup", "red_cup", "blue_cup")] == pytest.approx([-0.3, 0.0, 0.3])
     init = set(problem.init)
     assert ("at", "robot", "dining_table") in init and ("in", "bottle", "microwave") in init
@@ -74,7 +80,7 @@ def test_templates_synonyms_and_doors(kitchen, tmp_path):
 
 
 def test_planning_reads_words_with_the_one_vocabulary_of_ask(kitchen, tmp_path):
-    from queries.lexicon import known
+    from sg3d.queries.lexicon import known
 
     # a counter is not a dining table: no COCO class covers it (the kitchen GT says so too)
     assert known("counter") is None
@@ -194,7 +200,7 @@ def test_clean_up_moves_books_to_another_table_and_says_why(store, tmp_path):
 
 @pytest.fixture
 def fast_downward():
-    from queries.planning import fast_downward_available
+    from sg3d.queries.planning import fast_downward_available
 
     if not fast_downward_available():
         if os.environ.get("CI", "").lower() == "true":   # .ci/run installs the planners extra

@@ -8,8 +8,8 @@ import warnings
 import numpy as np
 import pytest
 
-from ingest.pose_check import pose_problem, rigid
-from ingest.readers import SequenceError, open_sequence
+from sg3d.ingest.readers import SequenceError, open_sequence
+from sg3d.ingest.readers.pose_check import pose_problem, rigid
 from tests.cli_helpers import sg3d
 
 

@@ -10,9 +10,15 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-from ingest.poses.sequence import estimate_sequence_poses
-from ingest.poses.trajectory import align_trajectory, ate_rmse, interpolate_poses, read_tum, write_tum
-from ingest.readers import SequenceError, open_sequence
+from sg3d.ingest.poses.sequence import estimate_sequence_poses
+from sg3d.ingest.poses.trajectory import (
+    align_trajectory,
+    ate_rmse,
+    interpolate_poses,
+    read_tum,
+    write_tum,
+)
+from sg3d.ingest.readers import SequenceError, open_sequence
 from tests.cli_helpers import sg3d
 
 
@@ -169,14 +175,14 @@ def test_plain_folder_names_every_missing_piece(tmp_path):
 
 
 def test_trajectory_out_needs_estimated_poses(kitchen_dir, tmp_path):
-    from app.build import BuildError, BuildRequest, place_cameras
+    from sg3d.app.build import BuildError, BuildRequest, place_cameras
 
     seq = open_sequence(kitchen_dir)
     req = BuildRequest(kitchen_dir, "k", trajectory_out=tmp_path / "t.txt")
     with pytest.raises(BuildError, match="--estimate-poses"):
         place_cameras(seq, req, len(seq))
     assert place_cameras(seq, BuildRequest(kitchen_dir, "k"), len(seq)) == {"source": "given"}
-    from app.build import validate
+    from sg3d.app.build import validate
 
     with pytest.raises(BuildError, match="no such folder"):
         validate(BuildRequest(kitchen_dir, "k", trajectory_out=tmp_path / "absent" / "t.txt"))
@@ -218,8 +224,8 @@ def test_bag_missing_pieces_are_named_at_once(kitchen_dir, tmp_path):
 
 
 def test_estimate_poses_replaces_given_ones_and_the_summary_says_so(kitchen_dir):
-    from ingest.poses.sequence import estimate_summary
     from sg3d.commands.build import _poses_text
+    from sg3d.ingest.poses.sequence import estimate_summary
 
     seq = open_sequence(kitchen_dir)
     given = seq.frame(100, lazy=True).pose
@@ -227,7 +233,7 @@ def test_estimate_poses_replaces_given_ones_and_the_summary_says_so(kitchen_dir)
     assert set(est.poses) == set(range(60, 160))
     np.testing.assert_allclose(seq.frame(100, lazy=True).pose, est.poses[100])
     assert np.abs(seq.frame(100, lazy=True).pose - given).max() > 0.01   # another world frame
-    from ingest.gravity import sample_frames
+    from sg3d.ingest.poses.gravity import sample_frames
 
     assert len(sample_frames(seq, 20, 60, 160)) == 20 and seq.skipped == []   # gravity stays in the range
     summary = estimate_summary(seq, est, "t.txt")

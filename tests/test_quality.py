@@ -11,8 +11,8 @@ import json
 
 import pytest
 
-from tests.conftest import SHARED
 from tests.cli_helpers import sg3d
+from tests.conftest import SHARED
 
 GT = SHARED / "eval" / "kitchen_gt.json"
 LIVING = SHARED / "data" / "open3d-livingroom1-micro"
@@ -33,7 +33,7 @@ MIN_OBJECT_PRECISION = 0.85
 
 @pytest.fixture(scope="module")
 def home(tmp_path_factory):
-    from graphdb.embedded import EmbeddedServer
+    from sg3d.graphdb.embedded import EmbeddedServer
 
     home = tmp_path_factory.mktemp("quality-home")
     yield home
@@ -83,9 +83,9 @@ def test_kitchen_edges_and_answers_keep_their_quality(kitchen):
 
 
 def test_kitchen_relations_are_consistent(home, kitchen):
-    from graphdb.checks import relation_contradictions
-    from graphdb.embedded import EmbeddedServer
-    from graphdb.store import Store
+    from sg3d.graphdb.checks import relation_contradictions
+    from sg3d.graphdb.embedded import EmbeddedServer
+    from sg3d.graphdb.store import Store
 
     info = EmbeddedServer(home).ensure_running()
     with Store(info.uri, (info.user, info.password), info.database) as store:

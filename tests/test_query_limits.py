@@ -16,8 +16,8 @@ LIMIT_S = 3.0
 @pytest.fixture(scope="module")
 def limited_store(tmp_path_factory):
     """An embedded store of its own whose statements stop after LIMIT_S seconds."""
-    from graphdb.embedded import EmbeddedServer
-    from graphdb.store import Store
+    from sg3d.graphdb.embedded import EmbeddedServer
+    from sg3d.graphdb.store import Store
 
     home = tmp_path_factory.mktemp("limited-home")
     old = os.environ.get("SG3D_STORE_TIMEOUT_S")
@@ -46,8 +46,8 @@ def _cpu_seconds(pid: int) -> float:
 
 
 def test_a_96_kb_comment_statement_is_handled_in_under_a_second(store):
-    from app.errors import AppError
-    from app.graph import check_statement, read_only_cypher, write_words
+    from sg3d.app.errors import AppError
+    from sg3d.app.graph import check_statement, read_only_cypher, write_words
 
     evil = "/*x" * 32_000
     t0 = time.monotonic()
@@ -62,8 +62,8 @@ def test_a_96_kb_comment_statement_is_handled_in_under_a_second(store):
 
 
 def test_a_heavy_query_stops_at_the_store_limit(limited_store):
-    from app.errors import AppError
-    from app.graph import read_only_cypher
+    from sg3d.app.errors import AppError
+    from sg3d.app.graph import read_only_cypher
 
     _, _, reader = limited_store
     t0 = time.monotonic()
@@ -73,8 +73,8 @@ def test_a_heavy_query_stops_at_the_store_limit(limited_store):
 
 
 def test_an_abandoned_query_stops_and_frees_the_daemon(limited_store):
-    from app.graph import run_rolled_back
-    from graphdb.store import Store
+    from sg3d.app.graph import run_rolled_back
+    from sg3d.graphdb.store import Store
 
     server, info, reader = limited_store
     pid = info.pid
@@ -102,15 +102,15 @@ def test_an_abandoned_query_stops_and_frees_the_daemon(limited_store):
 @pytest.mark.parametrize("statement", ["RETURN util.sleep(15000)", "RETURN Sleep (1)",
                                        "MATCH (n) /* c */ RETURN apoc.util.sleep(10)"])
 def test_sleeping_is_refused(store, statement):
-    from app.errors import Refused
-    from app.graph import read_only_cypher
+    from sg3d.app.errors import Refused
+    from sg3d.app.graph import read_only_cypher
 
     with pytest.raises(Refused, match="sleep"):
         read_only_cypher(store, statement)
 
 
 def test_sleep_in_a_string_or_a_name_is_fine(store):
-    from app.graph import read_only_cypher
+    from sg3d.app.graph import read_only_cypher
 
     out = read_only_cypher(store, "RETURN 'sleep(1)' AS s, 1 AS sleepy")
     assert out["rows"] == [{"s": "sleep(1)", "sleepy": 1}]

@@ -71,8 +71,8 @@ def test_every_page_is_linked_from_the_readme():
 
 def test_the_site_builds_strictly(tmp_path):
     try:
-        import mkdocs  # noqa: F401
         import material  # noqa: F401
+        import mkdocs  # noqa: F401
     except ImportError:
         if os.environ.get("CI", "").lower() == "true":   # CI installs the docs extra
             pytest.fail("mkdocs / mkdocs-material not installed in CI (pip install -e '.[docs]')")

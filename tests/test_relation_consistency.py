@@ -1,11 +1,11 @@
 """Stored relations stay contradiction-free and canonical across merges (real embedded store)."""
 from __future__ import annotations
 
-from graphdb import cypher
-from graphdb.checks import relation_contradictions
-from graphdb.merge import merge_local_graph
-from graphdb.values import room_id
-from core.model import RELATION_TYPES
+from sg3d.core.model import RELATION_TYPES
+from sg3d.graphdb import cypher
+from sg3d.graphdb.checks import relation_contradictions
+from sg3d.graphdb.merge import merge_local_graph
+from sg3d.graphdb.values import room_id
 from tests.factories import graph, hist_of, obj
 
 ROOM = room_id("home", "kitchen")

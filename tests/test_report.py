@@ -8,7 +8,9 @@ import numpy as np
 from click.testing import CliRunner
 
 from sg3d.cli import cli
-from tests.scenes import EVAL_BUILDING as BUILDING, EVAL_GT as GT, EVAL_ROOM as ROOM
+from tests.scenes import EVAL_BUILDING as BUILDING
+from tests.scenes import EVAL_GT as GT
+from tests.scenes import EVAL_ROOM as ROOM
 from tests.scenes import build_eval_room as build_room
 
 
@@ -45,7 +47,7 @@ def test_report_files_mention_the_metrics_and_colour_the_nodes(store, embedded_h
 def test_report_has_edge_and_vqa_tables_with_the_names_ask_prints(store, embedded_home, tmp_path):
     import re
 
-    from app.scene import fetch_scene
+    from sg3d.app.scene import fetch_scene
 
     _, md, page = _report(store, embedded_home, tmp_path)
     names = {n["id"]: n["name"] for n in fetch_scene(store, BUILDING, ROOM)["nodes"]}

@@ -8,18 +8,17 @@ from collections import Counter
 
 import numpy as np
 import pytest
-
 from click.testing import CliRunner
 
-from app.ask import ask
-from app.changes import room_changes
-from graphdb.merge import merge_local_graph
-from graphdb.values import room_id
-from graphdb.rescan import known_objects
-from ingest.existence import DEPTH_FACTOR, View
-from core.model import KnownObject, ScanInfo
-from ingest.rescan import empty_places, place_seen_empty
-from queries.vqa import answer
+from sg3d.app.ask import ask
+from sg3d.app.changes import room_changes
+from sg3d.core.model import KnownObject, ScanInfo
+from sg3d.graphdb.merge import merge_local_graph
+from sg3d.graphdb.rescan import known_objects
+from sg3d.graphdb.values import room_id
+from sg3d.ingest.objects.existence import DEPTH_FACTOR, View
+from sg3d.ingest.objects.rescan import empty_places, place_seen_empty
+from sg3d.queries.vqa import answer
 from tests.factories import graph, obj
 
 K = np.array([[585.0, 0, 320], [0, 585, 240], [0, 0, 1]])
@@ -148,7 +147,7 @@ def test_a_mug_whose_place_is_seen_empty_is_removed_kept_out_of_counts_and_a_rer
     assert before.ok and "(0.00, 0.00, 0.85)" in before.text and "now gone" in before.text
 
     # the formats that describe the scene as it stands leave the removed cup out; JSON keeps it
-    from app.graph import fetch_named_graph, render_graph
+    from sg3d.app.graph import fetch_named_graph, render_graph
 
     exported = fetch_named_graph(store, "home", "kitchen")
     assert mug_id in {n["id"] for n in exported["nodes"]}
@@ -179,7 +178,7 @@ def test_a_scan_that_fails_while_closing_leaves_the_previous_state(store, monkey
     frames = [view(i, camera_at(MUG["mean"], back=(0.1 * i, -1.0, 1.0))) for i in range(3)]
     g2 = scan(graph([obj("b2", "book", (1.0, 0.0, 0.82), size=(0.2, 0.15, 0.04), colour="blue")]), "s2", 200.0,
               known_objects(store, ROOM), frames)
-    import graphdb.rescan as rescan_module
+    import sg3d.graphdb.rescan as rescan_module
 
     real_close = rescan_module.close_scan
 

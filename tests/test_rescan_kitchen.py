@@ -8,15 +8,15 @@ from collections import Counter
 
 import pytest
 
-from graphdb.values import room_id
+from sg3d.graphdb.values import room_id
 from tests.rescan_fixture import paint_out
 
 ROOM = room_id("test", "kitchen")
 
 
 def _build(store, sequence, start=0, stop=None) -> dict:
-    from app.build import BuildRequest, build_room
-    from ingest.pipeline import Settings
+    from sg3d.app.build import BuildRequest, build_room
+    from sg3d.ingest.pipeline import Settings
 
     return build_room(store, BuildRequest(sequence=sequence, room="kitchen", building="test", start=start,
                                           stop=stop), Settings())

@@ -197,7 +197,7 @@ def test_concurrent_requests(kitchen, served):
 def test_survives_a_restart_of_the_embedded_store(tmp_path):
     """Its own store (the session's must not move): stop it and start it again on new ports; the
     running service finds it again."""
-    from graphdb.embedded import EmbeddedServer
+    from sg3d.graphdb.embedded import EmbeddedServer
     from sg3d.server.auth import ensure_token
     from sg3d.settings import Settings
 
@@ -223,7 +223,7 @@ def test_survives_a_restart_of_the_embedded_store(tmp_path):
 def test_sg3d_serve_command(tmp_path, embedded_home, store_session):
     """The console command itself: starts, writes the token file 0600, answers, warns about a
     non-loopback host (checked without binding one)."""
-    from graphdb.embedded import free_port
+    from sg3d.graphdb.embedded import free_port
     from sg3d.server.http import is_loopback
 
     assert is_loopback("127.0.0.1") and is_loopback("::1") and is_loopback("localhost")

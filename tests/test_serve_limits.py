@@ -117,8 +117,8 @@ def test_served_connections_do_not_wait_for_delayed_acks():
     accepted connection (with proto 0 each small response waited ~40 ms for the client's ACK)."""
     import asyncio
 
-    from graphdb.embedded import free_port
     from sg3d.commands.serve import _bind
+    from sg3d.graphdb.embedded import free_port
 
     sock = _bind("127.0.0.1", free_port())
     seen = {}

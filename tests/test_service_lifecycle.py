@@ -12,8 +12,8 @@ from tests.serve_helpers import kitchen_body, running_server
 
 
 def test_an_explicit_stop_stays_stopped_until_db_start(tmp_path):
-    from graphdb.embedded import EmbeddedServer
     from sg3d.cli import cli
+    from sg3d.graphdb.embedded import EmbeddedServer
     from sg3d.server.auth import ensure_token
     from sg3d.settings import Settings
 
@@ -54,7 +54,7 @@ def test_store_failures_map_to_503_with_retry_after_never_500():
 
 
 def test_a_full_disk_is_named_and_start_fails_fast(tmp_path, monkeypatch):
-    from graphdb import embedded
+    from sg3d.graphdb import embedded
 
     monkeypatch.setattr(embedded, "MIN_FREE_MB", 10 ** 12)     # more than any disk has: it reads as full
     t0 = time.monotonic()
@@ -69,7 +69,7 @@ def test_serve_on_an_unusable_home_is_one_line_exit_2(tmp_path):
     import subprocess
     import sys
 
-    from graphdb.embedded import free_port
+    from sg3d.graphdb.embedded import free_port
 
     blocker = tmp_path / "file"
     blocker.write_text("x")

@@ -13,12 +13,14 @@ import numpy as np
 import pytest
 from click.testing import CliRunner
 
-from graphdb.merge import merge_local_graph
 from sg3d.cli import cli
+from sg3d.graphdb.merge import merge_local_graph
 from tests.factories import graph, obj
 from tests.scenes import PLACES, UP, world
-from tests.scenes import SHOW_BUILDING as BUILDING, SHOW_ROOM as ROOM
-from tests.scenes import build_show_room as build, run_show as show
+from tests.scenes import SHOW_BUILDING as BUILDING
+from tests.scenes import SHOW_ROOM as ROOM
+from tests.scenes import build_show_room as build
+from tests.scenes import run_show as show
 
 NS = "{http://www.w3.org/2000/svg}"
 
@@ -46,7 +48,7 @@ def svg_scale(root) -> tuple[float, float]:
 
 
 def ids_by_label(store, room=ROOM):
-    from app.scene import fetch_scene
+    from sg3d.app.scene import fetch_scene
 
     return {n["label"]: n["id"] for n in fetch_scene(store, BUILDING, room)["nodes"]}
 
@@ -115,8 +117,8 @@ def test_labels_are_names_and_edges_one_merged_label_per_pair(store, embedded_ho
 def test_many_crowded_objects_get_labels_that_never_overlap(store):
     """50 objects in 2 x 1.5 m: every node is named on the picture or numbered and listed, and
     no two texts on the map overlap (measured from the drawn figure's text extents)."""
-    from app.scene import fetch_scene
-    from render.diagram import draw
+    from sg3d.app.scene import fetch_scene
+    from sg3d.render.diagram import draw
 
     rng = np.random.default_rng(3)
     labels = ["cup", "bowl", "bottle", "book", "chair", "vase", "laptop", "remote", "clock", "potted plant"]
@@ -147,8 +149,8 @@ def test_many_crowded_objects_get_labels_that_never_overlap(store):
 def test_building_outlines_and_names_its_rooms_in_the_building_frame(store, embedded_home, tmp_path):
     """Two rooms; the second's frame is the first's turned 90 degrees and moved 3 m. A chair made
     at one building position in both rooms is drawn at one point."""
-    from graphdb.building import set_room_transform
-    from graphdb.values import room_id
+    from sg3d.graphdb.building import set_room_transform
+    from sg3d.graphdb.values import room_id
 
     build(store, room="kitchen")
     T = np.eye(4)
@@ -173,7 +175,7 @@ def test_building_outlines_and_names_its_rooms_in_the_building_frame(store, embe
     assert "kitchen" in texts and "hall" in texts
     pos = svg_nodes(root)
     metres, units = svg_scale(root)
-    from app.scene import fetch_scene
+    from sg3d.app.scene import fetch_scene
 
     nodes = fetch_scene(store, BUILDING)["nodes"]
     chairs = [n["id"] for n in nodes if n["label"] == "chair"]
@@ -188,8 +190,8 @@ def test_spring_layout_with_all_edges_is_readable(store, embedded_home, tmp_path
     """The promise of docs/commands.md (Pictures), checked on the SVG written: each connected
     group laid out on its own (groups never interleave), a hub between its neighbours, labels
     that never overlap, and size statements (--all-edges) that do not move anything."""
-    from app.scene import fetch_scene
-    from render.diagram import draw
+    from sg3d.app.scene import fetch_scene
+    from sg3d.render.diagram import draw
 
     far = {**PLACES, "u": (4.0, 3.0, 0.4), "v": (4.5, 3.0, 0.9), "p": (-3.0, 2.0, 0.3)}
     g = graph([
@@ -281,8 +283,8 @@ def test_html_is_self_contained_plotly_with_names_and_toggled_relations(store, e
 def test_html_boxes_are_the_objects_boxes(store):
     """The drawn box of each object spans its size (w, d, h) and the boxes' centres are as far
     apart on the floor and in height as the objects made."""
-    from app.scene import fetch_scene
-    from render.view3d import figure
+    from sg3d.app.scene import fetch_scene
+    from sg3d.render.view3d import figure
 
     build(store)
     scene = fetch_scene(store, BUILDING, ROOM)
@@ -308,7 +310,7 @@ def test_html_boxes_are_the_objects_boxes(store):
 
 
 def test_point_cloud_from_the_real_kitchen(kitchen_dir):
-    from app.scene import VOXEL_M, sequence_cloud
+    from sg3d.app.scene import VOXEL_M, sequence_cloud
 
     P, C = sequence_cloud(kitchen_dir, frames=2, max_points=3000)
     assert 1000 <= len(P) <= 3000 and P.shape == (len(P), 3) and C.shape == (len(P), 3)
@@ -340,9 +342,9 @@ def test_empty_room_is_an_error(store, embedded_home, tmp_path):
 def test_real_kitchen_png_has_scale_bar_legend_and_labels_that_never_overlap(store, embedded_home, kitchen_dir,
                                                                             tmp_path):
     """The first half of the real kitchen, built by `sg3d build`, drawn as `sg3d show` draws it."""
-    from app.scene import fetch_scene
-    from queries.taxonomy import Taxonomy
-    from render.diagram import draw
+    from sg3d.app.scene import fetch_scene
+    from sg3d.queries.taxonomy import Taxonomy
+    from sg3d.render.diagram import draw
 
     r = CliRunner().invoke(cli, ["--home", str(embedded_home), "build", str(kitchen_dir), "--room", "kitchen",
                                  "--building", BUILDING, "--stop", "500", "--json"])

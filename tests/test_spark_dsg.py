@@ -11,13 +11,13 @@ from tests.cli_helpers import sg3d
 
 dsg = pytest.importorskip("spark_dsg", reason="spark-dsg (PyPI) has no wheel for this platform")
 
-from formats.spark_dsg import BUILDINGS, OBJECTS, ROOMS, STRUCTURE  # noqa: E402  (layer ids 2, 4, 5, 1)
+from sg3d.formats.spark_dsg import BUILDINGS, OBJECTS, ROOMS, STRUCTURE  # noqa: E402  (layer ids 2, 4, 5, 1)
 
 
 @pytest.fixture(scope="module")
 def home(tmp_path_factory, kitchen_dir):
     """A store holding a real kitchen graph (80 frames, 3d-full)."""
-    from graphdb.embedded import EmbeddedServer
+    from sg3d.graphdb.embedded import EmbeddedServer
 
     home = tmp_path_factory.mktemp("spark-home")
     r = sg3d(home, "build", kitchen_dir, "--room", "kitchen", "--building", "lab", "--start", 0, "--stop", 80,
@@ -122,7 +122,7 @@ def test_import_of_a_hydra_style_graph(home, tmp_path):
 
 
 def test_3dssg_export(home, tmp_path):
-    from formats.threedssg import PREDICATE, RELATIONSHIPS
+    from sg3d.formats.threedssg import PREDICATE, RELATIONSHIPS
 
     ours = _objects(home, "lab")
     r = sg3d(home, "export", "--building", "lab", "--format", "3dssg", "--out", tmp_path / "ssg")

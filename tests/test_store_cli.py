@@ -8,9 +8,9 @@ import stat
 import pytest
 from click.testing import CliRunner
 
-from graphdb.embedded import PRIVATE_SUBDIR, EmbeddedServer, EmbeddedStoreError
 from sg3d.cli import cli
 from sg3d.commands.cypher_cmd import Shell, parse_param
+from sg3d.graphdb.embedded import PRIVATE_SUBDIR, EmbeddedServer, EmbeddedStoreError
 from tests.cli_helpers import one_error_line, sg3d
 
 

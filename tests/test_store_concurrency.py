@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import threading
 
-from graphdb.merge import merge_local_graph
-from graphdb.values import room_id
+from sg3d.graphdb.merge import merge_local_graph
+from sg3d.graphdb.values import room_id
 from tests.factories import graph, hist_of, obj
 
 OBJECTS = [("cup", (0.0, 0.0, 1.0), (0.1, 0.1, 0.1), {7: 80}),

@@ -10,7 +10,7 @@ from concurrent.futures import ThreadPoolExecutor
 
 import pytest
 
-from graphdb.embedded import EmbeddedServer, process_alive
+from sg3d.graphdb.embedded import EmbeddedServer, process_alive
 from tests.cli_helpers import sg3d
 
 

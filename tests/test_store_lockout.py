@@ -15,8 +15,8 @@ from click.testing import CliRunner
 from neo4j import GraphDatabase
 from neo4j.exceptions import AuthError
 
-from graphdb.embedded import EmbeddedServer
 from sg3d.cli import cli
+from sg3d.graphdb.embedded import EmbeddedServer
 
 GUESSED = ["root", "admin", "neo4j", "sg3d", "reader", "writer", "sg3d_reader", "sg3d_writer"]
 ENV = {"SG3D_URI": None, "SG3D_USER": None, "SG3D_PASSWORD": None, "SG3D_DATABASE": None}

@@ -6,8 +6,8 @@ import pytest
 from click.testing import CliRunner
 from neo4j.exceptions import ClientError
 
-from graphdb.store import ReadOnlyStoreError
 from sg3d.cli import cli
+from sg3d.graphdb.store import ReadOnlyStoreError
 from sg3d.settings import Settings
 
 # a refused statement must leave nodes, edges, constraints and indexes as they were
@@ -93,7 +93,7 @@ def test_the_reader_store_refuses_user_writes_but_sends_sg3ds_own_to_the_writer(
     with pytest.raises(ReadOnlyStoreError):
         reader.wipe()
     # the taxonomy mirror `ask` keeps is sg3d's own fixed template: it goes to the writer
-    from queries import taxonomy
+    from sg3d.queries import taxonomy
 
     taxonomy.forget()
     assert taxonomy.ensure_taxonomy(reader, force=True) is True

@@ -1,4 +1,4 @@
-"""Per-room tallies (graphdb/tally.py): kept by the merge transaction, equal to a recount of the
+"""Per-room tallies (sg3d/graphdb/tally.py): kept by the merge transaction, equal to a recount of the
 objects, rolled back with a failed merge, and what store-wide counts read."""
 from __future__ import annotations
 
@@ -7,12 +7,12 @@ from collections import Counter
 
 import pytest
 
-from graphdb.merge import merge_in_tx, merge_local_graph
-from graphdb.values import room_id
-from graphdb.tally import rebuild_tallies
-from queries.vqa import answer
-from tests.factories import graph, hist_of, obj
+from sg3d.graphdb.merge import merge_in_tx, merge_local_graph
+from sg3d.graphdb.tally import rebuild_tallies
+from sg3d.graphdb.values import room_id
+from sg3d.queries.vqa import answer
 from tests.cli_helpers import sg3d
+from tests.factories import graph, hist_of, obj
 
 
 def tallies(store) -> dict[tuple, int]:
@@ -104,7 +104,7 @@ def test_sg3d_db_rebuild_tallies_repairs_stale_tallies(mixed, embedded_home):
 
 
 def test_a_local_graph_of_more_objects_than_one_create_batch_is_created_whole(store):
-    from graphdb.tally import CREATE_BATCH
+    from sg3d.graphdb.tally import CREATE_BATCH
 
     n = CREATE_BATCH + 37        # two statements; the tallies ride with the last
     objs = [obj(f"o{i}", "cup" if i % 2 else "book", (i * 2.0, 0.0, 1.0), colour="red" if i % 3 else "white")

@@ -1,8 +1,8 @@
 """The taxonomy file, offline and mirrored into the real store."""
 from __future__ import annotations
 
-from queries import taxonomy
-from queries.taxonomy import Taxonomy
+from sg3d.queries import taxonomy
+from sg3d.queries.taxonomy import Taxonomy
 
 COCO80 = {
     "person", "bicycle", "car", "motorcycle", "airplane", "bus", "train", "truck", "boat",

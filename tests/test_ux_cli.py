@@ -72,7 +72,9 @@ def test_an_interrupted_summary_says_so_and_how_far_detection_got(walk_builds):
 
 
 def test_eval_tables_name_objects_not_ids(store, embedded_home, tmp_path):
-    from tests.scenes import EVAL_BUILDING as BUILDING, EVAL_GT as GT, EVAL_ROOM as ROOM
+    from tests.scenes import EVAL_BUILDING as BUILDING
+    from tests.scenes import EVAL_GT as GT
+    from tests.scenes import EVAL_ROOM as ROOM
     from tests.scenes import build_eval_room as build_room
 
     nodes = build_room(store)
@@ -166,7 +168,8 @@ def test_a_build_that_read_no_frame_prints_no_speed(walk_builds):
 
 
 def test_show_sequence_shows_progress_over_the_frames(store, embedded_home, tmp_path):
-    from tests.scenes import EVAL_BUILDING as BUILDING, EVAL_ROOM as ROOM
+    from tests.scenes import EVAL_BUILDING as BUILDING
+    from tests.scenes import EVAL_ROOM as ROOM
     from tests.scenes import build_eval_room as build_room
     from tests.sequences import write_walk
 

@@ -4,9 +4,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from graphdb.merge import merge_local_graph
-from queries.viewpoint import describe_place, split_viewpoint, viewpoint_relations
-from queries.vqa import answer
+from sg3d.graphdb.merge import merge_local_graph
+from sg3d.queries.viewpoint import describe_place, split_viewpoint, viewpoint_relations
+from sg3d.queries.vqa import answer
 from tests.factories import graph, hist_of, obj
 
 UP = (0.0, 0.0, 1.0)

@@ -6,9 +6,10 @@ import json
 import pytest
 from click.testing import CliRunner
 
-from queries.parse import ParseError, parse
-from queries.vqa import answer
+from sg3d.queries.parse import ParseError, parse
+from sg3d.queries.vqa import answer
 from tests.scenes import BOWL_JPEG, StoreSettings
+
 
 def ask(store, q, **kw):
     a = answer(store, q, **kw)
@@ -195,7 +196,7 @@ def test_where_is_names_relations_and_room(store, house):
     a = ask(store, "where is the knife?")
     assert a.form == "where" and a.value[0]["id"] == house["k1"]
     assert a.value[0]["relations"] == [{"rel": "IN", "other_id": house["sk"], "other_label": "sink"}]
-    assert "the knife is in the sink, in the kitchen" in a.text   # names as everywhere (queries/naming.py)
+    assert "the knife is in the sink, in the kitchen" in a.text   # names as everywhere (sg3d/queries/naming.py)
     a = ask(store, "where is the sink?")          # the bowl is stored NEXT_TO the sink: symmetric
     assert {(x["rel"], x["other_id"]) for x in a.value[0]["relations"]} == {("NEXT_TO", house["b2"])}
     a = ask(store, "where are the tvs?")

@@ -5,9 +5,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from graphdb.building import link_rooms
-from graphdb.merge import merge_local_graph
-from queries.vqa import answer
+from sg3d.graphdb.building import link_rooms
+from sg3d.graphdb.merge import merge_local_graph
+from sg3d.queries.vqa import answer
 from tests.factories import graph, obj
 
 

@@ -3,7 +3,7 @@
 // (lintCypherQuery of @neo4j-cypher/language-support, the engine behind the Neo4j VS Code
 // extension: the Cypher 5 parser plus Neo4j's semantic analysis).
 //
-//   node .ci/cypher-lint/lint.mjs                 # every cypher/*.cypher of the repo
+//   node .ci/cypher-lint/lint.mjs                 # every sg3d/cypher/*.cypher of the repo
 //   node .ci/cypher-lint/lint.mjs FILE.cypher...  # just these files
 //
 // Output: one line per diagnostic, `FILE:LINE:COL: error|warning: MESSAGE` (1-based line and
@@ -24,7 +24,7 @@
 //   so a fixed list here would only duplicate the model. Procedure/function existence checks
 //   likewise need a live server's registry and are skipped.
 // - Full-line `//` comments are blanked (line numbers are kept) before linting, exactly as
-//   graphdb/cypher.py strips them before sending a statement. Multi-statement files
+//   sg3d/graphdb/cypher.py strips them before sending a statement. Multi-statement files
 //   (cypher/schema*.cypher, statements separated by `;`) are linted as one document, as
 //   cypher-shell would read them; an empty statement between two `;` is an error.
 // - `REL_TYPE` in templates is an ordinary identifier, so such files lint as they are.
@@ -36,7 +36,7 @@ import { fileURLToPath } from 'node:url';
 
 const HERE = dirname(fileURLToPath(import.meta.url));
 const REPO = resolve(HERE, '..', '..');
-const CYPHER_DIR = join(REPO, 'cypher');
+const CYPHER_DIR = join(REPO, 'sg3d', 'cypher');
 
 // The package's ESM entry (2.0.0-next.20) uses extension-less relative imports, which Node's
 // ESM loader rejects; its CommonJS bundle (exports["."].require) loads everywhere.
@@ -57,7 +57,7 @@ const PARAM_NOT_DEFINED = /^Parameter \$.+ is not defined\.$/;
 
 function usage() {
   console.log('usage: node .ci/cypher-lint/lint.mjs [FILE.cypher ...]');
-  console.log('Lints the given files, or every cypher/*.cypher of the repository.');
+  console.log('Lints the given files, or every sg3d/cypher/*.cypher of the repository.');
 }
 
 function displayPath(abs) {
@@ -65,7 +65,7 @@ function displayPath(abs) {
   return rel && !rel.startsWith('..') && !isAbsolute(rel) ? rel : abs;
 }
 
-/** The text graphdb/cypher.py would send: full-line `//` comments blanked, lines kept. */
+/** The text sg3d/graphdb/cypher.py would send: full-line `//` comments blanked, lines kept. */
 function stripLineComments(text) {
   return text
     .split('\n')

@@ -30,9 +30,10 @@ def ask(settings, question: str, room, building, explain: bool, as_json: bool, v
     distances ("how far is the cup from the sink"), rooms ("which room has the most chairs").
     Typos are fixed and said. Objects are named ("chair 2"), and the names are accepted back.
     """
-    from app.ask import ask as ask_question, parse_viewpoint
-    from app.errors import AppError
-    from app.stores import reader
+    from sg3d.app.ask import ask as ask_question
+    from sg3d.app.ask import parse_viewpoint
+    from sg3d.app.errors import AppError
+    from sg3d.app.stores import reader
     from sg3d.errors import UserError
 
     if out is not None and not Path(out).expanduser().absolute().parent.is_dir():

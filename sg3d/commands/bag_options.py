@@ -1,5 +1,5 @@
 """The ROS bag options shared by `sg3d build` and `sg3d frames`, collected into one `bag` dict
-(the keyword arguments of `ingest.readers.open_sequence` for bags)."""
+(the keyword arguments of `sg3d.ingest.readers.open_sequence` for bags)."""
 from __future__ import annotations
 
 import functools

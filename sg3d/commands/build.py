@@ -77,7 +77,7 @@ def _poses_text(poses: dict) -> str:
 
 
 def _placement_text(placement: dict) -> str:
-    """app.build.place_room's dict in words: how the room was placed, then the alignment's figures."""
+    """sg3d.app.build.place_room's dict in words: how the room was placed, then the alignment's figures."""
     extra = []
     if "residual_m" in placement:
         extra.append(f"residual {placement['residual_m']} m")
@@ -122,10 +122,10 @@ def _placement_text(placement: dict) -> str:
 @click.option("--abir-gain", type=float, default=None,
               help="ABIR gain g of Eq. 4 [10, the authors' code]; not with --method 2d-basic/3d-basic.")
 @click.option("--t-key", type=float, default=None, help="KGE keyframe overlap threshold [0.2].")
-# t_anchor 0.9 was chosen on the kitchen; ingest/pipeline.py (BUILD_T_ANCHOR) records what it
+# t_anchor 0.9 was chosen on the kitchen; sg3d/ingest/pipeline.py (BUILD_T_ANCHOR) records what it
 # gives on the living room (the same frames as coverage alone; test_quality's living-room floor).
 @click.option("--t-anchor", type=float, default=None,
-              help="KGE anchor overlap threshold [0.9] (the authors' code: 0.68; see ingest/pipeline.py).")
+              help="KGE anchor overlap threshold [0.9] (the authors' code: 0.68; see sg3d/ingest/pipeline.py).")
 @click.option("--transform", "transform_file", type=click.Path(exists=True, dir_okay=False, path_type=Path),
               default=None, help="4x4 room-to-building transform (4 lines of 4 numbers).")
 @click.option("--align-to", default=None, metavar="ROOM",
@@ -165,12 +165,18 @@ def build(settings, sequence: Path, room: str, building: str, method: str, quali
     the others with --shared-frame, --transform FILE or --align-to ROOM (see `sg3d rooms`).
     """
     from rich.console import Console
-    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
+    from rich.progress import (
+        BarColumn,
+        MofNCompleteColumn,
+        Progress,
+        TextColumn,
+        TimeElapsedColumn,
+    )
 
-    from app.build import BuildError, BuildRequest, prepare, run_build
-    from ingest import coverage
-    from ingest.detectors import with_recognizer
-    from ingest.pipeline import DEFAULT_CHUNK_FRAMES, METHODS, Settings
+    from sg3d.app.build import BuildError, BuildRequest, prepare, run_build
+    from sg3d.ingest.detect.choice import with_recognizer
+    from sg3d.ingest.pipeline import DEFAULT_CHUNK_FRAMES, METHODS, Settings
+    from sg3d.ingest.select import coverage
 
     request = BuildRequest(sequence, room, building, layout, start, stop, transform_file, align_to, shared_frame,
                            bag_options=bag, estimate_poses=estimate_poses, trajectory_out=trajectory_out)

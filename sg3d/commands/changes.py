@@ -23,9 +23,9 @@ def changes(settings, room: str, building: str, since, as_json: bool) -> None:
 
     Every `sg3d build` and every `POST /ingest` batch is a scan; `sg3d build --json` prints its id.
     """
-    from app.changes import room_changes
-    from app.errors import AppError
-    from app.stores import reader
+    from sg3d.app.changes import room_changes
+    from sg3d.app.errors import AppError
+    from sg3d.app.stores import reader
     from sg3d.errors import UserError
 
     try:

@@ -7,8 +7,8 @@ from pathlib import Path
 
 import click
 
-from app.errors import AppError
-from app.graph import check_statement
+from sg3d.app.errors import AppError
+from sg3d.app.graph import check_statement
 
 
 def _cell(value) -> str:
@@ -30,7 +30,7 @@ def _short(value) -> str:
 
 
 def print_result(keys, rows, as_json: bool) -> None:
-    from graphdb.values import jsonable
+    from sg3d.graphdb.values import jsonable
 
     if as_json:
         click.echo(json.dumps([dict(zip(keys, map(jsonable, r))) for r in rows]))
@@ -64,7 +64,7 @@ def cypher_command(settings, statement: str, param, write: bool, as_json: bool) 
             params[name] = json.loads(raw)
         except ValueError:
             params[name] = raw
-    from app.stores import reader
+    from sg3d.app.stores import reader
     from sg3d.errors import UserError
 
     try:
@@ -76,7 +76,7 @@ def cypher_command(settings, statement: str, param, write: bool, as_json: bool) 
 
 
 def checked_runner(store, write: bool):
-    """The shell's way to run a statement: `app.graph.check_statement` first, then the store."""
+    """The shell's way to run a statement: `sg3d.app.graph.check_statement` first, then the store."""
     def run(text: str, params: dict):
         check_statement(text)
         return store.run_raw(text, params, write=write)
@@ -187,7 +187,7 @@ def history_path(settings) -> Path | None:
     """The shell history lives in the store's home (SG3D_HOME), or where SG3D_HISTORY says."""
     if os.environ.get("SG3D_HISTORY"):
         return Path(os.environ["SG3D_HISTORY"])
-    from graphdb.embedded import EmbeddedServer, EmbeddedStoreError
+    from sg3d.graphdb.embedded import EmbeddedServer, EmbeddedStoreError
 
     server = EmbeddedServer(settings.embedded_home())
     try:

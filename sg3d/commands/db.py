@@ -10,7 +10,7 @@ from sg3d.errors import UserError
 
 
 def _server(settings):
-    from graphdb.embedded import EmbeddedServer
+    from sg3d.graphdb.embedded import EmbeddedServer
 
     if not settings.embedded:
         raise UserError("`sg3d db start|stop|status` manage the embedded store; drop --uri/SG3D_URI "
@@ -92,7 +92,7 @@ def reset(settings, yes: bool) -> None:
 def check(settings, repair: bool, as_json: bool) -> None:
     """Find stored values no reader can use (NaN, Infinity, positions beyond the world extent, an
     up that is no direction); --repair removes such objects and clears such up directions."""
-    from app.check import check_store
+    from sg3d.app.check import check_store
 
     store = settings.store()
     store.ensure_schema()
@@ -121,7 +121,7 @@ def check(settings, repair: bool, as_json: bool) -> None:
 def rebuild_tallies_cmd(settings, as_json: bool) -> None:
     """Recount the per-room tallies that counting questions read from the Object records (after
     objects were edited with `sg3d cypher --write`; a schema upgrade recounts them itself)."""
-    from graphdb.tally import rebuild_tallies
+    from sg3d.graphdb.tally import rebuild_tallies
 
     store = settings.store()
     store.ensure_schema()

@@ -16,7 +16,7 @@ def _render(report: dict, names: dict[str, str], gt) -> None:
     from rich.console import Console
     from rich.table import Table
 
-    from render.report import metric_rows
+    from sg3d.render.report import metric_rows
 
     console = Console()
     n, e = report["nodes"], report["edges"]
@@ -85,10 +85,10 @@ def _render(report: dict, names: dict[str, str], gt) -> None:
 def eval_command(settings, gt_path: Path, room: str, building: str, tolerance: Optional[float],
                  no_vqa: bool, as_json: bool, report_dir: Optional[Path]) -> None:
     """Compare the scene graph of ROOM with ground truth: nodes, edges and question answers."""
-    from graphdb.values import room_id
-    from evaluation.ground_truth import load_gt
-    from evaluation.matching import DEFAULT_TOLERANCE
-    from evaluation.evaluate import evaluate
+    from sg3d.evaluation.evaluate import evaluate
+    from sg3d.evaluation.ground_truth import load_gt
+    from sg3d.evaluation.matching import DEFAULT_TOLERANCE
+    from sg3d.graphdb.values import room_id
 
     try:
         gt = load_gt(gt_path)
@@ -98,7 +98,7 @@ def eval_command(settings, gt_path: Path, room: str, building: str, tolerance: O
     rid = room_id(building, room)
     if not store.read("eval_room_exists", room=rid):
         raise UserError(f"no room {room!r} in building {building!r} (build it with `sg3d build`)")
-    from evaluation.ground_truth import outside_extent
+    from sg3d.evaluation.ground_truth import outside_extent
 
     outside, placed = outside_extent(gt, store.read("eval_objects", room=rid))
     if placed and outside > placed / 2:
@@ -107,16 +107,16 @@ def eval_command(settings, gt_path: Path, room: str, building: str, tolerance: O
     report = evaluate(store, gt, rid, room=room, building=building,
                       tolerance=DEFAULT_TOLERANCE if tolerance is None else tolerance, with_vqa=not no_vqa)
     if report_dir is not None:
-        from app.scene import fetch_scene
-        from render.report import write_report
+        from sg3d.app.scene import fetch_scene
+        from sg3d.render.report import write_report
 
         written = write_report(report_dir, report, fetch_scene(store, building, room), gt, room)
         click.echo("wrote " + ", ".join(str(p) for p in written), err=True)
     if as_json:
         click.echo(json.dumps(report))
     else:
-        from app.errors import NotFound
-        from app.graph import fetch_named_graph
+        from sg3d.app.errors import NotFound
+        from sg3d.app.graph import fetch_named_graph
 
         try:
             names = {n["id"]: n["name"] for n in fetch_named_graph(store, building, room)["nodes"]}

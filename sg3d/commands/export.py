@@ -29,9 +29,9 @@ def export(settings, room: Optional[str], building: str, fmt: str, out: Optional
     """Export the scene graph: nodes with their attributes and the relation edges (json, graphml,
     spark-dsg: the JSON of Hydra's spark_dsg.DynamicSceneGraph, or 3dssg: the 3DSSG benchmark's
     objects.json + relationships.json; see the README for the mappings)."""
-    from app.errors import AppError
-    from app.graph import fetch_named_graph, render_graph, write_3dssg
-    from app.stores import reader
+    from sg3d.app.errors import AppError
+    from sg3d.app.graph import fetch_named_graph, render_graph, write_3dssg
+    from sg3d.app.stores import reader
 
     to_stdout = out is not None and str(out) == "-"
     out = None if to_stdout else out

@@ -3,9 +3,9 @@ keyframe groups (KGE); report what would go on to detection, and how fast."""
 from __future__ import annotations
 
 import json
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
-from typing import Optional
+from typing import Any, Optional
 
 import click
 
@@ -16,17 +16,29 @@ SHEET_PAIRS = 24
 SHEET_FACTOR = 4   # thumbnails at 1/4 of the colour size (160x120 for 640x480)
 
 
+def _defaults():
+    from sg3d.ingest.select.kge import DEFAULT_T_ANCHOR
+    from sg3d.ingest.select.selection import SelectionParams
+
+    return SelectionParams(), DEFAULT_T_ANCHOR
+
+
+_DEFAULTS, _PAPER_T_ANCHOR = _defaults()
+
+
 @click.command("frames")
 @click.argument("sequence", type=click.Path(path_type=Path))
 @click.option("--layout", default=None, metavar="NAME",
               help="7scenes (also 3DMatch), tum, scannet or open3d. Default: detected from the files.")
 @click.option("--abir-gain", type=float, default=None, show_default=False,
-              help="ABIR gain g of Eq. 4 [10, the authors' code; the paper prints 30].")
-@click.option("--abir-offset", type=float, default=None, help="ABIR offset b of Eq. 4 [25].")
-@click.option("--abir-alpha", type=float, default=None, help="ABIR smoothing factor alpha of Eq. 2 [0.9].")
-@click.option("--t-key", type=float, default=None, help="KGE keyframe overlap threshold [0.2].")
+              help=f"ABIR gain g of Eq. 4 [{_DEFAULTS.abir_gain:g}, the authors' code; the paper prints 30].")
+@click.option("--abir-offset", type=float, default=None, help=f"ABIR offset b of Eq. 4 [{_DEFAULTS.abir_offset:g}].")
+@click.option("--abir-alpha", type=float, default=None,
+              help=f"ABIR smoothing factor alpha of Eq. 2 [{_DEFAULTS.abir_alpha:g}].")
+@click.option("--t-key", type=float, default=None, help=f"KGE keyframe overlap threshold [{_DEFAULTS.t_key:g}].")
 @click.option("--t-anchor", type=float, default=None,
-              help="KGE anchor overlap threshold [0.9, as `sg3d build` uses; the authors' code: 0.68].")
+              help=f"KGE anchor overlap threshold [{_DEFAULTS.t_anchor:g}, as `sg3d build` uses; the authors' "
+                   f"code: {_PAPER_T_ANCHOR:g}].")
 @click.option("--limit", type=click.IntRange(min=1), default=None, metavar="N", help="Read at most N frames.")
 @click.option("--step", type=click.IntRange(min=1), default=1, show_default=True, help="Read every STEP-th frame.")
 @click.option("--json", "as_json", is_flag=True, help="Machine-readable output on stdout.")
@@ -36,12 +48,9 @@ SHEET_FACTOR = 4   # thumbnails at 1/4 of the colour size (160x120 for 640x480)
 def frames_command(sequence: Path, layout: Optional[str], abir_gain, abir_offset, abir_alpha, t_key, t_anchor,
                    limit: Optional[int], step: int, as_json: bool, sheet: Optional[Path], bag: dict) -> None:
     """Blur rejection and keyframe groups over SEQUENCE (a sequence folder or a ROS bag)."""
-    from ingest import coverage
-    from ingest.readers import SequenceError, open_sequence
-    from ingest.selection import FrameSelector
+    from sg3d.ingest.readers import SequenceError, open_sequence
 
     params = _params(abir_alpha, abir_gain, abir_offset, t_key, t_anchor)
-    selector = FrameSelector(*_selection_modules(params))
     try:
         seq = open_sequence(sequence, layout=layout, **bag)
     except SequenceError as exc:
@@ -50,72 +59,64 @@ def frames_command(sequence: Path, layout: Optional[str], abir_gain, abir_offset
         raise UserError(f"no pose source in {sequence}: keyframe groups need camera poses; "
                         f"`sg3d build` estimates them from the images")
     stop = len(seq) if limit is None else min(len(seq), limit * step)
-    run = _select(seq, selector, stop, step, keep_pairs=sheet is not None, quiet=as_json)
-    budget = coverage.frame_budget(len(run.candidates))
-    detected = coverage.choose_frames(run.candidates, run.required, budget)
+    run = _select(seq, params, stop, step, keep_pairs=sheet is not None, quiet=as_json)
     if sheet is not None:
         _write_sheet(seq, run.pairs, sheet)
+    choice = run.choice
+    params_out = {k: getattr(params, k) for k in ("abir_alpha", "abir_gain", "abir_offset", "t_key", "t_anchor")}
     if as_json:
         click.echo(json.dumps({"sequence": str(sequence), "layout": seq.layout, "frames_in_sequence": len(seq),
-                               **selector.stats.as_dict(), "params": params, "sources": getattr(seq, "sources", None),
+                               **choice.stats.as_dict(), "params": params_out,
+                               "sources": getattr(seq, "sources", None),
                                "skipped_frames": [{"frame": n, "reason": r} for n, r in seq.skipped],
-                               "groups_frames": run.groups, "detected_frames": detected,
+                               "groups_frames": choice.groups, "detected_frames": choice.detected,
                                "sheet": str(sheet) if sheet else None}))
         return
-    _print_report(sequence, seq, selector.stats, params, run, detected, sheet)
+    _print_report(sequence, seq, params_out, choice, sheet, len(run.pairs))
 
 
-def _params(abir_alpha, abir_gain, abir_offset, t_key, t_anchor) -> dict:
-    """The selection parameters, each given one or its default (as `sg3d build` uses them)."""
-    from ingest.abir import DEFAULT_ALPHA, DEFAULT_GAIN, DEFAULT_OFFSET
-    from ingest.kge import DEFAULT_T_KEY
-    from ingest.pipeline import BUILD_T_ANCHOR
+def _params(abir_alpha, abir_gain, abir_offset, t_key, t_anchor):
+    """The selection parameters, each given one or its default (as `sg3d build` uses them); a value
+    out of range is one line on stderr."""
+    from sg3d.ingest.select.abir import ABIR
+    from sg3d.ingest.select.kge import KeyframeGrouper
 
-    return dict(abir_alpha=DEFAULT_ALPHA if abir_alpha is None else abir_alpha,
-                abir_gain=DEFAULT_GAIN if abir_gain is None else abir_gain,
-                abir_offset=DEFAULT_OFFSET if abir_offset is None else abir_offset,
-                t_key=DEFAULT_T_KEY if t_key is None else t_key,
-                t_anchor=BUILD_T_ANCHOR if t_anchor is None else t_anchor)
-
-
-def _selection_modules(params: dict):
-    """ABIR (Eq. 2-4) and KGE with `params`; a value out of range is one line on stderr."""
-    from ingest.abir import ABIR
-    from ingest.kge import KeyframeGrouper
-
+    given = dict(abir_alpha=abir_alpha, abir_gain=abir_gain, abir_offset=abir_offset, t_key=t_key, t_anchor=t_anchor)
+    params = replace(_DEFAULTS, **{k: v for k, v in given.items() if v is not None})
     try:
-        return (ABIR(params["abir_alpha"], params["abir_gain"], params["abir_offset"]),
-                KeyframeGrouper(params["t_key"], params["t_anchor"]))
+        ABIR(params.abir_alpha, params.abir_gain, params.abir_offset)
+        KeyframeGrouper(params.t_key, params.t_anchor)
     except ValueError as exc:
         raise UserError(str(exc)) from None
+    return params
 
 
 @dataclass
 class _Selection:
     """What one pass of frame selection saw."""
+    choice: Any = None
     pairs: list = field(default_factory=list)       # (blurry index, decision, sharp index, decision)
-    groups: list = field(default_factory=list)      # frame indices of each keyframe group
-    candidates: list = field(default_factory=list)  # what `sg3d build` chooses its frames from
-    required: list = field(default_factory=list)    # keyframes and anchors
 
 
-def _select(seq, selector, stop: int, step: int, keep_pairs: bool, quiet: bool) -> _Selection:
-    """Frame selection over frames 0..stop (every `step`-th), with a progress bar on stderr;
-    `keep_pairs`: remember each blurry frame beside the last sharp one (the contact sheet)."""
+def _select(seq, params, stop: int, step: int, keep_pairs: bool, quiet: bool) -> _Selection:
+    """`choose_detected_frames` over frames 0..stop (every `step`-th), with a progress bar on
+    stderr; `keep_pairs`: remember each blurry frame beside the last sharp one (the contact sheet)."""
     from rich.console import Console
-    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeRemainingColumn
+    from rich.progress import (
+        BarColumn,
+        MofNCompleteColumn,
+        Progress,
+        TextColumn,
+        TimeRemainingColumn,
+    )
 
-    from ingest import coverage
+    from sg3d.ingest.select.selection import choose_detected_frames
 
     run = _Selection()
     last_sharp: list = [None, None]
 
     def on_frame(frame, decision, role):
         progress.advance(task)
-        if role in ("keyframe", "anchor", "garbage"):   # what `sg3d build` chooses its frames from
-            run.candidates.append(coverage.Candidate(frame.index, frame.pose, decision.variance))
-        if role in ("keyframe", "anchor"):
-            run.required.append(frame.index)
         if not keep_pairs or decision is None:
             return
         if role == "blurry":
@@ -128,19 +129,18 @@ def _select(seq, selector, stop: int, step: int, keep_pairs: bool, quiet: bool) 
     with Progress(TextColumn("[bold]frames"), BarColumn(), MofNCompleteColumn(), TimeRemainingColumn(),
                   console=console, transient=True, disable=quiet and not console.is_terminal) as progress:
         task = progress.add_task("frames", total=len(range(0, stop, step)))
-        for group in selector.groups(seq, 0, stop, step, on_frame=on_frame):
-            run.groups.append([f.index for f in group.frames])
+        run.choice = choose_detected_frames(seq, 0, stop, step, params=params, on_frame=on_frame)
     return run
 
 
-def _print_report(sequence: Path, seq, stats, params: dict, run: _Selection, detected: list,
-                  sheet: Optional[Path]) -> None:
+def _print_report(sequence: Path, seq, params: dict, choice, sheet: Optional[Path], n_pairs: int) -> None:
     """The human-readable report on stdout."""
     from rich.console import Console
 
-    from ingest import coverage
+    from sg3d.ingest.select import coverage
 
-    skipped, groups = seq.skipped, run.groups
+    stats, detected = choice.stats, choice.detected
+    skipped, groups = seq.skipped, choice.groups
     out = Console()
     out.print(f"[bold]{sequence}[/] ({seq.layout}, {len(seq)} frames, {seq.image_size[0]}x{seq.image_size[1]})")
     rows = [
@@ -153,7 +153,7 @@ def _print_report(sequence: Path, seq, stats, params: dict, run: _Selection, det
         ("groups", f"{stats.groups}", "frames per group: " + " ".join(str(len(g)) for g in groups[:20])
          + (" ..." if len(groups) > 20 else "")),
         ("keyframes+anchors", f"{100 * stats.fraction_kept:.1f} %", f"{stats.kept} of {stats.read} frames read"),
-        ("detected by build", f"{len(detected)}", f"keyframes and anchors + {len(detected) - len(set(run.required))} "
+        ("detected by build", f"{len(detected)}", f"keyframes and anchors + {choice.coverage} "
                                                    f"frames with new viewpoints ({coverage.DEFAULT_FRACTION:.0%} "
                                                    f"of the sharp frames, at least {coverage.MIN_FRAMES}), each the "
                                                    f"sharpest of its {coverage.SNAP_WINDOW}-frame window"),
@@ -168,7 +168,7 @@ def _print_report(sequence: Path, seq, stats, params: dict, run: _Selection, det
     if len(skipped) > 10:
         out.print(f"  [yellow]... and {len(skipped) - 10} more skipped frames[/]")
     if sheet is not None:
-        out.print(f"  contact sheet: {sheet} ({min(len(run.pairs), SHEET_PAIRS)} blurry/sharp pairs)")
+        out.print(f"  contact sheet: {sheet} ({min(n_pairs, SHEET_PAIRS)} blurry/sharp pairs)")
 
 
 def _write_sheet(seq, pairs, path: Path) -> None:
@@ -176,7 +176,7 @@ def _write_sheet(seq, pairs, path: Path) -> None:
     import cv2
     import numpy as np
 
-    from ingest.frames import FrameError
+    from sg3d.ingest.readers.frames import FrameError
 
     if len(pairs) > SHEET_PAIRS:  # spread over the whole run, not the first burst only
         pick = np.linspace(0, len(pairs) - 1, SHEET_PAIRS).round().astype(int)

@@ -25,8 +25,8 @@ def import_command(settings, file: Path, fmt: str, building: Optional[str], room
     """Merge a spark_dsg scene graph (Hydra, Clio; or `sg3d export --format spark-dsg`) into the
     store: objects with their labels, positions, boxes and colours, the relations our export wrote.
     Importing the same file again merges nothing."""
-    from app.errors import AppError
-    from app.graph import import_spark_dsg
+    from sg3d.app.errors import AppError
+    from sg3d.app.graph import import_spark_dsg
 
     if room is not None and (not room.strip() or "/" in room):
         raise UserError("--room must be non-empty and contain no '/'")

@@ -33,9 +33,9 @@ def plan(settings, command, goal, room, building, start, out_dir, planner, as_js
     import shutil
     import tempfile
 
-    from app.errors import AppError
-    from app.plan import plan as plan_task
-    from app.stores import reader
+    from sg3d.app.errors import AppError
+    from sg3d.app.plan import plan as plan_task
+    from sg3d.app.stores import reader
 
     scratch = None if out_dir else Path(tempfile.mkdtemp(prefix="sg3d-plan-"))
     try:

@@ -23,8 +23,8 @@ def rooms(ctx: click.Context, building: str, as_json: bool) -> None:
     """
     if ctx.invoked_subcommand is not None:
         return
-    from app.rooms import building_rooms, rooms_json
-    from app.stores import reader
+    from sg3d.app.rooms import building_rooms, rooms_json
+    from sg3d.app.stores import reader
 
     rows = building_rooms(reader(ctx.obj), building)
     if as_json:
@@ -63,9 +63,15 @@ def link(ctx: click.Context, room_a: str, room_b: str, building: Optional[str], 
             ctx.parent.get_parameter_source("building") is not click.core.ParameterSource.DEFAULT:
         raise UserError(f"two buildings given ({outer!r} before link, {building!r} after it): give --building once")
     building = building or outer
-    from graphdb.align import AlignmentError
-    from graphdb.building import LINK_TOL_M, TransformError, format_matrix, link_rooms, load_transform
-    from graphdb.values import room_id
+    from sg3d.graphdb.align import AlignmentError
+    from sg3d.graphdb.building import (
+        LINK_TOL_M,
+        TransformError,
+        format_matrix,
+        link_rooms,
+        load_transform,
+    )
+    from sg3d.graphdb.values import room_id
 
     try:
         T = load_transform(transform_file) if transform_file else None
@@ -97,9 +103,9 @@ def link(ctx: click.Context, room_a: str, room_b: str, building: Optional[str], 
 def delete(ctx: click.Context, room: str, building: Optional[str], yes: bool) -> None:
     """Remove ROOM: its objects with their edges, its tallies, merge logs and scans, and the room
     itself; every other room stays as it is (asks first)."""
-    from app.errors import NotFound
-    from app.rooms import delete_room
-    from graphdb.values import room_id
+    from sg3d.app.errors import NotFound
+    from sg3d.app.rooms import delete_room
+    from sg3d.graphdb.values import room_id
 
     assert ctx.parent is not None
     building = building or ctx.parent.params["building"]

@@ -5,7 +5,7 @@ import errno
 
 import click
 
-from app.bounds import DEFAULT_MAX_BODY
+from sg3d.app.bounds import DEFAULT_MAX_BODY
 
 
 @click.command()

@@ -49,8 +49,8 @@ def show(settings, room: Optional[str], building: str, out: Path, layout: str, a
     width, height = parse_size(size_text)
     if not out.resolve().parent.is_dir():
         raise UserError(f"--out {out}: the directory {out.parent} does not exist")
-    from app.errors import AppError
-    from app.scene import fetch_scene
+    from sg3d.app.errors import AppError
+    from sg3d.app.scene import fetch_scene
 
     try:
         scene = fetch_scene(settings.reader(), building, room)
@@ -59,7 +59,7 @@ def show(settings, room: Optional[str], building: str, out: Path, layout: str, a
     title = f"{building}/{room}" if room else building
     data: str | bytes
     if fmt == "html":
-        from render.view3d import render_html
+        from sg3d.render.view3d import render_html
 
         try:
             cloud = _cloud_with_progress(sequence, frames, max_points) if sequence is not None else None
@@ -67,7 +67,7 @@ def show(settings, room: Optional[str], building: str, out: Path, layout: str, a
             raise UserError(str(exc)) from None
         data = render_html(scene, cloud=cloud, all_edges=all_edges, title=title)
     else:
-        from render.diagram import render_diagram
+        from sg3d.render.diagram import render_diagram
 
         data = render_diagram(scene, fmt, layout=layout, all_edges=all_edges, size=(width, height), title=title)
     try:
@@ -81,11 +81,17 @@ def show(settings, room: Optional[str], building: str, out: Path, layout: str, a
 
 
 def _cloud_with_progress(sequence: Path, frames: int, max_points: int):
-    """app.scene.sequence_cloud with a progress bar on stderr (100 frames take ~10 s)."""
+    """sg3d.app.scene.sequence_cloud with a progress bar on stderr (100 frames take ~10 s)."""
     from rich.console import Console
-    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
+    from rich.progress import (
+        BarColumn,
+        MofNCompleteColumn,
+        Progress,
+        TextColumn,
+        TimeElapsedColumn,
+    )
 
-    from app.scene import sequence_cloud
+    from sg3d.app.scene import sequence_cloud
 
     with Progress(TextColumn("[bold]point cloud"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn(),
                   console=Console(stderr=True)) as bar:

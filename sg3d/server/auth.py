@@ -1,5 +1,5 @@
 """The API token: generated once into `api-token` inside the store's private directory (the
-one that holds its passwords, mode 0700, see `graphdb.embedded.store_dir`), sent by callers as
+one that holds its passwords, mode 0700, see `sg3d.graphdb.embedded.store_dir`), sent by callers as
 `Authorization: Bearer <token>`.
 
 The file is opened without following a symlink and refused unless this user owns it and no one
@@ -11,7 +11,7 @@ import secrets
 import stat
 from pathlib import Path
 
-from core.errors import Sg3dError
+from sg3d.core.errors import Sg3dError
 
 TOKEN_FILE = "api-token"
 
@@ -22,13 +22,13 @@ class TokenError(Sg3dError, RuntimeError):
 
 def token_path(home: Path) -> Path:
     """Where the token of SG3D_HOME=`home` lives: in the store's private directory."""
-    from graphdb.embedded import store_dir
+    from sg3d.graphdb.embedded import store_dir
 
     return store_dir(Path(home).expanduser().resolve()) / TOKEN_FILE
 
 
 def _private_dir(home: Path) -> Path:
-    from graphdb.embedded import EmbeddedServer, EmbeddedStoreError
+    from sg3d.graphdb.embedded import EmbeddedServer, EmbeddedStoreError
 
     server = EmbeddedServer(home)
     try:

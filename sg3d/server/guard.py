@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import json
 
-from app import bounds
+from sg3d.app import bounds
 from sg3d.server.auth import token_matches
 
 OPEN_PATHS = frozenset({"/health", "/openapi.json", "/docs", "/docs/oauth2-redirect", "/redoc"})

@@ -4,7 +4,7 @@ request -> `app` call -> JSON. OpenAPI at /openapi.json, docs at /docs.
 Every route but /health needs `Authorization: Bearer <token>` (see `sg3d.server.auth`). Routes
 are async and hand their application call to `sg3d.server.dispatch.Dispatcher`: a lone quick read
 runs on the event loop, anything else in the thread pool, so concurrent requests run concurrently
-over one Store per process (a driver with a connection pool), through `app.stores.StoreHandle`,
+over one Store per process (a driver with a connection pool), through `sg3d.app.stores.StoreHandle`,
 which also survives a restart of the embedded store.
 
 Every route declares its response model (`sg3d.server.schemas`) for /openapi.json but returns
@@ -20,15 +20,15 @@ from fastapi.exceptions import RequestValidationError
 from fastapi.responses import Response
 from pydantic import BaseModel, ConfigDict, Field
 
-from app import ask as app_ask
-from app import bounds
-from app import graph as app_graph
-from app import ingest as app_ingest
-from app import plan as app_plan
-from app import rooms as app_rooms
-from app.errors import AppError, NotFound, Refused
-from app.stores import StoreHandle
 from sg3d import __version__
+from sg3d.app import ask as app_ask
+from sg3d.app import bounds
+from sg3d.app import graph as app_graph
+from sg3d.app import ingest as app_ingest
+from sg3d.app import plan as app_plan
+from sg3d.app import rooms as app_rooms
+from sg3d.app.errors import AppError, NotFound, Refused
+from sg3d.app.stores import StoreHandle
 from sg3d.server import schemas
 from sg3d.server.auth import token_matches
 from sg3d.server.dispatch import Dispatcher
@@ -74,9 +74,19 @@ def store_failure(exc: Exception, settings) -> tuple[int, str, dict]:
     """Status, detail and headers for a failure that is not the caller's: an explicit stop is 503
     with the way out; a store that is restarting or briefly unreachable is 503 with Retry-After;
     a full disk is 507 naming it; anything else 500 with the exception's type only."""
-    from neo4j.exceptions import AuthError, ServiceUnavailable, SessionExpired, TransientError
+    from neo4j.exceptions import (
+        AuthError,
+        ServiceUnavailable,
+        SessionExpired,
+        TransientError,
+    )
 
-    from graphdb.embedded import EmbeddedStoreError, StoreStopped, disk_full_message, store_dir
+    from sg3d.graphdb.embedded import (
+        EmbeddedStoreError,
+        StoreStopped,
+        disk_full_message,
+        store_dir,
+    )
 
     if isinstance(exc, StoreStopped):
         return 503, str(exc), {}
@@ -90,10 +100,10 @@ def store_failure(exc: Exception, settings) -> tuple[int, str, dict]:
 
 
 def _json_default(value):
-    """numpy scalars and arrays, and anything else `graphdb.values.jsonable` knows."""
+    """numpy scalars and arrays, and anything else `sg3d.graphdb.values.jsonable` knows."""
     if hasattr(value, "tolist"):
         return value.tolist()
-    from graphdb.values import jsonable
+    from sg3d.graphdb.values import jsonable
 
     return jsonable(value)
 
@@ -107,7 +117,7 @@ def json_response(data, status_code: int = 200) -> Response:
     try:
         body = json.dumps(data, separators=(",", ":"), ensure_ascii=False, allow_nan=False, default=_json_default)
     except ValueError:
-        from graphdb.values import finite_or_none
+        from sg3d.graphdb.values import finite_or_none
 
         body = json.dumps(finite_or_none(data), separators=(",", ":"), ensure_ascii=False, default=_json_default)
     return Response(body.encode(), status_code=status_code, media_type="application/json")

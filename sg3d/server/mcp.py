@@ -1,18 +1,18 @@
 """`sg3d mcp`: an MCP server (stdio, the official `mcp` SDK) giving LLM agents the application
 layer as tools: ask, plan, list rooms, list objects, read-only Cypher, graph schema.
 
-Nothing here writes: every tool reads through `app.stores.reader`, and the Cypher tool refuses
-writing statements and runs the rest in a transaction that is rolled back (`app.graph`)."""
+Nothing here writes: every tool reads through `sg3d.app.stores.reader`, and the Cypher tool refuses
+writing statements and runs the rest in a transaction that is rolled back (`sg3d.app.graph`)."""
 from __future__ import annotations
 
 from typing import Any, Optional
 
-from app import ask as app_ask
-from app import graph as app_graph
-from app import plan as app_plan
-from app import rooms as app_rooms
-from app.errors import AppError
-from app.stores import StoreHandle
+from sg3d.app import ask as app_ask
+from sg3d.app import graph as app_graph
+from sg3d.app import plan as app_plan
+from sg3d.app import rooms as app_rooms
+from sg3d.app.errors import AppError
+from sg3d.app.stores import StoreHandle
 
 INSTRUCTIONS = (
     "sg3d holds 3-D scene graphs of scanned rooms: Object nodes (label, colour, position in metres, "
@@ -32,7 +32,7 @@ def build_server(settings, handle: Optional[StoreHandle] = None):
     server = MCPServer("sg3d", version=__version__, instructions=INSTRUCTIONS, log_level="WARNING")
 
     def read(fn):
-        from graphdb.embedded import EmbeddedStoreError
+        from sg3d.graphdb.embedded import EmbeddedStoreError
 
         try:
             return stores.call(fn)

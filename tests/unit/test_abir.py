@@ -7,7 +7,13 @@ import cv2
 import numpy as np
 import pytest
 
-from ingest.abir import ABIR, bias_corrected, blur_threshold, ema_update, variance_of_laplacian
+from sg3d.ingest.select.abir import (
+    ABIR,
+    bias_corrected,
+    blur_threshold,
+    ema_update,
+    variance_of_laplacian,
+)
 
 VARIANCES = [120.0, 135.0, 20.0, 150.0, 140.0, 15.0, 160.0, 130.0]
 

@@ -6,11 +6,18 @@ import cv2
 import numpy as np
 import pytest
 
-from ingest.attributes import (dominant_colour, hsv_histogram, measure_object, object_size,
-                               position_gaussian, thumbnail, world_points)
-from ingest.frames import Frame
-from core.model import COLOUR_NAMES, HIST_SIZE
-from ingest.readers import quaternion_to_matrix
+from sg3d.core.model import COLOUR_NAMES, HIST_SIZE
+from sg3d.ingest.objects.attributes import (
+    dominant_colour,
+    hsv_histogram,
+    measure_object,
+    object_size,
+    position_gaussian,
+    thumbnail,
+    world_points,
+)
+from sg3d.ingest.readers import quaternion_to_matrix
+from sg3d.ingest.readers.frames import Frame
 
 W, H = 160, 120
 K = np.array([[100.0, 0, 80.0], [0, 100.0, 60.0], [0, 0, 1]])

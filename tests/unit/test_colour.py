@@ -1,9 +1,9 @@
-"""Colour naming (ingest.colour) on hand-made patches: the survey model, casts, screens, votes."""
+"""Colour naming (sg3d.ingest.objects.colour) on hand-made patches: the survey model, casts, screens, votes."""
 import numpy as np
 import pytest
 
-from ingest import colour as C
-from core.model import COLOUR_NAMES
+from sg3d.core.model import COLOUR_NAMES
+from sg3d.ingest.objects import colour as C
 
 
 def scene(patch, light, size=(120, 160)):

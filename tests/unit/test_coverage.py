@@ -1,4 +1,4 @@
-"""Which frames are detected (`ingest.coverage`): KGE's frames and the farthest new viewpoints,
+"""Which frames are detected (`sg3d.ingest.select.coverage`): KGE's frames and the farthest new viewpoints,
 each moved to the sharpest frame of its window, so a choice that moves a frame or two changes
 nothing or its own window's frames only."""
 from __future__ import annotations
@@ -8,7 +8,7 @@ import math
 import numpy as np
 import pytest
 
-from ingest import coverage
+from sg3d.ingest.select import coverage
 
 
 def _pose(x: float, yaw_deg: float = 0.0) -> np.ndarray:

@@ -1,17 +1,17 @@
-"""Every exception class of the product derives from the one base, `core.errors.Sg3dError`."""
+"""Every exception class of the product derives from the one base, `sg3d.core.errors.Sg3dError`."""
 from __future__ import annotations
 
 import ast
 import builtins
 from pathlib import Path
 
-from app.build import BuildError
-from app.errors import NotFound
-from core.errors import Sg3dError
-from queries.parse import ParseError
+from sg3d.app.build import BuildError
+from sg3d.app.errors import NotFound
+from sg3d.core.errors import Sg3dError
+from sg3d.queries.parse import ParseError
 
 REPO = Path(__file__).resolve().parents[2]
-PACKAGES = ("app", "core", "evaluation", "formats", "graphdb", "ingest", "queries", "render", "sg3d")
+PACKAGES = ("sg3d",)   # the one top-level package; its layers are subpackages
 BUILTIN_EXCEPTIONS = {n for n, v in vars(builtins).items() if isinstance(v, type) and issubclass(v, BaseException)}
 
 

@@ -8,10 +8,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from ingest import existence, fusion
-from ingest.attributes import ObjectAttributes
-from ingest.detect import Detection
-from core.model import HIST_SIZE
+from sg3d.core.model import HIST_SIZE
+from sg3d.ingest.detect.models import Detection
+from sg3d.ingest.objects import existence, fusion
+from sg3d.ingest.objects.attributes import ObjectAttributes
 
 
 def _sighting(frame: int, label: str, centre, size, score: float = 0.8, labels=None) -> fusion.Sighting:
@@ -85,7 +85,7 @@ def test_size_prior_allows_for_the_percentile_box():
     """A table at the smallest plausible size, its points spread evenly, measures less than that
     size between the box percentiles; the prior still lets it be a table, not a much smaller box,
     and the upper bound stays the class's own."""
-    from ingest.attributes import BOX_HIGH_PERCENTILE, BOX_LOW_PERCENTILE
+    from sg3d.ingest.objects.attributes import BOX_HIGH_PERCENTILE, BOX_LOW_PERCENTILE
 
     smallest, largest = existence.class_sizes()["dining table"]
     along = np.linspace(0.0, smallest, 2001)

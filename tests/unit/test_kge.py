@@ -5,9 +5,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from ingest.frames import Frame
-from ingest.kge import KeyframeGrouper, overlap
-from ingest.readers import quaternion_to_matrix
+from sg3d.ingest.readers import quaternion_to_matrix
+from sg3d.ingest.readers.frames import Frame
+from sg3d.ingest.select.kge import KeyframeGrouper, overlap
 
 W, H = 100, 50
 K = np.array([[50.0, 0, 49.5], [0, 50.0, 24.5], [0, 0, 1]])

@@ -8,10 +8,11 @@ import cv2
 import numpy as np
 import pytest
 
-from ingest.frames import FrameError
-from ingest.readers import SequenceError, open_sequence
-from ingest.registration import Registration
+from sg3d.ingest.readers import SequenceError, open_sequence
+from sg3d.ingest.readers.frames import FrameError
+from sg3d.ingest.readers.registration import Registration
 from tests.sequences import H, K, W, colour_image, depth_ramp_mm, pose_of, write_7scenes
+
 
 def test_7scenes_reads_frames_and_skips_bad_ones(tmp_path):
     seq = open_sequence(write_7scenes(tmp_path / "seven"), registration=Registration())

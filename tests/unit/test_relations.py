@@ -4,8 +4,13 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from core.model import ObjectObservation, RELATION_TYPES
-from ingest.relations import ObjectGeometry, floor_under_room, horizontal_basis, spatial_relations
+from sg3d.core.geometry import horizontal_basis
+from sg3d.core.model import RELATION_TYPES, ObjectObservation
+from sg3d.ingest.relate.relations import (
+    ObjectGeometry,
+    floor_under_room,
+    spatial_relations,
+)
 
 UP = (0.0, 0.0, 1.0)
 
@@ -208,7 +213,7 @@ def test_near_only_without_a_more_specific_relation():
 
 
 def test_random_scenes_hold_no_contradiction():
-    from core.relation_rules import statement_of
+    from sg3d.core.relation_rules import statement_of
     rng = np.random.default_rng(3)
     for _ in range(200):
         objs = [ObjectGeometry(f"o{i}", str(rng.choice(["cup", "bowl", "chair", "book", "sink"])),
@@ -282,8 +287,8 @@ def test_a_cup_at_the_edge_of_a_partly_seen_table_top_is_left_to_other_views():
 
 
 def test_next_to_needs_one_support_across_the_sequence():
-    from core.model import RelationObservation as R
-    from ingest.relations import side_by_side_on_one_support
+    from sg3d.core.model import RelationObservation as R
+    from sg3d.ingest.relate.relations import side_by_side_on_one_support
 
     rels = [R("cup", "ON", "table"), R("book", "ON", "table"), R("cup", "NEXT_TO", "book"),
             R("chair", "NEXT_TO", "cup"), R("chair", "NEXT_TO", "table"), R("chair", "NEAR", "book")]

@@ -5,8 +5,8 @@ from types import SimpleNamespace
 
 import numpy as np
 
-from ingest.discovery import screens_in_view
-from ingest.room_cloud import RoomCloud
+from sg3d.ingest.discover.discovery import screens_in_view
+from sg3d.ingest.discover.room_cloud import RoomCloud
 
 
 def _camera_at_origin():

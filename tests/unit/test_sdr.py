@@ -5,16 +5,16 @@ import math
 
 import pytest
 
-from ingest.detect import Detection
-from core.model import RELATION_TYPES, RelationObservation as Rel
-from ingest.sdr import (
-    IRRELEVANT_CLASSES,
+from sg3d.core.model import RELATION_TYPES
+from sg3d.core.model import RelationObservation as Rel
+from sg3d.ingest.detect.irrelevant import IRRELEVANT_CLASSES, reject_irrelevant
+from sg3d.ingest.detect.models import Detection
+from sg3d.ingest.relate.sdr import (
+    VOTE_MAJORITY,
     PriorEntry,
     RelationPrior,
     default_prior,
     filter_relations,
-    reject_irrelevant,
-    VOTE_MAJORITY,
     relation_prior_probability,
     vote_relations,
 )
@@ -185,7 +185,7 @@ def test_filter_reads_symmetric_relations_both_ways_and_keeps_inverse_pairs_whol
 
 
 def test_whole_sequence_placement_overrules_a_voted_beside_and_fills_silence():
-    from ingest.sdr import with_whole_geometry
+    from sg3d.ingest.relate.sdr import with_whole_geometry
 
     voted = [Rel("book", "NEXT_TO", "table", 0.6),             # partial table boxes: "beside"
              Rel("cup", "ON", "table", 0.8),                     # the views saw it on the table

@@ -3,8 +3,8 @@ from __future__ import annotations
 
 import inspect
 
-from graphdb.protocol import GraphStore
-from graphdb.store import Store
+from sg3d.graphdb.protocol import GraphStore
+from sg3d.graphdb.store import Store
 
 
 def protocol_methods() -> list[str]:

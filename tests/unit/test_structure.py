@@ -5,8 +5,8 @@ from types import SimpleNamespace
 
 import numpy as np
 
-from ingest.room_cloud import RoomCloud
-from ingest.structure import plane_fill, walls
+from sg3d.ingest.discover.room_cloud import RoomCloud
+from sg3d.ingest.discover.structure import plane_fill, walls
 
 
 def _plane(start, direction, length: float, height: float, normal) -> tuple[np.ndarray, np.ndarray]:
@@ -51,7 +51,7 @@ def test_a_front_is_a_face_and_the_folds_of_a_curtain_are_not():
 
 
 def test_a_segments_voxel_sample_depends_on_its_voxels_only():
-    from ingest.segments import SAMPLE_VOXELS, voxel_sample
+    from sg3d.ingest.discover.segments import SAMPLE_VOXELS, voxel_sample
 
     rng = np.random.default_rng(3)
     voxels = rng.uniform(0, 1, (500, 3))

@@ -61,8 +61,8 @@ def test_a_token_others_may_read_is_refused(tmp_path):
 def test_serve_with_a_planted_token_says_so_in_one_line(tmp_path):
     from click.testing import CliRunner
 
-    from graphdb.embedded import free_port
     from sg3d.cli import cli
+    from sg3d.graphdb.embedded import free_port
     from sg3d.server.auth import ensure_token, token_path
 
     home = tmp_path / "home"

@@ -1,11 +1,11 @@
-"""graphdb.values.jsonable: the one conversion of store and answer values to JSON."""
+"""sg3d.graphdb.values.jsonable: the one conversion of store and answer values to JSON."""
 from __future__ import annotations
 
 import json
 
 from neo4j.time import Date
 
-from graphdb.values import jsonable
+from sg3d.graphdb.values import jsonable
 
 
 def test_jsonable_turns_every_kind_of_value_into_json():
@@ -20,7 +20,7 @@ def test_jsonable_turns_every_kind_of_value_into_json():
 
 
 def test_rows_with_stored_nan_or_infinity_are_skipped_and_others_kept():
-    from graphdb.values import finite_rows, has_bad_number
+    from sg3d.graphdb.values import finite_rows, has_bad_number
 
     nan, inf = float("nan"), float("inf")
     good = [{"x": 1.0, "var": [0.1, 0.2, 0.3], "labels": ["cup", "mug"], "mixed": [1, "a", 2.5], "up": None}]

@@ -1,0 +1,75 @@
+"""Ask a question of the stored scene graph: the one call `sg3d ask`, `POST /ask` and the MCP
+`ask` tool make."""
+from __future__ import annotations
+
+import base64
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Optional
+
+from sg3d.app.errors import AppError
+from sg3d.graphdb.protocol import GraphStore
+
+if TYPE_CHECKING:              # the CLI imports queries only when it answers
+    from sg3d.queries.vqa import Answer
+
+
+@dataclass
+class Asked:
+    answer: Answer
+    picture: Optional[str] = None       # where the answer's picture was written, if it was
+
+    @property
+    def ok(self) -> bool:
+        return self.answer.ok
+
+    def to_json(self, inline_thumbnail: bool = False) -> dict:
+        """The JSON of `sg3d ask --json`; `inline_thumbnail` adds the stored JPEG as base64
+        (for callers on another machine, who cannot open the server's picture file)."""
+        data = self.answer.to_json()
+        data["thumbnail"] = self.picture
+        if inline_thumbnail:
+            thumb = self.answer.thumbnail
+            data["thumbnail_jpeg_base64"] = base64.b64encode(bytes(thumb)).decode() if thumb else None
+        return data
+
+
+def parse_viewpoint(text: Optional[str]) -> Optional[dict]:
+    """"X,Y,Z" -> a point in the room's world frame; text without a comma -> an object's name
+    (no name has a comma, so "1,2" or "1,2,z" is a mistyped point: AppError)."""
+    if not text:
+        return None
+    if "," not in text:
+        return {"object": text.strip()}
+    parts = text.split(",")
+    try:
+        if len(parts) == 3:
+            return {"position": [float(p) for p in parts]}
+    except ValueError:
+        pass
+    raise AppError(f"--viewpoint {text!r}: give a point as X,Y,Z (three numbers, metres) or an object's name")
+
+
+def ask(store: GraphStore, question: str, room: Optional[str] = None, building: Optional[str] = None,
+        picture: bool = False, out: Optional[str] = None, embedding=None,
+        viewpoint: Optional[dict] = None) -> Asked:
+    """Answer `question` (read-only). With `picture`, a "show me"/"which is the biggest" answer's
+    thumbnail is written to `out` (default a temporary .png). AppError for a bad picture path.
+    `viewpoint` ({"pose": 4x4} | {"position": [x, y, z]} | {"object": name}): where "in front
+    of / behind / left of / right of" are seen from."""
+    from sg3d.app.changes import change_answer
+    from sg3d.queries.picture import write_picture
+    from sg3d.queries.vqa import answer
+
+    result = change_answer(store, question, room=room, building=building, embedding=embedding)
+    if result is not None:
+        return Asked(result)
+    result = answer(store, question, room=room, building=building, embedding=embedding, viewpoint=viewpoint)
+    path = None
+    if picture and result.ok and result.thumbnail:
+        try:
+            path = write_picture(result.thumbnail, out)
+        except ValueError as exc:
+            raise AppError(str(exc)) from exc
+        except OSError as exc:
+            raise AppError(f"cannot write the picture to {out}: {exc.strerror or exc}") from exc
+    return Asked(result, path)

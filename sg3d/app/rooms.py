@@ -1,0 +1,98 @@
+"""Rooms and their objects: what `sg3d rooms`, `GET /rooms`, `GET /rooms/{building}/{room}/objects`
+and the MCP `list_rooms` / `list_objects` tools return."""
+from __future__ import annotations
+
+import math
+from typing import Optional, Sequence
+
+from sg3d.app.errors import AppError, NotFound
+from sg3d.graphdb.protocol import GraphStore
+
+OBJECT_LIMIT = 10_000   # objects one listing returns at most
+
+
+def rooms_json(rows: list[dict]) -> list[dict]:
+    """Rooms as JSON: id, name, objects, to_building (4x4 as lists or null), adjacent names."""
+    return [{"id": r["id"], "name": r["name"], "objects": r["objects"],
+             "to_building": None if r["to_building"] is None else r["to_building"].tolist(),
+             "adjacent": r["adjacent"]} for r in rows]
+
+
+def building_rooms(store: GraphStore, building: str) -> list[dict]:
+    """The rooms of one building (graphdb rows, transforms as arrays)."""
+    from sg3d.graphdb.building import list_rooms
+
+    return list_rooms(store, building)
+
+
+def list_rooms(store: GraphStore, building: Optional[str] = None) -> list[dict]:
+    """Rooms as JSON (`rooms_json`) with their building: one building's, or every building's."""
+    buildings = [building] if building else sorted({r["building"] for r in store.read("plan_rooms")})
+    return [{"building": b, **r} for b in buildings for r in rooms_json(building_rooms(store, b))]
+
+
+def _near(near: Optional[Sequence[float]], radius: Optional[float]):
+    if near is None:
+        if radius is not None:
+            raise AppError("radius needs a point: give near=x,y,z")
+        return None
+    if len(near) != 3 or not all(math.isfinite(float(v)) for v in near):
+        raise AppError("near must be three finite numbers x,y,z (metres, the room's frame)")
+    if radius is not None and not (radius > 0 and math.isfinite(radius)):
+        raise AppError("radius must be a positive number of metres")
+    return [float(v) for v in near]
+
+
+def room_objects(store: GraphStore, building: str, room: str, label: Optional[str] = None, colour: Optional[str] = None,
+                 near: Optional[Sequence[float]] = None, radius: Optional[float] = None,
+                 limit: int = OBJECT_LIMIT) -> list[dict]:
+    """The objects of one room with their readable names, filtered by best label, colour name and
+    distance from a point (`near` x,y,z in the room's frame; `radius` metres, default: no bound,
+    sorted nearest first). NotFound when the room is not in the store."""
+    from sg3d.graphdb.values import room_id
+    from sg3d.queries.naming import names_in_store
+
+    point = _near(near, radius)
+    rid = room_id(building, room)
+    if not store.read("building_room_get", room=rid):
+        raise NotFound(f"no room {rid!r} in the store")
+    rows = store.read("vqa_objects_in_rooms", rooms=[rid], labels=[label.strip().lower()] if label else None,
+                      colour=colour.strip().lower() if colour else None, limit=limit)
+    names = names_in_store(store.read, rows)
+    out = []
+    for r in rows:
+        item = {"id": r["id"], "name": names.get(r["id"], r["label"]), "label": r["label"], "colour": r["colour"],
+                "position": [r["x"], r["y"], r["z"]], "size": r["size"], "volume": r["volume"],
+                "score": r["score"], "room": r["room"]}
+        if point is not None:
+            item["distance"] = round(math.dist(point, item["position"]), 4)
+            if radius is not None and item["distance"] > radius:
+                continue
+        out.append(item)
+    if point is not None:
+        out.sort(key=lambda o: o["distance"])
+    return out
+
+
+DELETE_BATCH = 2000   # objects removed per transaction when a room is deleted
+
+
+def delete_room(store: GraphStore, building: str, room: str) -> dict:
+    """Remove one room: its objects (with their Appearance nodes and edges), tallies, merge logs,
+    scans and the room node; nothing of any other room. NotFound when it is not in the store.
+    Returns what was removed: {room, objects}."""
+    from sg3d.graphdb.values import room_id
+
+    rid = room_id(building, room)
+    if not store.read("building_room_get", room=rid):
+        raise NotFound(f"no room {rid!r} in the store")
+    objects = 0
+    while True:
+        n = store.write("room_delete_objects", room=rid, batch=DELETE_BATCH)[0]["n"]
+        objects += n
+        if n < DELETE_BATCH:
+            break
+    for template in ("room_delete_tallies", "room_delete_merge_logs", "room_delete_scans", "room_delete_node"):
+        store.write(template, room=rid)
+    store.rooms_known.discard(rid)
+    return {"room": rid, "objects": objects}

@@ -1,0 +1,207 @@
+"""Merging a local 3-D scene graph into the stored global graph (paper Sec. V-C).
+
+The whole merge of one local graph is ONE write transaction (`session.execute_write`, retried
+on transient errors): a failure anywhere inside, in Python or in Cypher, rolls everything back.
+Inside it: lock the room, read the candidates (same room, inside a spatial window around the
+local graph) and the nodes a re-scan saw gone, plan the merge without the store
+(`sg3d.graphdb.merge_plan`: scores, one-to-one pairing, folds, moves, properties, tally changes), then
+`apply` the plan: update the matched nodes, create the rest (each Object with its Appearance
+node: histogram and thumbnail), adjust the room's tallies (`sg3d.graphdb.tally`), merge the edges,
+and log the merge under the graph's key so that a re-run or `--resume` skips it.
+
+Re-scans (`sg3d.graphdb.rescan`): every merge belongs to a scan; nodes keep first/last seen and the
+scans that saw them. A new observation that matches no node but matches by label and colour a
+node whose place this scan saw empty moves that node (history kept). The scan's last merge
+marks removed the nodes whose place it saw empty and that it did not re-observe.
+"""
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+from typing import Optional
+
+import numpy as np
+from neo4j import ManagedTransaction
+
+from sg3d.core.embedding import LabelEmbedding, default_embedding
+from sg3d.core.model import RELATION_TYPES, LocalGraph, ObjectObservation
+from sg3d.graphdb import cypher, rescan
+from sg3d.graphdb.consistency import resolve_pairs
+from sg3d.graphdb.merge_plan import (
+    MergePlan,
+    gravity_basis,
+    may_pass,
+    plan_merge,
+    position_scores,
+)
+from sg3d.graphdb.similarity import MAX_EXTENT_M, SimilarityParams
+from sg3d.graphdb.tally import create_objects_and_tallies
+from sg3d.graphdb.values import room_id
+
+
+@dataclass
+class MergeReport:
+    key: Optional[str]
+    skipped: bool = False          # already merged under this key
+    created: int = 0
+    updated: int = 0
+    candidates: int = 0
+    absorbed: int = 0              # stored nodes found to be one object with another, folded in
+    relations: int = 0
+    moved: int = 0                 # nodes moved to a new place by this merge
+    removed: int = 0               # nodes marked removed when this merge closed its scan
+    node_ids: dict[str, str] = field(default_factory=dict)   # local_id -> global id
+    seconds: float = 0.0
+
+
+def _rows(result) -> list[dict]:
+    """Records as plain dicts (cheaper than Result.data(), which re-walks every value)."""
+    keys = result.keys()
+    return [dict(zip(keys, values)) for values in result.values()]
+
+
+def _fetch_candidates(tx: ManagedTransaction, rid: str, objects: list[ObjectObservation],
+                      params: SimilarityParams, basis: np.ndarray) -> tuple[list[dict], np.ndarray]:
+    """Candidates and the (n_local, n_cand) position similarity (Eq. 12-13) of each pair.
+
+    One query for the candidates inside the window (small Object records, no bytes); the
+    histograms of the ones some local object is close to come from their Appearance nodes.
+    """
+    largest = max(max(o.size) for o in objects)
+    margin = params.window_margin() + (min(largest, MAX_EXTENT_M) + MAX_EXTENT_M) / 2
+    near = _rows(tx.run(cypher.load("merge_candidates"), room=rid, **_window(objects, margin)))
+    if not near:
+        return [], np.zeros((len(objects), 0))
+    # in the order of their place, not of their (random) ids: equal scores are then paired the
+    # same way in every build of the same frames
+    near.sort(key=lambda c: (c["x"], c["y"], c["z"], c["label"]))
+    # a batch spans the room, so most pairs are far apart: a cheap test drops the candidates
+    # nothing local can reach before the exact scores (same result, without their tails)
+    near = [near[j] for j in np.flatnonzero(may_pass(objects, near, params, basis).any(axis=0))]
+    if not near:
+        return [], np.zeros((len(objects), 0))
+    s_pos = position_scores(objects, near, params, basis)
+    keep = np.flatnonzero((s_pos >= params.min_position_similarity()).any(axis=0))
+    if keep.size == 0:
+        return [], np.zeros((len(objects), 0))
+    cands = [near[j] for j in keep]
+    hists = {r["id"]: r["hist"] for r in _rows(tx.run(cypher.load("merge_candidate_hists"),
+                                                      ids=[c["id"] for c in cands]))}
+    for c in cands:
+        c["hist"] = hists.get(c["id"])
+    return cands, s_pos[:, keep]
+
+
+def _window(objects: list[ObjectObservation], margin: float) -> dict:
+    means = np.array([o.mean for o in objects], float)
+    lo = means.min(axis=0) - margin
+    hi = means.max(axis=0) + margin
+    return {"xmin": lo[0], "xmax": hi[0], "ymin": lo[1], "ymax": hi[1], "zmin": lo[2], "zmax": hi[2]}
+
+
+def _fold_node(tx: ManagedTransaction, old: str, into: str) -> None:
+    """Move `old`'s relation edges to `into` (counts added, best score kept) and delete it."""
+    for rel_type in RELATION_TYPES:
+        for name in ("node_fold_out", "node_fold_in"):
+            tx.run(cypher.render(name, rel_type), old=old, into=into).consume()
+    tx.run(cypher.load("node_delete"), id=old).consume()
+
+
+def merge_in_tx(tx: ManagedTransaction, graph: LocalGraph, embedding: Optional[LabelEmbedding] = None,
+                params: SimilarityParams = SimilarityParams()) -> MergeReport:
+    """The body of the merge transaction (`merge_local_graph` runs it with execute_write): lock
+    the room, read what the plan needs, plan the merge (`plan_merge`), write it (`apply`)."""
+    t0 = time.perf_counter()
+    if graph.key and tx.run(cypher.load("merge_log_exists"), key=graph.key).single():
+        return MergeReport(key=graph.key, skipped=True)
+    embedding = embedding or default_embedding()
+    rid = room_id(graph.building, graph.room)
+    now = time.time()
+    scan = rescan.scan_of(graph, now)
+    # first write of the transaction: the room lock (see cypher/room_ensure.cypher)
+    tx.run(cypher.load("room_ensure"), building=graph.building, room=rid, name=graph.room,
+           up=[float(v) for v in graph.up] if graph.up is not None else None).consume()
+    tx.run(cypher.load("scan_ensure"), id=scan.id, room=rid, at=scan.at,
+           kind="ingest" if (graph.key or "").startswith("ingest:") else "build").consume()
+    objects = graph.objects
+    cands, s_pos = (_fetch_candidates(tx, rid, objects, params, gravity_basis(graph.up)) if objects
+                    else ([], None))
+    moved_from = rescan.move_candidates(tx, rid, graph)
+    plan = plan_merge(graph, cands, s_pos, moved_from, embedding, scan, now, rid, params)
+    report = apply(tx, plan)
+    report.seconds = time.perf_counter() - t0
+    return report
+
+
+def apply(tx: ManagedTransaction, plan: MergePlan) -> MergeReport:
+    """Write a merge plan: the templates only, in the order the room's state needs (moved nodes
+    lose their stale edges and folded nodes go before the updates; the scan closes before the
+    creates, so new objects are not the scan's to remove and the removed ones leave the tallies
+    written with the creates)."""
+    report = MergeReport(key=plan.key, candidates=plan.candidates, moved=plan.moved, absorbed=plan.absorbed,
+                         node_ids=dict(plan.node_ids))
+    for node in plan.cleared:
+        rescan.clear_relations(tx, node)
+    for old, into in plan.folds:
+        _fold_node(tx, old, into)
+    if plan.updates:
+        tx.run(cypher.load("object_update"), rows=plan.updates).consume()
+    report.updated, report.created = len(plan.updates) - plan.moved, len(plan.creates)
+    rescan.record_empty_places(tx, plan.scan, plan.empty_places)
+    uncounted = list(plan.uncounted)
+    if plan.scan.closes:
+        gone = rescan.close_scan(tx, plan.room, plan.scan, plan.now)
+        uncounted.extend((g["label"], g["colour"]) for g in gone)
+        report.removed = len(gone)
+    create_objects_and_tallies(tx, plan.room, plan.creates, plan.counted, uncounted)
+    for rel_type, rows in plan.relations:
+        tx.run(cypher.render("relation_merge", rel_type), rows=rows).consume()
+        report.relations += len(rows)
+    if plan.resolve:
+        resolve_pairs(tx, plan.node_ids.values())
+    if plan.key:
+        tx.run(cypher.load("merge_log_create"), key=plan.key, room=plan.room, at=plan.now,
+               frames=plan.frames, created=report.created, updated=report.updated).consume()
+    return report
+
+
+def merge_local_graph(store, graph: LocalGraph, embedding: Optional[LabelEmbedding] = None,
+                      params: SimilarityParams = SimilarityParams()) -> MergeReport:
+    """Merge one local graph as ONE transaction; the store is unchanged if anything fails."""
+    embedding = embedding or default_embedding()
+    store.ensure_schema()
+    rid = room_id(graph.building, graph.room)
+    if rid not in store.rooms_known:     # a room is created once: later merges skip the round trip
+        create_room(store, graph.building, graph.room)
+        store.rooms_known.add(rid)
+    from neo4j.exceptions import ConstraintError
+
+    try:
+        return store.execute_write(lambda tx: merge_in_tx(tx, graph, embedding, params))
+    except ConstraintError:
+        # Two merges of one key raced (two runs of one build): the store may report the loser
+        # as a duplicate MergeLog key rather than a retryable conflict. The same key means the
+        # same local graph, so the winner's commit is this merge.
+        if graph.key and store.read("merge_log_exists", key=graph.key):
+            return MergeReport(key=graph.key, skipped=True)
+        raise
+
+
+def create_room(store, building: str, room: str, attempts: int = 4) -> None:
+    """Create the room before the merge, in its own transaction. Two builds creating one new room
+    at once both get here; the one whose commit hits the unique constraint retries and finds it."""
+    from neo4j.exceptions import ConstraintError
+
+    for attempt in range(attempts):
+        try:
+            store.write("room_create", building=building, room=room_id(building, room), room_name=room)
+            return
+        except ConstraintError:
+            if attempt == attempts - 1:
+                raise
+            time.sleep(0.05 * (attempt + 1))
+
+
+def merged_keys(store, prefix: str) -> set[str]:
+    """Keys of the merges logged under `prefix` (what a resumed build may skip)."""
+    return {row["key"] for row in store.read("merge_log_keys", prefix=prefix)}

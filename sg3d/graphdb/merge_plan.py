@@ -1,0 +1,349 @@
+"""The merge's decisions, without a store (paper Sec. V-C): from a local graph and the stored
+candidates it was compared with, which local object is which stored node, which stored nodes
+fold into one, which unmatched observation is a moved node, the properties every node gets, the
+tally changes and the relation rows. `sg3d.graphdb.merge` reads the inputs inside the merge
+transaction and writes the plan with `apply`.
+
+Same-node detection is Eq. 10-15: s_total = w_label s_label (Eq. 10-11) + w_colour s_colour
+(Eq. 14) + w_position s_position (Eq. 12-13), paired one-to-one; a matched node is updated with
+the paper's rules (`sg3d.graphdb.update`).
+"""
+from __future__ import annotations
+
+import uuid
+from dataclasses import dataclass, field
+from typing import Optional
+
+import numpy as np
+from scipy.optimize import linear_sum_assignment
+
+from sg3d.core.embedding import LabelEmbedding
+from sg3d.core.geometry import horizontal_frame
+from sg3d.core.model import UNNAMED_LABEL, LocalGraph, ObjectObservation, ScanInfo
+from sg3d.graphdb import rescan
+from sg3d.graphdb.consistency import canonical_rows
+from sg3d.graphdb.similarity import (
+    SimilarityParams,
+    box_may_pass,
+    box_position_similarity,
+    histogram_intersection,
+    label_similarity_matrix,
+    position_may_pass,
+    position_similarity,
+    shared_labels,
+    total_similarity,
+)
+from sg3d.graphdb.update import (
+    combine_boxes,
+    combine_gaussians,
+    combine_histograms,
+    combine_labels,
+    incoming_has_best_label,
+)
+from sg3d.graphdb.values import pack_hist, unpack_hist
+
+Label = tuple[str, Optional[str]]       # (label, colour) of an object entering or leaving the tallies
+
+
+@dataclass
+class MergePlan:
+    """Everything one merge writes, decided before the first write of its objects."""
+    key: Optional[str]
+    room: str
+    scan: ScanInfo
+    now: float
+    frames: list[int]
+    candidates: int = 0                                         # stored nodes compared
+    node_ids: dict[str, str] = field(default_factory=dict)      # local_id -> global id
+    cleared: list[str] = field(default_factory=list)            # moved nodes: their edges go
+    folds: list[tuple[str, str]] = field(default_factory=list)  # (stored node, node it folds into)
+    updates: list[dict] = field(default_factory=list)           # object_update rows
+    creates: list[dict] = field(default_factory=list)           # object_create rows
+    counted: list[Label] = field(default_factory=list)          # entering the tallies
+    uncounted: list[Label] = field(default_factory=list)        # leaving the tallies
+    empty_places: list[dict] = field(default_factory=list)      # object_mark_empty rows
+    relations: list[tuple[str, list[dict]]] = field(default_factory=list)  # (type, relation_merge rows)
+    resolve: bool = False                                       # the touched pairs need resolving
+
+    @property
+    def moved(self) -> int:
+        return len(self.cleared)
+
+    @property
+    def absorbed(self) -> int:
+        return len(self.folds)
+
+
+def _box_centre(obj: ObjectObservation):
+    return obj.box_centre if obj.box_centre is not None else obj.mean
+
+
+def gravity_basis(up) -> np.ndarray:
+    """Rows e1, e2, up of the room's gravity frame (world axes when the room has no up)."""
+    if up is None:
+        return np.eye(3)
+    return horizontal_frame(up)
+
+
+def _position_arrays(objects: list[ObjectObservation], near: list[dict]) -> dict:
+    """Broadcast-ready (n_local, n_cand, 3) operands of the position tests."""
+    return {
+        "mean_c": np.array([o.mean for o in objects], float)[:, None, :],
+        "mean_o": np.array([[c["x"], c["y"], c["z"]] for c in near], float)[None, :, :],
+        "var_o": np.array([c["var"] for c in near], float)[None, :, :],
+        "size_o": np.array([c["size"] for c in near], float)[None, :, :],
+        "box_o": np.array([c["box_centre"] or [c["x"], c["y"], c["z"]] for c in near], float)[None, :, :],
+        "box_c": np.array([_box_centre(o) for o in objects], float)[:, None, :],
+        "size_c": np.array([o.size for o in objects], float)[:, None, :],
+        # unnamed objects are no kind: two of them are one place only by the plain Gaussian test
+        "same_kind": (shared_labels([o.labels for o in objects], [c["labels"] for c in near]) > 0)
+        & np.array([o.label != UNNAMED_LABEL for o in objects])[:, None]
+        & np.array([c["label"] != UNNAMED_LABEL for c in near])[None, :],
+    }
+
+
+def _wide_floor(a: dict, params: SimilarityParams) -> np.ndarray:
+    """σ floor of a stored object between views of one kind: a fraction of its largest extent."""
+    return np.maximum(params.sigma_floor, params.sigma_size_fraction * a["size_o"].max(axis=-1))[..., None]
+
+
+def may_pass(objects: list[ObjectObservation], near: list[dict], params: SimilarityParams,
+              basis: np.ndarray) -> np.ndarray:
+    """(n_local, n_cand): False only where `position_scores` is surely below the position
+    threshold (no normal tails evaluated)."""
+    a, p_min = _position_arrays(objects, near), params.min_position_similarity()
+    ok = position_may_pass(a["mean_o"], a["var_o"], a["mean_c"], p_min, params.sigma_floor, params.sigma_cap)
+    if a["same_kind"].any():
+        # σ_wide ≥ σ, so the wide test covers the plain one for same-kind pairs
+        wide = position_may_pass(a["mean_o"], a["var_o"], a["mean_c"], p_min, _wide_floor(a, params),
+                                 params.sigma_cap)
+        box = box_may_pass(a["box_o"], a["size_o"], a["box_c"], a["size_c"], basis, p_min, params.sigma_floor)
+        ok = ok | (a["same_kind"] & (wide | box))
+    return ok
+
+
+def position_scores(objects: list[ObjectObservation], near: list[dict], params: SimilarityParams,
+                     basis: np.ndarray) -> np.ndarray:
+    """s_position (Eq. 12-13) of every (local, candidate) pair, shape (n_local, n_cand).
+
+    Partial views of one big object: its σ is floored at a fraction of its extent, and
+    overlapping 3-D boxes count as the same place. Only between views of one kind of thing: a
+    chair tucked under a table, or a cup on it, sits inside the table's extent and is not it.
+    Layers never mix (a shelf's surface is not the book on it), and structure (floors, walls,
+    counters: big, thin boxes whose Gaussians say little) is the same place only where the
+    boxes overlap (`structure_position_similarity`).
+    """
+    a = _position_arrays(objects, near)
+    s_pos = position_similarity(a["mean_o"], a["var_o"], a["mean_c"], params.sigma_floor, params.sigma_cap)
+    s_box = None
+    if a["same_kind"].any():
+        s_wide = position_similarity(a["mean_o"], a["var_o"], a["mean_c"], _wide_floor(a, params),
+                                     params.sigma_cap)
+        s_box = box_position_similarity(a["box_o"], a["size_o"], a["box_c"], a["size_c"], basis,
+                                        params.sigma_floor)
+        s_pos = np.where(a["same_kind"], np.maximum(s_pos, np.maximum(s_wide, s_box)), s_pos)
+    return structure_position_similarity(objects, near, s_pos, s_box, a["same_kind"])
+
+
+def structure_position_similarity(objects: list[ObjectObservation], near: list[dict], s_pos: np.ndarray,
+                                  s_box: Optional[np.ndarray], same_kind: np.ndarray) -> np.ndarray:
+    """Rule "layers do not mix": s_position 0 between a structure node and an object; between two
+    structure nodes of one kind the box term alone (overlapping boxes), else 0."""
+    local = np.array([o.layer == "structure" for o in objects])[:, None]
+    stored = np.array([(c.get("layer") or "object") == "structure" for c in near])[None, :]
+    out = np.where(local != stored, 0.0, s_pos)
+    both = local & stored
+    if both.any():
+        box = s_box if s_box is not None else np.zeros_like(s_pos)
+        out = np.where(both, np.where(same_kind, box, 0.0), out)
+    return out
+
+
+def _pair_scores(objects: list[ObjectObservation], cands: list[dict], s_pos: np.ndarray,
+                 embedding: LabelEmbedding, params: SimilarityParams) -> np.ndarray:
+    """s_total (Eq. 15) for every (local object, candidate) pair, shape (n_local, n_cand)."""
+    n, m = len(objects), len(cands)
+    if n == 0 or m == 0:
+        return np.zeros((n, m))
+    s_col = np.zeros((n, m))
+    # only pairs close enough to pass get the 512-bin intersection
+    rows, cols = np.nonzero(s_pos >= params.min_position_similarity())
+    if rows.size:
+        h_c = np.array([o.hist for o in objects], float)
+        h_o = np.array([unpack_hist(c["hist"]) for c in cands], float)
+        s_col[rows, cols] = histogram_intersection(h_c[rows], h_o[cols])
+    s_lab = label_similarity_matrix([o.labels for o in objects], [o.scores for o in objects],
+                                    [c["labels"] for c in cands], [c["scores"] for c in cands], embedding)
+    return total_similarity(s_lab, s_col, s_pos, params)
+
+
+def match_nodes(objects: list[ObjectObservation], cands: list[dict], s_pos: np.ndarray,
+                embedding: LabelEmbedding, params: SimilarityParams = SimilarityParams()
+                ) -> tuple[dict[int, int], dict[int, int]]:
+    """Same-node detection: (local index -> candidate index, one-to-one, s_total ≥ threshold;
+    candidate index -> the candidate index it is the same node as).
+
+    The second map: when a new observation passes the threshold against several stored nodes
+    that nothing else claims, those nodes were one object all along (a table first seen as two
+    ends, linked by a view of its middle), so they are folded into the matched one; not for an
+    unnamed or structure observation, whose label is no evidence that they are one thing.
+    """
+    scores = _pair_scores(objects, cands, s_pos, embedding, params)
+    if scores.size == 0:
+        return {}, {}
+    rows, cols = linear_sum_assignment(-scores)
+    matches = {int(i): int(j) for i, j in zip(rows, cols) if scores[i, j] >= params.threshold}
+    claimed = set(matches.values())
+    absorbed: dict[int, int] = {}
+    for i, j in matches.items():
+        if objects[i].label == UNNAMED_LABEL or objects[i].layer == "structure":
+            continue        # nothing names what links them: two segments (or walls) stay two
+        for k in np.flatnonzero(scores[i] >= params.threshold):
+            if int(k) not in claimed and int(k) not in absorbed:
+                absorbed[int(k)] = j
+    return matches, absorbed
+
+
+def _as_observation(cand: dict) -> ObjectObservation:
+    """A stored node seen as one more observation of another node (for folding it in)."""
+    return ObjectObservation(
+        local_id=cand["id"], labels=list(cand["labels"]), scores=list(cand["scores"]),
+        mean=(cand["x"], cand["y"], cand["z"]), var=tuple(cand["var"]), n_points=int(cand["n_points"]),
+        size=tuple(cand["size"]), hist=unpack_hist(cand["hist"]), colour=cand["colour"], thumbnail=None,
+        colour2=cand.get("colour2"), layer=cand.get("layer") or "object", shape=cand.get("shape"),
+        first_frame=int(cand["first_frame"]), last_frame=int(cand["last_frame"]),
+        n_frames=int(cand["n_frames"]), box_centre=cand["box_centre"])
+
+
+def _new_props(obj: ObjectObservation, rid: str, now: float, scan: ScanInfo) -> dict:
+    mean = [float(v) for v in obj.mean]
+    size = [float(v) for v in obj.size]
+    return {
+        "id": f"o-{uuid.uuid4().hex[:16]}", "room": rid,
+        "label": obj.label, "labels": list(obj.labels), "scores": [float(s) for s in obj.scores],
+        "score": float(max(obj.scores)),
+        "x": mean[0], "y": mean[1], "z": mean[2], "var": [float(v) for v in obj.var],
+        "n_points": int(obj.n_points), "size": size, "volume": float(np.prod(size)),
+        "box_centre": [float(v) for v in _box_centre(obj)],
+        "hist": pack_hist(obj.hist), "colour": obj.colour, "colour2": obj.colour2,
+        "layer": obj.layer, "shape": obj.shape,
+        "surface": None if obj.surface is None else [float(v) for v in obj.surface],
+        "thumbnail": obj.thumbnail or b"",
+        "first_frame": int(obj.first_frame), "last_frame": int(obj.last_frame),
+        "observations": 1, "n_frames": int(obj.n_frames), "updated_at": now,
+        **rescan.first_sighting(scan),
+    }
+
+
+def _updated_props(cand: dict, obj: ObjectObservation, now: float, basis: np.ndarray,
+                   scan: Optional[ScanInfo] = None) -> dict:
+    labels, scores = combine_labels(cand["labels"], cand["scores"], obj.labels, obj.scores)
+    mean, var, n = combine_gaussians([cand["x"], cand["y"], cand["z"]], cand["var"], cand["n_points"],
+                                     obj.mean, obj.var, obj.n_points)
+    hist = combine_histograms(unpack_hist(cand["hist"]), obj.hist)
+    centre, size = combine_boxes(cand["box_centre"] or [cand["x"], cand["y"], cand["z"]], cand["size"],
+                             _box_centre(obj), obj.size, basis)
+    props = {
+        "label": labels[0], "labels": labels, "scores": scores, "score": float(max(scores)),
+        "x": float(mean[0]), "y": float(mean[1]), "z": float(mean[2]), "var": [float(v) for v in var],
+        "n_points": int(n), "size": [float(v) for v in size], "volume": float(np.prod(size)),
+        "box_centre": [float(v) for v in centre], "hist": pack_hist(hist),
+        # the dominant colour follows the larger share of the combined histogram's pixels
+        "colour": obj.colour if float(np.sum(obj.hist)) > float(np.sum(hist)) / 2 else cand["colour"],
+        "colour2": obj.colour2 if float(np.sum(obj.hist)) > float(np.sum(hist)) / 2 else cand.get("colour2"),
+        # a structure node stays structure; a shape word is kept until a view says another
+        "layer": "structure" if "structure" in (cand.get("layer"), obj.layer) else "object",
+        "shape": obj.shape or cand.get("shape"),
+        # (null would remove the property: a view without surface points keeps the stored ones)
+        **({} if obj.surface is None else {"surface": [float(v) for v in obj.surface]}),
+        "first_frame": min(int(cand["first_frame"]), int(obj.first_frame)),
+        "last_frame": max(int(cand["last_frame"]), int(obj.last_frame)),
+        "observations": int(cand["observations"]) + 1,
+        "n_frames": int(cand["n_frames"]) + int(obj.n_frames), "updated_at": now,
+    }
+    if incoming_has_best_label(cand["scores"], obj.scores) and obj.thumbnail:
+        props["thumbnail"] = obj.thumbnail
+    if scan is not None:
+        props.update(rescan.sighting(cand, scan))
+    return props
+
+
+def _appearance_split(props: dict) -> dict:
+    """A write row: the Object's own properties, and the histogram and thumbnail (None = keep
+    the stored one) that go to its Appearance node (schema 2)."""
+    own = dict(props)
+    return {"props": own, "hist": own.pop("hist"), "thumbnail": own.pop("thumbnail", None)}
+
+
+def plan_merge(graph: LocalGraph, candidates: list[dict], s_pos: Optional[np.ndarray],
+               moved_from: list[dict], embedding: LabelEmbedding, scan: ScanInfo, now: float,
+               room: str, params: SimilarityParams = SimilarityParams()) -> MergePlan:
+    """The plan of one merge. `candidates`: the stored nodes near the local graph (with their
+    histograms) and `s_pos` their (n_local, n_cand) position similarity (Eq. 12-13);
+    `moved_from`: the stored nodes whose place this graph's frames saw empty (rows of
+    cypher/rescan_candidates, with histograms)."""
+    plan = MergePlan(key=graph.key, room=room, scan=scan, now=now, frames=[int(f) for f in graph.frames],
+                     candidates=len(candidates))
+    objects, basis = graph.objects, gravity_basis(graph.up)
+    matches, absorbed = (match_nodes(objects, candidates, s_pos, embedding, params)
+                         if candidates and s_pos is not None else ({}, {}))
+    seen = {candidates[j]["id"] for j in matches.values()} | {candidates[k]["id"] for k in absorbed}
+    moved_locals = _plan_moves(plan, graph, matches, seen, moved_from, embedding, basis)
+    for i, obj in enumerate(objects):
+        if i in moved_locals:
+            continue
+        if i in matches:
+            _plan_update(plan, obj, candidates, matches[i], absorbed, basis)
+        else:
+            props = _new_props(obj, room, now, scan)
+            plan.node_ids[obj.local_id] = props["id"]
+            plan.creates.append(_appearance_split(props))
+            plan.counted.append((props["label"], props["colour"]))
+    plan.empty_places = rescan.empty_place_rows(graph.empty_places, seen)
+    # stored form between global ids (symmetric edges by the smaller GLOBAL id, no viewpoint
+    # relations); then the pairs this merge touched keep only their better-supported statement
+    plan.relations = [(rel_type, [{**r, "at": now} for r in rows])
+                      for rel_type, rows in sorted(canonical_rows(graph.relations, plan.node_ids).items())]
+    plan.resolve = bool(graph.relations) or plan.absorbed > 0
+    return plan
+
+
+def _plan_moves(plan: MergePlan, graph: LocalGraph, matches: dict[int, int], seen: set[str],
+                moved_from: list[dict], embedding: LabelEmbedding, basis: np.ndarray) -> set[int]:
+    """Rule "moved" (`sg3d.graphdb.rescan.is_move`) for the observations that matched no node: each
+    move updates the stored node in place; returns the local indices that moved a node."""
+    objects = graph.objects
+    unmatched = [i for i in range(len(objects)) if i not in matches]
+    old = [o for o in moved_from if o["id"] not in seen]
+    moves = rescan.pair_moves([objects[i] for i in unmatched], old, embedding) if unmatched else {}
+    for n, node in moves.items():
+        obj = objects[unmatched[n]]
+        plan.node_ids[obj.local_id] = node["id"]
+        props = rescan.moved_props(node, _updated_props(node, obj, plan.now, basis, plan.scan), obj, plan.scan)
+        plan.cleared.append(node["id"])
+        plan.updates.append({"id": node["id"], **_appearance_split(props)})
+        plan.uncounted.append((node["label"], node["colour"]))
+        plan.counted.append((props["label"], props["colour"]))
+        seen.add(node["id"])
+    return {unmatched[n] for n in moves}
+
+
+def _plan_update(plan: MergePlan, obj: ObjectObservation, candidates: list[dict], j: int,
+                 absorbed: dict[int, int], basis: np.ndarray) -> None:
+    """A matched observation updates its node (the paper's update rules), folding in the stored
+    nodes it showed to be the same object."""
+    cand = candidates[j]
+    plan.node_ids[obj.local_id] = cand["id"]
+    props = _updated_props(cand, obj, plan.now, basis, plan.scan)
+    for k in (k for k, into in absorbed.items() if into == j):
+        other = candidates[k]
+        folded = _updated_props({**cand, **props}, _as_observation(other), plan.now, basis, plan.scan)
+        folded["observations"] = props["observations"] + int(other["observations"])
+        props = folded
+        plan.folds.append((other["id"], cand["id"]))
+        if other.get("removed_at") is None:
+            plan.uncounted.append((other["label"], other["colour"]))
+    plan.updates.append({"id": cand["id"], **_appearance_split(props)})
+    if cand.get("removed_at") is None:     # a removed node seen again comes back
+        plan.uncounted.append((cand["label"], cand["colour"]))
+    plan.counted.append((props["label"], props["colour"]))

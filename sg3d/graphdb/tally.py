@@ -1,0 +1,83 @@
+"""Per-room object tallies: how many objects of each label (and label + colour) a room holds,
+so store-wide counts read one small (:Tally) record per room and label instead of every Object
+record (ArcadeDB reads each record an index seek finds, even for count()).
+
+A tally is keyed by room, label and colour ('' = every colour). The merge that creates, relabels,
+recolours or folds objects changes the tallies of its room in the same transaction, in the
+statement that creates its new objects (`create_objects_and_tallies`: one round trip), so they
+commit or roll back with it; merges of one room are serialised by the room lock, so tallies
+never conflict across rooms. `rebuild_tallies` recounts them from the
+objects (schema migration, bulk loads, or after objects were edited by hand).
+"""
+from __future__ import annotations
+
+from collections import Counter
+from typing import Iterable, Optional
+
+from sg3d.graphdb import cypher
+
+ALL_COLOURS = ""
+
+
+def tally_key(room: str, label: str, colour: str) -> str:
+    return f"{room}\x1f{label}\x1f{colour}"
+
+
+def tally_kind(label: str, colour: str) -> str:
+    """The indexed look-up key of a tally, spelt as cypher/vqa_count.cypher builds it."""
+    return f"{label}|{colour}"
+
+
+def tally_deltas(plus: Iterable[tuple[str, Optional[str]]],
+                 minus: Iterable[tuple[str, Optional[str]]]) -> Counter:
+    """(label, colour) -> net change, each object counted under its colour and under ''."""
+    net: Counter = Counter()
+    for sign, pairs in ((1, plus), (-1, minus)):
+        for label, colour in pairs:
+            net[(label, ALL_COLOURS)] += sign
+            if colour:
+                net[(label, colour)] += sign
+    return net
+
+
+def tally_rows(room: str, counts: Counter) -> list[dict]:
+    return [{"key": tally_key(room, label, colour), "kind": tally_kind(label, colour), "room": room,
+             "label": label, "colour": colour, "n": int(n)}
+            for (label, colour), n in sorted(counts.items()) if n != 0]
+
+
+# New objects per statement: a local graph of thousands of objects (the 2d-basic preset keeps
+# every detection) in one Bolt message of thumbnails is refused by the store.
+CREATE_BATCH = 500
+
+
+def create_objects_and_tallies(tx, room: str, creates: list[dict], plus: Iterable[tuple[str, Optional[str]]],
+                               minus: Iterable[tuple[str, Optional[str]]] = ()) -> None:
+    """Inside a merge transaction: the room's new objects (cypher/object_create.cypher rows) and
+    the tally changes of the whole merge, in one statement (one round trip instead of two) per
+    CREATE_BATCH objects, the tallies with the last."""
+    tallies = tally_rows(room, tally_deltas(plus, minus))
+    batches = [creates[i:i + CREATE_BATCH] for i in range(0, len(creates), CREATE_BATCH)] or [[]]
+    for k, batch in enumerate(batches):
+        last = k == len(batches) - 1
+        if batch or (last and tallies):
+            tx.run(cypher.load("object_create"), room=room, rows=batch, tallies=tallies if last else []).consume()
+
+
+def rebuild_tallies(store, batch: int = 5000) -> int:
+    """Recount every tally from the Object records (one scan); returns the tallies written."""
+    per_room: dict[str, Counter] = {}
+    for r in store.read("tally_source"):
+        counts = per_room.setdefault(r["room"], Counter())
+        counts[(r["label"], ALL_COLOURS)] += r["n"]
+        if r["colour"]:
+            counts[(r["label"], r["colour"])] += r["n"]
+    rows = [row for room, counts in per_room.items() for row in tally_rows(room, counts)]
+
+    def work(tx):
+        tx.run(cypher.load("tally_clear")).consume()
+        for i in range(0, len(rows), batch):
+            tx.run(cypher.load("tally_add"), rows=rows[i:i + batch]).consume()
+
+    store.execute_write(work)
+    return len(rows)

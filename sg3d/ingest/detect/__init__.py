@@ -1,0 +1,1 @@
+"""detect: a stage of the ingest pipeline."""

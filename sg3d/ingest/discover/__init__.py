@@ -1,0 +1,1 @@
+"""discover: a stage of the ingest pipeline."""

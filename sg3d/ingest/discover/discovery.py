@@ -1,0 +1,350 @@
+"""Every object in the room: the named objects' whole boxes, the unnamed segments, the structure.
+
+The detector names what it can; depth sees everything. After fusion (`sg3d.ingest.objects.fusion`) the
+chunk's named objects meet the room's cloud (`sg3d.ingest.discover.room_cloud`), its structure
+(`sg3d.ingest.discover.structure`) and its class-agnostic segments (`sg3d.ingest.discover.segments`):
+
+- `whole_object_box`: a named object's box spans the object, not the part the detector boxed
+  (rules "stands on the floor" and "owns its top");
+- `named_by`: a segment that lies inside a named object's whole box is that object (its name is
+  the detector's evidence, accumulated over views), and is not a node of its own;
+- `separate_resting`: things lying side by side on a table, a counter or a shelf touch; a
+  segment resting on a surface is cut at its necks (`segments.split_at_necks`);
+- `plane_remnant`: a thin relief left along a cut wall or front (a door edge) is not an object,
+  nor is a flat piece lying on the floor (`floor_remnant`);
+- `unnamed_object`: any other segment becomes a node labelled UNNAMED_LABEL, with its size,
+  colour, thumbnail from the view that saw it best, and a shape word where the geometry says one
+  (`shape_word`); it is never given a class name;
+- `structure_node`: the floor, the walls and each surface no named object owns become
+  structure-layer nodes.
+"""
+from __future__ import annotations
+
+from typing import Callable, Optional, Sequence
+
+import cv2
+import numpy as np
+
+from sg3d.core.geometry import FLOOR_STANDING_LABELS
+from sg3d.core.model import HIST_SIZE, UNNAMED_LABEL, ObjectObservation
+from sg3d.ingest.discover.room_cloud import RoomCloud
+from sg3d.ingest.discover.segments import (
+    Segment,
+    depth_evidence,
+    exists,
+    room_candidates,
+    split_at_necks,
+)
+from sg3d.ingest.discover.structure import Element
+from sg3d.ingest.objects import colour as colour_model
+from sg3d.ingest.objects.attributes import hsv_histogram, thumbnail
+
+# Furniture whose top is a surface others stand on (a chair tucked under a table does not own
+# the table's top).
+TOP_OWNERS = ("dining table", "desk", "bench", "bed")
+# A named object owns a surface when the surface covers this share of the object's footprint
+# and lies within TOP_TOLERANCE_M of the object's box in height (a table and its top).
+OWN_FOOTPRINT_SHARE = 0.5
+TOP_TOLERANCE_M = 0.15
+# A segment is a named object's when this share of its voxels lies inside that object's whole
+# box grown by NAMED_MARGIN_M.
+NAMED_SHARE = 0.5
+NAMED_MARGIN_M = 0.02
+# A plane remnant (a relief of a cut wall or front): its median voxel lies within
+# REMNANT_DISTANCE_M of the plane and it is at most REMNANT_THICKNESS_M thick across it. Depth at
+# room range (1-3 cm noise, cut at PLANE_CUT_M) cannot tell trim, a door edge or a poster
+# that stands out less than that from the plane it is on.
+REMNANT_DISTANCE_M = 0.07
+REMNANT_THICKNESS_M = 0.12
+# Part of the floor: a piece whose top is this low and that is this thin.
+FLOOR_REMNANT_TOP_M = 0.10
+FLOOR_REMNANT_THICKNESS_M = 0.06
+# A segment rests on a surface when its bottom is this close to the surface's level.
+RESTING_M = 0.05
+# Shape words: flat when the height is at most FLAT_RATIO of the larger horizontal side; tall
+# when at least TALL_RATIO times it; box-shaped when the three sides are within BOX_RATIO of
+# each other and the points fill the box's faces.
+FLAT_RATIO = 0.25
+TALL_RATIO = 2.0
+BOX_RATIO = 2.5
+VOXEL_VAR_FLOOR = 0.01 ** 2
+# Surface points kept per unnamed object for re-scans (`sg3d.ingest.objects.rescan.surface_seen_empty`).
+SURFACE_SAMPLE = 32
+# A screen's box side this close to the image border (share of the image size) reaches it.
+SCREEN_BORDER_SHARE = 0.05
+# The half-width a voxel covers, for marking a segment's own pixels.
+VOXEL_DISC_M = 0.0125
+
+
+def gravity_box(obj: ObjectObservation, cloud: RoomCloud) -> tuple[np.ndarray, np.ndarray]:
+    """An object's box in the cloud's gravity frame (h above the floor)."""
+    c = cloud.basis @ np.asarray(obj.box_centre if obj.box_centre is not None else obj.mean, float)
+    c[2] -= cloud.floor
+    half = np.asarray(obj.size, float) / 2
+    return c - half, c + half
+
+
+def owned_surface(lo: np.ndarray, hi: np.ndarray, surfaces: Sequence[Element]) -> Optional[Element]:
+    """Rule "owns its top": the horizontal surface covering OWN_FOOTPRINT_SHARE of the box's
+    footprint whose level lies within TOP_TOLERANCE_M of the box's height range (the most
+    covering one), or None."""
+    area = float(np.prod(np.maximum(hi[:2] - lo[:2], 1e-3)))
+    best, best_share = None, OWN_FOOTPRINT_SHARE
+    for e in surfaces:
+        if e.footprint is None or not (lo[2] - TOP_TOLERANCE_M <= e.height <= hi[2] + TOP_TOLERANCE_M):
+            continue
+        inter = np.clip(np.minimum(hi[:2], e.hi[:2]) - np.maximum(lo[:2], e.lo[:2]), 0, None)
+        share = float(np.prod(inter)) / area
+        if share >= best_share:
+            best, best_share = e, share
+    return best
+
+
+def whole_object_box(obj: ObjectObservation, cloud: RoomCloud, surfaces: Sequence[Element]) -> Optional[Element]:
+    """Rules "stands on the floor" and "owns its top": floor-standing furniture
+    (FLOOR_STANDING_LABELS: tables, chairs, couches ...) reaches down to the floor, and a
+    table, desk, bench or bed (TOP_OWNERS) whose footprint a horizontal surface covers has
+    that surface as its top (what stands on a table does not make it taller). Updates `obj.size`/`box_centre`
+    and returns the surface it owns (None when it owns none)."""
+    if obj.label not in FLOOR_STANDING_LABELS:
+        return None
+    lo, hi = gravity_box(obj, cloud)
+    lo[2] = 0.0
+    top = owned_surface(lo, hi, surfaces) if obj.label in TOP_OWNERS else None
+    if top is not None:
+        hi[2] = top.height
+    hi[2] = max(hi[2], lo[2] + 0.05)
+    obj.size = tuple(float(v) for v in hi - lo)
+    obj.box_centre = tuple(float(v) for v in cloud.to_world((lo + hi) / 2))
+    return top
+
+
+def named_by(seg: Segment, boxes: Sequence[tuple[np.ndarray, np.ndarray]]) -> bool:
+    """A segment with NAMED_SHARE of its voxels inside one named object's box (grown by
+    NAMED_MARGIN_M) is that object."""
+    for lo, hi in boxes:
+        inside = ((seg.voxels >= lo - NAMED_MARGIN_M) & (seg.voxels <= hi + NAMED_MARGIN_M)).all(axis=1)
+        if float(inside.mean()) >= NAMED_SHARE:
+            return True
+    return False
+
+
+def plane_remnant(seg: Segment, planes: Sequence[Element]) -> bool:
+    """Rule "relief of a plane": a segment whose median voxel lies within REMNANT_DISTANCE_M of
+    a cut wall or front and that is at most REMNANT_THICKNESS_M thick across it (trim, door
+    edges, a cabinet's side, a poster) is part of that plane, not an object of its own."""
+    for e in planes:
+        theta, rho = e.plane
+        off = seg.voxels[:, 0] * np.cos(theta) + seg.voxels[:, 1] * np.sin(theta) - rho
+        if float(np.median(np.abs(off))) <= REMNANT_DISTANCE_M and float(np.ptp(off)) <= REMNANT_THICKNESS_M:
+            return True
+    return False
+
+
+def floor_remnant(seg: Segment) -> bool:
+    """Rule "part of the floor": a flat piece lying on the floor (its top at most
+    FLOOR_REMNANT_TOP_M above it, at most FLOOR_REMNANT_THICKNESS_M thick) is the floor's own
+    unevenness or a covering's edge: depth at room range cannot tell it from the floor."""
+    return float(seg.hi[2]) <= FLOOR_REMNANT_TOP_M and float(seg.size[2]) <= FLOOR_REMNANT_THICKNESS_M
+
+
+def resting_on(seg: Segment, surfaces: Sequence[Element]) -> bool:
+    """A segment rests on a horizontal surface when its bottom lies within RESTING_M of the
+    surface's level and its centre above the surface's footprint."""
+    centre = np.array([[*((seg.lo[:2] + seg.hi[:2]) / 2), 0.0]])
+    for e in surfaces:
+        if abs(float(seg.lo[2]) - e.height) <= RESTING_M:
+            centre[0, 2] = e.height
+            if bool(e.contains(centre, RESTING_M)[0]):
+                return True
+    return False
+
+
+def separate_resting(segments: Sequence[Segment], surfaces: Sequence[Element], cloud: RoomCloud) -> list[Segment]:
+    """Things lying side by side on a table, a counter or a shelf touch: a segment resting on a
+    surface is cut at its necks (`segments.split_at_necks`) before depth judges it, and each
+    part must pass the depth existence test on its own (a dark gamepad that depth sees through
+    does not take the white box it lies against with it); other segments are judged whole."""
+    out: list[Segment] = []
+    for seg in segments:
+        parts = split_at_necks(seg) if resting_on(seg, surfaces) else [seg]
+        for part in parts:
+            if part is not seg:
+                depth_evidence(part, cloud)
+            if exists(part):
+                out.append(part)
+    return out
+
+
+def shape_word(size: Sequence[float]) -> Optional[str]:
+    """Rule "shape word" from a gravity-aligned size (w, d, h): flat, tall or box-shaped (see
+    FLAT_RATIO, TALL_RATIO, BOX_RATIO); None when none fits. Roundness is not judged from a box."""
+    w, d, h = (float(v) for v in size)
+    side = max(w, d)
+    if h <= FLAT_RATIO * side:
+        return "flat"
+    if h >= TALL_RATIO * side:
+        return "tall"
+    if max(w, d, h) <= BOX_RATIO * max(min(w, d, h), 1e-3):
+        return "box-shaped"
+    return None
+
+
+def _project(world: np.ndarray, view) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Pixel coordinates (u, v) and camera depth z of the world points in front of a view."""
+    w2c = np.linalg.inv(view.pose)
+    cam = world @ w2c[:3, :3].T + w2c[:3, 3]
+    cam = cam[cam[:, 2] > 0.1]
+    K = view.K
+    return K[0, 0] * cam[:, 0] / cam[:, 2] + K[0, 2], K[1, 1] * cam[:, 1] / cam[:, 2] + K[1, 2], cam[:, 2]
+
+
+def _pixels(u: np.ndarray, v: np.ndarray, view) -> Optional[tuple[int, int, int, int]]:
+    """The pixel box (x1, y1, x2, y2) of projected points, clipped to the image; None when empty."""
+    if len(u) == 0:
+        return None
+    w, h = view.size
+    x1, x2 = int(max(0, np.floor(u.min()))), int(min(w, np.ceil(u.max()) + 1))
+    y1, y2 = int(max(0, np.floor(v.min()))), int(min(h, np.ceil(v.max()) + 1))
+    if x2 - x1 < 2 or y2 - y1 < 2:
+        return None
+    return x1, y1, x2, y2
+
+
+def surface_sample(world: np.ndarray, n: int = SURFACE_SAMPLE) -> tuple[float, ...]:
+    """Up to `n` of a segment's voxel centres (world frame, evenly through their order), flat:
+    the points a re-scan tests for free space."""
+    pick = world[np.linspace(0, len(world) - 1, min(n, len(world))).round().astype(int)]
+    return tuple(round(float(v), 4) for v in pick.reshape(-1))
+
+
+def screens_in_view(screens: Sequence[tuple[np.ndarray, np.ndarray]], cloud: RoomCloud,
+                    view) -> list[tuple[int, int, int, int]]:
+    """The pixel boxes in a view of the named screens' gravity-frame boxes (lo, hi): the box of
+    each one's projected corners (`_pixels`), those in front of the camera; a side within
+    SCREEN_BORDER_SHARE of the image border runs to it (the screen was seen cut there, so its
+    3-D box stops short of its edge)."""
+    out = []
+    w, h = view.size
+    mx, my = SCREEN_BORDER_SHARE * w, SCREEN_BORDER_SHARE * h
+    for lo, hi in screens:
+        corners = np.array([[x, y, z] for x in (lo[0], hi[0]) for y in (lo[1], hi[1]) for z in (lo[2], hi[2])])
+        u, v, _ = _project(cloud.to_world(corners), view)
+        box = _pixels(u, v, view)
+        if box is not None:
+            x1, y1, x2, y2 = box
+            # a screen seen only cut by the image border is measured short on that side
+            out.append((0 if x1 <= mx else x1, 0 if y1 <= my else y1,
+                        w if x2 >= w - mx else x2, h if y2 >= h - my else y2))
+    return out
+
+
+def segment_reading(u: np.ndarray, v: np.ndarray, z: np.ndarray, view, image: np.ndarray,
+                    box: tuple[int, int, int, int],
+                    screens: Sequence[tuple[int, int, int, int]] = ()) -> Optional[colour_model.ColourReading]:
+    """One view's colour reading of a segment from its own pixels: its projected voxel centres
+    (`_project`), each marking the disc a voxel covers there, read with the cast of the light
+    around its pixel box divided out (`sg3d.ingest.objects.colour.surround_cast`, the pixel boxes of the
+    `screens` in view left out; `read_colour`), as for named objects. None without pixels."""
+    h, w = image.shape[:2]
+    mask = np.zeros((h, w), np.uint8)
+    for x, y, d in zip(u, v, z):
+        cv2.circle(mask, (int(round(x)), int(round(y))), max(1, int(round(view.K[0, 0] * VOXEL_DISC_M / d))), 1, -1)
+    pixels = image[mask > 0]
+    if len(pixels) == 0:
+        return None
+    return colour_model.read_colour(pixels, colour_model.surround_cast(image, box, emitters=screens))
+
+
+def segment_colour(seg: Segment, world: np.ndarray, cloud: RoomCloud,
+                   colour_image: Callable[[int], Optional[np.ndarray]],
+                   screens: Sequence[tuple[np.ndarray, np.ndarray]] = ()) -> tuple[str, Optional[str]]:
+    """(colour, second colour) of a segment: its readings in its good views (`segment_reading`,
+    up to `segments.GOOD_VIEWS` that show most of it), voted with weights by how many of its pixels
+    each view shows (`sg3d.ingest.objects.colour.vote`, `view_weight`): one view's light or a screen beside it
+    does not name the object alone."""
+    readings, weights = [], []
+    for k in seg.good_views:
+        view = cloud.views[k]
+        u, v, z = _project(world, view)
+        box = _pixels(u, v, view)
+        image = colour_image(view.index) if box is not None else None
+        if image is None:
+            continue
+        reading = segment_reading(u, v, z, view, image, box, screens_in_view(screens, cloud, view))
+        if reading is not None:
+            readings.append(reading)
+            weights.append(colour_model.view_weight(reading.n, 1.0, False))
+    if not readings:
+        return "grey", None
+    name, second, _ = colour_model.vote(readings, weights)
+    return name, second
+
+
+def unnamed_object(local_id: str, seg: Segment, cloud: RoomCloud,
+                   colour_image: Callable[[int], Optional[np.ndarray]],
+                   screens: Sequence[tuple[np.ndarray, np.ndarray]] = ()) -> ObjectObservation:
+    """A node for a segment no detector named: label UNNAMED_LABEL, its voxels' Gaussian (Eq. 8
+    moments over the surface it showed), its box, the colour of its own pixels over its good
+    views (`segment_colour`; the named `screens`' gravity boxes left out of the light's estimate)
+    and the histogram (Eq. 9) and thumbnail of its box in the view that saw it best; score = the
+    share of its voxels that are solid (`sg3d.ingest.discover.segments.depth_evidence`)."""
+    world = cloud.to_world(seg.voxels)
+    mean = world.mean(axis=0)
+    var = np.maximum(world.var(axis=0), VOXEL_VAR_FLOOR)
+    hist, thumb = np.zeros(HIST_SIZE), None
+    frames = [int(cloud.views[k].index) for k in seg.frames]
+    if seg.best_view >= 0:
+        view = cloud.views[seg.best_view]
+        u, v, _ = _project(world, view)
+        box = _pixels(u, v, view)
+        image = colour_image(view.index) if box is not None else None
+        if image is not None:
+            hist = hsv_histogram(image, box)
+            thumb = thumbnail(image, box)
+    colour, colour2 = segment_colour(seg, world, cloud, colour_image, screens)
+    return ObjectObservation(
+        local_id=local_id, labels=[UNNAMED_LABEL], scores=[round(seg.hit_ratio, 3)],
+        mean=tuple(float(v) for v in mean), var=tuple(float(v) for v in var), n_points=len(seg.voxels),
+        size=tuple(float(v) for v in seg.size), hist=hist, colour=colour, colour2=colour2, thumbnail=thumb,
+        first_frame=min(frames) if frames else 0, last_frame=max(frames) if frames else 0,
+        n_frames=max(1, seg.seen_views), box_centre=tuple(float(v) for v in cloud.to_world((seg.lo + seg.hi) / 2)),
+        shape=shape_word(seg.size), surface=surface_sample(world))
+
+
+def structure_node(local_id: str, el: Element, cloud: RoomCloud) -> ObjectObservation:
+    """A structure-layer node for a floor, wall or surface: its box, no colour evidence."""
+    centre = cloud.to_world((el.lo + el.hi) / 2)
+    size = np.maximum(el.hi - el.lo, 0.01)
+    return ObjectObservation(
+        local_id=local_id, labels=[el.label], scores=[1.0],
+        mean=tuple(float(v) for v in centre), var=tuple(float(v) for v in (size / 4) ** 2),
+        # a uniform histogram: structure is matched across views by place and name, not colour
+        n_points=max(1, el.n_points), size=tuple(float(v) for v in size), hist=np.ones(HIST_SIZE),
+        colour="grey", box_centre=tuple(float(v) for v in centre), n_frames=max(1, el.frames),
+        layer="structure")
+
+
+def discover(named: list[ObjectObservation], cloud: RoomCloud, structure: Sequence[Element],
+             colour_image: Callable[[int], Optional[np.ndarray]],
+             ) -> tuple[list[ObjectObservation], list[ObjectObservation]]:
+    """Give the named objects their whole boxes (in place); return the unnamed objects and the
+    structure nodes (the floor, walls, and the surfaces no named object owns). Small named
+    objects claim the points inside their boxes before segmentation; the whole boxes of
+    floor-standing furniture name the segments inside them (a chair tucked under a table
+    would be claimed by the table's box)."""
+    surfaces = [e for e in structure if e.footprint is not None]
+    owned = {id(e) for e in (whole_object_box(o, cloud, surfaces) for o in named) if e is not None}
+    boxes = [gravity_box(o, cloud) for o in named]
+    claims = [b for o, b in zip(named, boxes) if o.label not in FLOOR_STANDING_LABELS]
+    segments = separate_resting(room_candidates(cloud, structure, claims), surfaces, cloud)
+    planes = [e for e in structure if e.plane is not None]
+    screens = [b for o, b in zip(named, boxes) if colour_model.is_screen(o.label)]
+    unnamed = []
+    for seg in segments:
+        if named_by(seg, boxes) or plane_remnant(seg, planes) or floor_remnant(seg):
+            continue
+        unnamed.append(unnamed_object(f"u{len(unnamed)}", seg, cloud, colour_image, screens))
+    nodes = [structure_node(f"s{k}", e, cloud) for k, e in enumerate(
+        e for e in structure if e.label != "front" and id(e) not in owned)]
+    return unnamed, nodes

@@ -1,0 +1,292 @@
+"""Class-agnostic objects: what the room's cloud holds once its structure is taken away.
+
+The points of the fused cloud (`sg3d.ingest.discover.room_cloud`) that are not floor, wall or a horizontal
+surface's slab are binned into VOXEL_M voxels; a voxel counts when MIN_VOXEL_FRAMES frames saw a
+point in it (one view's flying pixels do not). Connected voxels (26-neighbourhood) are one
+segment. A segment is an object candidate when its size is plausible for a household object
+(`plausible_size`) and it passes the depth existence test (`depth_evidence`): in the frames that
+look at its place, the depth camera sees a surface there (hits) rather than through it (free
+space). A shadow, a reflection or one frame's artefact is seen through from the other views.
+"""
+from __future__ import annotations
+
+import zlib
+from dataclasses import dataclass
+from typing import Optional, Sequence
+
+import numpy as np
+from scipy import ndimage
+
+from sg3d.ingest.discover.room_cloud import RoomCloud
+from sg3d.ingest.discover.structure import (
+    FLOOR_SLAB_M,
+    SURFACE_SLAB_M,
+    WALL_FAR_M,
+    WALL_SURE_FAR,
+    Element,
+)
+
+VOXEL_M = 0.025
+# Points this close to a wall or a long vertical front (cabinet doors, a backsplash) are cut
+# away, so what hangs on it or stands against it comes apart from it.
+PLANE_CUT_M = 0.03
+MIN_VOXEL_FRAMES = 2
+MIN_VOXELS = 12
+MIN_EXTENT_M = 0.05
+MAX_EXTENT_M = 2.5
+MAX_HEIGHT_M = 2.6            # above that: ceiling fittings, not the room's objects
+# Depth existence: a voxel is hit in a view when the depth there lies within
+# HIT_TOLERANCE_M + HIT_TOLERANCE_REL * range of it, seen through when the depth lies beyond it.
+HIT_TOLERANCE_M = 0.04
+HIT_TOLERANCE_REL = 0.02
+SAMPLE_VOXELS = 200
+# Views kept per segment for its colour, best first (one view can be lit or cut badly): those
+# that show at least GOOD_VIEW_INSIDE of it inside the image.
+GOOD_VIEWS = 3
+GOOD_VIEW_INSIDE = 0.75
+CLAIM_MARGIN_M = 0.01
+MIN_SEEN_VIEWS = 5            # views where most of its visible voxels were hit
+MIN_SEEN_SHARE = 0.25          # of the views that could tell
+MIN_HIT_RATIO = 0.5           # share of its voxels that are solid (hit more than seen through)
+# Things side by side on a table touch at a neck: the top view is eroded NECK_CELLS voxels, and
+# each remaining core of at least CORE_CELLS voxels is one thing.
+NECK_CELLS = 1
+CORE_CELLS = 6
+
+
+@dataclass
+class Segment:
+    """A connected group of occupied voxels, gravity frame."""
+
+    voxels: np.ndarray        # M x 3 voxel centres (a, b, h)
+    lo: np.ndarray
+    hi: np.ndarray
+    frames: np.ndarray        # view positions (in cloud.views) that had points in it
+    hits: int = 0
+    free: int = 0
+    seen_views: int = 0
+    looked_views: int = 0     # views that saw most of its place unoccluded (hit or through)
+    best_view: int = -1       # the view that saw most of it, whole and near
+    good_views: tuple[int, ...] = ()   # up to GOOD_VIEWS views that saw most of it, best first
+
+    @property
+    def size(self) -> np.ndarray:
+        return self.hi - self.lo
+
+    @property
+    def hit_ratio(self) -> float:
+        """Share of the sampled voxels that are solid."""
+        return self.hits / (self.hits + self.free) if self.hits + self.free else 0.0
+
+
+def object_points(cloud: RoomCloud, structure: Sequence[Element], fronts: bool = False) -> np.ndarray:
+    """Mask of the cloud's points that belong to no structure element (and lie below
+    MAX_HEIGHT_M); with `fronts`, long vertical fronts are cut away too."""
+    p = cloud.points
+    keep = (p[:, 2] > FLOOR_SLAB_M) & (p[:, 2] < MAX_HEIGHT_M)
+    masks = cloud.__dict__.setdefault("_structure_masks", {})
+    for el in structure:
+        if el.label == "floor" or (el.label == "front" and not fronts):
+            continue
+        slab = PLANE_CUT_M if el.label in ("wall", "front") else SURFACE_SLAB_M
+        if id(el) not in masks:        # each element's slab is computed once per cloud
+            masks[id(el)] = el.contains(p, slab)
+        keep &= ~masks[id(el)]
+    return keep
+
+
+def plausible_size(size: np.ndarray) -> bool:
+    """Rule "object size": the largest extent between MIN_EXTENT_M and MAX_EXTENT_M."""
+    return MIN_EXTENT_M <= float(np.max(size)) <= MAX_EXTENT_M
+
+
+def voxel_segments(cloud: RoomCloud, mask: np.ndarray, too_big: Optional[list] = None) -> list[Segment]:
+    """Connected components (26-neighbourhood) of the voxels that MIN_VOXEL_FRAMES frames saw;
+    the point indices of components too big for an object are appended to `too_big`."""
+    where = np.flatnonzero(mask)
+    p = cloud.points[mask]
+    f = cloud.frame[mask]
+    if len(p) == 0:
+        return []
+    origin = p.min(axis=0)
+    ijk = np.floor((p - origin) / VOXEL_M).astype(np.int64)
+    shape = ijk.max(axis=0) + 1
+    flat = (ijk[:, 0] * shape[1] + ijk[:, 1]) * shape[2] + ijk[:, 2]
+    nviews = len(cloud.views) + 1
+    pairs = np.unique(flat * nviews + f)
+    vox, counts = np.unique(pairs // nviews, return_counts=True)
+    occupied = vox[counts >= MIN_VOXEL_FRAMES]
+    grid = np.zeros(int(np.prod(shape)), bool)
+    grid[occupied] = True
+    grid = grid.reshape(shape)
+    labels, count = ndimage.label(grid, structure=np.ones((3, 3, 3), bool))
+    if count == 0:
+        return []
+    point_label = labels.reshape(-1)[flat]
+    # the frames of every component at once, from its (component, frame) pairs
+    lf = np.unique(point_label * nviews + f)
+    lf = lf[lf >= nviews]
+    frames_of = np.split(lf % nviews, np.searchsorted(lf // nviews, np.arange(2, count + 1)))
+    objects = ndimage.find_objects(labels)
+    out: list[Segment] = []
+    sizes = np.bincount(labels.reshape(-1), minlength=count + 1)
+    for c in range(1, count + 1):
+        if sizes[c] < MIN_VOXELS:
+            continue
+        sl = objects[c - 1]
+        sub = labels[sl] == c
+        idx = np.argwhere(sub) + np.array([s.start for s in sl])
+        centres = origin + (idx + 0.5) * VOXEL_M
+        lo = centres.min(axis=0) - VOXEL_M / 2
+        hi = centres.max(axis=0) + VOXEL_M / 2
+        if not plausible_size(hi - lo):
+            if too_big is not None and float(np.max(hi - lo)) > MAX_EXTENT_M:
+                too_big.append(where[point_label == c])
+            continue
+        out.append(Segment(centres, lo, hi, frames_of[c - 1]))
+    return out
+
+
+def voxel_sample(voxels: np.ndarray, n: int = SAMPLE_VOXELS) -> np.ndarray:
+    """Up to `n` of a segment's voxels, drawn by a generator seeded from the voxels themselves:
+    the same segment gets the same sample whatever else the room holds."""
+    if len(voxels) <= n:
+        return voxels
+    rng = np.random.default_rng(zlib.crc32(np.ascontiguousarray(voxels).tobytes()))
+    return voxels[rng.choice(len(voxels), n, replace=False)]
+
+
+def depth_evidence(seg: Segment, cloud: RoomCloud) -> None:
+    """Rule "seen, not seen through": project up to SAMPLE_VOXELS of the segment's voxels into
+    every view; where the view's depth lies within the hit tolerance of a voxel it is a hit,
+    where it lies beyond, free space (the camera saw through the place). A voxel is solid when
+    its hits outnumber its looks through it. Sets hits (solid voxels), free (the others),
+    seen_views (views hitting most of the voxels they see), best_view (the view hitting the
+    most voxels, the nearer on ties, with all of them inside the image) and good_views (the
+    GOOD_VIEWS best views with GOOD_VIEW_INSIDE of them inside the image)."""
+    vox = voxel_sample(seg.voxels)
+    world = cloud.to_world(vox)
+    candidates: list[tuple[int, float, int, bool]] = []   # (hits, -median depth, view, whole)
+    hit_v = np.zeros(len(vox), int)
+    free_v = np.zeros(len(vox), int)
+    seen = looked = 0
+    for k, (view, w2c) in enumerate(zip(cloud.views, cloud.world_to_camera)):
+        cam = world @ w2c[:3, :3].T + w2c[:3, 3]
+        z = cam[:, 2]
+        front = z > 0.1
+        if not front.any():
+            continue
+        K = view.K
+        zs = np.where(front, z, 1.0)
+        u = K[0, 0] * cam[:, 0] / zs + K[0, 2]
+        v = K[1, 1] * cam[:, 1] / zs + K[1, 2]
+        w, h = view.size
+        inside = front & (u >= 0) & (u < w) & (v >= 0) & (v < h)
+        if not inside.any():
+            continue
+        dh, dw = view.depth.shape
+        du = np.clip((u[inside] * dw / w).astype(int), 0, dw - 1)
+        dv = np.clip((v[inside] * dh / h).astype(int), 0, dh - 1)
+        d = view.depth[dv, du].astype(np.float64)
+        zi = z[inside]
+        tol = HIT_TOLERANCE_M + HIT_TOLERANCE_REL * zi
+        known = d > 0
+        hit = known & (np.abs(d - zi) <= tol)
+        through = known & (d > zi + tol)
+        hit_v[inside] += hit
+        free_v[inside] += through
+        nh = int(hit.sum())
+        # a view that could tell: it sees most of the voxels, unoccluded (hit or seen through)
+        if int(hit.sum() + through.sum()) >= 0.5 * len(vox):
+            looked += 1
+        if nh > 0 and nh >= 0.5 * int(known.sum()):
+            seen += 1
+        if nh > 0 and float(inside.mean()) >= GOOD_VIEW_INSIDE:
+            candidates.append((nh, -float(np.median(zi)), k, bool(inside.all())))
+    solid = (hit_v >= 1) & (hit_v >= free_v)
+    # most hits first, the nearer on ties, the earlier view on full ties
+    ranked = sorted(candidates, key=lambda t: (-t[0], -t[1], t[2]))
+    seg.good_views = tuple(t[2] for t in ranked[:GOOD_VIEWS])
+    seg.hits, seg.free, seg.seen_views = int(solid.sum()), int((~solid).sum()), seen
+    seg.best_view = next((t[2] for t in ranked if t[3]), -1)
+    seg.looked_views = looked
+
+
+def exists(seg: Segment) -> bool:
+    """The depth existence decision: seen in MIN_SEEN_VIEWS views and MIN_HIT_RATIO of its
+    voxels solid."""
+    return (seg.seen_views >= max(MIN_SEEN_VIEWS, MIN_SEEN_SHARE * seg.looked_views)
+            and seg.hit_ratio >= MIN_HIT_RATIO)
+
+
+def split_at_necks(seg: Segment) -> list[Segment]:
+    """Rule "touching, not joined": erode the segment's top view (its voxels' (a, b) cells) by
+    NECK_CELLS; when two or more cores of CORE_CELLS cells remain, every voxel goes to the core
+    nearest its cell and each part of MIN_VOXELS is a segment of its own (a gamepad lying
+    against a box). Otherwise the segment is returned whole. The parts carry no depth evidence
+    yet (`depth_evidence`)."""
+    ij = np.floor((seg.voxels[:, :2] - seg.lo[:2]) / VOXEL_M).astype(int)
+    top = np.zeros(ij.max(axis=0) + 1, bool)
+    top[ij[:, 0], ij[:, 1]] = True
+    eight = np.ones((3, 3), bool)
+    core = ndimage.binary_erosion(top, structure=eight, iterations=NECK_CELLS)
+    labels, n = ndimage.label(core, structure=eight)
+    sizes = np.bincount(labels.reshape(-1), minlength=n + 1)
+    cores = [c for c in range(1, n + 1) if sizes[c] >= CORE_CELLS]
+    if len(cores) < 2:
+        return [seg]
+    labels = np.where(np.isin(labels, cores), labels, 0)
+    _, (ni, nj) = ndimage.distance_transform_edt(labels == 0, return_indices=True)
+    owner = labels[ni, nj][ij[:, 0], ij[:, 1]]
+    parts = []
+    for c in cores:
+        vox = seg.voxels[owner == c]
+        if len(vox) >= MIN_VOXELS:
+            parts.append(Segment(vox, vox.min(axis=0) - VOXEL_M / 2, vox.max(axis=0) + VOXEL_M / 2, seg.frames))
+    return parts if len(parts) > 1 else [seg]
+
+
+def outside_boxes(points: np.ndarray, boxes: Sequence[tuple[np.ndarray, np.ndarray]],
+                  margin: float = CLAIM_MARGIN_M) -> np.ndarray:
+    """Mask of the points outside every box (gravity frame, grown by `margin`)."""
+    keep = np.ones(len(points), bool)
+    for lo, hi in boxes:
+        keep &= ~((points >= lo - margin) & (points <= hi + margin)).all(axis=1)
+    return keep
+
+
+def outside_room(seg: Segment, structure: Sequence[Element]) -> bool:
+    """Rule "beyond the walls": a segment whose centre lies more than WALL_FAR_M behind a wall
+    that surely bounds the room (WALL_SURE_FAR) was seen through a window or a glass partition."""
+    centre = ((seg.lo + seg.hi) / 2)[None, :]
+    return any(bool(e.behind(centre, WALL_FAR_M)[0]) for e in structure
+               if e.label == "wall" and e.far_behind <= WALL_SURE_FAR)
+
+
+def room_candidates(cloud: RoomCloud, structure: Sequence[Element],
+                    claimed: Sequence[tuple[np.ndarray, np.ndarray]] = ()) -> list[Segment]:
+    """Every segment of the room inside its walls, with its depth evidence (`depth_evidence`)
+    but not yet judged (`exists`). Points inside a `claimed` box (a named object's) are its
+    object's and join no segment, so a cup does not weld the magazine beside it into one thing."""
+    free = object_points(cloud, structure)
+    idx = np.flatnonzero(free)
+    free[idx] = outside_boxes(cloud.points[idx], claimed)
+    # walls and surfaces apart first; what is still too big for an object (cabinets run into
+    # each other along a wall) is cut along the long vertical fronts too
+    big: list = []
+    segs = voxel_segments(cloud, free, big)
+    if big:
+        again = np.zeros(len(cloud.points), bool)
+        again[np.concatenate(big)] = True
+        segs += voxel_segments(cloud, again & free & object_points(cloud, structure, fronts=True))
+    segs = [s for s in segs if not outside_room(s, structure)]
+    for s in segs:
+        depth_evidence(s, cloud)
+    return segs
+
+
+def room_segments(cloud: RoomCloud, structure: Sequence[Element],
+                  claimed: Sequence[tuple[np.ndarray, np.ndarray]] = ()) -> list[Segment]:
+    """Every segment of the room that passes the depth existence test (`room_candidates`,
+    `exists`)."""
+    return [s for s in room_candidates(cloud, structure, claimed) if exists(s)]

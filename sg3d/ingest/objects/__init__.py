@@ -1,0 +1,1 @@
+"""objects: a stage of the ingest pipeline."""

@@ -1,0 +1,166 @@
+"""The room's up direction and floor height, from depth alone.
+
+Poses of RGB-D sequences live in an arbitrary world frame (7-Scenes' is tilted ~30 degrees from
+the floor), while "on", "under", heights and sizes need gravity. Rooms are full of horizontal
+surfaces (floor, tables, counters, shelves, seats) and a handheld or robot camera is held
+roughly upright, so:
+
+1. prior: the cameras' image-up direction (-y of the camera) in world coordinates, averaged over
+   the frames; it fixes the sign (up points against gravity) and picks horizontal surfaces over
+   walls, which are just as planar;
+2. surface normals from the depth image (cross product of neighbouring back-projected points on
+   a subsampled grid, vectorised), rotated to world;
+3. up = the dominant direction among normals within 35 degrees of the prior, refined by
+   repeatedly averaging the normals within 10 degrees of the current estimate (a mean-shift on
+   the sphere). Every horizontal plane votes, not only the biggest one, so it works whether the
+   view is dominated by floor, table or counter, and it is deterministic (no RANSAC draws);
+4. floor: heights (p . up) of points on horizontal surfaces; the lowest height bin holding a
+   real share of them, at least `MIN_FLOOR_DROP` below the cameras, is the floor.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Iterable, Optional
+
+import numpy as np
+
+from sg3d.core.model import vec3
+from sg3d.ingest.readers.frames import Frame, FrameError
+
+PRIOR_CONE_DEG = 35.0
+REFINE_CONE_DEG = 10.0
+GRID_STRIDE = 4
+MAX_RANGE_M = 5.0
+MIN_FLOOR_DROP = 0.5        # the floor lies at least this far below the average camera
+FLOOR_BIN_M = 0.02
+FLOOR_MIN_SHARE = 0.01      # of all points on horizontal surfaces
+
+
+@dataclass(frozen=True)
+class Gravity:
+    up: tuple[float, float, float]              # unit vector, world frame, against gravity
+    floor_height: Optional[float]               # p . up of the floor plane; None when not seen
+    camera_prior: tuple[float, float, float]    # mean image-up of the cameras
+    n_normals: int                              # normals that voted for `up`
+
+    def height(self, point) -> float:
+        """Height of a world point above the floor (above the origin's level without a floor)."""
+        h = float(np.dot(np.asarray(point, dtype=np.float64), self.up))
+        return h - (self.floor_height or 0.0)
+
+
+def camera_up_prior(frames: Iterable[Frame]) -> np.ndarray:
+    """Mean over frames of the camera's image-up (-y_cam) in world coordinates, unit length."""
+    ups = np.array([-f.pose[:3, 1] for f in frames])
+    m = ups.mean(axis=0)
+    return m / np.linalg.norm(m)
+
+
+def depth_normals(frame: Frame, stride: int = GRID_STRIDE) -> tuple[np.ndarray, np.ndarray]:
+    """World points and unit normals (both Nx3) on a stride-subsampled grid of the depth image."""
+    d = frame.depth[::stride, ::stride].astype(np.float64)
+    h, w = d.shape
+    v, u = np.mgrid[0:h, 0:w]
+    u = u * stride
+    v = v * stride
+    K = frame.K
+    cam = np.stack([(u - K[0, 2]) / K[0, 0] * d, (v - K[1, 2]) / K[1, 1] * d, d], axis=-1)
+    dx = cam[1:-1, 2:] - cam[1:-1, :-2]
+    dy = cam[2:, 1:-1] - cam[:-2, 1:-1]
+    n = np.cross(dx, dy)
+    centre = d[1:-1, 1:-1]
+    ok = (centre > 0) & (centre < MAX_RANGE_M)
+    for nb in (d[1:-1, 2:], d[1:-1, :-2], d[2:, 1:-1], d[:-2, 1:-1]):
+        # a neighbour across a depth edge gives a meaningless normal
+        ok &= (nb > 0) & (np.abs(nb - centre) < 0.05 * centre + 0.02)
+    norm = np.linalg.norm(n, axis=-1)
+    ok &= norm > 0
+    n = n[ok] / norm[ok][:, None]
+    p = cam[1:-1, 1:-1][ok]
+    R, t = frame.pose[:3, :3], frame.pose[:3, 3]
+    return p @ R.T + t, n @ R.T
+
+
+def _mean_direction(vectors: np.ndarray) -> np.ndarray:
+    m = vectors.mean(axis=0)
+    return m / np.linalg.norm(m)
+
+
+def estimate_gravity(frames: Iterable[Frame], stride: int = GRID_STRIDE) -> Gravity:
+    """Up direction and floor height from a handful of frames (10-30 spread over the sequence).
+    Frames whose depth cannot be decoded are left out; ValueError when none has depth."""
+    frames = list(frames)
+    prior = camera_up_prior(frames)
+    points, normals = [], []
+    for f in frames:
+        try:
+            p, n = depth_normals(f, stride)
+        except FrameError:
+            continue
+        points.append(p)
+        normals.append(n)
+    if not normals or sum(len(n) for n in normals) == 0:
+        raise ValueError("no frame with usable depth to estimate gravity from")
+    P = np.concatenate(points)
+    N = np.concatenate(normals)
+    N = N * np.sign(N @ prior)[:, None]  # orient every normal to the prior's side
+    horizontal = N @ prior > np.cos(np.radians(PRIOR_CONE_DEG))
+    if not horizontal.any():
+        up, used = prior, 0
+    else:
+        cand = N[horizontal]
+        up = _mean_direction(cand)
+        cos_refine = np.cos(np.radians(REFINE_CONE_DEG))
+        for _ in range(10):
+            near = cand @ up > cos_refine
+            if not near.any():
+                break
+            new = _mean_direction(cand[near])
+            converged = float(new @ up) > 1 - 1e-10
+            up = new
+            if converged:
+                break
+        used = int(np.count_nonzero(cand @ up > cos_refine))
+    floor = _floor_height(P, N, up, frames)
+    return Gravity(vec3(up), floor, vec3(prior), used)
+
+
+def _floor_height(P: np.ndarray, N: np.ndarray, up: np.ndarray, frames: list[Frame]) -> Optional[float]:
+    flat = N @ up > np.cos(np.radians(REFINE_CONE_DEG))
+    if np.count_nonzero(flat) < 100:
+        return None
+    heights = P[flat] @ up
+    cameras = float(np.mean([f.pose[:3, 3] @ up for f in frames]))
+    below = heights[heights < cameras - MIN_FLOOR_DROP]
+    if below.size < max(100, 0.02 * heights.size):
+        return None
+    edges = np.arange(below.min(), below.max() + 2 * FLOOR_BIN_M, FLOOR_BIN_M)
+    counts, edges = np.histogram(below, bins=edges)
+    # support of each level = points within +-2 bins; the floor is the lowest level holding a
+    # real share of all horizontal points (stray low points are depth noise or reflections)
+    support = np.convolve(counts, np.ones(5, dtype=int), mode="same")
+    strong = np.flatnonzero(support >= max(100, FLOOR_MIN_SHARE * heights.size))
+    if strong.size == 0:
+        return None
+    k = int(strong[0])
+    k = k + int(np.argmax(counts[k:k + 5]))  # the densest bin of that level
+    lo, hi = edges[max(0, k - 2)], edges[min(len(edges) - 1, k + 3)]
+    return float(np.median(below[(below >= lo) & (below <= hi)]))
+
+
+def estimate_up(frames: Iterable[Frame], stride: int = GRID_STRIDE) -> np.ndarray:
+    """The room's up direction (unit 3-vector, world frame, pointing against gravity)."""
+    return np.asarray(estimate_gravity(frames, stride).up)
+
+
+def sample_frames(seq, n: int = 20, start: int = 0, stop: Optional[int] = None) -> list[Frame]:
+    """n readable frames spread evenly over a sequence, or over its frames [start, stop) (for
+    estimate_gravity)."""
+    out = []
+    stop = len(seq) if stop is None else min(stop, len(seq))
+    for i in np.linspace(start, stop - 1, min(n, stop - start)).round().astype(int):
+        try:
+            out.append(seq.frame(int(i)))
+        except FrameError:
+            continue
+    return out

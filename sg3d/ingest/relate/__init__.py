@@ -1,0 +1,1 @@
+"""relate: a stage of the ingest pipeline."""

@@ -1,0 +1,1 @@
+"""select: a stage of the ingest pipeline."""

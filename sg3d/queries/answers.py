@@ -1,0 +1,376 @@
+"""One function per operation of a logical form: its answer text, value and the rows it rests on.
+
+"How tall" is the box height along up; "how high" is the box top above the top of the room's
+floor node. No object of an asked kind in scope: "I have not found ...", never "there is no".
+"""
+from __future__ import annotations
+
+from typing import Optional, Sequence
+
+from sg3d.core.model import UNNAMED_LABEL
+from sg3d.core.relation_rules import SYMMETRIC
+from sg3d.queries.grammar import DISTANCE_SUPERLATIVES, SUPERLATIVES
+from sg3d.queries.logic import NP, Filter, Form
+from sg3d.queries.sets import (
+    ABSENT,
+    AFFORDANCES,
+    LIST_SHOWN,
+    Evaluator,
+    Unanswerable,
+    is_structure,
+    same_as_roots,
+)
+from sg3d.queries.wording import plural, the, without_place
+
+
+def _join(items: list[str]) -> str:
+    return items[0] if len(items) == 1 else ", ".join(items[:-1]) + " and " + items[-1]
+
+
+class Answerer:
+    """What every operation needs: the evaluated sets, names, and how to say a set in words."""
+
+    def __init__(self, ev: Evaluator, room_label: Optional[str]):
+        self.ev, self.scene, self.run = ev, ev.scene, ev.run
+        self.where = f" in the {room_label}" if room_label else ""
+        self.thumbnail: Optional[bytes] = None
+
+    def names(self, rows: list[dict]) -> dict[str, str]:
+        return self.run.names(rows)
+
+    def listing(self, rows: list[dict]) -> str:
+        from sg3d.queries.naming import describe_unnamed
+
+        named = self.names(rows[:LIST_SHOWN])
+        parts = []
+        for o in sorted(rows[:LIST_SHOWN], key=lambda o: named[o["id"]]):
+            name = the(named[o["id"]])
+            if o["label"] == UNNAMED_LABEL and describe_unnamed(o):
+                name = f"{name} ({describe_unnamed(o)})"
+            parts.append(name)
+        more = [f"{len(rows) - LIST_SHOWN} more"] if len(rows) > LIST_SHOWN else []
+        return _join(parts + more) if parts else ""
+
+    def noun_of(self, np: NP, n: int) -> str:
+        if np.alternatives:
+            return " or ".join(self.noun_of(a, n) for a in np.alternatives)
+        if np.number is not None:
+            return np.text()
+        if not np.words:
+            return "thing" if n == 1 else "things"
+        return self.ev.resolved(np).noun(n)
+
+    def phrase(self, np: NP, n: int, filters: Sequence[Filter] = ()) -> str:
+        extra = [_filter_text(self, f) for f in list(np.filters) + list(filters)]
+        return " ".join([self.noun_of(np, n)] + extra)
+
+    def absence(self) -> Optional[str]:
+        if not self.ev.absent:
+            return None
+        r = self.ev.absent[0]
+        what = " or ".join(r.names) if r.names else r.np.text()
+        article = "an" if what[:1] in "aeiou" else "a"
+        return f"I have not found {article} {what}{self.where} ({ABSENT})"
+
+
+def _filter_text(a: Answerer, f: Filter) -> str:
+    """The filter in the answer's words: the other set as the answer phrases it."""
+    return f.describe(f"the {a.phrase(f.other, 1)}" if not f.other.number else a.phrase(f.other, 1))
+
+
+def _sizes(o: dict) -> str:
+    s = o.get("size") or []
+    return " x ".join(f"{float(v):.2f}" for v in s) + " m" if s else "unknown"
+
+
+def row_value(o: dict, name: str) -> dict:
+    out = {k: o.get(k) for k in ("id", "label", "colour", "colour2", "layer", "shape", "volume", "size", "room")
+           if o.get(k) is not None}
+    out["name"] = name
+    return out
+
+
+def _head(form: Form) -> NP:
+    return form.sets[0] if form.sets else NP([])
+
+
+def _all_rows(ev: Evaluator, form: Form, np: NP) -> list[dict]:
+    rows = ev.members(np)
+    for f in form.filters:
+        rows = ev.apply(f, rows)
+    return rows
+
+
+def op_count(a: Answerer, form: Form):
+    np = _head(form)
+    rows = _all_rows(a.ev, form, np)
+    extra = extra_views(a, rows)
+    n = len(rows) - extra
+    text = f"{n} {a.phrase(np, n, form.filters)}{a.where}"
+    labels: dict[str, int] = {}
+    for o in rows:
+        labels[o["label"]] = labels.get(o["label"], 0) + 1
+    if len(labels) > 1 and not extra:
+        text += " (" + ", ".join(f"{v} {'unnamed ' if k == UNNAMED_LABEL else ''}{plural(k, v)}"
+                                 for k, v in sorted(labels.items(), key=lambda kv: (-kv[1], kv[0]))) + ")"
+    if extra:
+        text += f" [{extra} seen from two rooms counted once]"
+    if n == 0 and a.absence():
+        text = f"0: {a.absence()}"
+    return text, n, rows
+
+
+def extra_views(a: Answerer, rows: list[dict]) -> int:
+    """How many of `rows` are further views of one physical object stored in two rooms (linked
+    by SAME_AS): each connected group of them counts once. Only across rooms."""
+    if len({o["room"] for o in rows}) < 2 or not a.run.read("vqa_same_as_count")[0]["n"]:
+        return 0
+    roots = same_as_roots(a.run.read("vqa_same_as", labels=None, rooms=a.scene.rooms, colour=None),
+                          keep={o["id"] for o in rows})
+    return sum(1 for x, root in roots.items() if root != x)
+
+
+def op_exists(a: Answerer, form: Form):
+    np = _head(form)
+    rows = _all_rows(a.ev, form, np)
+    n = len(rows)
+    if n and np.number is not None:         # "is chair 1 next to the table"
+        named = a.names(rows)
+        rest = " ".join(_filter_text(a, f) for f in list(np.filters) + list(form.filters))
+        return f"yes, {named[rows[0]['id']]} is {rest}".rstrip(), True, rows
+    if not n and np.number is not None and not a.absence():
+        rest = " ".join(_filter_text(a, f) for f in list(np.filters) + list(form.filters))
+        return f"no, {np.text()} is not {rest}".rstrip(), False, rows
+    if n:
+        named = a.names(rows[:LIST_SHOWN])
+        text = f"yes, {n} {a.phrase(np, n, form.filters)}{a.where}: " + _join(sorted(named[o['id']] for o in rows[:LIST_SHOWN]))
+    else:
+        text = a.absence() or f"no: I have not found {_what_not_found(a, np, form)}{a.where} ({ABSENT})"
+    return text, n > 0, rows
+
+
+def _what_not_found(a: "Answerer", np: NP, form: Form) -> str:
+    """"a cup on the table", or "anything next to the sink" when no kind was asked."""
+    if np.words and a.ev.resolved(np).kind != "any" or np.alternatives:
+        what = a.phrase(np, 1, form.filters)
+        return f"{'an' if what[:1] in 'aeiou' else 'a'} {what}"
+    return "anything " + " ".join(_filter_text(a, f) for f in list(np.filters) + list(form.filters))
+
+
+def op_at_least(a: Answerer, form: Form):
+    np = _head(form)
+    rows = _all_rows(a.ev, form, np)
+    n, k = len(rows), form.number
+    holds = n > k if form.compare == "more" else n < k
+    return f"{'yes' if holds else 'no'}: {n} {a.phrase(np, n, form.filters)}{a.where}", holds, rows
+
+
+def op_compare(a: Answerer, form: Form):
+    x, y = form.sets[0], form.sets[1]
+    rx, ry = _all_rows(a.ev, form, x), _all_rows(a.ev, form, y)
+    holds = len(rx) > len(ry) if form.compare == "more" else len(rx) < len(ry)
+    text = (f"{'yes' if holds else 'no'}: {len(rx)} {a.phrase(x, len(rx), form.filters)} and "
+            f"{len(ry)} {a.phrase(y, len(ry), form.filters)}{a.where}")
+    return text, holds, rx + ry
+
+
+def op_list(a: Answerer, form: Form):
+    np = _head(form)
+    rows = _all_rows(a.ev, form, np)
+    n = len(rows)
+    what = a.phrase(np, n, form.filters)
+    if not rows:
+        return (a.absence() or f"nothing found: I have not found {_what_not_found(a, np, form)}{a.where} "
+                               f"({ABSENT})"), [], rows
+    named = a.names(rows)
+    return f"{n} {what}{a.where}: {a.listing(rows)}", [row_value(o, named[o["id"]]) for o in rows], rows
+
+
+def op_where(a: Answerer, form: Form):
+    from sg3d.queries import viewpoint as views
+
+    np = _head(form)
+    rows = _all_rows(a.ev, form, np)
+    if not rows:
+        return (a.absence() or f"I have not found {a.phrase(np, 1, form.filters)}{a.where} ({ABSENT})"), [], rows
+    shown = rows[:LIST_SHOWN]
+    ids = {o["id"] for o in shown}
+    places: dict[str, list[dict]] = {i: [] for i in ids}
+    objs = a.scene.objects
+    for e in a.scene.edges():
+        if e["s"] in ids and e["o"] in objs:
+            places[e["s"]].append({"rel": e["type"], "other_id": e["o"], "rel_score": e.get("score"),
+                                   "other_label": objs[e["o"]]["label"], "other_colour": objs[e["o"]].get("colour")})
+        if e["o"] in ids and e["type"] in SYMMETRIC and e["s"] in objs:
+            places[e["o"]].append({"rel": e["type"], "other_id": e["s"], "rel_score": e.get("score"),
+                                   "other_label": objs[e["s"]]["label"], "other_colour": objs[e["s"]].get("colour")})
+    others = [objs[p["other_id"]] for ps in places.values() for p in ps]
+    named = a.names(shown + others)
+    parts = []
+    for o in shown:
+        said = views.describe_place(places[o["id"]], {k: the(v) for k, v in named.items()})
+        room = (o.get("room") or "?").split("/", 1)[-1]
+        name = the(without_place(named[o["id"]], said))
+        parts.append(f"{name} is " + (f"{said}, in the {room}" if said else f"in the {room}"))
+    more = f"; ... {len(rows) - len(shown)} more" if len(rows) > len(shown) else ""
+    value = [{**row_value(o, named[o["id"]]), "relations": [{"rel": p["rel"], "other_id": p["other_id"],
+                                                          "other_label": p["other_label"]} for p in places[o["id"]]]}
+             for o in shown]
+    return "; ".join(parts) + more, value, rows
+
+
+def op_attribute(a: Answerer, form: Form):
+    np = _head(form)
+    rows = _all_rows(a.ev, form, np)
+    if not rows:
+        return (a.absence() or f"I have not found {a.phrase(np, 1, form.filters)}{a.where} ({ABSENT})"), None, rows
+    named = a.names(rows[:LIST_SHOWN])
+    values, parts = [], []
+    for o in rows[:LIST_SHOWN]:
+        v, said = _attribute_of(a, o, form.attribute)
+        values.append(v)
+        parts.append(f"{the(named[o['id']])} {said}")
+    text = "; ".join(parts)
+    if len(rows) > LIST_SHOWN:
+        text += f"; ... {len(rows) - LIST_SHOWN} more"
+    return text, values[0] if len(values) == 1 else values, rows
+
+
+def _attribute_of(a: Answerer, o: dict, attribute: str):
+    size = [float(v) for v in (o.get("size") or [0, 0, 0])]
+    if attribute == "colour":
+        c2 = f" with {o['colour2']}" if o.get("colour2") else ""
+        return o.get("colour"), f"is {o.get('colour') or 'of unknown colour'}{c2}"
+    if attribute == "size":
+        return size, f"is {_sizes(o)} (w x d x h)"
+    if attribute == "tall":
+        return round(size[2], 3), f"is {size[2]:.2f} m tall (its box height)"
+    if attribute in ("width", "length"):
+        v = max(size[0], size[1]) if attribute == "length" else min(size[0], size[1])
+        return round(v, 3), f"is {v:.2f} m {'long' if attribute == 'length' else 'wide'}"
+    # high: the box top above the floor
+    floor = a.scene.floor_level(o["room"])
+    if floor is None:
+        return None, (f"has a box {size[2]:.2f} m tall, but I have not found the floor of the "
+                      f"{(o.get('room') or '').split('/', 1)[-1]}, so its height above it is unknown")
+    h = a.scene.top(o) - floor
+    return round(h, 3), f"reaches {h:.2f} m above the floor (top of its box)"
+
+
+def op_extreme(a: Answerer, form: Form):
+    np = _head(form)
+    rows = _all_rows(a.ev, form, np)
+    if not rows:
+        return (a.absence() or f"I have not found {a.phrase(np, 1, form.filters)}{a.where} ({ABSENT})"), None, rows
+    o = rows[0]
+    name = the(a.names([o])[o["id"]])
+    k = a.ev.key(np)(o)
+    if np.superlative in DISTANCE_SUPERLATIVES:
+        detail = f"{k:.2f} m from the {a.phrase(np.toward, 1)}"
+    else:
+        key = SUPERLATIVES[np.superlative][0]
+        detail = {"volume": f"{k:.3g} m^3", "height": f"{k:.2f} m tall", "top": f"top at {k:.2f} m"}[key]
+    what = a.noun_of(np, 1)
+    filters = " ".join(_filter_text(a, f) for f in np.filters)
+    thumb = a.run.read("vqa_thumbnail", id=o["id"])
+    a.thumbnail = thumb[0]["thumbnail"] if thumb else None
+    return (f"the {np.superlative} {what}{' ' + filters if filters else ''}{a.where}: {name} ({detail})",
+            row_value(o, name), rows)
+
+
+def op_distance(a: Answerer, form: Form):
+    if len(form.sets) == 1 and len(form.sets[0].alternatives) == 2:
+        x, y = form.sets[0].alternatives          # "how far apart are tv 1 and tv 2"
+    elif len(form.sets) == 2:
+        x, y = form.sets
+    else:
+        raise Unanswerable("a distance is between two things; ask e.g. 'how far is the cup from the sink'")
+    rx, ry = a.ev.members(x), a.ev.members(y)
+    if not rx or not ry:
+        return (a.absence() or "I have not found both objects" + a.where + f" ({ABSENT})"), None, rx + ry
+    pairs = [(a.scene.distance(p, q), p, q) for p in rx for q in ry if p["id"] != q["id"]]
+    if not pairs:
+        return "these name the same object", 0.0, rx
+    d, p, q = min(pairs, key=lambda t: (t[0], t[1]["id"], t[2]["id"]))
+    named = a.names([p, q])
+    text = f"{the(named[p['id']])} is {d:.2f} m from {the(named[q['id']])} (box centre to box centre)"
+    if len(pairs) > 1:
+        text += f"; the closest of {len(pairs)} pairs"
+    return text, round(d, 3), [p, q]
+
+
+def op_rooms(a: Answerer, form: Form):
+    np = _head(form)
+    rows = _all_rows(a.ev, form, np)
+    per: dict[str, int] = {}
+    for o in rows:
+        per[o["room"]] = per.get(o["room"], 0) + 1
+    if not per:
+        return (a.absence() or f"none: no room holds {a.phrase(np, 1, form.filters)}"), [], rows
+    text = ", ".join(f"{rid.split('/', 1)[-1]} ({k} {a.phrase(np, k)})" for rid, k in sorted(per.items()))
+    return text, [{"room": r, "n": k} for r, k in sorted(per.items())], rows
+
+
+def op_room_most(a: Answerer, form: Form):
+    np = _head(form)
+    rows = _all_rows(a.ev, form, np)
+    rooms = {r["id"]: r for r in a.run.read("vqa_rooms_all", building=a.ev.building)}
+    if a.scene.rooms is not None:
+        rooms = {k: v for k, v in rooms.items() if k in a.scene.rooms}
+    per = {rid: 0 for rid in rooms}
+    for o in rows:
+        per[o["room"]] = per.get(o["room"], 0) + 1
+    if not per:
+        return "the store holds no rooms", None, rows
+    sign = 1 if form.compare == "more" else -1
+    best = max(per.items(), key=lambda kv: (sign * kv[1], kv[0]))
+    ties = [r for r, k in per.items() if k == best[1]]
+    name = best[0].split("/", 1)[-1]
+    text = f"the {name} ({best[1]} {a.phrase(np, best[1])})"
+    if len(ties) > 1:
+        text = "a tie: " + ", ".join(f"the {r.split('/', 1)[-1]}" for r in sorted(ties)) + f" ({best[1]} {a.phrase(np, best[1])} each)"
+    if len(per) == 1:
+        text += "; it is the only room in scope"
+    return text, {"room": best[0], "n": best[1]}, rows
+
+
+def op_rooms_next_to(a: Answerer, form: Form):
+    r = a.ev.resolved(_head(form), may_be_room=True)
+    if r.kind != "room":
+        raise Unanswerable(f"'{_head(form).text()}' is not a room in the store")
+    ids = r.room_ids
+    rows = a.run.read("vqa_rooms_adjacent", rooms=ids)
+    names = sorted({x["name"] for x in rows})
+    if not names:
+        return f"none: no room shares objects with the {r.room} (rooms are linked when a scan sees into both)", [], []
+    return f"{_join(names)} (rooms that share objects with the {r.room})", names, []
+
+
+def op_room_count(a: Answerer, form: Form):
+    rows = a.run.read("vqa_rooms_all", building=a.ev.building)
+    names = sorted({r["name"] for r in rows})
+    return f"{len(rows)} room{'s' if len(rows) != 1 else ''}: " + _join(names) if rows else "0 rooms", len(rows), []
+
+
+def op_affordance(a: Answerer, form: Form):
+    verb = form.verb or ""
+    words = verb.split()
+    key = next((k for k in sorted(AFFORDANCES, key=len, reverse=True) if words[:len(k.split())] == k.split()), None)
+    if key is None:
+        raise Unanswerable(f"I don't know what things afford '{verb}'")
+    labels, structure = AFFORDANCES[key]
+    objs = [o for o in a.scene.objects.values()
+            if (o["label"] in labels and not is_structure(o)) or (o["label"] in structure and is_structure(o))]
+    if not objs:
+        return (f"I have not found anything to {key} on or at{a.where} (looked for "
+                f"{_join(labels + structure)}; {ABSENT})"), [], []
+    text = f"to {key}: {a.listing(objs)}{a.where} (things one can {key} on or at: {', '.join(labels + structure)})"
+    return text, [o["id"] for o in objs], objs
+
+
+OPS = {"count": op_count, "exists": op_exists, "at_least": op_at_least, "compare": op_compare,
+       "list": op_list, "where": op_where, "attribute": op_attribute, "extreme": op_extreme,
+       "distance": op_distance, "rooms": op_rooms, "room_most": op_room_most,
+       "rooms_next_to": op_rooms_next_to, "room_count": op_room_count, "affordance": op_affordance}
+
+

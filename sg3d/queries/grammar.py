@@ -1,0 +1,390 @@
+"""The grammar of questions (lark, LALR): normalised text -> logical form (sg3d/queries/logic.py).
+
+The grammar knows the frame words (how many, where, which ... is the biggest), relations,
+distances with units, negation, comparisons and rooms; nouns are open words, resolved later to
+stored labels (sg3d/queries/lexicon.py). The parser is built once per process (LALR: a table look-up
+per word, well under a millisecond for a question).
+"""
+from __future__ import annotations
+
+import functools
+from typing import Optional
+
+from lark import Lark, Token, Transformer, v_args
+from lark.exceptions import LarkError, UnexpectedInput, VisitError
+
+from sg3d.core.errors import Sg3dError
+from sg3d.queries.logic import NP, Filter, Form
+
+# relation word -> (stored relation type, symmetric?)
+RELATIONS: dict[str, tuple[str, bool]] = {
+    "on": ("ON", False), "on top of": ("ON", False), "onto": ("ON", False), "in": ("IN", False),
+    "inside": ("IN", False), "under": ("UNDER", False), "underneath": ("UNDER", False),
+    "beneath": ("UNDER", False), "below": ("BELOW", False), "above": ("ABOVE", False),
+    "over": ("ABOVE", False), "next to": ("NEXT_TO", True), "beside": ("NEXT_TO", True),
+    "by": ("NEXT_TO", True), "adjacent to": ("NEXT_TO", True), "near": ("NEAR", True),
+    "close to": ("NEAR", True), "nearby": ("NEAR", True), "around": ("NEAR", True),
+}
+SUPERLATIVES = {   # word -> (key, sign): key volume | height (box height) | top (height above floor)
+    "biggest": ("volume", 1), "largest": ("volume", 1), "smallest": ("volume", -1),
+    "tiniest": ("volume", -1), "tallest": ("height", 1), "shortest": ("height", -1),
+    "highest": ("top", 1), "lowest": ("top", -1),
+}
+DISTANCE_SUPERLATIVES = {"closest": -1, "nearest": -1, "farthest": 1, "furthest": 1}
+UNIT_M = {"m": 1.0, "cm": 0.01, "mm": 0.001, "ft": 0.3048, "inch": 0.0254}
+ATTRIBUTES = {"big": "size", "large": "size", "tall": "tall", "high": "high", "wide": "width",
+              "long": "length", "far": "far"}
+
+GRAMMAR = r"""
+start: count | exists | at_least | compare | listing | where | attribute | extreme | distance
+     | room_count | rooms_with | room_most | rooms_next | afford
+
+be: "is" | "are"
+_there: "there"
+_det: "the" | "a" | "an" | "any" | "some" | "all" | "my" | "this" | "your"
+
+count: "how" "many" np be? _there? preds
+     | "count" np preds
+     | WHAT be "the" "number" "of" np be? _there? preds
+exists: be _there np preds
+      | np_one                                          -> bare
+      | "do" "you" ("have" | "see") np preds
+      | be np preds
+at_least: be _there MORELESS "than" NUMBER np preds
+compare: be _there MORELESS np "than" np preds
+       | be "the" "number" "of" np COMPARE "than" "the" "number" "of" np preds
+       | "do" ("we" | "you") "have" MORELESS np "than" np preds
+listing: WHAT np? be _there? preds
+       | WHAT np? ("can" | "do") "you" "see" _there? preds
+       | LIST "me"? np preds
+where: "where" be np preds
+     | "where" "can" "i" "find" np preds
+attribute: WHAT "color" be np preds                        -> colour_of
+         | WHAT be "the" "color" "of" np preds         -> colour_of
+         | "the" "color" "of" np preds                 -> colour_of
+         | WHAT be "the" MEASURE "of" np preds        -> measure_named
+         | "the" MEASURE "of" np preds                -> measure_named
+         | WHAT "size" be np preds                       -> size_of
+         | "how" ATTR be np preds                          -> measure_of
+extreme: WHAT np? be _det? SUPER np? preds
+       | WHAT np be _det? DSUPER "away"? _tofrom np
+       | WHAT be np_closest
+np_closest: _det? DSUPER WORD+ _tofrom np_one
+distance: "how" "far" be np _tofrom np
+        | "how" "far" "apart" be np
+        | WHAT be "the" "distance" "between" np_one "and" np_one
+        | WHAT be "the" "distance" "from" np_one "to" np_one
+room_count: "how" "many" "rooms" be? _there? ("in" _det? WORD+)? (("do" | "does") _det? ("you" | WORD) WORD* ("have" | "has" | "hold" | "contain" | "see")?)?
+rooms_with: WHAT "rooms" ("have" | "has" | "contain" | "hold") np preds
+          | "in" WHAT "rooms" be _there? np preds
+room_most: WHAT "room" ("has" | "have" | "holds" | "contains") _det? MOSTFEW np preds
+rooms_next: WHAT "rooms" be (_next_to | "near" | "beside") np_one
+afford: "where" ("can" | "could") "i" WORD (_det | WORD)*
+      | WHAT ("can" | "could") "i" WORD (_det | WORD)*
+
+np: np_one (_conj np_one)*
+np_or: np_one ("or" np_one)*
+_conj: "or" | "and" | "as" "well" "as"
+np_one: _det? SUPER? WORD+ NUMBER? postmod*
+      | _det? SUPER postmod*
+      | _det? SUPER? WORD+ NUMBER? DSUPER _tofrom np_one
+      | np_closest
+postmod: NOT? relation np_or                 -> rel_filter
+       | NOT? band                          -> dist_filter
+preds: pred*
+pred: NOT? relation np_or                   -> rel_filter
+    | NOT? band                             -> dist_filter
+    | "and" pred
+band: "within" length _ofrom np_one                      -> within
+    | ("closer" | "nearer") "than" length _tofrom np_one  -> within
+    | MORELESS "than" length ("away" | "apart")? _tofrom np_one  -> more_less
+    | ("farther" | "further") "than" length _tofrom np_one -> beyond
+    | "between" length "and" length _ofrom np_one         -> between
+length: NUMBER UNIT?
+_ofrom: "of" | "from" | "to"
+_tofrom: "to" | "from"
+_next_to: "next" "to" | "adjacent" "to"
+!relation: "on" | "on" "top" "of" | "onto" | "in" | "inside" | "under" | "underneath" | "beneath"
+        | "below" | "above" | "over" | "next" "to" | "beside" | "by" | "adjacent" "to" | "near"
+        | "close" "to" | "nearby" | "around"
+
+WHAT: "what" | "which"
+LIST: "list" | "show" | "name" | "find"
+NOT: "not"
+MORELESS: "more" | "fewer" | "less"
+COMPARE: "bigger" | "larger" | "greater" | "higher" | "smaller" | "lower"
+MOSTFEW: "most" | "fewest" | "least"
+MEASURE: "height" | "width" | "length" | "size"
+ATTR: "big" | "large" | "tall" | "high" | "wide" | "long"
+SUPER: "biggest" | "largest" | "smallest" | "tiniest" | "tallest" | "shortest" | "highest" | "lowest"
+DSUPER: "closest" | "nearest" | "farthest" | "furthest"
+UNIT: "m" | "cm" | "mm" | "ft" | "inch"
+NUMBER: /\d+(\.\d+)?/
+WORD: /(?!(?:RESERVED)\b)[^\W\d_][\w-]*/
+%ignore " "
+"""
+
+# every literal of the grammar: never an object word (a noun phrase ends where one begins)
+RESERVED = sorted({
+    "is", "are", "there", "the", "a", "an", "any", "some", "all", "my", "this", "your", "how", "many",
+    "count", "what", "which", "number", "of", "do", "you", "have", "see", "than", "where", "can", "i",
+    "find", "color", "size", "far", "apart", "distance", "between", "and", "or", "as", "well",
+    "rooms", "room", "has", "contain", "hold", "holds", "contains", "in", "near", "beside", "next",
+    "to", "adjacent", "on", "top", "onto", "inside", "under", "underneath", "beneath", "below",
+    "above", "over", "by", "close", "nearby", "around", "within", "closer", "nearer", "less",
+    "away", "farther", "further", "more", "from", "list", "show", "name", "not", "fewer",
+    "most", "fewest", "least", "me", "we", "could", "bigger", "larger", "greater", "higher", "smaller", "lower", "height", "width", "length", "big", "large", "tall", "high", "wide", "long", "m", "cm", "mm",
+    "ft", "inch", *SUPERLATIVES, *DISTANCE_SUPERLATIVES,
+}, key=lambda w: (-len(w), w))
+
+
+class GrammarError(Sg3dError, ValueError):
+    """The text is not a question of the grammar; `word` is where it stopped, if known."""
+
+    def __init__(self, message: str, word: Optional[str] = None):
+        super().__init__(message)
+        self.word = word
+
+
+@functools.cache
+def parser() -> Lark:
+    """The LALR parser, built once per process."""
+    grammar = GRAMMAR.replace("RESERVED", "|".join(RESERVED))
+    # the LALR tables are kept in sg3d's cache (not the temporary folder): a cold process loads
+    # them instead of building them (0.2 s)
+    return Lark(grammar, parser="lalr", maybe_placeholders=False, cache=_table_cache(grammar))
+
+
+def _table_cache(grammar: str):
+    """Where the parser tables of `grammar` are kept: SG3D_CACHE, else SG3D_HOME/sg3d-cache,
+    else the user cache directory (as the label vectors); False (no cache) where none can be made."""
+    import hashlib
+    import os
+    from pathlib import Path
+
+    from platformdirs import user_cache_dir
+
+    home = os.environ.get("SG3D_HOME")
+    folder = Path(os.environ.get("SG3D_CACHE") or (Path(home).expanduser() / "sg3d-cache" if home
+                                                   else user_cache_dir("sg3d", appauthor=False)))
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+    except OSError:
+        return False
+    if not os.access(folder, os.W_OK):
+        return False
+    return str(folder / f"question-grammar-{hashlib.sha1(grammar.encode()).hexdigest()[:12]}.lark")
+
+
+def _words(items) -> list[str]:
+    return [str(t) for t in items if isinstance(t, Token) and t.type == "WORD"]
+
+
+@v_args(inline=False)
+class _ToForm(Transformer):
+    def start(self, items):
+        return items[0]
+
+    def be(self, items):
+        return "be"
+
+    def relation(self, items):
+        return " ".join(str(t) for t in items)
+
+    def length(self, items):
+        return (float(items[0]), str(items[1]) if len(items) > 1 else None)
+
+    @staticmethod
+    def _metres(lengths, unit=None) -> list[float]:
+        """(value, unit) pairs -> metres; a number without a unit takes `unit` ("between 1 and
+        2 m") or is refused (a distance needs one)."""
+        out = []
+        for value, own in lengths:
+            u = own or unit
+            if u is None:
+                n = f"{value:g}"
+                raise GrammarError(f"'{n}' has no unit; say e.g. '{n} m' or '{n} cm'", n)
+            out.append(value * UNIT_M[u])
+        return out
+
+    @staticmethod
+    def _lengths(items):
+        return [i for i in items if isinstance(i, tuple)]
+
+    def within(self, items):
+        return Filter("distance", items[-1], high_m=self._metres(self._lengths(items))[0])
+
+    def beyond(self, items):
+        return Filter("distance", items[-1], low_m=self._metres(self._lengths(items))[0])
+
+    def more_less(self, items):
+        word = str(items[0])
+        metres = self._metres(self._lengths(items))[0]
+        if word == "more":
+            return Filter("distance", items[-1], low_m=metres)
+        return Filter("distance", items[-1], high_m=metres)
+
+    def between(self, items):
+        lengths = self._lengths(items)
+        lo, hi = sorted(self._metres(lengths, unit=lengths[-1][1]))
+        return Filter("distance", items[-1], low_m=lo, high_m=hi)
+
+    def rel_filter(self, items):
+        negated = any(isinstance(i, Token) and i.type == "NOT" for i in items)
+        word = next(i for i in items if isinstance(i, str) and not isinstance(i, Token))
+        return Filter("rel", items[-1], relation=word, negated=negated)
+
+    def dist_filter(self, items):
+        f = items[-1]
+        f.negated = any(isinstance(i, Token) and i.type == "NOT" for i in items)
+        return f
+
+    def pred(self, items):
+        return items[-1]
+
+    def preds(self, items):
+        return [i for i in items if isinstance(i, Filter)]
+
+    def postmod(self, items):
+        return items[-1]
+
+    def np_one(self, items):
+        words = _words(items)
+        number = next((int(float(t)) for t in items if isinstance(t, Token) and t.type == "NUMBER"), None)
+        sup = next((str(t) for t in items if isinstance(t, Token) and t.type in ("SUPER", "DSUPER")), None)
+        nps = [i for i in items if isinstance(i, NP)]
+        np = NP(words, number=number, superlative=sup, filters=[i for i in items if isinstance(i, Filter)])
+        np.definite = True
+        if nps:
+            np.toward = nps[-1]
+        return np
+
+    def np_or(self, items):
+        return self.np(items)
+
+    def np_closest(self, items):
+        return self.np_one(items)
+
+    def np(self, items):
+        nps = [i for i in items if isinstance(i, NP)]
+        if len(nps) == 1:
+            return nps[0]
+        return NP([], alternatives=nps)
+
+    # -- operations ------------------------------------------------------------------------
+    @staticmethod
+    def _op(op, items, **kw) -> Form:
+        sets = [i for i in items if isinstance(i, NP)]
+        filters = [f for i in items if isinstance(i, list) for f in i]
+        return Form(op, sets=sets, filters=filters, **kw)
+
+    def count(self, items):
+        return self._op("count", items)
+
+    def exists(self, items):
+        return self._op("exists", items)
+
+    def bare(self, items):
+        """A noun phrase alone: "the biggest bowl?" shows it, "anything on the counter?" asks
+        whether there is; a bare noun ("a joke about chairs") is no question."""
+        np = items[0]
+        if np.superlative:
+            return Form("extreme", sets=[np])
+        if not np.filters:
+            raise GrammarError("a noun alone is not a question")
+        return Form("exists", sets=[np])
+
+    def at_least(self, items):
+        word = next(str(t) for t in items if isinstance(t, Token) and t.type == "MORELESS")
+        n = next(float(t) for t in items if isinstance(t, Token) and t.type == "NUMBER")
+        return self._op("at_least", items, compare="more" if word == "more" else "fewer", number=n)
+
+    def compare(self, items):
+        word = next(str(t) for t in items if isinstance(t, Token) and t.type in ("MORELESS", "COMPARE"))
+        more = word in ("more", "bigger", "larger", "greater", "higher")
+        return self._op("compare", items, compare="more" if more else "fewer")
+
+    def listing(self, items):
+        return self._op("list", items)
+
+    def where(self, items):
+        return self._op("where", items)
+
+    def colour_of(self, items):
+        return self._op("attribute", items, attribute="colour")
+
+    def size_of(self, items):
+        return self._op("attribute", items, attribute="size")
+
+    def measure_named(self, items):
+        word = next(str(t) for t in items if isinstance(t, Token) and t.type == "MEASURE")
+        # "the height of the table" is its own height (the box), as "how tall"
+        return self._op("attribute", items, attribute={"height": "tall", "width": "width", "length": "length",
+                                                       "size": "size"}[word])
+
+    def measure_of(self, items):
+        word = next(str(t) for t in items if isinstance(t, Token) and t.type == "ATTR")
+        return self._op("attribute", items, attribute=ATTRIBUTES[word])
+
+    def extreme(self, items):
+        sup = next((str(t) for t in items if isinstance(t, Token) and t.type in ("SUPER", "DSUPER")), None)
+        form = self._op("extreme", items)
+        if sup is None:
+            return form                 # "what is the closest chair to the tv": the set says it
+        if sup in DISTANCE_SUPERLATIVES:
+            head, other = form.sets[0], form.sets[1]
+            head.superlative, head.toward = sup, other
+            form.sets = [head]
+        else:
+            # "which cup is the biggest" / "which is the biggest cup": one set, the word on it
+            words = [w for s in form.sets for w in s.words]
+            number = next((s.number for s in form.sets if s.number is not None), None)
+            filters = [f for s in form.sets for f in s.filters]
+            form.sets = [NP(words, number=number, superlative=sup, filters=filters, definite=True)]
+        return form
+
+    def distance(self, items):
+        return self._op("distance", items)
+
+    def room_count(self, items):
+        return Form("room_count", sets=[NP(_words(items))] if _words(items) else [])
+
+    def rooms_with(self, items):
+        return self._op("rooms", items)
+
+    def room_most(self, items):
+        word = next(str(t) for t in items if isinstance(t, Token) and t.type == "MOSTFEW")
+        return self._op("room_most", items, compare="more" if word == "most" else "fewer")
+
+    def rooms_next(self, items):
+        return self._op("rooms_next_to", items)
+
+    def afford(self, items):
+        return Form("affordance", verb=" ".join(_words(items)))
+
+
+def read(text: str) -> Form:
+    """Normalised question text -> Form; GrammarError naming the word where reading stopped."""
+    try:
+        tree = parser().parse(text)
+    except UnexpectedInput as exc:
+        word = _word_at(text, exc)
+        raise GrammarError("the grammar cannot read this question", word) from None
+    except LarkError as exc:
+        raise GrammarError(f"the grammar cannot read this question ({exc.__class__.__name__})") from None
+    try:
+        return _ToForm().transform(tree)
+    except VisitError as exc:       # a GrammarError raised while building the form
+        if isinstance(exc.orig_exc, GrammarError):
+            raise exc.orig_exc from None
+        raise
+
+
+def _word_at(text: str, exc: UnexpectedInput) -> Optional[str]:
+    pos = getattr(exc, "pos_in_stream", None)
+    if pos is None:
+        token = getattr(exc, "token", None)
+        pos = getattr(token, "start_pos", None)
+    if pos is None or pos >= len(text):
+        return None
+    return text[pos:].split()[0] if text[pos:].split() else None
