@@ -25,7 +25,7 @@ def run_cli(group: click.Group) -> int:
     )
 
     from sg3d.graphdb.embedded import EmbeddedStoreError
-    from sg3d.graphdb.store import ReadOnlyStoreError
+    from sg3d.graphdb.store import ReadOnlyStoreError, StatementTooLarge
 
     try:
         group.main(standalone_mode=False, prog_name="sg3d")
@@ -51,7 +51,7 @@ def run_cli(group: click.Group) -> int:
         full = _disk_full()
         click.echo(f"error: {full or describe_store_error(exc)}", err=True)
         return 2
-    except (EmbeddedStoreError, ReadOnlyStoreError) as exc:
+    except (EmbeddedStoreError, ReadOnlyStoreError, StatementTooLarge) as exc:
         click.echo(f"error: {exc}", err=True)
         return 2
     except KeyboardInterrupt:

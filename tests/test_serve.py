@@ -51,7 +51,7 @@ def test_health_needs_no_token(served):
     r = httpx.get(served[0] + "/health")
     assert r.status_code == 200
     from sg3d import __version__
-    assert r.json() == {"status": "ok", "store": True, "version": __version__}
+    assert r.json() == {"status": "ok", "store": True, "state": "up", "version": __version__}
 
 
 @pytest.mark.parametrize("method,path", ROUTES)

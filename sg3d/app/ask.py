@@ -6,11 +6,31 @@ import base64
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Optional
 
+from sg3d.app import bounds
 from sg3d.app.errors import AppError
 from sg3d.graphdb.protocol import GraphStore
 
 if TYPE_CHECKING:              # the CLI imports queries only when it answers
     from sg3d.queries.vqa import Answer
+
+
+# What a question may hold, and a room or building it names (a name, or a building/room id).
+MAX_QUESTION_CHARS = 2000
+MAX_SCOPE_CHARS = 2 * bounds.MAX_NAME_CHARS + 1
+
+
+def input_problem(question: object, room: object = None, building: object = None) -> Optional[str]:
+    """Why these cannot be asked, or None: each a text within its length (the reason names the
+    length and the limit, never the value)."""
+    for what, value, limit in (("question", question, MAX_QUESTION_CHARS), ("room", room, MAX_SCOPE_CHARS),
+                               ("building", building, MAX_SCOPE_CHARS)):
+        if value is None and what != "question":
+            continue
+        if not isinstance(value, str):
+            return f"{what} must be a text"
+        if len(value) > limit:
+            return f"{what} is {len(value)} characters; at most {limit}"
+    return None
 
 
 @dataclass
@@ -56,6 +76,9 @@ def ask(store: GraphStore, question: str, room: Optional[str] = None, building: 
     thumbnail is written to `out` (default a temporary .png). AppError for a bad picture path.
     `viewpoint` ({"pose": 4x4} | {"position": [x, y, z]} | {"object": name}): where "in front
     of / behind / left of / right of" are seen from."""
+    problem = input_problem(question, room, building)
+    if problem:
+        raise AppError(problem)
     from sg3d.app.changes import change_answer
     from sg3d.queries.picture import write_picture
     from sg3d.queries.vqa import answer

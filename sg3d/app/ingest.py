@@ -21,6 +21,10 @@ from sg3d.graphdb.protocol import GraphStore
 MAX_OBJECTS = 5000
 MAX_RELATIONS = 50_000
 MAX_LABELS = 20
+# A thumbnail is a small crop (sg3d's own are at most 128 px, a few KB): a complete JPEG of at
+# most this many bytes, so no field can carry a payload near the store's message limit.
+MAX_THUMBNAIL_BYTES = 256 * 1024
+MAX_THUMBNAIL_BASE64 = 4 * ((MAX_THUMBNAIL_BYTES + 2) // 3)
 
 Vec3 = tuple[float, float, float]
 # floats refuse NaN and +-Infinity (as numbers and as the JSON literals); ints are bounded below
@@ -60,8 +64,11 @@ class ObjectIn(BaseModel):
     layer: Literal[LAYERS] = Field("object", description="object: a thing in the room; structure: floor, "
                                                          "walls, large horizontal surfaces")
     shape: Optional[Literal[SHAPE_WORDS]] = Field(None, description="a shape word for objects no detector named")
-    thumbnail: Optional[str] = Field(None, description="base64 JPEG crop of the object")
-    frames: list[int] = Field(default_factory=list, description="frame numbers that saw the object")
+    thumbnail: Optional[str] = Field(None, max_length=MAX_THUMBNAIL_BASE64,
+                                     description=f"base64 JPEG crop of the object: a complete JPEG of at "
+                                                 f"most {MAX_THUMBNAIL_BYTES // 1024} KiB")
+    frames: list[int] = Field(default_factory=list, max_length=bounds.MAX_FRAMES,
+                              description="frame numbers that saw the object")
 
     @field_validator("id")
     @classmethod
@@ -125,8 +132,13 @@ class ObjectIn(BaseModel):
             data = base64.b64decode(v, validate=True)
         except (binascii.Error, ValueError):
             raise ValueError("thumbnail must be base64") from None
-        if not data.startswith(b"\xff\xd8"):
-            raise ValueError("thumbnail must be a base64 JPEG (starts with FF D8)")
+        if len(data) > MAX_THUMBNAIL_BYTES:
+            raise ValueError(f"thumbnail must be at most {MAX_THUMBNAIL_BYTES} bytes ({len(data)} given)")
+        from sg3d.ingest.readers.image_checks import jpeg_problem   # (the readers package loads OpenCV)
+
+        problem = jpeg_problem(data)
+        if problem:
+            raise ValueError(f"thumbnail must be a complete base64 JPEG (it {problem})")
         return v
 
     @model_validator(mode="after")
@@ -152,7 +164,7 @@ class LocalGraphIn(BaseModel):
     model_config = STRICT
     objects: list[ObjectIn] = Field(min_length=1, max_length=MAX_OBJECTS)
     relations: list[RelationIn] = Field(default_factory=list, max_length=MAX_RELATIONS)
-    frames: list[int] = Field(default_factory=list)
+    frames: list[int] = Field(default_factory=list, max_length=bounds.MAX_FRAMES)
     up: Optional[Vec3] = Field(None, description="the room's up direction in the world frame (a unit vector)")
 
     @field_validator("frames")

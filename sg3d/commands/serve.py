@@ -41,7 +41,9 @@ def serve(settings, host: str, port: int, access_log: bool, max_body: int) -> No
     api = create_app(settings, token, max_body=max_body)
     api.state.stores.get()          # start or find the store now, not on the first request
     click.echo(f"sg3d serving http://{host}:{port} (docs at /docs); token in {token_path(home)}", err=True)
-    config = uvicorn.Config(api, host=host, port=port, log_level="warning", access_log=access_log)
+    # a stuck store call ends at its own deadline; SIGTERM waits at most 5 s for requests in flight
+    config = uvicorn.Config(api, host=host, port=port, log_level="warning", access_log=access_log,
+                            timeout_graceful_shutdown=5)
     uvicorn.Server(config).run(sockets=[sock])
 
 

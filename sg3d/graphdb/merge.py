@@ -35,6 +35,7 @@ from sg3d.graphdb.merge_plan import (
     position_scores,
 )
 from sg3d.graphdb.similarity import MAX_EXTENT_M, SimilarityParams
+from sg3d.graphdb.store import size_batches
 from sg3d.graphdb.tally import create_objects_and_tallies
 from sg3d.graphdb.values import room_id
 
@@ -144,8 +145,10 @@ def apply(tx: ManagedTransaction, plan: MergePlan) -> MergeReport:
         rescan.clear_relations(tx, node)
     for old, into in plan.folds:
         _fold_node(tx, old, into)
-    if plan.updates:
-        tx.run(cypher.load("object_update"), rows=plan.updates).consume()
+    # rows go in batches under the store's message bound (`size_batches`): thumbnails and
+    # histograms of thousands of objects would not fit in one Bolt message
+    for rows in size_batches(plan.updates):
+        tx.run(cypher.load("object_update"), rows=rows).consume()
     report.updated, report.created = len(plan.updates) - plan.moved, len(plan.creates)
     rescan.record_empty_places(tx, plan.scan, plan.empty_places)
     uncounted = list(plan.uncounted)
@@ -153,9 +156,13 @@ def apply(tx: ManagedTransaction, plan: MergePlan) -> MergeReport:
         gone = rescan.close_scan(tx, plan.room, plan.scan, plan.now)
         uncounted.extend((g["label"], g["colour"]) for g in gone)
         report.removed = len(gone)
-    create_objects_and_tallies(tx, plan.room, plan.creates, plan.counted, uncounted)
+    groups = size_batches(plan.creates) or [[]]
+    for group in groups[:-1]:
+        create_objects_and_tallies(tx, plan.room, group, ())
+    create_objects_and_tallies(tx, plan.room, groups[-1], plan.counted, uncounted)   # the tallies with the last
     for rel_type, rows in plan.relations:
-        tx.run(cypher.render("relation_merge", rel_type), rows=rows).consume()
+        for batch in size_batches(rows):
+            tx.run(cypher.render("relation_merge", rel_type), rows=batch).consume()
         report.relations += len(rows)
     if plan.resolve:
         resolve_pairs(tx, plan.node_ids.values())

@@ -1,8 +1,9 @@
 """One store handle over the official neo4j driver: the embedded ArcadeDB by default, Neo4j 5 with --uri."""
 from __future__ import annotations
 
+import functools
 import logging
-from typing import TYPE_CHECKING, Any, Callable, Optional
+from typing import TYPE_CHECKING, Any, Callable, Iterable, Optional, cast
 
 from neo4j import GraphDatabase, ManagedTransaction, Session
 
@@ -22,6 +23,156 @@ log = logging.getLogger("sg3d.store")
 
 class ReadOnlyStoreError(Sg3dError, RuntimeError):
     """A write was asked of a store opened for reading."""
+
+
+# -- the message guard -------------------------------------------------------------------------
+# ArcadeDB's Bolt plugin reads a message of at most 16 MiB. Of a longer one it reads part, answers
+# FAILURE and then parses the rest of the bytes as NEW messages, so a parameter holding Bolt bytes
+# after 16 MiB of padding runs a statement of the caller's choosing (and a plain long parameter
+# leaves the driver waiting forever; measured on 26.10: a 16.1 MiB string hangs, 15.9 MiB works).
+# Every statement sg3d sends is measured first and refused above this bound, well under 16 MiB.
+MAX_STATEMENT_BYTES = 8 * 1024 * 1024
+# What the rows of one batched statement may take (merges split their rows to fit, leaving room
+# for the statement's other parameters).
+BATCH_BYTES = MAX_STATEMENT_BYTES // 2
+_SCALARS = frozenset({int, float, bool, type(None)})
+_MIB = 1024 * 1024
+
+
+class StatementTooLarge(Sg3dError, ValueError):
+    """A statement whose text and parameters would not fit in one message the store reads whole;
+    nothing of it was sent."""
+
+
+def encoded_bytes(value: Any, stop_above: Optional[int] = None) -> int:
+    """An upper bound of `value`'s size as a Bolt (PackStream) parameter: 9 bytes a number, 5 of
+    header a text, byte string, list or map, plus their contents. Iterative (no recursion limit);
+    with `stop_above`, it returns as soon as the count passes it."""
+    total, stack = 0, [value]
+    while stack:
+        v = stack.pop()
+        t = type(v)
+        if t in _SCALARS:
+            total += 9
+        elif isinstance(v, str):
+            total += 5 + (len(v) if v.isascii() else len(v.encode("utf-8", "surrogatepass")))
+        elif isinstance(v, (bytes, bytearray)):
+            total += 5 + len(v)
+        elif isinstance(v, memoryview):
+            total += 5 + v.nbytes
+        elif isinstance(v, dict):
+            total += 5
+            stack.extend(v.keys())
+            stack.extend(v.values())
+        elif isinstance(v, (list, tuple, set, frozenset)):
+            total += 5
+            if set(map(type, v)) <= _SCALARS:      # a list of numbers (a histogram): no walk
+                total += 9 * len(v)
+            else:
+                stack.extend(v)
+        elif getattr(v, "dtype", None) is not None and getattr(v.dtype, "kind", "") in "biuf":
+            total += 5 + 9 * int(v.size)         # a numeric numpy array or scalar
+        elif hasattr(v, "tolist"):
+            stack.append(v.tolist())
+        else:                                    # dates, times, points: small fixed structures
+            total += 64
+        if stop_above is not None and total > stop_above:
+            return total
+    return total
+
+
+def check_statement(query: Any, parameters: Optional[dict] = None, more: Optional[dict] = None) -> None:
+    """StatementTooLarge, before anything is sent, when the statement's text and parameters
+    (`parameters` and keyword parameters `more`) may exceed MAX_STATEMENT_BYTES."""
+    text = getattr(query, "text", query)
+    size = len(text.encode("utf-8", "surrogatepass")) if isinstance(text, str) else encoded_bytes(text)
+    params = {**(parameters or {}), **(more or {})}
+    size += encoded_bytes(params, stop_above=MAX_STATEMENT_BYTES)
+    if size <= MAX_STATEMENT_BYTES:
+        return
+    biggest = max(params, key=lambda k: encoded_bytes(params[k]), default=None)
+    what = f" (${biggest}: {encoded_bytes(params[biggest]) / _MIB:.1f} MiB)" if biggest is not None else ""
+    raise StatementTooLarge(
+        f"a statement of more than {size / _MIB:.1f} MiB{what} exceeds the {MAX_STATEMENT_BYTES // _MIB} MiB "
+        f"sg3d sends to the store in one message; nothing was sent")
+
+
+def size_batches(rows: Iterable[Any], budget: int = BATCH_BYTES) -> list[list]:
+    """`rows` cut, in order, into batches of at most `budget` encoded bytes each (a row larger
+    than the budget alone in its batch, which the guard then refuses): how a statement that
+    takes many rows at once (UNWIND $rows) stays under MAX_STATEMENT_BYTES."""
+    batches: list[list] = []
+    current: list = []
+    used = 0
+    for row in rows:
+        size = encoded_bytes(row)
+        if current and used + size > budget:
+            batches.append(current)
+            current, used = [], 0
+        current.append(row)
+        used += size
+    if current:
+        batches.append(current)
+    return batches
+
+
+class _GuardedTransaction:
+    """A driver transaction whose `run` passes `check_statement` first; the rest is the driver's."""
+
+    def __init__(self, tx):
+        self._tx = tx
+
+    def run(self, query, parameters=None, **kwparameters):
+        check_statement(query, parameters, kwparameters)
+        return self._tx.run(query, parameters, **kwparameters)
+
+    def __enter__(self):
+        self._tx.__enter__()
+        return self
+
+    def __exit__(self, *exc):
+        return self._tx.__exit__(*exc)
+
+    def __getattr__(self, name):
+        return getattr(self._tx, name)
+
+
+def _guarded_work(fn: Callable) -> Callable:
+    @functools.wraps(fn)     # keeps a @unit_of_work's timeout and metadata
+    def work(tx, *args, **kwargs):
+        return fn(_GuardedTransaction(tx), *args, **kwargs)
+    return work
+
+
+class _GuardedSession:
+    """A driver session through which every statement passes `check_statement`: auto-commit
+    `run`, explicit transactions and transaction functions alike."""
+
+    def __init__(self, session: Session):
+        self._session = session
+
+    def run(self, query, parameters=None, **kwargs):
+        check_statement(query, parameters, kwargs)
+        return self._session.run(query, parameters, **kwargs)
+
+    def begin_transaction(self, *args, **kwargs):
+        return _GuardedTransaction(self._session.begin_transaction(*args, **kwargs))
+
+    def execute_read(self, fn, *args, **kwargs):
+        return self._session.execute_read(_guarded_work(fn), *args, **kwargs)
+
+    def execute_write(self, fn, *args, **kwargs):
+        return self._session.execute_write(_guarded_work(fn), *args, **kwargs)
+
+    def __enter__(self):
+        self._session.__enter__()
+        return self
+
+    def __exit__(self, *exc):
+        return self._session.__exit__(*exc)
+
+    def __getattr__(self, name):
+        return getattr(self._session, name)
 
 
 class Store:
@@ -61,7 +212,10 @@ class Store:
         self.close()
 
     def session(self, **kw: Any) -> Session:
-        return self.driver.session(database=self.database, **kw)
+        """A session on the store's database whose every statement is measured before it is sent
+        (`check_statement`: StatementTooLarge above MAX_STATEMENT_BYTES, nothing sent). Every
+        statement of sg3d goes through here; use it, never `driver.session`."""
+        return cast(Session, _GuardedSession(self.driver.session(database=self.database, **kw)))
 
     # -- running templates -----------------------------------------------------------------
     def read(self, name: str, **params: Any) -> list[dict]:

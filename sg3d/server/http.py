@@ -1,11 +1,14 @@
 """`sg3d serve`: the HTTP API (FastAPI) over the application layer. Routes only translate:
 request -> `app` call -> JSON. OpenAPI at /openapi.json, docs at /docs.
 
-Every route but /health needs `Authorization: Bearer <token>` (see `sg3d.server.auth`). Routes
-are async and hand their application call to `sg3d.server.dispatch.Dispatcher`: a lone quick read
-runs on the event loop, anything else in the thread pool, so concurrent requests run concurrently
-over one Store per process (a driver with a connection pool), through `sg3d.app.stores.StoreHandle`,
-which also survives a restart of the embedded store.
+Every route but /health needs `Authorization: Bearer <token>` (see `sg3d.server.auth`). Every
+field a caller sends has a bound (here, in `sg3d.app.ingest` and `sg3d.app.ask`): a value past it is
+a 422 naming the field and its length, never echoing it. Routes are async and hand their
+application call to `sg3d.server.dispatch.Dispatcher`, which runs it in a worker thread with a
+deadline and answers 503 + Retry-After at once while `sg3d.server.watch.StoreWatch` sees the store
+down (restarting a dead embedded store in the background), so the event loop is never held by the
+store. Requests share one Store per process (a driver with a connection pool) through
+`sg3d.app.stores.StoreHandle`, which also survives a restart of the embedded store.
 
 Every route declares its response model (`sg3d.server.schemas`) for /openapi.json but returns
 JSON encoded once (`json_response`, where the call ran), which FastAPI sends as it is.
@@ -16,6 +19,7 @@ from pathlib import Path
 from typing import Any, Literal, Optional
 
 from fastapi import Depends, FastAPI, HTTPException, Query, Request
+from fastapi import Path as PathParam
 from fastapi.exceptions import RequestValidationError
 from fastapi.responses import Response
 from pydantic import BaseModel, ConfigDict, Field
@@ -31,9 +35,14 @@ from sg3d.app.errors import AppError, NotFound, Refused
 from sg3d.app.stores import StoreHandle
 from sg3d.server import schemas
 from sg3d.server.auth import token_matches
-from sg3d.server.dispatch import Dispatcher
+from sg3d.server.dispatch import LONG_TIMEOUT_S, QUICK_TIMEOUT_S, RETRY_AFTER_S, Dispatcher, StoreUnavailable
 from sg3d.server.guard import TOKEN_HINT, Guard
 from sg3d.server.schemas import ROUTE_ERRORS
+from sg3d.server.watch import STOPPED, UP, StoreWatch
+
+# names a request may carry: a room or building name, or a building/room id
+NAME_CHARS = app_ask.MAX_SCOPE_CHARS
+HEALTH_TIMEOUT_S = 3.0
 
 
 class Viewpoint(BaseModel):
@@ -41,14 +50,15 @@ class Viewpoint(BaseModel):
     model_config = ConfigDict(extra="forbid")
     pose: Optional[list[list[float]]] = Field(None, min_length=4, max_length=4)
     position: Optional[list[float]] = Field(None, min_length=3, max_length=3)
-    object: Optional[str] = Field(None, min_length=1, max_length=200)
+    object: Optional[str] = Field(None, min_length=1, max_length=bounds.MAX_ID_CHARS)
 
 
 class AskBody(BaseModel):
     model_config = ConfigDict(extra="forbid")
-    question: str = Field(min_length=1, max_length=2000, examples=["how many cups are on the table?"])
-    room: Optional[str] = Field(None, description="only this room (its name)")
-    building: Optional[str] = Field(None, description="only this building")
+    question: str = Field(min_length=1, max_length=app_ask.MAX_QUESTION_CHARS,
+                          examples=["how many cups are on the table?"])
+    room: Optional[str] = Field(None, max_length=NAME_CHARS, description="only this room (its name)")
+    building: Optional[str] = Field(None, max_length=NAME_CHARS, description="only this building")
     viewpoint: Optional[Viewpoint] = Field(None, description="where 'in front of / behind / left of / right "
                                                           "of' are seen from (e.g. the robot's pose)")
 
@@ -58,22 +68,21 @@ class PlanBody(BaseModel):
     command: Optional[str] = Field(None, max_length=2000, examples=["clean up the table"])
     goal: Optional[str] = Field(None, max_length=2000, description="a PDDL goal instead of a command "
                                                                    f"(parentheses nested at most {bounds.MAX_GOAL_DEPTH} deep)")
-    room: str = Field(min_length=1, description="room name or id (building/room)")
-    building: Optional[str] = None
-    start: Optional[str] = Field(None, description="where the robot starts (a surface or receptacle name)")
+    room: str = Field(min_length=1, max_length=NAME_CHARS, description="room name or id (building/room)")
+    building: Optional[str] = Field(None, max_length=NAME_CHARS)
+    start: Optional[str] = Field(None, max_length=bounds.MAX_ID_CHARS,
+                                 description="where the robot starts (a surface or receptacle name)")
 
 
 def _status(exc: AppError) -> int:
     return 404 if isinstance(exc, NotFound) else 403 if isinstance(exc, Refused) else 400
 
 
-RETRY_AFTER_S = "2"
-
-
 def store_failure(exc: Exception, settings) -> tuple[int, str, dict]:
     """Status, detail and headers for a failure that is not the caller's: an explicit stop is 503
-    with the way out; a store that is restarting or briefly unreachable is 503 with Retry-After;
-    a full disk is 507 naming it; anything else 500 with the exception's type only."""
+    with the way out; a store that is restarting, briefly unreachable or past a call's deadline is
+    503 with Retry-After; a full disk is 507 naming it; a statement too large for one message to
+    the store (refused before it was sent) is 413; anything else 500 with the exception's type only."""
     from neo4j.exceptions import (
         AuthError,
         ServiceUnavailable,
@@ -87,15 +96,20 @@ def store_failure(exc: Exception, settings) -> tuple[int, str, dict]:
         disk_full_message,
         store_dir,
     )
+    from sg3d.graphdb.store import StatementTooLarge
 
     if isinstance(exc, StoreStopped):
         return 503, str(exc), {}
+    if isinstance(exc, StatementTooLarge):
+        return 413, str(exc), {}
     if getattr(settings, "embedded", False):
         full = disk_full_message(store_dir(Path(settings.embedded_home()).expanduser().resolve()))
         if full:
             return 507, full, {}
+    if isinstance(exc, StoreUnavailable):
+        return 503, str(exc), {"Retry-After": str(exc.retry_after)}
     if isinstance(exc, (ServiceUnavailable, SessionExpired, TransientError, AuthError, EmbeddedStoreError)):
-        return 503, "the graph store is unreachable or restarting; retry shortly", {"Retry-After": RETRY_AFTER_S}
+        return 503, "the graph store is unreachable or restarting; retry shortly", {"Retry-After": str(RETRY_AFTER_S)}
     return 500, f"internal error: {type(exc).__name__}", {}
 
 
@@ -134,15 +148,25 @@ def _near(text: Optional[str]):
 
 def validation_details(errors) -> list[dict]:
     """Pydantic's errors naming each field and the rule it broke, never the value it was sent
-    (a 100 MB question must not come back as a 100 MB answer)."""
-    return [{"loc": list(e.get("loc", ())), "msg": str(e.get("msg", ""))[:300], "type": e.get("type", "")}
-            for e in list(errors)[:20]]
+    (a 100 MB question must not come back as a 100 MB answer): a value too long is named by its
+    length."""
+    details = []
+    for e in list(errors)[:20]:
+        msg = str(e.get("msg", ""))[:300]
+        value = e.get("input")
+        if e.get("type") in ("string_too_long", "too_long", "bytes_too_long") and hasattr(value, "__len__"):
+            msg += f" ({len(value)} given)"
+        loc = [p if isinstance(p, int) else str(p)[:100] for p in e.get("loc", ())]   # a field name may be the caller's
+        details.append({"loc": loc, "msg": msg, "type": e.get("type", "")})
+    return details
 
 
 def create_app(settings, token: str, handle: Optional[StoreHandle] = None,
-               max_body: int = bounds.DEFAULT_MAX_BODY) -> FastAPI:
+               max_body: int = bounds.DEFAULT_MAX_BODY, quick_timeout_s: float = QUICK_TIMEOUT_S,
+               long_timeout_s: float = LONG_TIMEOUT_S) -> FastAPI:
     """The FastAPI application for `settings`' store; `token` is the bearer token callers send;
-    request bodies above `max_body` bytes are refused (413) before they are read."""
+    request bodies above `max_body` bytes are refused (413) before they are read; a read that has
+    not answered within `quick_timeout_s` (a plan, export or ingest: `long_timeout_s`) is a 503."""
     stores = handle or StoreHandle(settings)
     api = FastAPI(title="sg3d", version=__version__,
                   description="3-D scene graphs of rooms: ask, plan, list rooms and objects, export, ingest.")
@@ -155,13 +179,23 @@ def create_app(settings, token: str, handle: Optional[StoreHandle] = None,
             raise HTTPException(401, TOKEN_HINT, headers={"WWW-Authenticate": "Bearer"})
 
     _add_error_handlers(api, settings)
-    calls = Dispatcher()
-    _add_health_route(api, stores, settings, calls)
+    watch = StoreWatch(settings, restart=lambda: _reconnect(stores))
+    calls = Dispatcher(watch, quick_timeout_s=quick_timeout_s, long_timeout_s=long_timeout_s)
+    _add_health_route(api, stores, settings, calls, watch)
     auth = [Depends(authorised)]
     _add_read_routes(api, stores, calls, auth)
     _add_write_routes(api, stores, calls, auth)
     api.state.stores = stores
+    api.state.watch = watch
     return api
+
+
+def _reconnect(stores: StoreHandle) -> None:
+    """Drop the drivers of a dead store and open new ones, which starts the embedded store again
+    the normal way (`StoreWatch` runs this in the background when the daemon died)."""
+    stores.close()
+    stores.get()
+    stores.get(write=True)
 
 
 def _add_error_handlers(api: FastAPI, settings) -> None:
@@ -174,28 +208,43 @@ def _add_error_handlers(api: FastAPI, settings) -> None:
     async def _invalid(request: Request, exc: RequestValidationError):
         return json_response({"detail": validation_details(exc.errors())}, status_code=422)
 
-    @api.exception_handler(Exception)
     async def _store_error(request: Request, exc: Exception):
         status, detail, headers = store_failure(exc, settings)
         response = json_response({"detail": detail}, status_code=status)
         response.headers.update(headers)
         return response
 
+    from sg3d.graphdb.embedded import EmbeddedStoreError
+    from sg3d.graphdb.store import StatementTooLarge
 
-def _add_health_route(api: FastAPI, stores: StoreHandle, settings, calls: Dispatcher) -> None:
-    def check() -> tuple[bool, str]:
-        try:
-            stores.call(lambda s: s.driver.verify_connectivity())
-            return True, "ok"
-        except Exception as exc:  # noqa: BLE001 - any failure means not reachable; the detail is in the server log
-            return False, store_failure(exc, settings)[1]
+    # the failures sg3d names itself are answered as they are; any other exception also reaches
+    # the server's log (Starlette re-raises what the catch-all handler answered)
+    for known in (StoreUnavailable, EmbeddedStoreError, StatementTooLarge, Exception):
+        api.add_exception_handler(known, _store_error)
+
+
+def _add_health_route(api: FastAPI, stores: StoreHandle, settings, calls: Dispatcher, watch: StoreWatch) -> None:
+    def check() -> None:
+        watch.raise_if_down(probe=True)     # the daemon's process and port, without the driver
+        stores.call(lambda s: s.driver.verify_connectivity())
 
     @api.get("/health", tags=["service"], response_model=schemas.Health,
-             responses={503: {"model": schemas.Health, "description": "the store cannot be reached"}})
+             responses={503: {"model": schemas.Health, "description": "the store is down, restarting or stopped "
+                                                                      "(Retry-After unless stopped)"},
+                        507: {"model": schemas.Health, "description": "the store's disk is full"}})
     async def health():
-        """Whether the store is reachable, and the version. No token needed."""
-        ok, status = await calls.pooled(check)
-        return json_response({"status": status, "store": ok, "version": __version__}, status_code=200 if ok else 503)
+        """Whether the store answers (`state`: up, down, stopped), and the version. No token needed;
+        answers within a few seconds whatever the store does."""
+        try:
+            await calls.run(check, HEALTH_TIMEOUT_S)
+        except Exception as exc:  # noqa: BLE001 - any failure means not reachable; named by store_failure
+            code, detail, headers = store_failure(exc, settings)
+            state = STOPPED if watch.state() == STOPPED else "down"
+            response = json_response({"status": detail, "store": False, "state": state, "version": __version__},
+                                     status_code=code)
+            response.headers.update(headers)
+            return response
+        return json_response({"status": "ok", "store": True, "state": UP, "version": __version__})
 
 
 def _add_read_routes(api: FastAPI, stores: StoreHandle, calls: Dispatcher, auth: list) -> None:
@@ -220,13 +269,16 @@ def _add_read_routes(api: FastAPI, stores: StoreHandle, calls: Dispatcher, auth:
             s, body.command, goal=body.goal, room=body.room, building=body.building, start=body.start))))
 
     @api.get("/rooms", response_model=list[schemas.Room], **opts)
-    async def rooms(building: Optional[str] = None):
+    async def rooms(building: Optional[str] = Query(None, max_length=NAME_CHARS)):
         """Rooms (of one building, or all) with object counts, transforms and adjacent rooms."""
         return await calls.quick(lambda: json_response(read(lambda s: app_rooms.list_rooms(s, building))))
 
     @api.get("/rooms/{building}/{room}/objects", response_model=list[schemas.RoomObject], **opts)
-    async def objects(building: str, room: str, label: Optional[str] = None, colour: Optional[str] = None,
-                      near: Optional[str] = Query(None, description="x,y,z in the room's frame: sort by distance"),
+    async def objects(building: str = PathParam(max_length=NAME_CHARS), room: str = PathParam(max_length=NAME_CHARS),
+                      label: Optional[str] = Query(None, max_length=bounds.MAX_LABEL_CHARS),
+                      colour: Optional[str] = Query(None, max_length=bounds.MAX_LABEL_CHARS),
+                      near: Optional[str] = Query(None, max_length=200,
+                                                  description="x,y,z in the room's frame: sort by distance"),
                       radius: Optional[float] = Query(None, description="metres from `near`")):
         """A room's objects with readable names, filtered by label, colour and distance to a point."""
         point = _near(near)
@@ -236,7 +288,8 @@ def _add_read_routes(api: FastAPI, stores: StoreHandle, calls: Dispatcher, auth:
     @api.get("/graph", response_model=schemas.Graph, dependencies=auth, tags=["read"],
              responses={**ROUTE_ERRORS, 200: {"content": {"application/graphml+xml": {}},
                                             "description": "the graph; GraphML for format=graphml"}})
-    async def graph(building: str = "default", room: Optional[str] = None,
+    async def graph(building: str = Query("default", max_length=NAME_CHARS),
+                    room: Optional[str] = Query(None, max_length=NAME_CHARS),
                     format: Literal["json", "graphml", "spark-dsg", "3dssg"] = "json", thumbnails: bool = False,
                     histograms: bool = False):
         """The graph of a room or a building: the paper's JSON form, GraphML, spark_dsg JSON or 3DSSG

@@ -33,10 +33,11 @@ def build_server(settings, handle: Optional[StoreHandle] = None):
 
     def read(fn):
         from sg3d.graphdb.embedded import EmbeddedStoreError
+        from sg3d.graphdb.store import StatementTooLarge
 
         try:
             return stores.call(fn)
-        except (AppError, EmbeddedStoreError) as exc:
+        except (AppError, EmbeddedStoreError, StatementTooLarge) as exc:
             raise ToolError(str(exc)) from exc
 
     @server.tool()

@@ -19,6 +19,8 @@ class _Open(BaseModel):
 class Health(_Open):
     status: str = Field(description="'ok', or why the store cannot be reached")
     store: bool = Field(description="whether the store answered")
+    state: str = Field(description="'up'; 'down' (unreachable, restarting or not answering: 503 with "
+                                   "Retry-After); 'stopped' (`sg3d db stop`: 503 until `sg3d db start`)")
     version: str
 
 
@@ -166,9 +168,11 @@ ROUTE_ERRORS: dict[int | str, dict[str, Any]] = {
     400: {"model": Error, "description": "the request cannot be answered as asked"},
     401: {"model": Error, "description": "missing or wrong token"},
     404: {"model": Error, "description": "no such room or building"},
-    413: {"model": Error, "description": "request body larger than --max-body"},
+    413: {"model": Error, "description": "request body larger than --max-body, or a statement too large for "
+                                          "one message to the store (refused before it was sent)"},
     422: {"model": ValidationFailure, "description": "a field failed validation, or the body is not strict JSON"},
-    503: {"model": Error, "description": "the store is stopped or restarting (Retry-After when restarting)"},
+    503: {"model": Error, "description": "the store is stopped, restarting or did not answer in time "
+                                          "(Retry-After unless stopped)"},
     500: {"model": Error, "description": "an internal error, named by its type only"},
     507: {"model": Error, "description": "the store's disk is full"},
 }
