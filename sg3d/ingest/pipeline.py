@@ -36,6 +36,7 @@ from sg3d.core.model import (
     ObjectObservation,
     RelationObservation,
     ScanInfo,
+    vec3,
 )
 from sg3d.ingest.detect.irrelevant import reject_irrelevant
 from sg3d.ingest.detect.models import Detector
@@ -277,19 +278,19 @@ def _relations(hyps: dict[str, fusion.Hypothesis], objects: list[ObjectObservati
             per_frame[frame].append(ObjectGeometry(local_id, label_of[local_id], s.attrs.centre, s.attrs.size))
     frames = [spatial_relations(geoms, up) for _, geoms in sorted(per_frame.items()) if len(geoms) > 1]
     if not method.sdr:
-        best: dict[tuple, RelationObservation] = {}
+        strongest: dict[tuple, RelationObservation] = {}
         for r in (r for rels in frames for r in rels):
             key = (r.subject, r.predicate, r.object)
-            if key not in best or r.score > best[key].score:
-                best[key] = r
-        return list(best.values())
+            if key not in strongest or r.score > strongest[key].score:
+                strongest[key] = r
+        return list(strongest.values())
     co_observed: Counter = Counter()
     for geoms in per_frame.values():
         ids = sorted(g.local_id for g in geoms)
         co_observed.update((a, b) for k, a in enumerate(ids) for b in ids[k + 1:])
     voted = vote_relations(frames, co_observed=dict(co_observed))
     things = [o for o in objects if o.layer != "structure"]
-    whole = spatial_relations([ObjectGeometry(o.local_id, o.label, o.box_centre, o.size) for o in things], up)
+    whole = spatial_relations([ObjectGeometry(o.local_id, o.label, _centre(o), o.size) for o in things], up)
     relations = with_whole_geometry(voted, whole)
     labels = {o.local_id: o.label for o in objects}
     centres = {o.local_id: o.mean for o in objects}
@@ -320,13 +321,18 @@ def _discover(seq, views, objects: list[ObjectObservation], up, floor: Optional[
     return unnamed + nodes
 
 
+def _centre(o: ObjectObservation) -> tuple[float, float, float]:
+    """The centre of an object's box (its Gaussian mean where no box was measured)."""
+    return o.box_centre if o.box_centre is not None else o.mean
+
+
 def _structure_relations(objects: list[ObjectObservation], up) -> list[RelationObservation]:
     """What the objects stand ON of the room's structure (floor, counters, shelves; not walls),
     from their fused boxes; structure takes part in no other relation."""
     structure = {o.local_id for o in objects if o.layer == "structure" and o.label != "wall"}
     if not structure:
         return []
-    geoms = [ObjectGeometry(o.local_id, o.label, o.box_centre, o.size) for o in objects
+    geoms = [ObjectGeometry(o.local_id, o.label, _centre(o), o.size) for o in objects
              if o.layer != "structure" or o.local_id in structure]
     things = [g for g in geoms if g.local_id not in structure]
     geoms = [floor_under_room(g, things, up) if g.label == "floor" else g for g in geoms]
@@ -375,5 +381,5 @@ def chunk_graph(seq, a: int, b: int, detector: Detector, up, settings: Settings,
     empty = rescan.empty_places(known, views, basis) if known else {}
     stats.seconds["rescan"] += time.perf_counter() - t0
     return LocalGraph(room=room, building=building, objects=objects, relations=relations, key=key,
-                      frames=[v.index for v in views], up=tuple(float(v) for v in up),
+                      frames=[v.index for v in views], up=vec3(up),
                       scan=scan, empty_places=empty)

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import io
 from dataclasses import dataclass, field
-from typing import Optional, Sequence
+from typing import TYPE_CHECKING, Optional, Sequence
 
 import numpy as np
 
@@ -27,6 +27,12 @@ from sg3d.render.style import (
     pair_edges,
     visible_edges,
 )
+
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
+    from matplotlib.lines import Line2D
+    from matplotlib.patches import Patch
 
 FORMATS = ("png", "svg", "pdf")
 LAYOUTS = ("topdown", "spring")
@@ -54,10 +60,10 @@ class Marker:
 
 @dataclass
 class Diagram:
-    figure: object
-    ax: object
+    figure: Figure
+    ax: Axes
     node_px: dict[str, tuple[float, float]]               # id -> display pixel (x, y up)
-    node_xy: dict[str, tuple[float, float]]               # id -> data coordinates (metres top-down)
+    node_xy: dict[str, tuple[float, ...]]                 # id -> data coordinates (metres top-down)
     labels: list = field(default_factory=list)            # node label Text artists
     edge_labels: list = field(default_factory=list)       # edge label Text artists
     listed_nodes: list[str] = field(default_factory=list)     # side-table rows for unplaced names
@@ -207,6 +213,7 @@ def draw(scene: dict, *, layout: str = "topdown", all_edges: bool = False, size=
     topdown = layout == "topdown"
     frame = drawing_frame(scene) if topdown else None
     if topdown:
+        assert frame is not None
         pos = {i: c[:2] for i, c in frame.coords.items()}
         outlines = room_outlines(scene, frame)
         marker_xy = [frame.placements[m.room].apply(m.xyz)[0, :2] for m in markers if m.room in frame.placements]
@@ -398,7 +405,7 @@ def _legend_handles(nodes: list[dict], pairs: list, status: Optional[dict], mark
     from matplotlib.lines import Line2D
     from matplotlib.patches import Patch
 
-    handles = []
+    handles: list[Line2D | Patch] = []
     if status is not None:
         counts = {k: sum(v == k for v in status.values()) for k in STATUS_COLOURS}
         handles += [Line2D([], [], marker="o", linestyle="", markersize=8, markerfacecolor=c,

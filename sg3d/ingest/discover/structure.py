@@ -75,6 +75,7 @@ class Element:
 
     def behind(self, pts: np.ndarray, margin: float) -> np.ndarray:
         """Points of a wall's far side (outside the room) by more than `margin`."""
+        assert self.plane is not None
         theta, rho = self.plane
         off = pts[:, 0] * np.cos(theta) + pts[:, 1] * np.sin(theta) - rho
         return self.side * off < -margin
@@ -84,6 +85,7 @@ class Element:
         if self.label == "floor":
             return np.abs(pts[:, 2]) <= slab
         if self.label in ("wall", "front"):
+            assert self.plane is not None
             theta, rho = self.plane
             off = pts[:, 0] * np.cos(theta) + pts[:, 1] * np.sin(theta) - rho
             return np.abs(off) <= slab

@@ -26,7 +26,7 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass
 from functools import lru_cache
-from typing import Optional, Sequence
+from typing import Optional, Sequence, cast
 
 import cv2
 import numpy as np
@@ -164,7 +164,7 @@ def survey_colours() -> tuple[np.ndarray, np.ndarray]:
     for name, hexcode in XKCD_COLORS.items():
         t = basic_term(name)
         if t is not None:
-            h = hexcode.lstrip("#")
+            h = cast(str, hexcode).lstrip("#")   # the stub says any ColorType; XKCD's are "#rrggbb"
             rgb.append([int(h[i:i + 2], 16) for i in (0, 2, 4)])
             term.append(COLOUR_NAMES.index(t))
     return np.array(rgb, np.uint8), np.array(term, np.int16)
@@ -326,6 +326,7 @@ def shading_groups(ascending: np.ndarray) -> list[tuple[int, int]]:
     surfaces, as [lo, hi) index ranges: shading only darkens, so the pixels within SHADING_RANGE
     of the object's lit part (the LIT_PERCENTILE of their luminance) are one surface; the darker
     rest is grouped the same way, at most MAX_SHADING_GROUPS times (the last takes what is left)."""
+    groups: list[tuple[int, int]]
     groups, hi = [], len(ascending)
     while hi > 0:
         lit = _at_percentile(ascending[:hi], LIT_PERCENTILE)

@@ -127,6 +127,7 @@ class _Estimator:
                 continue
             fit = self.odometry.fit(cur, ref, TRACK_MIN_INLIERS)
             if fit.ok:
+                assert seg is not None     # a segment is open whenever there is a reference frame
                 self._place(seg, cur, self.poses[ref.index] @ fit.motion, ref.index, fit.motion)
                 ref, misses = cur, 0
                 if stride == 1 and j >= fine_until:
@@ -155,6 +156,7 @@ class _Estimator:
         seg.processed.append(view.index)
         seg.last = view
         if ref is not None:
+            assert motion is not None      # a frame placed from a reference comes with its motion
             self.edges.append((ref, view.index, motion, False))
         last = seg.keyframes[-1] if seg.keyframes else None
         if last is None or _far(self.poses[last.index], pose, KEYFRAME_M, KEYFRAME_DEG):

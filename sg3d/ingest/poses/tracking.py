@@ -22,7 +22,7 @@ class View:
     depth: np.ndarray
     gray: np.ndarray
     K: np.ndarray
-    prepared: object
+    prepared: cv2.OdometryFrame
     thumb: np.ndarray
 
 

@@ -12,16 +12,16 @@ def interpolate_poses(known_t: Seq[float], known: np.ndarray, query_t: Seq[float
     """Poses at `query_t` between the `known` ones (times increasing): translation linear in time,
     rotation by spherical linear interpolation (Slerp) of the two bracketing samples; times
     outside the known span take the nearest end pose."""
-    known_t = np.asarray(known_t, dtype=np.float64)
-    query = np.clip(np.asarray(query_t, dtype=np.float64), known_t[0], known_t[-1])
+    times = np.asarray(known_t, dtype=np.float64)
+    query = np.clip(np.asarray(query_t, dtype=np.float64), times[0], times[-1])
     out = np.tile(np.eye(4), (len(query), 1, 1))
-    if len(known_t) == 1:
+    if len(times) == 1:
         out[:] = known[0]
         return out
-    slerp = Slerp(known_t, Rotation.from_matrix(known[:, :3, :3]))
+    slerp = Slerp(times, Rotation.from_matrix(known[:, :3, :3]))
     out[:, :3, :3] = slerp(query).as_matrix()
     for axis in range(3):
-        out[:, axis, 3] = np.interp(query, known_t, known[:, axis, 3])
+        out[:, axis, 3] = np.interp(query, times, known[:, axis, 3])
     return out
 
 

@@ -87,6 +87,8 @@ def open_sequence(path: Union[str, Path], layout: Optional[str] = None,
     if not path.is_dir():
         raise SequenceError(f"sequence folder not found: {path}")
     name = detect_layout(path) if layout is None else _ALIASES.get(layout.lower(), layout.lower())
+    readers: dict[str, Union[type[SevenScenesSequence], type[TumSequence], type[ScanNetSequence],
+                             type[Open3dSequence], type[PlainSequence]]]
     readers = {"7scenes": SevenScenesSequence, "tum": TumSequence, "scannet": ScanNetSequence,
                "open3d": Open3dSequence, "plain": PlainSequence}
     if name not in readers:

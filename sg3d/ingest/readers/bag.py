@@ -33,7 +33,7 @@ import threading
 from collections import defaultdict
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Optional
+from typing import TYPE_CHECKING, Optional
 
 import cv2
 import numpy as np
@@ -41,6 +41,9 @@ import numpy as np
 from sg3d.ingest.readers.base import Sequence, SequenceError, quaternion_to_matrix
 from sg3d.ingest.readers.frames import FrameError
 from sg3d.ingest.readers.registration import Registration
+
+if TYPE_CHECKING:
+    from rosbags.interfaces import Connection
 
 LAYOUT_NAMES = ("rosbag", "ros", "bag", "mcap")
 BAG_SUFFIXES = (".bag", ".mcap", ".db3")
@@ -212,6 +215,7 @@ class TfTree:
                               f"({camera}'s chain: {' -> '.join(chain)})")
         T = np.eye(4)
         for child in chain[:chain.index(world)]:
+            link: Optional[np.ndarray]
             if child in self.static:
                 link = self.static[child]
             else:
@@ -295,7 +299,7 @@ def decode_depth(msg, msgtype: str, where: str) -> np.ndarray:
 @dataclass
 class _Ref:
     """Where one message lies: read again by (connection, bag time, n-th at that time)."""
-    conn: object
+    conn: Connection
     bag_ns: int
     nth: int
     stamp_ns: int
@@ -307,7 +311,7 @@ class _BagEntry:
     color: _Ref
     depth: _Ref
     timestamp: float
-    pose: np.ndarray
+    pose: Optional[np.ndarray]             # None: the bag carries no poses (estimated later)
     pose_file: None = None
 
 
@@ -351,7 +355,7 @@ class BagSequence(Sequence):
         self.sources = sources
         super().__init__(path, entries, K, registration, skipped)
 
-    def _probe_size(self) -> tuple[int, int]:
+    def _probe_size(self, probes: int = 5) -> tuple[int, int]:
         return self._size
 
     def _source(self, entry) -> _BagSource:
@@ -495,7 +499,7 @@ def _index(reader, path: Path, opts: BagOptions, registration) -> BagSequence:
     entries, skipped = _pair_frames(refs, depth, poses, series, lambda t, tol: tree.lookup(world, camera, t, tol),
                                     max_dt)
     if not entries:
-        reasons = defaultdict(int)
+        reasons: defaultdict[str, int] = defaultdict(int)
         for _, why in skipped:
             reasons[why.split(" within ")[0].split(" of t=")[0]] += 1
         raise SequenceError(f"no colour frame of {path} has depth{'' if poses.none else ' and a pose'}: "
@@ -503,7 +507,7 @@ def _index(reader, path: Path, opts: BagOptions, registration) -> BagSequence:
     size = _image_size(reader, info_msg, entries[0], colour, path)
     sources = {"color": _topics_line(colour[:1]), "depth": _topics_line(depth[:1]), "intrinsics": info[0].topic,
                "poses": ("none (estimated from the images)" if poses.none else
-                         f"/tf: {camera} in {world}" if poses.use_tf else _topics_line(poses.topic[:1])),
+                         f"/tf: {camera} in {world}" if poses.use_tf else _topics_line((poses.topic or [])[:1])),
                "max_dt": max_dt, "colour_messages": len(refs["colour"]), "depth_messages": len(refs["depth"])}
     return BagSequence(path, reader, entries, K, registration, skipped, size, sources)
 
@@ -616,6 +620,7 @@ def _pair_frames(refs: dict, depth: list, poses: _PoseSource, series: PoseSeries
                 skipped.append((name, str(exc)))
                 continue
         else:
+            assert poses.topic is not None      # neither estimated nor /tf: a pose topic was picked
             pose = series.at(t, tol)
             if pose is None:
                 skipped.append((name, f"no pose on {poses.topic[0].topic} within {max_dt:g} s of t={t / 1e9:.6f}"))

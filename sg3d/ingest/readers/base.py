@@ -173,7 +173,7 @@ class Sequence:
             entry.pose_file = None
         self._unplaced = {i: why for i, why in unplaced.items() if i not in poses}
 
-    def _source(self, entry) -> "_FileSource":
+    def _source(self, entry) -> FrameSource:
         """What decodes one entry's pixels (a bag reader decodes messages instead of files)."""
         return _FileSource(entry, self)
 

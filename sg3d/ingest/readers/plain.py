@@ -40,6 +40,7 @@ class PlainSequence(Sequence):
                            "camera's calibration, e.g. `rs-enumerate-devices -c` for a RealSense)")
         if missing:
             raise SequenceError(f"{path} is missing " + "; ".join(missing))
+        assert intr is not None
         K, scale = _plain_intrinsics(intr)
         colours = sorted(p for p in (path / "color").iterdir() if p.suffix.lower() in _IMAGE_SUFFIXES)
         depths = sorted(p for p in (path / "depth").iterdir() if p.suffix.lower() == ".png")

@@ -5,6 +5,8 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Optional
 
+import numpy as np
+
 from sg3d.ingest.readers.base import (
     Entry,
     Sequence,
@@ -18,6 +20,7 @@ from sg3d.ingest.readers.registration import Registration
 class ScanNetSequence(Sequence):
     layout = "scannet"
     depth_scale = 1000.0
+    _depth_K: np.ndarray      # set by `open` when the export ships intrinsic_depth.txt (see `depth_K`)
 
     @classmethod
     def open(cls, path: Path, registration: Optional[Registration] = None) -> "ScanNetSequence":
