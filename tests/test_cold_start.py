@@ -1,5 +1,6 @@
 """Cold start: household words are resolved from the shipped label vectors, without
-loading torch, and the shipped files stay in step with the vocabulary they were made from."""
+loading the label model (sg3d.core.minilm) or torch, and the shipped files stay in step with the
+vocabulary they were made from."""
 from __future__ import annotations
 
 import os
@@ -30,6 +31,8 @@ def test_a_household_word_outside_the_categories_needs_no_torch(tmp_path):
             "    t, why = resolve(w)\n"
             "    assert t is not None, why\n"
             "assert 'torch' not in sys.modules and 'sentence_transformers' not in sys.modules\n"
+            "assert 'transformers' not in sys.modules and 'safetensors' not in sys.modules\n"
+            "assert 'sg3d.core.minilm' not in sys.modules      # the model is not even loaded\n"
             "print('ok')\n")
     env = dict(os.environ, SG3D_CACHE=str(tmp_path), PYTHONPATH=str(REPO))
     res = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, cwd=REPO)

