@@ -9,6 +9,7 @@ from numpy.typing import ArrayLike
 # boxes say otherwise (a chair at a table is seen above the table top, or down to the floor).
 FLOOR_STANDING_LABELS = frozenset({
     "chair", "couch", "bed", "dining table", "bench", "toilet", "refrigerator", "oven",
+    "desk", "cabinet",
 })
 
 

@@ -72,6 +72,9 @@ class ObjectObservation:
     # a sample of points seen on the object's surface, world frame, flat (x, y, z, x, y, z, ...):
     # what a re-scan tests for free space where the box alone cannot tell (unnamed segments)
     surface: Optional[tuple[float, ...]] = None
+    # what named it: None for the detector (or nothing, for unnamed objects), "shape" when its
+    # shape in the room's cloud did (`sg3d.ingest.discover.furniture`)
+    named_by: Optional[str] = None
 
     @property
     def label(self) -> str:

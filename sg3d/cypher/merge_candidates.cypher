@@ -8,7 +8,7 @@ WHERE o.room = $room
   AND o.z >= $zmin AND o.z <= $zmax
 RETURN o.id AS id, o.x AS x, o.y AS y, o.z AS z, o.var AS var, o.size AS size,
        o.box_centre AS box_centre, o.label AS label, o.labels AS labels, o.scores AS scores, o.n_points AS n_points,
-       o.colour AS colour, o.colour2 AS colour2, o.layer AS layer, o.shape AS shape,
+       o.colour AS colour, o.colour2 AS colour2, o.layer AS layer, o.shape AS shape, o.named_by AS named_by,
        o.first_frame AS first_frame, o.last_frame AS last_frame,
        o.observations AS observations, o.n_frames AS n_frames, o.scans AS scans,
        o.first_seen AS first_seen, o.first_scan AS first_scan, o.removed_at AS removed_at

@@ -14,6 +14,7 @@ CREATE (o:Object {id: row.props.id, room: row.props.room, label: row.props.label
                   n_points: row.props.n_points, size: row.props.size, volume: row.props.volume,
                   box_centre: row.props.box_centre, colour: row.props.colour,
                   colour2: row.props.colour2, layer: row.props.layer, shape: row.props.shape,
+                  named_by: row.props.named_by,
                   surface: row.props.surface,
                   first_frame: row.props.first_frame, last_frame: row.props.last_frame,
                   observations: row.props.observations, n_frames: row.props.n_frames,

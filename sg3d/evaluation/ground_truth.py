@@ -14,6 +14,7 @@ from pathlib import Path
 from typing import Optional
 
 from sg3d.core.model import RELATION_TYPES
+from sg3d.ingest.discover import furniture
 from sg3d.core.relation_rules import INVERSE, SYMMETRIC  # noqa: F401 - sg3d.evaluation.edges reads them here
 
 # The GT's "sure"/"unsure" wording; anything else is treated as sure (the default annotation).
@@ -98,6 +99,11 @@ def relation_type(predicate: str) -> Optional[str]:
     return name if name in RELATION_TYPES else None
 
 
+# Labels sg3d gives from an object's shape where no COCO class fits: a GT object of such a
+# category is judged like a COCO-named one (named recall and precision count it).
+NAMED_BY_SHAPE = frozenset({furniture.DESK_LABEL, furniture.CABINET_LABEL})
+
+
 def default_coco_names() -> set[str]:
     from sg3d.ingest.detect.models import load_label_map
 
@@ -112,6 +118,8 @@ def parse_gt(data: dict, coco_names: Optional[set[str]] = None) -> GroundTruth:
     for i, o in enumerate(data.get("objects", [])):
         try:
             coco, hedged = coco_class(o.get("coco_category"), names)
+            if coco is None and str(o.get("category", "")).strip().lower() in NAMED_BY_SHAPE:
+                coco, hedged = str(o["category"]).strip().lower(), False     # a desk: sg3d names it
             raw = o.get("world_position")
             pos = None if raw is None else tuple(float(v) for v in raw)
             if pos is not None and len(pos) != 3:

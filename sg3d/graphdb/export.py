@@ -10,7 +10,7 @@ from sg3d.graphdb.values import unpack_hist
 
 NODE_FIELDS = ("id", "room", "label", "labels", "scores", "x", "y", "z", "var", "n_points", "size",
                "volume", "colour", "first_frame", "last_frame", "observations", "n_frames",
-               "first_seen", "last_seen", "removed_at", "layer", "shape", "colour2")
+               "first_seen", "last_seen", "removed_at", "layer", "shape", "colour2", "named_by")
 
 
 def fetch_graph(store, building: str, room: Optional[str] = None, thumbnails: bool = False,

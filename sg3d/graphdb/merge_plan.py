@@ -18,7 +18,7 @@ import numpy as np
 from scipy.optimize import linear_sum_assignment
 
 from sg3d.core.embedding import LabelEmbedding
-from sg3d.core.geometry import horizontal_frame
+from sg3d.core.geometry import FLOOR_STANDING_LABELS, horizontal_frame
 from sg3d.core.model import UNNAMED_LABEL, LocalGraph, ObjectObservation, ScanInfo
 from sg3d.graphdb import rescan
 from sg3d.graphdb.consistency import canonical_rows
@@ -64,6 +64,7 @@ class MergePlan:
     empty_places: list[dict] = field(default_factory=list)      # object_mark_empty rows
     relations: list[tuple[str, list[dict]]] = field(default_factory=list)  # (type, relation_merge rows)
     resolve: bool = False                                       # the touched pairs need resolving
+    claimed: int = 0                                            # unnamed pieces of stored named objects
 
     @property
     def moved(self) -> int:
@@ -186,7 +187,8 @@ def match_nodes(objects: list[ObjectObservation], cands: list[dict], s_pos: np.n
     The second map: when a new observation passes the threshold against several stored nodes
     that nothing else claims, those nodes were one object all along (a table first seen as two
     ends, linked by a view of its middle), so they are folded into the matched one; not for an
-    unnamed or structure observation, whose label is no evidence that they are one thing.
+    unnamed, structure or shape-named observation, whose label is no evidence that they are one
+    thing (a row of desks looks alike from end to end).
     """
     scores = _pair_scores(objects, cands, s_pos, embedding, params)
     if scores.size == 0:
@@ -196,7 +198,7 @@ def match_nodes(objects: list[ObjectObservation], cands: list[dict], s_pos: np.n
     claimed = set(matches.values())
     absorbed: dict[int, int] = {}
     for i, j in matches.items():
-        if objects[i].label == UNNAMED_LABEL or objects[i].layer == "structure":
+        if objects[i].label == UNNAMED_LABEL or objects[i].layer == "structure" or objects[i].named_by == "shape":
             continue        # nothing names what links them: two segments (or walls) stay two
         for k in np.flatnonzero(scores[i] >= params.threshold):
             if int(k) not in claimed and int(k) not in absorbed:
@@ -211,7 +213,7 @@ def _as_observation(cand: dict) -> ObjectObservation:
         mean=(cand["x"], cand["y"], cand["z"]), var=tuple(cand["var"]), n_points=int(cand["n_points"]),
         size=tuple(cand["size"]), hist=unpack_hist(cand["hist"]), colour=cand["colour"], thumbnail=None,
         colour2=cand.get("colour2"), layer=cand.get("layer") or "object", shape=cand.get("shape"),
-        first_frame=int(cand["first_frame"]), last_frame=int(cand["last_frame"]),
+        named_by=cand.get("named_by"), first_frame=int(cand["first_frame"]), last_frame=int(cand["last_frame"]),
         n_frames=int(cand["n_frames"]), box_centre=cand["box_centre"])
 
 
@@ -226,7 +228,7 @@ def _new_props(obj: ObjectObservation, rid: str, now: float, scan: ScanInfo) -> 
         "n_points": int(obj.n_points), "size": size, "volume": float(np.prod(size)),
         "box_centre": [float(v) for v in _box_centre(obj)],
         "hist": pack_hist(obj.hist), "colour": obj.colour, "colour2": obj.colour2,
-        "layer": obj.layer, "shape": obj.shape,
+        "layer": obj.layer, "shape": obj.shape, "named_by": obj.named_by,
         "surface": None if obj.surface is None else [float(v) for v in obj.surface],
         "thumbnail": obj.thumbnail or b"",
         "first_frame": int(obj.first_frame), "last_frame": int(obj.last_frame),
@@ -254,6 +256,8 @@ def _updated_props(cand: dict, obj: ObjectObservation, now: float, basis: np.nda
         # a structure node stays structure; a shape word is kept until a view says another
         "layer": "structure" if "structure" in (cand.get("layer"), obj.layer) else "object",
         "shape": obj.shape or cand.get("shape"),
+        # who named it follows the label the node keeps: the shape, while the shape's name leads
+        "named_by": obj.named_by if labels[0] == obj.label else cand.get("named_by"),
         # (null would remove the property: a view without surface points keeps the stored ones)
         **({} if obj.surface is None else {"surface": [float(v) for v in obj.surface]}),
         "first_frame": min(int(cand["first_frame"]), int(obj.first_frame)),
@@ -294,6 +298,9 @@ def plan_merge(graph: LocalGraph, candidates: list[dict], s_pos: Optional[np.nda
             continue
         if i in matches:
             _plan_update(plan, obj, candidates, matches[i], absorbed, basis)
+        elif (owner := claimed_by_stored_box(obj, candidates, basis)) is not None:
+            plan.node_ids[obj.local_id] = owner      # a piece of a stored chair is that chair
+            plan.claimed += 1
         else:
             props = _new_props(obj, room, now, scan)
             plan.node_ids[obj.local_id] = props["id"]
@@ -306,6 +313,37 @@ def plan_merge(graph: LocalGraph, candidates: list[dict], s_pos: Optional[np.nda
                       for rel_type, rows in sorted(canonical_rows(graph.relations, plan.node_ids).items())]
     plan.resolve = bool(graph.relations) or plan.absorbed > 0
     return plan
+
+
+# A stored named floor-standing object's box claims an unnamed observation when this share of the
+# observation's box lies inside it (the rule `sg3d.ingest.discover.discovery.named_by` applies
+# within one build, across scans).
+CLAIM_SHARE = 0.5
+
+
+def box_inside_share(centre_a, size_a, centre_b, size_b, basis: np.ndarray) -> float:
+    """The share of box A's volume inside box B, both axis-aligned in the gravity frame `basis`."""
+    ca, cb = basis @ np.asarray(centre_a, float), basis @ np.asarray(centre_b, float)
+    ha, hb = np.asarray(size_a, float) / 2, np.asarray(size_b, float) / 2
+    overlap = np.clip(np.minimum(ca + ha, cb + hb) - np.maximum(ca - ha, cb - hb), 0, None)
+    return float(np.prod(overlap) / max(float(np.prod(2 * ha)), 1e-9))
+
+
+def claimed_by_stored_box(obj: ObjectObservation, candidates: list[dict], basis: np.ndarray) -> Optional[str]:
+    """Rule "stored named boxes claim": an unnamed observation with CLAIM_SHARE of its box inside
+    the box of a stored named floor-standing object (a chair, a desk) is a piece of it seen
+    again (a chair's base the second scan did not name); returns that node's id, else None."""
+    if obj.label != UNNAMED_LABEL or obj.layer != "object":
+        return None
+    best, best_share = None, CLAIM_SHARE
+    for c in candidates:
+        if c["label"] not in FLOOR_STANDING_LABELS or (c.get("layer") or "object") != "object":
+            continue
+        share = box_inside_share(_box_centre(obj), obj.size, c["box_centre"] or (c["x"], c["y"], c["z"]),
+                                 c["size"], basis)
+        if share >= best_share:
+            best, best_share = c["id"], share
+    return best
 
 
 def _plan_moves(plan: MergePlan, graph: LocalGraph, matches: dict[int, int], seen: set[str],

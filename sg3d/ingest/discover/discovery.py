@@ -20,15 +20,18 @@ chunk's named objects meet the room's cloud (`sg3d.ingest.discover.room_cloud`),
 """
 from __future__ import annotations
 
-from typing import Callable, Optional, Sequence
+from typing import Callable, Iterable, Optional, Sequence
 
 import cv2
 import numpy as np
 
 from sg3d.core.geometry import FLOOR_STANDING_LABELS
-from sg3d.core.model import HIST_SIZE, UNNAMED_LABEL, ObjectObservation
+from sg3d.core.model import HIST_SIZE, UNNAMED_LABEL, ObjectObservation, vec3
+from sg3d.ingest.discover import furniture
 from sg3d.ingest.discover.room_cloud import RoomCloud
 from sg3d.ingest.discover.segments import (
+    GOOD_VIEWS,
+    VOXEL_M,
     Segment,
     depth_evidence,
     exists,
@@ -114,8 +117,8 @@ def whole_object_box(obj: ObjectObservation, cloud: RoomCloud, surfaces: Sequenc
     if top is not None:
         hi[2] = top.height
     hi[2] = max(hi[2], lo[2] + 0.05)
-    obj.size = tuple(float(v) for v in hi - lo)
-    obj.box_centre = tuple(float(v) for v in cloud.to_world((lo + hi) / 2))
+    obj.size = vec3(hi - lo)
+    obj.box_centre = vec3(cloud.to_world((lo + hi) / 2))
     return top
 
 
@@ -134,6 +137,7 @@ def plane_remnant(seg: Segment, planes: Sequence[Element]) -> bool:
     a cut wall or front and that is at most REMNANT_THICKNESS_M thick across it (trim, door
     edges, a cabinet's side, a poster) is part of that plane, not an object of its own."""
     for e in planes:
+        assert e.plane is not None      # `discover` passes the elements that have a plane
         theta, rho = e.plane
         off = seg.voxels[:, 0] * np.cos(theta) + seg.voxels[:, 1] * np.sin(theta) - rho
         if float(np.median(np.abs(off))) <= REMNANT_DISTANCE_M and float(np.ptp(off)) <= REMNANT_THICKNESS_M:
@@ -176,7 +180,7 @@ def separate_resting(segments: Sequence[Segment], surfaces: Sequence[Element], c
     return out
 
 
-def shape_word(size: Sequence[float]) -> Optional[str]:
+def shape_word(size: Iterable[float]) -> Optional[str]:
     """Rule "shape word" from a gravity-aligned size (w, d, h): flat, tall or box-shaped (see
     FLAT_RATIO, TALL_RATIO, BOX_RATIO); None when none fits. Roundness is not judged from a box."""
     w, d, h = (float(v) for v in size)
@@ -271,6 +275,7 @@ def segment_colour(seg: Segment, world: np.ndarray, cloud: RoomCloud,
         image = colour_image(view.index) if box is not None else None
         if image is None:
             continue
+        assert box is not None          # an image is read only for a view with a pixel box
         reading = segment_reading(u, v, z, view, image, box, screens_in_view(screens, cloud, view))
         if reading is not None:
             readings.append(reading)
@@ -305,11 +310,39 @@ def unnamed_object(local_id: str, seg: Segment, cloud: RoomCloud,
     colour, colour2 = segment_colour(seg, world, cloud, colour_image, screens)
     return ObjectObservation(
         local_id=local_id, labels=[UNNAMED_LABEL], scores=[round(seg.hit_ratio, 3)],
-        mean=tuple(float(v) for v in mean), var=tuple(float(v) for v in var), n_points=len(seg.voxels),
-        size=tuple(float(v) for v in seg.size), hist=hist, colour=colour, colour2=colour2, thumbnail=thumb,
+        mean=vec3(mean), var=vec3(var), n_points=len(seg.voxels),
+        size=vec3(seg.size), hist=hist, colour=colour, colour2=colour2, thumbnail=thumb,
         first_frame=min(frames) if frames else 0, last_frame=max(frames) if frames else 0,
-        n_frames=max(1, seg.seen_views), box_centre=tuple(float(v) for v in cloud.to_world((seg.lo + seg.hi) / 2)),
+        n_frames=max(1, seg.seen_views), box_centre=vec3(cloud.to_world((seg.lo + seg.hi) / 2)),
         shape=shape_word(seg.size), surface=surface_sample(world))
+
+
+def points_object(local_id: str, lo: np.ndarray, hi: np.ndarray, idx: np.ndarray, cloud: RoomCloud,
+                  colour_image: Callable[[int], Optional[np.ndarray]]) -> ObjectObservation:
+    """An object node for the cloud points `idx` inside the box (lo, hi): `unnamed_object` of a
+    segment made of them (its colour, histogram and thumbnail from the views that saw most of them)."""
+    pts = cloud.points[idx]
+    _, first = np.unique(np.floor(pts / VOXEL_M).astype(np.int64), axis=0, return_index=True)
+    frames, counts = np.unique(cloud.frame[idx], return_counts=True)
+    order = frames[np.argsort(-counts)]
+    seg = Segment(pts[first], lo, hi, frames, best_view=int(order[0]) if len(order) else -1,
+                  good_views=tuple(int(k) for k in order[:GOOD_VIEWS]))
+    seg.seen_views = len(frames)
+    return unnamed_object(local_id, seg, cloud, colour_image)
+
+
+def _desks(surfaces: Sequence[Element], cloud: RoomCloud,
+           colour_image: Callable[[int], Optional[np.ndarray]]) -> list[tuple[Element, ObjectObservation]]:
+    """The surfaces shaped like desks (`furniture.desk_shaped`), each with its desk node."""
+    def as_object(local_id, lo, hi, idx):
+        return points_object(local_id, lo, hi, idx, cloud, colour_image)
+
+    out: list[tuple[Element, ObjectObservation]] = []
+    for e in surfaces:
+        if furniture.desk_shaped(e.height, furniture.surface_area(e), furniture.floor_seen_under(e, cloud)):
+            for part in furniture.split_at_panels(e, cloud):
+                out.append((e, furniture.desk_node(f"d{len(out)}", part, cloud, as_object)))
+    return out
 
 
 def structure_node(local_id: str, el: Element, cloud: RoomCloud) -> ObjectObservation:
@@ -318,10 +351,10 @@ def structure_node(local_id: str, el: Element, cloud: RoomCloud) -> ObjectObserv
     size = np.maximum(el.hi - el.lo, 0.01)
     return ObjectObservation(
         local_id=local_id, labels=[el.label], scores=[1.0],
-        mean=tuple(float(v) for v in centre), var=tuple(float(v) for v in (size / 4) ** 2),
+        mean=vec3(centre), var=vec3((size / 4) ** 2),
         # a uniform histogram: structure is matched across views by place and name, not colour
-        n_points=max(1, el.n_points), size=tuple(float(v) for v in size), hist=np.ones(HIST_SIZE),
-        colour="grey", box_centre=tuple(float(v) for v in centre), n_frames=max(1, el.frames),
+        n_points=max(1, el.n_points), size=vec3(size), hist=np.ones(HIST_SIZE),
+        colour="grey", box_centre=vec3(centre), n_frames=max(1, el.frames),
         layer="structure")
 
 
@@ -334,13 +367,25 @@ def discover(named: list[ObjectObservation], cloud: RoomCloud, structure: Sequen
     floor-standing furniture name the segments inside them (a chair tucked under a table
     would be claimed by the table's box)."""
     surfaces = [e for e in structure if e.footprint is not None]
-    owned = {id(e) for e in (whole_object_box(o, cloud, surfaces) for o in named) if e is not None}
+    tops = [whole_object_box(o, cloud, surfaces) for o in named]
+    for k, (o, top) in enumerate(zip(named, tops)):
+        if top is not None and furniture.low_solid_top(o, top, cloud):
+            named[k] = furniture.renamed_by_shape(o, furniture.CABINET_LABEL)
+            lo, hi = furniture.box_with_top(*gravity_box(o, cloud), top)
+            named[k].size = vec3(hi - lo)
+            named[k].box_centre = vec3(cloud.to_world((lo + hi) / 2))
+    owned = {id(e) for e in tops if e is not None}
     boxes = [gravity_box(o, cloud) for o in named]
+    desks = _desks([e for e in surfaces if id(e) not in owned], cloud, colour_image)
+    owned |= {id(e) for e, _ in desks}
+    standing = [b for o, b in zip(named, boxes) if o.label in FLOOR_STANDING_LABELS]
+    owned |= {id(e) for e in surfaces if id(e) not in owned and furniture.part_of_furniture(e, standing)}
+    boxes += [gravity_box(d, cloud) for _, d in desks]
     claims = [b for o, b in zip(named, boxes) if o.label not in FLOOR_STANDING_LABELS]
     segments = separate_resting(room_candidates(cloud, structure, claims), surfaces, cloud)
     planes = [e for e in structure if e.plane is not None]
     screens = [b for o, b in zip(named, boxes) if colour_model.is_screen(o.label)]
-    unnamed = []
+    unnamed: list[ObjectObservation] = [desk for _, desk in desks]
     for seg in segments:
         if named_by(seg, boxes) or plane_remnant(seg, planes) or floor_remnant(seg):
             continue

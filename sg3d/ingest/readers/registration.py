@@ -15,8 +15,11 @@ depth edges sharp (no invented depths between a foreground object and the wall b
 colour pixels whose depth pixel falls outside the depth image get 0 (= invalid).
 
 Defaults per layout:
-- 7-Scenes / 3DMatch: scale 1.09, offset (+5, +1) about the principal point: the form measured on
-  the red kitchen by annotators (depth edges 20-30 px off the colour edges without it).
+- 7-Scenes / 3DMatch: estimated per sequence (`estimate_registration`): the Kinect v1 rig's form,
+  scale 1.09 and offset (+5, +1) about the principal point (measured on the red kitchen, whose depth
+  edges lie 20-30 px off the colour edges without it), or the identity, whichever makes depth edges
+  fall on colour edges best in a few frames spread over the sequence. 3DMatch scenes in the same
+  layout ship depth already registered to colour (the study room): there the identity wins.
 - ScanNet: from `intrinsic_depth.txt` and `intrinsic_color.txt` (s = f_d / f_c, o = c_d - c_c),
   which also handles the 640x480 depth under 1296x968 colour.
 - TUM RGB-D: none (its depth is already registered to colour).
@@ -45,6 +48,11 @@ class Registration:
         # (Open3D layout, depth already registered to colour) never uses it, so its quality
         # floor in tests/test_quality.py says nothing about this constant.
         return cls(scale=(1.09, 1.09), offset=(5.0, 1.0))
+
+    @classmethod
+    def kinect_v1(cls) -> "Registration":
+        """The Kinect v1 rig's depth-to-colour form as 7-Scenes records it (`seven_scenes`)."""
+        return cls.seven_scenes()
 
     @classmethod
     def from_intrinsics(cls, K_color: np.ndarray, K_depth: np.ndarray) -> "Registration":
@@ -105,3 +113,55 @@ class DepthRegistrar:
             return depth
         return cv2.remap(depth, maps[0], None, interpolation=cv2.INTER_NEAREST,  # type: ignore[call-overload]
                          borderMode=cv2.BORDER_CONSTANT, borderValue=0)
+
+
+# A depth edge: the log depth changes by this much per pixel (Sobel, 3x3), i.e. a jump of about
+# 20 %: an object's outline against what lies behind it, not a slanted surface.
+DEPTH_EDGE_LOG_JUMP = 0.2
+# Too few depth-edge pixels (a frame of one flat wall) say nothing about the alignment.
+MIN_EDGE_PIXELS = 100
+# Frames scored per sequence, spread evenly over it (the median over them decides).
+REGISTRATION_PROBES = 5
+
+
+def edge_agreement(gray: np.ndarray, depth: np.ndarray) -> float:
+    """How strongly colour edges lie where depth edges are, for depth already resampled into the
+    colour image: the mean colour-gradient magnitude on depth-edge pixels over its mean on all
+    pixels with depth (1 = no relation; a well registered pair scores 2-4). 0 when the frame has
+    too few depth edges to judge."""
+    valid = depth > 0
+    log_depth = np.log(np.where(valid, depth, 1.0)).astype(np.float32)
+    jump = np.hypot(cv2.Sobel(log_depth, cv2.CV_32F, 1, 0, ksize=3), cv2.Sobel(log_depth, cv2.CV_32F, 0, 1, ksize=3))
+    inner = cv2.erode(valid.astype(np.uint8), np.ones((3, 3), np.uint8)) > 0
+    edges = (jump > DEPTH_EDGE_LOG_JUMP) & inner
+    if int(edges.sum()) < MIN_EDGE_PIXELS:
+        return 0.0
+    g = cv2.GaussianBlur(gray, (3, 3), 0).astype(np.float32)
+    colour = np.hypot(cv2.Sobel(g, cv2.CV_32F, 1, 0, ksize=3), cv2.Sobel(g, cv2.CV_32F, 0, 1, ksize=3))
+    colour = cv2.dilate(colour, np.ones((3, 3), np.uint8))      # a 1-px miss is still a hit
+    return float(colour[edges].mean() / (colour[inner].mean() + 1e-6))
+
+
+def _registered_half(depth: np.ndarray, registration: "Registration", K: np.ndarray,
+                     color_size: tuple[int, int]) -> np.ndarray:
+    """Depth resampled into every second colour pixel (half resolution: 4x cheaper to score)."""
+    mx, my = registration.depth_coordinates(K, color_size)
+    return cv2.remap(depth, np.ascontiguousarray(mx[::2, ::2]), np.ascontiguousarray(my[::2, ::2]),
+                     cv2.INTER_NEAREST, borderMode=cv2.BORDER_CONSTANT, borderValue=0)
+
+
+def estimate_registration(pairs: list[tuple[np.ndarray, np.ndarray]], K: np.ndarray,
+                          candidates: dict[str, "Registration"]) -> tuple[str, dict[str, float]]:
+    """The candidate registration under which depth edges fall on colour edges best.
+
+    `pairs`: (grey colour image, depth in metres in the depth camera's pixels) of a few frames.
+    Each candidate's score is the median `edge_agreement` over the frames; the first candidate
+    (the identity, by convention) wins ties, so already registered depth is never moved.
+    Returns the winner's name and every candidate's score."""
+    scores: dict[str, float] = {}
+    for name, reg in candidates.items():
+        per_frame = [edge_agreement(gray[::2, ::2], _registered_half(depth, reg, K, (gray.shape[1], gray.shape[0])))
+                     for gray, depth in pairs]
+        scores[name] = float(np.median(per_frame)) if per_frame else 0.0
+    best = max(scores, key=lambda n: (scores[n], n == next(iter(candidates))))
+    return best, scores

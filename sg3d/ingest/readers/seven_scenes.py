@@ -6,8 +6,11 @@ import re
 from pathlib import Path
 from typing import Optional
 
+import cv2
+import numpy as np
+
 from sg3d.ingest.readers.base import Entry, Sequence, SequenceError, read_matrix
-from sg3d.ingest.readers.registration import Registration
+from sg3d.ingest.readers.registration import REGISTRATION_PROBES, Registration, estimate_registration
 
 SEVEN_SCENES_COLOUR = re.compile(r"^(frame-(\d+))\.color\.(jpg|jpeg|png)$", re.IGNORECASE)
 
@@ -15,6 +18,8 @@ SEVEN_SCENES_COLOUR = re.compile(r"^(frame-(\d+))\.color\.(jpg|jpeg|png)$", re.I
 class SevenScenesSequence(Sequence):
     layout = "7scenes"
     depth_scale = 1000.0
+    registration_estimate: Optional[tuple[str, dict[str, float]]] = None
+    sources: Optional[dict[str, str]] = None       # what the reader chose, in words (`sg3d frames`)
 
     @classmethod
     def open(cls, path: Path, registration: Optional[Registration] = None) -> "SevenScenesSequence":
@@ -40,5 +45,37 @@ class SevenScenesSequence(Sequence):
                                   pose_file=path / f"{stem}.pose.txt"))
         if not entries:
             raise SequenceError(f"no frame-NNNNNN.color.jpg|png with a .depth.png in {path}")
-        reg = Registration.seven_scenes() if registration is None else registration
-        return cls(path, entries, K, reg, skipped)
+        estimate = None
+        if registration is None:
+            name, scores = estimate_registration(_probe_pairs(entries), K, CANDIDATES)
+            registration, estimate = CANDIDATES[name], (name, scores)
+        seq = cls(path, entries, K, registration, skipped)
+        seq.registration_estimate = estimate
+        if estimate is not None:
+            seq.sources = {"depth registration": _describe(*estimate)}
+        return seq
+
+
+# What depth registration a 7-Scenes-layout folder may need: none (3DMatch scenes ship depth
+# registered to colour) or the Kinect v1 rig's form (7-Scenes). The identity comes first: it wins ties.
+CANDIDATES = {"identity": Registration(), "Kinect v1 form": Registration.kinect_v1()}
+
+
+def _probe_pairs(entries: list[Entry]) -> list[tuple[np.ndarray, np.ndarray]]:
+    """Grey colour and depth (metres, depth pixels) of frames spread evenly over the sequence."""
+    picks = sorted({int(i) for i in np.linspace(0, len(entries) - 1, REGISTRATION_PROBES)})
+    pairs = []
+    for i in picks:
+        gray = cv2.imread(str(entries[i].color), cv2.IMREAD_GRAYSCALE)
+        raw = cv2.imread(str(entries[i].depth), cv2.IMREAD_UNCHANGED)
+        if gray is None or raw is None or raw.ndim != 2:
+            continue                      # a bad frame is reported when the build reaches it
+        depth = raw.astype(np.float32) / SevenScenesSequence.depth_scale
+        depth[raw == 65535] = 0.0
+        pairs.append((gray, depth))
+    return pairs
+
+
+def _describe(name: str, scores: dict[str, float]) -> str:
+    others = ", ".join(f"{n} {s:.2f}" for n, s in scores.items() if n != name)
+    return f"{name}, estimated (depth/colour edge agreement {scores[name]:.2f}; {others})"

@@ -1,0 +1,210 @@
+"""Furniture named from its shape: what a COCO detector cannot name (desks, cabinets) or misnames
+(a sideboard called "dining table"), read off the room's structure in the gravity frame.
+
+Each rule is one function:
+- `part_of_furniture`: a level lying over a floor-standing object (a chair's or a couch's seat, a
+  table's top) is part of that object, not structure;
+- `floor_seen_under`: the share of a horizontal surface's footprint under which the floor was
+  seen: furniture with knee space shows the floor below its top, a solid box hides it;
+- `desk_shaped`: a top at desk height (DESK_TOP_HEIGHT) with knee space below is a desk;
+- `cabinet_shaped`: a top below table height that hides the floor under it is a cabinet, whatever
+  a detector called it.
+A node named by these rules says so (`named_by = "shape"`); where a detector's label is
+overruled, its label stays among the node's top-k labels.
+"""
+from __future__ import annotations
+
+from dataclasses import replace
+from typing import Callable, Optional, Sequence
+
+import numpy as np
+
+from sg3d.core.model import ObjectObservation, vec3
+from sg3d.ingest.discover.room_cloud import RoomCloud
+from sg3d.ingest.discover.structure import FLOOR_SLAB_M, SURFACE_CELL_M, Element
+
+# Desk and table tops stand 0.60-0.80 m above the floor (office desks 0.72-0.76 m, dining tables
+# 0.72-0.78 m; a low coffee table or a sideboard is below, a counter above).
+DESK_TOP_HEIGHT = (0.60, 0.80)
+# Knee space: the floor was seen under at least this share of the top's footprint cells (a desk
+# seen from 1-2 m shows the floor under it: 0.57-0.99 of its top in the study room). A solid box
+# to the floor hides what is under it: below CABINET_FLOOR_SHARE (a sideboard: 0.22).
+KNEE_FLOOR_SHARE = 0.5
+CABINET_FLOOR_SHARE = 0.35
+# A desk top has room for a person's work: at least this area (m^2).
+DESK_MIN_AREA = 0.15
+# A level is part of a floor-standing object when this share of its footprint lies inside the
+# object's box and its height lies within the box's (with FURNITURE_MARGIN_M of slack).
+PART_SHARE = 0.5
+FURNITURE_MARGIN_M = 0.05
+# Carrels and office rows: one long worktop is several desks, each between two vertical panels.
+# A panel crosses the top: in a SURFACE_CELL_M slice across the top, points fill at least
+# PANEL_MIN_FILL of the (across, height) cells both above the top (up to PANEL_REACH_M) and below
+# it (down to PANEL_FLOOR_GAP_M over the floor); the slice is the fullest within PANEL_WINDOW_M,
+# and each desk left is at least DESK_MIN_WIDTH wide.
+PANEL_MIN_FILL = 0.15
+PANEL_REACH_M = 0.8
+PANEL_FLOOR_GAP_M = 0.1
+PANEL_WINDOW_M = 0.2
+DESK_MIN_WIDTH = 0.5
+# Detector labels a low, solid top overrules (a sideboard looks like a table from above).
+TABLE_LABELS = ("dining table",)
+CABINET_LABEL = "cabinet"
+DESK_LABEL = "desk"
+
+
+def footprint_cells(surface: Element, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(point indices, their footprint cells) of the points whose (a, b) fall on the surface's
+    footprint (any height)."""
+    assert surface.footprint is not None and surface.origin is not None
+    fp = surface.footprint
+    cells = np.floor((points[:, :2] - surface.origin) / SURFACE_CELL_M).astype(int)
+    inside = (cells >= 0).all(axis=1) & (cells[:, 0] < fp.shape[0]) & (cells[:, 1] < fp.shape[1])
+    idx = np.flatnonzero(inside)
+    on = fp[cells[idx, 0], cells[idx, 1]]
+    return idx[on], cells[idx[on]]
+
+
+def floor_seen_under(surface: Element, cloud: RoomCloud) -> float:
+    """Rule "floor seen under": the share of the surface's footprint cells with a floor point
+    (within FLOOR_SLAB_M of the floor) below them."""
+    assert surface.footprint is not None
+    idx, cells = footprint_cells(surface, cloud.points)
+    low = np.abs(cloud.points[idx, 2]) <= FLOOR_SLAB_M
+    seen = np.zeros(surface.footprint.shape, bool)
+    seen[cells[low, 0], cells[low, 1]] = True
+    return float((seen & surface.footprint).sum() / max(1, surface.footprint.sum()))
+
+
+def part_of_furniture(surface: Element, boxes: Sequence[tuple[np.ndarray, np.ndarray]]) -> bool:
+    """Rule "seat or top": a level with PART_SHARE of its footprint inside the box of a
+    floor-standing object, at a height within that box (FURNITURE_MARGIN_M of slack), is that
+    object's seat or top."""
+    area = float(np.prod(np.maximum(surface.hi[:2] - surface.lo[:2], 1e-3)))
+    for lo, hi in boxes:
+        if not lo[2] - FURNITURE_MARGIN_M <= surface.height <= hi[2] + FURNITURE_MARGIN_M:
+            continue
+        inter = np.clip(np.minimum(hi[:2], surface.hi[:2]) - np.maximum(lo[:2], surface.lo[:2]), 0, None)
+        if float(np.prod(inter)) / area >= PART_SHARE:
+            return True
+    return False
+
+
+def desk_shaped(height: float, area: float, floor_share: float) -> bool:
+    """Rule "desk": a top DESK_TOP_HEIGHT above the floor, at least DESK_MIN_AREA, with knee
+    space below (the floor seen under KNEE_FLOOR_SHARE of it)."""
+    return (DESK_TOP_HEIGHT[0] <= height <= DESK_TOP_HEIGHT[1] and area >= DESK_MIN_AREA
+            and floor_share >= KNEE_FLOOR_SHARE)
+
+
+def cabinet_shaped(height: float, floor_share: float) -> bool:
+    """Rule "cabinet": a top lower than a table's (below DESK_TOP_HEIGHT) that hides the floor
+    under it (seen under less than CABINET_FLOOR_SHARE) is a solid box to the floor."""
+    return height < DESK_TOP_HEIGHT[0] and floor_share < CABINET_FLOOR_SHARE
+
+
+def surface_area(surface: Element) -> float:
+    assert surface.footprint is not None
+    return float(surface.footprint.sum()) * SURFACE_CELL_M ** 2
+
+
+def renamed_by_shape(obj: ObjectObservation, label: str) -> ObjectObservation:
+    """The object under the name its shape gives, the detector's labels kept after it."""
+    labels = [label] + [x for x in obj.labels if x != label]
+    scores = [obj.scores[0]] + [s for x, s in zip(obj.labels, obj.scores) if x != label]
+    return replace(obj, labels=labels, scores=scores, named_by="shape")
+
+
+def panel_fill(surface: Element, cloud: RoomCloud, h_lo: float, h_hi: float) -> np.ndarray:
+    """Per slice along the top's long axis (SURFACE_CELL_M), the share of its (across, height)
+    cells over the top's footprint extent that hold points with h_lo < h < h_hi."""
+    assert surface.footprint is not None and surface.origin is not None
+    along = int(np.argmax(surface.footprint.shape))
+    n = np.array(surface.footprint.shape)
+    p = cloud.points
+    cells = np.floor((p[:, :2] - surface.origin) / SURFACE_CELL_M).astype(int)
+    keep = (cells >= 0).all(axis=1) & (cells < n).all(axis=1) & (p[:, 2] > h_lo) & (p[:, 2] < h_hi)
+    rows = int(np.ceil((h_hi - h_lo) / SURFACE_CELL_M))
+    level = np.clip(((p[keep, 2] - h_lo) / SURFACE_CELL_M).astype(int), 0, rows - 1)
+    occupied = np.zeros((n[along], n[1 - along], rows), bool)
+    occupied[cells[keep, along], cells[keep, 1 - along], level] = True
+    return occupied.reshape(n[along], -1).mean(axis=1)
+
+
+def panel_cuts(surface: Element, cloud: RoomCloud) -> list[int]:
+    """Rule "desks between panels": the slices (cell indices along the long axis) where a
+    vertical panel crosses the top, above and below it (PANEL_MIN_FILL), each the fullest
+    within PANEL_WINDOW_M and leaving desks of at least DESK_MIN_WIDTH on both sides."""
+    above = panel_fill(surface, cloud, surface.height + SURFACE_CELL_M, surface.height + PANEL_REACH_M)
+    below = panel_fill(surface, cloud, PANEL_FLOOR_GAP_M, surface.height - 2 * SURFACE_CELL_M)
+    both = np.minimum(above, below)
+    window, min_cells = int(round(PANEL_WINDOW_M / SURFACE_CELL_M)), int(round(DESK_MIN_WIDTH / SURFACE_CELL_M))
+    assert surface.footprint is not None
+    along = int(np.argmax(surface.footprint.shape))
+    occupied = np.flatnonzero(surface.footprint.any(axis=1 - along))
+    first, end = int(occupied[0]), int(occupied[-1]) + 1
+    cuts: list[int] = []
+    for k in range(first + min_cells, end - min_cells + 1):
+        if both[k] >= PANEL_MIN_FILL and both[k] == both[max(0, k - window):k + window + 1].max() \
+                and (not cuts or k - cuts[-1] >= min_cells):
+            # the fullest slice of its window; a panel seen from both sides fills two slices
+            cuts.append(k)
+    return cuts
+
+
+def split_at_panels(surface: Element, cloud: RoomCloud) -> list[Element]:
+    """The desks of one worktop: the surface cut at `panel_cuts` (the surface itself when none)."""
+    cuts = panel_cuts(surface, cloud)
+    if not cuts:
+        return [surface]
+    assert surface.footprint is not None and surface.origin is not None
+    along = int(np.argmax(surface.footprint.shape))
+    parts = []
+    for start, stop in zip([0] + cuts, cuts + [surface.footprint.shape[along]]):
+        fp = np.zeros_like(surface.footprint)
+        sl = [slice(None), slice(None)]
+        sl[along] = slice(start, stop)
+        fp[tuple(sl)] = surface.footprint[tuple(sl)]
+        if not fp.any():
+            continue
+        ij = np.argwhere(fp)
+        lo, hi = surface.lo.copy(), surface.hi.copy()
+        lo[:2] = surface.origin + ij.min(axis=0) * SURFACE_CELL_M
+        hi[:2] = surface.origin + (ij.max(axis=0) + 1) * SURFACE_CELL_M
+        parts.append(replace(surface, lo=lo, hi=hi, footprint=fp, _grown=None))
+    return parts
+
+
+def box_with_top(lo: np.ndarray, hi: np.ndarray, top: Element) -> tuple[np.ndarray, np.ndarray]:
+    """A solid piece of furniture's whole box: its box grown to its top's footprint, from the
+    floor to the top (a detector boxed only the part of a sideboard it saw)."""
+    lo2 = np.minimum(lo, np.array([top.lo[0], top.lo[1], 0.0]))
+    hi2 = np.maximum(hi, np.array([top.hi[0], top.hi[1], top.height]))
+    lo2[2], hi2[2] = 0.0, top.height
+    return lo2, hi2
+
+
+def desk_box(surface: Element) -> tuple[np.ndarray, np.ndarray]:
+    """A desk's whole box: its top's footprint from the floor to the top."""
+    lo = np.array([surface.lo[0], surface.lo[1], 0.0])
+    hi = np.array([surface.hi[0], surface.hi[1], surface.height])
+    return lo, hi
+
+
+def desk_node(local_id: str, surface: Element, cloud: RoomCloud,
+              as_object: Callable[[str, np.ndarray, np.ndarray, np.ndarray], ObjectObservation]) -> ObjectObservation:
+    """A node named "desk" by its shape: its whole box, and the colour, histogram and thumbnail
+    `as_object` reads from the top's points (world frame) as it does for any segment."""
+    idx, _ = footprint_cells(surface, cloud.points)
+    top = idx[np.abs(cloud.points[idx, 2] - surface.height) <= 0.03]
+    lo, hi = desk_box(surface)
+    obj = as_object(local_id, lo, hi, top)
+    centre = cloud.to_world((lo + hi) / 2)
+    return replace(obj, labels=[DESK_LABEL], scores=[1.0], size=vec3(hi - lo), box_centre=vec3(centre),
+                   shape=None, named_by="shape")
+
+
+def low_solid_top(obj: ObjectObservation, top: Optional[Element], cloud: RoomCloud) -> bool:
+    """Whether a table-named object's own top says it is a cabinet (`cabinet_shaped`)."""
+    return (obj.label in TABLE_LABELS and top is not None
+            and cabinet_shaped(top.height, floor_seen_under(top, cloud)))
