@@ -279,6 +279,8 @@ def op_extreme(a: Answerer, form: Form):
 
 
 def op_distance(a: Answerer, form: Form):
+    if len(form.sets) == 1 and not form.sets[0].alternatives:
+        return _apart(a, form.sets[0])            # "how far apart are the two cups"
     if len(form.sets) == 1 and len(form.sets[0].alternatives) == 2:
         x, y = form.sets[0].alternatives          # "how far apart are tv 1 and tv 2"
     elif len(form.sets) == 2:
@@ -297,6 +299,65 @@ def op_distance(a: Answerer, form: Form):
     if len(pairs) > 1:
         text += f"; the closest of {len(pairs)} pairs"
     return text, round(d, 3), [p, q]
+
+
+def _apart(a: Answerer, np: NP):
+    """How far apart the objects of one set are: the one distance of two, else the closest
+    pair, said as such."""
+    rows = a.ev.members(np)
+    if len(rows) < 2:
+        return (a.absence() or f"I have found {len(rows)} {a.phrase(np, len(rows))}{a.where}, not two "
+                               f"({ABSENT})"), None, rows
+    pairs = [(a.scene.distance(p, q), p, q) for i, p in enumerate(rows) for q in rows[i + 1:]]
+    d, p, q = min(pairs, key=lambda t: (t[0], t[1]["id"], t[2]["id"]))
+    named = a.names([p, q])
+    text = f"{the(named[p['id']])} and {the(named[q['id']])} are {d:.2f} m apart (box centre to box centre)"
+    if len(pairs) > 1:
+        text += f"; the closest of {len(pairs)} pairs of {len(rows)} {a.phrase(np, len(rows))}"
+    return text, round(d, 3), [p, q]
+
+
+def _measure(a: Answerer, o: dict, key: str) -> float:
+    return a.scene.top(o) if key == "top" else float(o.get("volume") or 0.0)
+
+
+def op_size_compare(a: Answerer, form: Form):
+    """"is the cup bigger than the book" (box volumes; "higher": box tops), and "which is
+    bigger, the cup or the book". A set of several objects is represented by its largest
+    (its highest) one, and the answer says so."""
+    key = form.attribute or "volume"
+    sets = []
+    for np in form.sets[:2]:
+        rows = _all_rows(a.ev, form, np)
+        if not rows:
+            return (a.absence() or f"I have not found {a.phrase(np, 1)}{a.where} ({ABSENT})"), None, []
+        sets.append((np, rows, max(rows, key=lambda o: (_measure(a, o, key), o["id"]))))
+    (x, rx, ox), (y, ry, oy) = sets
+    vx, vy = _measure(a, ox, key), _measure(a, oy, key)
+    named = a.names([ox, oy])
+    unit = "m^3" if key == "volume" else "m (box top)"
+    said = [f"{the(named[o['id']])} {v:.3g} {unit}" + (f" (the {'largest' if key == 'volume' else 'highest'} of "
+                                                       f"{len(r)})" if len(r) > 1 else "")
+            for o, v, r in ((ox, vx, rx), (oy, vy, ry))]
+    detail = f"{said[0]}, {said[1]}"
+    if form.op == "size_which":
+        word = {("volume", "more"): "bigger", ("volume", "fewer"): "smaller", ("top", "more"): "higher",
+                ("top", "fewer"): "lower"}[(key, form.compare or "more")]
+        win = ox if (vx >= vy) == (form.compare != "fewer") else oy
+        if vx == vy:
+            return f"neither: they are the same ({detail})", None, [ox, oy]
+        return f"{the(named[win['id']])} is {word} ({detail})", named[win["id"]], [ox, oy]
+    holds = vx > vy if form.compare != "fewer" else vx < vy
+    return f"{'yes' if holds else 'no'}: {detail}", holds, [ox, oy]
+
+
+def op_rooms_counted(a: Answerer, form: Form):
+    """"in how many rooms is there a chair": the rooms holding one, counted and named."""
+    text, value, rows = op_rooms(a, form)
+    if not value:
+        return text, 0, rows
+    n = len(value)
+    return f"{n} room{'s' if n != 1 else ''}: {text}", n, rows
 
 
 def op_rooms(a: Answerer, form: Form):
@@ -371,6 +432,7 @@ def op_affordance(a: Answerer, form: Form):
 OPS = {"count": op_count, "exists": op_exists, "at_least": op_at_least, "compare": op_compare,
        "list": op_list, "where": op_where, "attribute": op_attribute, "extreme": op_extreme,
        "distance": op_distance, "rooms": op_rooms, "room_most": op_room_most,
-       "rooms_next_to": op_rooms_next_to, "room_count": op_room_count, "affordance": op_affordance}
+       "rooms_next_to": op_rooms_next_to, "room_count": op_room_count, "affordance": op_affordance,
+       "rooms_counted": op_rooms_counted, "size_compare": op_size_compare, "size_which": op_size_compare}
 
 

@@ -247,18 +247,11 @@ def read_question(text: str, room_rows: Callable[[str], list], all_room_names: C
     except GrammarError as first:
         if " room" not in f" {text}":
             raise
-        names = sorted((n.lower() for n in all_room_names()), key=len, reverse=True)
-        placeholders: dict[str, str] = {}
-        out = f" {text} "
-        for i, name in enumerate(names):
-            if f" {name} " in out:
-                token = "roomname" + "abcdefghijklmnopqrstuvwxyz"[i % 26] * (1 + i // 26)
-                placeholders[token] = name
-                out = out.replace(f" {name} ", f" {token} ")
+        out, placeholders = _room_placeholders(text, all_room_names())
         if not placeholders:
             raise first
         try:
-            form = read(out.strip())
+            form = read(out)
         except GrammarError:
             raise first from None
 
@@ -266,6 +259,38 @@ def read_question(text: str, room_rows: Callable[[str], list], all_room_names: C
             return room_rows(placeholders.get(name.split()[-1], name)) if name.split() and \
                 name.split()[-1] in placeholders else room_rows(name)
         return form, rows
+
+
+def _room_placeholders(text: str, stored: list) -> tuple[str, dict[str, str]]:
+    """Multi-word room names in `text` replaced by one word each (token -> name as said): the
+    stored names as written, then "<words> room" spans that name a stored room loosely
+    ("the living room" -> `livingroom`, sg3d/queries/place_names.py)."""
+    from sg3d.queries.place_names import match_name
+
+    names = sorted((n.lower() for n in stored), key=len, reverse=True)
+    placeholders: dict[str, str] = {}
+    out = f" {text} "
+
+    def put(name: str) -> None:
+        i = len(placeholders)
+        token = "roomname" + "abcdefghijklmnopqrstuvwxyz"[i % 26] * (1 + i // 26)
+        placeholders[token] = name
+        nonlocal out
+        out = out.replace(f" {name} ", f" {token} ")
+
+    for name in names:
+        if f" {name} " in out:
+            put(name)
+    words = out.split()
+    for j, w in enumerate(words):
+        if w != "room":
+            continue
+        for i in range(max(0, j - 2), j):       # "living room", "guest bed room"
+            span = " ".join(words[i:j + 1])
+            if words[i] not in ("the", "a", "my", "this", "in") and match_name(span, names, typo_vocabulary()):
+                put(span)
+                break
+    return out.strip(), placeholders
 
 
 def compile_question(run, text: str, room: Optional[str], building: Optional[str], room_rows, all_room_names,

@@ -37,11 +37,11 @@ ATTRIBUTES = {"big": "size", "large": "size", "tall": "tall", "high": "high", "w
 
 GRAMMAR = r"""
 start: count | exists | at_least | compare | listing | where | attribute | extreme | distance
-     | room_count | rooms_with | room_most | rooms_next | afford
+     | room_count | rooms_with | room_most | rooms_next | afford | size_compare
 
 be: "is" | "are"
 _there: "there"
-_det: "the" | "a" | "an" | "any" | "some" | "all" | "my" | "this" | "your"
+_det: "the" | INDEF | "any" | "some" | "all" | "my" | "this" | "your"
 
 count: "how" "many" np be? _there? preds
      | "count" np preds
@@ -77,6 +77,9 @@ distance: "how" "far" be np _tofrom np
 room_count: "how" "many" "rooms" be? _there? ("in" _det? WORD+)? (("do" | "does") _det? ("you" | WORD) WORD* ("have" | "has" | "hold" | "contain" | "see")?)?
 rooms_with: WHAT "rooms" ("have" | "has" | "contain" | "hold") np preds
           | "in" WHAT "rooms" be _there? np preds
+          | "in" "how" "many" "rooms" be _there? np preds   -> rooms_counted
+size_compare: be np COMPARE "than" np preds             -> bigger
+            | WHAT be COMPARE np preds                  -> bigger_which
 room_most: WHAT "room" ("has" | "have" | "holds" | "contains") _det? MOSTFEW np preds
 rooms_next: WHAT "rooms" be (_next_to | "near" | "beside") np_one
 afford: "where" ("can" | "could") "i" WORD (_det | WORD)*
@@ -108,6 +111,7 @@ _next_to: "next" "to" | "adjacent" "to"
         | "below" | "above" | "over" | "next" "to" | "beside" | "by" | "adjacent" "to" | "near"
         | "close" "to" | "nearby" | "around"
 
+INDEF: "a" | "an"
 WHAT: "what" | "which"
 LIST: "list" | "show" | "name" | "find"
 NOT: "not"
@@ -255,6 +259,8 @@ class _ToForm(Transformer):
         nps = [i for i in items if isinstance(i, NP)]
         np = NP(words, number=number, superlative=sup, filters=[i for i in items if isinstance(i, Filter)])
         np.definite = True
+        # "next to a cup": any cup, never the one whose printed name is "cup"
+        np.indefinite = any(isinstance(t, Token) and t.type == "INDEF" for t in items)
         if nps:
             np.toward = nps[-1]
         return np
@@ -351,6 +357,29 @@ class _ToForm(Transformer):
 
     def rooms_with(self, items):
         return self._op("rooms", items)
+
+    def rooms_counted(self, items):
+        return self._op("rooms_counted", items)
+
+    @staticmethod
+    def _bigger(items) -> str:
+        word = next(str(t) for t in items if isinstance(t, Token) and t.type == "COMPARE")
+        return "more" if word in ("bigger", "larger", "greater", "higher") else "fewer"
+
+    def bigger(self, items):
+        """"is the cup bigger than the book": box volumes (heights for higher/lower)."""
+        return self._op("size_compare", items, compare=self._bigger(items),
+                        attribute="top" if "higher" in map(str, items) or "lower" in map(str, items) else "volume")
+
+    def bigger_which(self, items):
+        """"which is bigger, the cup or the book": the same, naming the winner."""
+        form = self.bigger(items)
+        if len(form.sets) == 1 and len(form.sets[0].alternatives) == 2:
+            form.sets = list(form.sets[0].alternatives)
+        if len(form.sets) != 2:
+            raise GrammarError("compare two things, e.g. 'which is bigger, the cup or the book'")
+        form.op = "size_which"
+        return form
 
     def room_most(self, items):
         word = next(str(t) for t in items if isinstance(t, Token) and t.type == "MOSTFEW")

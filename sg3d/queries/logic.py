@@ -53,6 +53,7 @@ class NP:
     filters: list[Filter] = field(default_factory=list)
     alternatives: list["NP"] = field(default_factory=list)   # "cups or books"
     definite: bool = False                  # "the ..." (one thing expected)
+    indefinite: bool = False                # "a / any ...": every object of the kind, never one by name
 
     def text(self) -> str:
         return " ".join(self.words + ([str(self.number)] if self.number is not None else []))

@@ -10,13 +10,14 @@ import functools
 import re
 import unicodedata
 from dataclasses import dataclass, field
+from pathlib import Path
 from typing import Iterable
 
 # question frames that carry no meaning: stripped from the front (longest first)
 FRAMES = (
     "could you please tell me", "can you please tell me", "could you tell me", "can you tell me",
     "would you tell me", "please tell me", "tell me", "do you know", "i would like to know",
-    "i want to know", "i wonder", "could you say", "can you say", "please", "hey", "hi", "so", "ok",
+    "i want to know", "id like to know", "i d like to know", "i would love to know", "i wonder", "could you say", "can you say", "please", "hey", "hi", "so", "ok",
     "okay", "excuse me",
 )
 _FRAME_RE = re.compile(r"^(?:(?:" + "|".join(map(re.escape, FRAMES)) + r")\b[ ,]*)+")
@@ -132,6 +133,33 @@ def strip_frames(text: str) -> str:
     return text
 
 
+# round-two phrasings, rewritten to forms the grammar reads
+_COLOURS = r"(red|orange|yellow|green|blue|purple|pink|brown|black|white|grey|gray|silver|golden)"
+REPHRASE = [
+    # "where can someone take a seat" = "where can i sit"
+    (re.compile(r"^(where|what) (can|could) (?:someone|somebody|anyone|anybody|one|people|we|a person) "),
+     r"\1 \2 i "),
+    (re.compile(r"\b(?:take|have) a seat\b"), "sit"),
+    # "how far apart are the 2 cups": the cups, two of them
+    (re.compile(r"^how far apart (is|are) (?:the )?(?:2|both|both of the|both the) "), r"how far apart \1 the "),
+    # "what is red (in the kitchen)", "which things are white": the things of that colour
+    (re.compile(r"^(what|which)(?: (?:things|objects|items))? (?:is|are) " + _COLOURS + r"\b"),
+     r"\1 \2 things are there"),
+    # "the number of chairs in the kitchen" (what is left of "could you tell me ...")
+    (re.compile(r"^the number of "), "what is the number of "),
+]
+# "at least 2" = "more than 1", "at most 2" = "fewer than 3" (whole numbers)
+_AT_LEAST = re.compile(r"\bat (least|most) (\d+)\b(?!\.\d)")
+
+
+def rephrase(text: str) -> str:
+    """The phrasings of REPHRASE and "at least / at most N" as the grammar's words."""
+    for regex, repl in REPHRASE:
+        text = regex.sub(repl, text)
+    return _AT_LEAST.sub(lambda m: f"more than {int(m.group(2)) - 1}" if m.group(1) == "least"
+                         else f"fewer than {int(m.group(2)) + 1}", text)
+
+
 def tidy(question: str) -> Phrased:
     """Question -> normalised words (no typo fixing yet): lower case, asides dropped,
     contractions and frames undone, numbers and units read, punctuation gone."""
@@ -166,7 +194,7 @@ def tidy(question: str) -> Phrased:
     text = _TRAILING.sub("", text).strip()
     text = reorder_embedded(text)
     text = HERE.sub(" ", text)
-    text = _numbers(text)
+    text = rephrase(_numbers(text))
     return Phrased(" ".join(text.split()), dropped=dropped)
 
 
@@ -196,13 +224,31 @@ def _closest(word: str, vocab: frozenset) -> str | None:
     return winners[0] if len(winners) == 1 else None
 
 
+COMMON_WORDS = Path(__file__).resolve().parent / "data" / "common_words.txt"
+
+
+@functools.cache
+def common_words() -> frozenset[str]:
+    """Common English words (sg3d/queries/data/common_words.txt: pyspellchecker's English
+    frequency list, MIT, the words seen at least 500 times): a correctly spelled word is
+    never a typo, so "sitting" is not read as "cutting"."""
+    if not COMMON_WORDS.exists():
+        return frozenset()
+    return frozenset(w.strip() for w in COMMON_WORDS.read_text().splitlines() if w.strip() and not w.startswith("#"))
+
+
+def is_word(word: str, vocab: frozenset) -> bool:
+    """A word the typo fixer leaves alone: in `vocab`, a common English word, or a number."""
+    return word in vocab or word in common_words() or any(c.isdigit() for c in word)
+
+
 def fix_typos(text: str, vocab: frozenset, known: Iterable[str] = ()) -> tuple[str, list[str]]:
-    """Each word outside `vocab` (and not a number) that is within `max_edits` of exactly one
-    vocabulary word is read as that word; the notes say so."""
+    """Each unknown word (outside `vocab`, not a common English word, not a number) that is
+    within `max_edits` of exactly one vocabulary word is read as that word; the notes say so."""
     keep = set(known)
     out, notes = [], []
     for w in text.split():
-        if w in vocab or w in keep or any(c.isdigit() for c in w):
+        if w in keep or is_word(w, vocab):
             out.append(w)
             continue
         fixed = _closest(w, vocab)

@@ -271,7 +271,7 @@ class Evaluator:
         """"the white object on the dining table": when a singular phrase, with its relation
         words, is the printed name of exactly one of the rows, it means that object (the brown
         cup on the table is also a brown object on the table, but not the one so named)."""
-        if len(rows) < 2 or np.number is not None or not np.words or lemma(np.words[-1]) != np.words[-1]:
+        if len(rows) < 2 or np.indefinite or np.number is not None or not np.words or lemma(np.words[-1]) != np.words[-1]:
             return rows
         said = " ".join([np.text()] + [f"{f.relation} the {f.other.text()}" for f in np.filters
                                        if f.kind == "rel" and not f.negated and not f.other.alternatives])

@@ -191,7 +191,42 @@ def _rooms_named(store, name: str, building: Optional[str]) -> list[dict]:
     b = building.lower() if building else None
     spellings = sorted({name, name.lower(), name.title(), name.capitalize(), name.upper()})
     rows = store.read("vqa_room_named", names=spellings, building=b)
-    return rows or store.read("vqa_rooms", room=name.lower(), building=b)
+    return rows or store.read("vqa_rooms", room=name.lower(), building=b) or _rooms_like(store, name, building)
+
+
+def _building_like(run: _Run, building: str) -> list[dict]:
+    """The rooms of the one building `building` means (spaces, case, a small typo); the answer
+    says what was matched."""
+    from sg3d.queries.place_names import match_name, read_as
+
+    rows = run.read("vqa_rooms_all", building=None)
+    hit = match_name(building, {r["building"] for r in rows}, compose.typo_vocabulary())
+    said = read_as(building, hit, "building") if hit else None
+    if said and said not in run.notes:
+        run.notes.append(said)
+    return [r for r in rows if hit is not None and r["building"] == hit]
+
+
+def _rooms_like(store, name: str, building: Optional[str]) -> list[dict]:
+    """Rooms whose name (and building) `name` means once spaces, case and a small typo are set
+    aside (sg3d/queries/place_names.py): "living room" -> `livingroom`; each row carries
+    `read_as`, the note the answer gives. [] when no one room is meant."""
+    from sg3d.queries.place_names import match_name, read_as
+
+    rows = store.read("vqa_rooms_all", building=None)
+    vocab = compose.typo_vocabulary()
+    notes = []
+    if building:
+        b = match_name(building, {r["building"] for r in rows}, vocab)
+        if b is None:
+            return []
+        rows = [r for r in rows if r["building"] == b]
+        notes.append(read_as(building, b, "building"))
+    hit = match_name(name, {r["name"] for r in rows}, vocab)
+    if hit is None:
+        return []
+    note = "; ".join(n for n in notes + [read_as(name, hit)] if n)
+    return [{**r, "read_as": note} for r in rows if r["name"] == hit]
 
 
 def _scope(run: _Run, room: Optional[str], building: Optional[str],
@@ -205,8 +240,11 @@ def _scope(run: _Run, room: Optional[str], building: Optional[str],
         rows = (known or {}).get(room)
         if rows is None:
             rows = _rooms_named(run.store, room, building)
+        said = rows[0].get("read_as") if rows else None
+        if said and said not in run.notes:
+            run.notes.append(said)
     else:
-        rows = run.read("vqa_rooms", room=None, building=building.lower())
+        rows = run.read("vqa_rooms", room=None, building=building.lower()) or _building_like(run, building)
     if not rows:
         stored = sorted({f"{r['building']}/{r['name']}" for r in run.store.read("vqa_rooms", room=None, building=None)})
         if not stored:
@@ -460,6 +498,9 @@ def answer(store, question: str, room: Optional[str] = None, building: Optional[
         # one indexed look-up per candidate name, not a read of every room (1,000 rooms: 10 ms)
         if name not in seen:
             seen[name] = _rooms_named(store, name, building)
+            said = seen[name][0].get("read_as") if seen[name] else None
+            if said and said not in run.notes:
+                run.notes.append(said)
         return seen[name]
 
     def is_room(name: str) -> bool:
@@ -519,12 +560,12 @@ def answer(store, question: str, room: Optional[str] = None, building: Optional[
 def _phrase(store, text: str, building: Optional[str]) -> tuple[str, list[str]]:
     """Frames, apostrophes, numbers and typos (sg3d/queries/phrasing.py); room names are never
     read as typos (they are looked up only when a word is outside the vocabulary)."""
-    from sg3d.queries.phrasing import fix_typos, tidy
+    from sg3d.queries.phrasing import fix_typos, is_word, tidy
 
     tidied = tidy(text)
     asides = [f"ignored: {', '.join(tidied.dropped)}"] if tidied.dropped else []
     vocab = compose.typo_vocabulary()
-    if all(w in vocab or any(c.isdigit() for c in w) for w in tidied.text.split()):
+    if all(is_word(w, vocab) for w in tidied.text.split()):
         return tidied.text, asides
     rooms = {w for n in _room_names(store, building, with_buildings=True) for w in n.lower().split()}
     fixed, notes = fix_typos(tidied.text, vocab, rooms)
@@ -538,7 +579,7 @@ def _room_names(store, building: Optional[str], with_buildings: bool = False) ->
 
 def _composed(question: str, o, notes: list[str], run: _Run) -> Answer:
     """An answer of the compiler (sg3d/queries/compose.py) as an Answer."""
-    extra = notes + o.notes
+    extra = notes + [n for n in run.notes if n not in notes + o.notes] + o.notes
     text = o.text + (f" [{'; '.join(extra)}]" if extra else "")
     objects = [cast(AnswerObject, row_value(r, run.names([r]).get(r["id"], r["label"])))
                for r in o.rows[:PROVENANCE_MAX]] if o.rows else []
