@@ -10,7 +10,6 @@ import functools
 import re
 import unicodedata
 from dataclasses import dataclass, field
-from pathlib import Path
 from typing import Iterable
 
 # question frames that carry no meaning: stripped from the front (longest first)
@@ -224,17 +223,23 @@ def _closest(word: str, vocab: frozenset) -> str | None:
     return winners[0] if len(winners) == 1 else None
 
 
-COMMON_WORDS = Path(__file__).resolve().parent / "data" / "common_words.txt"
+# A word counts as common English when pyspellchecker's English frequency list saw it this often
+# (25,246 ASCII words: "sitting" and "bowel" are in, typos such as "chiars" or "kitchn" are not).
+COMMON_WORD_MIN_COUNT = 500
 
 
 @functools.cache
 def common_words() -> frozenset[str]:
-    """Common English words (sg3d/queries/data/common_words.txt: pyspellchecker's English
-    frequency list, MIT, the words seen at least 500 times): a correctly spelled word is
-    never a typo, so "sitting" is not read as "cutting"."""
-    if not COMMON_WORDS.exists():
-        return frozenset()
-    return frozenset(w.strip() for w in COMMON_WORDS.read_text().splitlines() if w.strip() and not w.startswith("#"))
+    """Common English words, from the English word-frequency list the PyPI package
+    pyspellchecker ships (read where it is installed): a correctly spelled word is never a typo,
+    so "sitting" is not read as "cutting"."""
+    import gzip
+    import json
+    from importlib import resources
+
+    data = resources.files("spellchecker") / "resources" / "en.json.gz"
+    counts = json.loads(gzip.decompress(data.read_bytes()))
+    return frozenset(w for w, n in counts.items() if n >= COMMON_WORD_MIN_COUNT and w.isascii() and w.isalpha())
 
 
 def is_word(word: str, vocab: frozenset) -> bool:
