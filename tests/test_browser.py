@@ -4,6 +4,7 @@ console; the page must draw (coloured pixels across the plot, WebGL canvases), f
 and log no error, at the largest allowed point count too."""
 from __future__ import annotations
 
+import json
 import os
 import re
 import shutil
@@ -13,6 +14,7 @@ import cv2
 import numpy as np
 import pytest
 
+from sg3d.render.style import RELATION_COLOURS
 from tests.scenes import build_show_room as build
 from tests.scenes import run_show as show
 
@@ -27,7 +29,14 @@ PROBE = ("<script>setTimeout(function(){var gd=document.getElementById('sg3d-vie
          "console.log('SG3D-PROBE canvases='+(gd?gd.querySelectorAll('canvas').length:0)"
          "+' webgl='+!!(s&&s._scene&&s._scene.glplot)"
          "+' fits='+(el.scrollHeight<=innerHeight&&el.scrollWidth<=innerWidth)"
-         "+' height='+(gd?Math.round(gd.getBoundingClientRect().height):0)+' inner='+innerHeight);},4000);</script>")
+         "+' height='+(gd?Math.round(gd.getBoundingClientRect().height):0)+' inner='+innerHeight);"
+         # the legends as drawn (each entry's text, the box each takes) and the axis titles
+         "var out={axes:[],legends:{}};if(s){out.axes=['xaxis','yaxis','zaxis'].map(function(a){return s[a].title.text})}"
+         "['legend','legend2'].forEach(function(k){var g=gd&&gd.querySelector('g.'+k);if(!g)return;"
+         "var r=g.querySelector('rect.bg').getBoundingClientRect();out.legends[k]={box:[r.left,r.top,r.right,r.bottom],"
+         "title:(g.querySelector('.'+k+'titletext')||{}).textContent||'',"
+         "entries:Array.from(g.querySelectorAll('.'+k+'text')).map(function(t){return t.textContent})}});"
+         "console.log('SG3D-LEGENDS '+JSON.stringify(out));},4000);</script>")
 
 
 def chromium() -> str:
@@ -63,6 +72,14 @@ def open_in_browser(page, tmp_path, budget_ms: int = 15000):
     return img, console
 
 
+def legends(console) -> dict:
+    """{"axes": [3 axis titles], "legends": {id: {"box", "title", "entries"}}} as the page drew them."""
+    line = next((ln for ln in console if "SG3D-LEGENDS" in ln), None)
+    assert line is not None, console
+    text = line.split("SG3D-LEGENDS ", 1)[1]
+    return json.JSONDecoder().raw_decode(text.replace('\\"', '"'))[0]
+
+
 def check_page(img, console, min_drawn: float, colour=None, min_colour_px: int = 0):
     errors = [ln for ln in console if "SG3D-CONSOLE-ERROR" in ln or "Uncaught" in ln]
     assert not errors, errors
@@ -93,8 +110,20 @@ def test_graph_page_renders_in_chromium(store, embedded_home, tmp_path):
     r = show(embedded_home, "--out", str(page))
     assert r.exit_code == 0, r.output
     img, console = open_in_browser(page, tmp_path)
-    # the relation lines' red, drawn by WebGL
-    check_page(img, console, min_drawn=0.003, colour=(192, 57, 43), min_colour_px=150)
+    # the ON lines' colour (vermillion), drawn by WebGL
+    on = tuple(int(RELATION_COLOURS["ON"][i:i + 2], 16) for i in (1, 3, 5))
+    check_page(img, console, min_drawn=0.003, colour=on, min_colour_px=150)
+    # two legends, apart, as drawn: the objects' categories and names, then one entry per
+    # relation type (size statements listed, though hidden); the axes titled in metres
+    drawn = legends(console)
+    assert drawn["axes"] == ["x (m)", "y (m)", "up (m)"]
+    objects, relations = drawn["legends"]["legend"], drawn["legends"]["legend2"]
+    assert objects["title"].startswith("objects") and relations["title"].startswith("relations")
+    assert "names" in objects["entries"] and "furniture" in objects["entries"]
+    assert relations["entries"] == ["bigger than (2)", "next to (1)", "on (2)", "smaller than (2)"]
+    a, b = objects["box"], relations["box"]
+    assert a[3] <= b[1] or b[3] <= a[1], (a, b)                  # one above the other, not overlapping
+    assert max(a[2], b[2]) <= WINDOW[0] and max(a[3], b[3]) <= WINDOW[1]
 
 
 def test_largest_point_cloud_renders_in_chromium(store, embedded_home, tmp_path, kitchen_dir):

@@ -278,6 +278,86 @@ def test_html_is_self_contained_plotly_with_names_and_toggled_relations(store, e
     rel = {t["name"]: t.get("visible", True) for t in spec if t.get("mode") == "lines" and "(" in t["name"]}
     assert rel["on (2)"] is True and rel["next to (1)"] is True
     assert rel["bigger than (2)"] == "legendonly" and rel["smaller than (2)"] == "legendonly"
+    # one legend entry per relation type, in the second legend, each type its own colour (its
+    # hover points too), every other trace in the first legend
+    lines = [t for t in spec if t.get("mode") == "lines" and "(" in t.get("name", "")]
+    assert sorted(t["name"] for t in lines) == sorted(rel) and all(t["legend"] == "legend2" for t in lines)
+    colours = {t["name"]: t["line"]["color"] for t in lines}
+    assert len(set(colours.values())) == len(colours), colours
+    for t in spec:
+        if (t.get("legendgroup") or "").startswith("rel-") and t.get("mode") == "markers":
+            assert t["legend"] == "legend2" and t.get("showlegend") is False
+            assert t["marker"]["color"] == next(c for n, c in colours.items() if n.startswith(t["name"] + " ("))
+    assert not [t for t in spec if not (t.get("legendgroup") or "").startswith("rel-") and t.get("legend")
+                not in (None, "legend")]
+    # the layout as written: axes titled in metres, the two legends' titles
+    layout = plotly_layout(page)
+    assert [layout["scene"][a]["title"]["text"] for a in ("xaxis", "yaxis", "zaxis")] == ["x (m)", "y (m)", "up (m)"]
+    assert layout["legend"]["title"]["text"].startswith("<b>objects</b>")
+    assert layout["legend2"]["title"]["text"].startswith("<b>relations</b>")
+
+
+def plotly_layout(page: str) -> dict:
+    """The layout object of the page's Plotly.newPlot call (the argument after the data)."""
+    dec = json.JSONDecoder()
+    start = re.search(r'Plotly\.newPlot\(\s*"sg3d-view",\s*', page).end()
+    _, end = dec.raw_decode(page, start)
+    return dec.raw_decode(page, page.index("{", end))[0]
+
+
+def made_scene(nodes: list[tuple], edges=()) -> dict:
+    """A scene as sg3d.app.scene.fetch_scene returns it, from (id, label, layer, name, (x, y, z),
+    (w, d, h)) tuples in a room whose up is z."""
+    return {"building": "b", "room": "r", "rooms": {"r": {"id": "b/r", "up": [0, 0, 1], "to_building": None}},
+            "nodes": [{"id": i, "label": label, "layer": layer, "name": name, "room_name": "r", "colour": "white",
+                       "x": p[0], "y": p[1], "z": p[2], "box_centre": list(p), "size": list(size)}
+                      for i, label, layer, name, p, size in nodes],
+            "edges": [{"s": a, "type": t, "o": b, "score": 0.9} for a, t, b in edges]}
+
+
+def test_html_names_named_objects_on_the_page_others_on_demand_never_overlapping():
+    """Walls, the floor and unnamed objects are named on hover and in a legend-only trace; the
+    named objects' names are on the page, and eight cups crowded on one table get names that
+    do not overlap in the first view (raised over their cups, each joined by a leader)."""
+    from sg3d.render.view3d import figure, screen_boxes, stack_names
+
+    walls = [(f"w{k}", "wall", "structure", f"wall {k}", (k * 1.2, 3.0, 1.2), (1.2, 0.1, 2.4)) for k in range(4)]
+    unnamed = [(f"u{k}", "object", "object", f"white object {k}", (k * 1.2, 2.8, 0.5), (0.4, 0.3, 0.5))
+               for k in range(4)]
+    cups = [(f"c{k}", "cup", "object", f"white cup {k}", (1.5 + 0.06 * k, 1.0 + 0.02 * k, 0.8), (0.08, 0.08, 0.1))
+            for k in range(8)]
+    table = [("t", "dining table", "object", "dining table", (1.7, 1.1, 0.375), (1.6, 0.9, 0.75)),
+             ("f", "floor", "structure", "floor", (2.0, 1.5, 0.0), (4.5, 3.2, 0.01))]
+    scene = made_scene(walls + unnamed + cups + table, [(f"c{k}", "ON", "t") for k in range(8)])
+    fig = figure(scene)
+    by_name = {t.name: t for t in fig.data}
+    names, others = by_name["names"], by_name["other names"]
+    assert sorted(names.text) == sorted(["dining table"] + [f"white cup {k}" for k in range(8)])
+    assert names.visible is True and others.visible == "legendonly"
+    assert sorted(others.text) == sorted([n[3] for n in walls + unnamed] + ["floor"])
+    # every box still names its object on hover
+    hovered = {re.search(r"<b>(.*?)</b>", h).group(1) for t in fig.data if t.type == "mesh3d" for h in t.hovertext}
+    assert hovered == {n["name"] for n in scene["nodes"]}
+    scn = fig.layout.scene
+    lo = np.array([scn.xaxis.range[0], scn.yaxis.range[0], scn.zaxis.range[0]])
+    hi = np.array([scn.xaxis.range[1], scn.yaxis.range[1], scn.zaxis.range[1]])
+    mid, span = (lo + hi) / 2, float((hi - lo).max())
+    spots = np.stack([names.x, names.y, names.z], axis=1)
+    boxes = screen_boxes(spots, list(names.text), mid, span)
+    assert not [(names.text[i], names.text[j]) for (i, a), (j, b) in itertools.combinations(enumerate(boxes), 2)
+                if a[0] < b[2] and b[0] < a[2] and a[1] < b[3] and b[1] < a[3]]
+    # names stay over their objects: only raised, and the raised ones have leaders
+    centre = {n["name"]: n["box_centre"] for n in scene["nodes"]}
+    top = {n["name"]: n["box_centre"][2] + n["size"][2] / 2 for n in scene["nodes"]}
+    for text, p in zip(names.text, spots):
+        if text != "dining table":                   # a large object is named at its corner
+            assert p[:2] == pytest.approx(centre[text][:2])
+        assert p[2] >= top[text]
+    raised = sum(p[2] > top[t] + 0.1 for t, p in zip(names.text, spots))
+    assert raised >= 4 and len(by_name["names leaders"].x) == 3 * raised
+    # placing names that never collide changes nothing
+    apart = np.array([[0.0, 0.0, 0.0], [3.0, 0.0, 0.0]])
+    assert np.array_equal(stack_names(apart, ["a", "b"], np.zeros(3), 5.0), apart)
 
 
 def test_html_boxes_are_the_objects_boxes(store):

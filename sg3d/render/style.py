@@ -17,6 +17,11 @@ MISSING_COLOUR = "#c80000"
 
 # Size statements connect nearly every pair and bury the spatial ones: hidden unless asked for.
 COMPARISON_TYPES = frozenset({"BIGGER_THAN", "SMALLER_THAN"})
+# One colour per stored relation type (lines and legend of the 3-D view): the Okabe-Ito
+# colour-blind-safe set for the spatial ones, greys for the size statements (drawn dotted).
+RELATION_COLOURS = {"ON": "#d55e00", "IN": "#cc79a7", "UNDER": "#e69f00", "ABOVE": "#0072b2",
+                    "BELOW": "#000000", "NEXT_TO": "#009e73", "NEAR": "#56b4e9",
+                    "BIGGER_THAN": "#8c8c8c", "SMALLER_THAN": "#5a5a5a"}
 # The word for "b TYPE a" said from a's side: an edge drawn against its stored direction reads so.
 INVERSE_WORDS = {"ON": "holds", "IN": "contains", "ABOVE": "below", "BELOW": "above", "UNDER": "over",
                  "BIGGER_THAN": "smaller than", "SMALLER_THAN": "bigger than", "IN_FRONT_OF": "behind",
@@ -52,6 +57,13 @@ def category_colour(group: str) -> str:
     if group in groups:
         return PALETTE[groups.index(group) % len(PALETTE)]
     return PALETTE[int(hashlib.sha1(group.encode()).hexdigest(), 16) % len(PALETTE)]
+
+
+def relation_colour(rel_type: str) -> str:
+    """The colour of a relation type's lines; a type outside RELATION_COLOURS by a stable hash."""
+    if rel_type in RELATION_COLOURS:
+        return RELATION_COLOURS[rel_type]
+    return PALETTE[int(hashlib.sha1(rel_type.encode()).hexdigest(), 16) % len(PALETTE)]
 
 
 def visible_edges(edges: Iterable[dict], all_edges: bool) -> list[dict]:

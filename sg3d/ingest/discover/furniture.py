@@ -69,10 +69,10 @@ def floor_seen_under(surface: Element, cloud: RoomCloud) -> float:
     """Rule "floor seen under": the share of the surface's footprint cells with a floor point
     (within FLOOR_SLAB_M of the floor) below them."""
     assert surface.footprint is not None
-    idx, cells = footprint_cells(surface, cloud.points)
-    low = np.abs(cloud.points[idx, 2]) <= FLOOR_SLAB_M
+    floor = cloud.points[np.abs(cloud.points[:, 2]) <= FLOOR_SLAB_M]
+    _, cells = footprint_cells(surface, floor)
     seen = np.zeros(surface.footprint.shape, bool)
-    seen[cells[low, 0], cells[low, 1]] = True
+    seen[cells[:, 0], cells[:, 1]] = True
     return float((seen & surface.footprint).sum() / max(1, surface.footprint.sum()))
 
 
