@@ -291,6 +291,7 @@ def plan_merge(graph: LocalGraph, candidates: list[dict], s_pos: Optional[np.nda
     objects, basis = graph.objects, gravity_basis(graph.up)
     matches, absorbed = (match_nodes(objects, candidates, s_pos, embedding, params)
                          if candidates and s_pos is not None else ({}, {}))
+    matches.update(stored_pieces_named(objects, candidates, matches, absorbed, basis))
     seen = {candidates[j]["id"] for j in matches.values()} | {candidates[k]["id"] for k in absorbed}
     moved_locals = _plan_moves(plan, graph, matches, seen, moved_from, embedding, basis)
     for i, obj in enumerate(objects):
@@ -344,6 +345,30 @@ def claimed_by_stored_box(obj: ObjectObservation, candidates: list[dict], basis:
         if share >= best_share:
             best, best_share = c["id"], share
     return best
+
+
+def stored_pieces_named(objects: list[ObjectObservation], candidates: list[dict], matches: dict[int, int],
+                        absorbed: dict[int, int], basis: np.ndarray) -> dict[int, int]:
+    """Rule "a named box claims the stored piece inside it": a named floor-standing observation
+    that matched no node updates the stored unnamed node with CLAIM_SHARE of its box inside the
+    observation's box (a chair an earlier scan saw only as its base); local index -> candidate."""
+    taken = set(matches.values()) | set(absorbed)
+    out: dict[int, int] = {}
+    for i, obj in enumerate(objects):
+        if i in matches or obj.label not in FLOOR_STANDING_LABELS or obj.layer != "object":
+            continue
+        best, best_share = None, CLAIM_SHARE
+        for j, c in enumerate(candidates):
+            if j in taken or c["label"] != UNNAMED_LABEL or (c.get("layer") or "object") != "object":
+                continue
+            share = box_inside_share(c["box_centre"] or (c["x"], c["y"], c["z"]), c["size"], _box_centre(obj),
+                                     obj.size, basis)
+            if share >= best_share:
+                best, best_share = j, share
+        if best is not None:
+            out[i] = best
+            taken.add(best)
+    return out
 
 
 def _plan_moves(plan: MergePlan, graph: LocalGraph, matches: dict[int, int], seen: set[str],
