@@ -1,6 +1,8 @@
 """`sg3d db check` (the store against `sg3d.app.bounds`): find stored values no reader can use (NaN, Infinity, coordinates beyond the
-world extent, an `up` that is not a direction) and repair them: such an object is removed (with
-its Appearance and edges, tallies recounted), such an `up` is cleared."""
+world extent, an `up` that is not a direction, a counting tally that disagrees with the objects) and repair
+them: such an object is removed (with its Appearance and edges), such an `up` is cleared, and
+the tallies are recounted, all in ONE transaction (interrupted, nothing of the repair happened
+and the next check finds the same)."""
 from __future__ import annotations
 
 from dataclasses import dataclass, field
@@ -13,11 +15,13 @@ from sg3d.graphdb.protocol import GraphStore
 class CheckReport:
     objects: list[tuple[str, str]] = field(default_factory=list)   # (object id, room id)
     rooms: list[str] = field(default_factory=list)                  # rooms whose up is unusable
+    # tallies that disagree with a count of the objects: {room, label, colour, stored, counted}
+    tallies: list[dict] = field(default_factory=list)
     repaired: bool = False
 
     @property
     def clean(self) -> bool:
-        return not self.objects and not self.rooms
+        return not self.objects and not self.rooms and not self.tallies
 
 
 def _raw(store: GraphStore, name: str) -> list[dict]:
@@ -51,18 +55,28 @@ def up_is_bad(up) -> bool:
     return False
 
 
-def check_store(store: GraphStore, repair: bool = False) -> CheckReport:
-    """What is unusable in `store`; with `repair`, remove or clear it (one write per item)."""
-    report = CheckReport(objects=[(r["id"], r["room"]) for r in _raw(store, "check_object_values") if object_is_bad(r)],
-                         rooms=[r["id"] for r in _raw(store, "check_room_values") if up_is_bad(r["up"])])
-    if repair and not report.clean:
-        from sg3d.graphdb.tally import rebuild_tallies
+def repair_in_tx(tx, objects: list[str], rooms: list[str]) -> int:
+    """The body of the repair transaction: remove `objects`, clear the up of `rooms`, recount
+    every tally. Returns the tallies written."""
+    from sg3d.graphdb.tally import rebuild_tallies_in_tx
 
-        for object_id, _ in report.objects:
-            store.write("node_delete", id=object_id)
-        for room in report.rooms:
-            store.write("room_up_clear", room=room)
-        if report.objects:
-            rebuild_tallies(store)
+    for object_id in objects:
+        tx.run(cypher.load("node_delete"), id=object_id).consume()
+    for room in rooms:
+        tx.run(cypher.load("room_up_clear"), room=room).consume()
+    return rebuild_tallies_in_tx(tx)
+
+
+def check_store(store: GraphStore, repair: bool = False) -> CheckReport:
+    """What is unusable in `store`, and the tallies that disagree with the objects; with
+    `repair`, remove or clear it and recount the tallies (one transaction)."""
+    from sg3d.graphdb.tally import stale_tallies
+
+    report = CheckReport(objects=[(r["id"], r["room"]) for r in _raw(store, "check_object_values") if object_is_bad(r)],
+                         rooms=[r["id"] for r in _raw(store, "check_room_values") if up_is_bad(r["up"])],
+                         tallies=stale_tallies(_raw(store, "tally_all"), _raw(store, "tally_source")))
+    if repair and not report.clean:
+        ids, rooms = [o for o, _ in report.objects], list(report.rooms)
+        store.execute_write(lambda tx: repair_in_tx(tx, ids, rooms))
         report.repaired = True
     return report

@@ -74,25 +74,40 @@ def room_objects(store: GraphStore, building: str, room: str, label: Optional[st
     return out
 
 
-DELETE_BATCH = 2000   # objects removed per transaction when a room is deleted
+DELETE_BATCH = 2000   # objects removed per statement when a room is deleted (all in one transaction)
+
+# What deleting a room removes after its objects, in this order, in the objects' transaction.
+DELETE_STEPS = ("room_delete_tallies", "room_delete_merge_logs", "room_delete_scans", "room_delete_node")
+
+
+def delete_room_in_tx(tx, rid: str, batch: Optional[int] = None) -> int:
+    """The body of the delete transaction: the room's objects (with their Appearance nodes and
+    every edge, `batch` per statement), tallies, merge logs, scans and the room node. Returns the
+    objects removed."""
+    from sg3d.graphdb import cypher
+
+    batch = batch or DELETE_BATCH
+    objects = 0
+    while True:
+        n = tx.run(cypher.load("room_delete_objects"), room=rid, batch=batch).single()["n"]
+        objects += n
+        if n < batch:
+            break
+    for template in DELETE_STEPS:
+        tx.run(cypher.load(template), room=rid).consume()
+    return objects
 
 
 def delete_room(store: GraphStore, building: str, room: str) -> dict:
     """Remove one room: its objects (with their Appearance nodes and edges), tallies, merge logs,
-    scans and the room node; nothing of any other room. NotFound when it is not in the store.
-    Returns what was removed: {room, objects}."""
+    scans and the room node; nothing of any other room. ONE transaction: interrupted at any point
+    (kill -9, a lost connection), the store holds the whole room or none of it. NotFound when it
+    is not in the store. Returns what was removed: {room, objects}."""
     from sg3d.graphdb.values import room_id
 
     rid = room_id(building, room)
     if not store.read("building_room_get", room=rid):
         raise NotFound(f"no room {rid!r} in the store")
-    objects = 0
-    while True:
-        n = store.write("room_delete_objects", room=rid, batch=DELETE_BATCH)[0]["n"]
-        objects += n
-        if n < DELETE_BATCH:
-            break
-    for template in ("room_delete_tallies", "room_delete_merge_logs", "room_delete_scans", "room_delete_node"):
-        store.write(template, room=rid)
+    objects = store.execute_write(lambda tx: delete_room_in_tx(tx, rid))
     store.rooms_known.discard(rid)
     return {"room": rid, "objects": objects}

@@ -98,7 +98,7 @@ def check(settings, repair: bool, as_json: bool) -> None:
     store.ensure_schema()
     report = check_store(store, repair=repair)
     data = {"objects": [{"id": i, "room": r} for i, r in report.objects], "rooms": report.rooms,
-            "repaired": report.repaired}
+            "tallies": report.tallies, "repaired": report.repaired}
     if as_json:
         click.echo(json.dumps(data))
         return
@@ -107,12 +107,15 @@ def check(settings, repair: bool, as_json: bool) -> None:
         return
     verb = "removed" if report.repaired else "found"
     click.echo(f"{verb} {len(report.objects)} object(s) with unusable numbers, "
-               f"{'cleared' if report.repaired else 'found'} {len(report.rooms)} unusable room up direction(s)"
-               + ("" if report.repaired else "; `sg3d db check --repair` fixes them"))
+               f"{'cleared' if report.repaired else 'found'} {len(report.rooms)} unusable room up direction(s), "
+               f"{'recounted' if report.repaired else 'found'} {len(report.tallies)} tally(ies) that disagree "
+               f"with the objects" + ("" if report.repaired else "; `sg3d db check --repair` fixes them"))
     for object_id, room in report.objects[:20]:
         click.echo(f"  object {object_id} (room {room})")
     for room in report.rooms[:20]:
         click.echo(f"  room {room}: up")
+    for t in report.tallies[:20]:
+        click.echo(f"  tally {t['label']} ({t['colour']}) in {t['room']}: {t['stored']} stored, {t['counted']} counted")
 
 
 @db.command("rebuild-tallies")

@@ -1,4 +1,5 @@
-// One batch of a room's objects, with their Appearance nodes and every edge (sg3d rooms delete).
+// One batch of a room's objects, with their Appearance nodes and every edge (sg3d rooms delete;
+// every batch and the other room_delete_* statements run in one transaction, app/rooms.py).
 MATCH (o:Object)
 WHERE o.room = $room
 WITH o LIMIT $batch

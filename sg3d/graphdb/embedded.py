@@ -17,12 +17,14 @@ Files under the home directory:
 """
 from __future__ import annotations
 
+import errno
 import fcntl
 import json
 import os
 import secrets
 import signal
 import socket
+import stat
 import subprocess
 import sys
 import time
@@ -177,10 +179,57 @@ def store_dir(requested: Path) -> Path:
 
 
 def check_private(path: Path) -> None:
-    st = path.stat()
-    if st.st_uid != os.getuid() or st.st_mode & 0o077:
-        raise EmbeddedStoreError(f"{path} must be a directory of this user that only it may enter "
-                                 f"(mode 0700); it is not, so the store will not keep its passwords there")
+    """EmbeddedStoreError unless `path` is a real directory (not a symbolic link) that this user
+    owns and only it may enter. In a shared home (/tmp, mode 1777) another user may have put a
+    link or a folder of theirs where the store goes: its files (a `password` there would become
+    the store's root password) are never used."""
+    try:
+        st = os.lstat(path)
+    except OSError as exc:
+        raise EmbeddedStoreError(f"cannot use the store directory {path}: {exc.strerror or exc}") from None
+    why = None
+    if stat.S_ISLNK(st.st_mode):
+        why = "it is a symbolic link"
+    elif not stat.S_ISDIR(st.st_mode):
+        why = "it is not a directory"
+    elif st.st_uid != os.getuid():
+        why = "another user owns it"
+    elif st.st_mode & 0o077:
+        why = f"others may enter it (mode {stat.S_IMODE(st.st_mode):o})"
+    if why:
+        raise EmbeddedStoreError(f"refusing the store directory {path}: {why}; the store keeps its passwords "
+                                 f"only in a directory of this user that only it may enter (mode 0700; "
+                                 f"remove it, or choose another --home)")
+
+
+def read_secret(path: Path) -> str:
+    """The text of one of the store's secret files (`password`, `users.json`), opened without
+    following a symbolic link; EmbeddedStoreError unless it is a regular file this user owns that
+    no one else may write (one others may only read is made 0600 through the open file)."""
+    try:
+        fd = os.open(path, os.O_RDONLY | os.O_NOFOLLOW | getattr(os, "O_CLOEXEC", 0))
+    except OSError as exc:
+        if exc.errno in (errno.ELOOP, errno.EMLINK):
+            raise EmbeddedStoreError(f"refusing the store's secret file {path}: it is a symbolic link; "
+                                     f"delete it and run `sg3d db stop`") from None
+        raise
+    try:
+        st = os.fstat(fd)
+        why = None
+        if not stat.S_ISREG(st.st_mode):
+            why = "it is not a regular file"
+        elif st.st_uid != os.getuid():
+            why = "another user owns it"
+        elif st.st_mode & 0o022:
+            why = f"others may write it (mode {stat.S_IMODE(st.st_mode):o})"
+        if why:
+            raise EmbeddedStoreError(f"refusing the store's secret file {path}: {why}; delete it and run "
+                                     f"`sg3d db stop`")
+        if st.st_mode & 0o077:
+            os.fchmod(fd, 0o600)
+        return os.read(fd, 1 << 20).decode("utf-8", "replace").strip()
+    finally:
+        os.close(fd)
 
 
 def _cmdline(pid: int) -> list[str]:
@@ -286,20 +335,20 @@ class EmbeddedServer:
         return self.home / "users.json"
 
     def _secret_file(self, path: Path, make) -> str:
-        """A generated secret kept in a file only the user can read (created once, race-free)."""
-        if not path.exists():
-            try:
-                fd = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o600)
-            except FileExistsError:
-                pass  # another sg3d made it a moment ago
-            else:
-                with os.fdopen(fd, "w") as f:
-                    f.write(make())
-        os.chmod(path, 0o600)
-        text = path.read_text().strip()
+        """A generated secret kept in a file only the user can read (created once, race-free),
+        in the private store directory (`check_private`), never through a symbolic link."""
+        check_private(self.home)
+        try:
+            fd = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_EXCL | os.O_NOFOLLOW, 0o600)
+        except FileExistsError:
+            pass  # made before, or by another sg3d a moment ago
+        else:
+            with os.fdopen(fd, "w") as f:
+                f.write(make())
+        text = read_secret(path)
         if not text:  # the other writer has not finished yet
             time.sleep(0.05)
-            text = path.read_text().strip()
+            text = read_secret(path)
         return text
 
     def password(self) -> str:
@@ -388,7 +437,8 @@ class EmbeddedServer:
         """Create the store directory, private to this user (never chmod-ing one sg3d did not create)."""
         try:
             self.home.parent.mkdir(parents=True, exist_ok=True)
-            self.home.mkdir(mode=0o700, exist_ok=True)
+            if not os.path.islink(self.home):   # a link is refused below, never followed
+                self.home.mkdir(mode=0o700, exist_ok=True)
             check_private(self.home)
         except OSError as exc:
             raise EmbeddedStoreError(f"cannot use the store directory {self.home}: {exc.strerror or exc}") from None
@@ -405,7 +455,7 @@ class EmbeddedServer:
 
     def mark_stopped(self) -> None:
         """Record an explicit stop: services (`sg3d serve`, `sg3d mcp`) leave the store stopped."""
-        if self.home.is_dir():
+        if self.home.is_dir() and not self.home.is_symlink():
             self.stopped_path.touch(mode=0o600)
 
     def was_stopped(self) -> bool:

@@ -3,9 +3,11 @@ from __future__ import annotations
 
 import functools
 import logging
-from typing import TYPE_CHECKING, Any, Callable, Iterable, Optional, cast
+from contextlib import contextmanager
+from contextvars import ContextVar
+from typing import TYPE_CHECKING, Any, Callable, Iterable, Iterator, Optional, cast
 
-from neo4j import GraphDatabase, ManagedTransaction, Session
+from neo4j import GraphDatabase, ManagedTransaction, Query, Session, unit_of_work
 
 from sg3d.core.errors import Sg3dError
 from sg3d.graphdb import cypher
@@ -116,6 +118,37 @@ def size_batches(rows: Iterable[Any], budget: int = BATCH_BYTES) -> list[list]:
     return batches
 
 
+# -- the transaction time limit ------------------------------------------------------------------
+# A caller with a deadline (the MCP server) sets it for the calls of its thread: every transaction
+# sg3d then opens carries it as the Bolt transaction timeout (`tx_timeout`), which Neo4j enforces
+# (it stops the statement). ArcadeDB's Bolt plugin ignores it (26.10: BEGIN and RUN read only `db`
+# and `mode`); there the store-wide statement limit (`sg3d.graphdb.embedded.store_timeout_s`) stops it.
+_TX_TIMEOUT: ContextVar[Optional[float]] = ContextVar("sg3d_tx_timeout", default=None)
+
+
+@contextmanager
+def transaction_timeout(seconds: Optional[float]) -> Iterator[None]:
+    """Within the block (this thread or task), every transaction sg3d opens asks the store to stop
+    it after `seconds` (None: the store's default)."""
+    token = _TX_TIMEOUT.set(seconds)
+    try:
+        yield
+    finally:
+        _TX_TIMEOUT.reset(token)
+
+
+def current_transaction_timeout() -> Optional[float]:
+    return _TX_TIMEOUT.get()
+
+
+def _timed(fn: Callable) -> Callable:
+    """`fn` as a unit of work with the current transaction timeout (if any and none of its own)."""
+    seconds = _TX_TIMEOUT.get()
+    if seconds is None or getattr(fn, "timeout", None) is not None:
+        return fn
+    return unit_of_work(timeout=seconds)(fn)
+
+
 class _GuardedTransaction:
     """A driver transaction whose `run` passes `check_statement` first; the rest is the driver's."""
 
@@ -153,16 +186,22 @@ class _GuardedSession:
 
     def run(self, query, parameters=None, **kwargs):
         check_statement(query, parameters, kwargs)
+        seconds = _TX_TIMEOUT.get()
+        if seconds is not None and isinstance(query, str):
+            query = Query(query, timeout=seconds)
         return self._session.run(query, parameters, **kwargs)
 
     def begin_transaction(self, *args, **kwargs):
+        seconds = _TX_TIMEOUT.get()
+        if seconds is not None and not args and kwargs.get("timeout") is None:
+            kwargs["timeout"] = seconds
         return _GuardedTransaction(self._session.begin_transaction(*args, **kwargs))
 
     def execute_read(self, fn, *args, **kwargs):
-        return self._session.execute_read(_guarded_work(fn), *args, **kwargs)
+        return self._session.execute_read(_guarded_work(_timed(fn)), *args, **kwargs)
 
     def execute_write(self, fn, *args, **kwargs):
-        return self._session.execute_write(_guarded_work(fn), *args, **kwargs)
+        return self._session.execute_write(_guarded_work(_timed(fn)), *args, **kwargs)
 
     def __enter__(self):
         self._session.__enter__()

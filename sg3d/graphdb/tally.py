@@ -64,20 +64,44 @@ def create_objects_and_tallies(tx, room: str, creates: list[dict], plus: Iterabl
             tx.run(cypher.load("object_create"), room=room, rows=batch, tallies=tallies if last else []).consume()
 
 
-def rebuild_tallies(store, batch: int = 5000) -> int:
-    """Recount every tally from the Object records (one scan); returns the tallies written."""
-    per_room: dict[str, Counter] = {}
-    for r in store.read("tally_source"):
-        counts = per_room.setdefault(r["room"], Counter())
-        counts[(r["label"], ALL_COLOURS)] += r["n"]
+def counted_tallies(rows: Iterable[dict]) -> dict[tuple[str, str, str], int]:
+    """(room, label, colour) -> objects, from cypher/tally_source.cypher rows: what the tallies
+    should say (each object under its colour and under '')."""
+    out: Counter = Counter()
+    for r in rows:
+        out[(r["room"], r["label"], ALL_COLOURS)] += r["n"]
         if r["colour"]:
-            counts[(r["label"], r["colour"])] += r["n"]
+            out[(r["room"], r["label"], r["colour"])] += r["n"]
+    return {k: n for k, n in out.items() if n != 0}
+
+
+def stale_tallies(tally_rows_: Iterable[dict], source_rows: Iterable[dict]) -> list[dict]:
+    """The tallies (cypher/tally_all.cypher rows) that disagree with a count of the objects
+    (cypher/tally_source.cypher rows), missing ones included: [{room, label, colour, stored,
+    counted}], sorted. Empty: every tally is right."""
+    stored: Counter = Counter()
+    for t in tally_rows_:
+        stored[(t["room"], t["label"], t["colour"] or ALL_COLOURS)] += int(t["n"] or 0)
+    counted = counted_tallies(source_rows)
+    return [{"room": k[0], "label": k[1], "colour": k[2], "stored": stored.get(k, 0), "counted": counted.get(k, 0)}
+            for k in sorted(set(stored) | set(counted), key=lambda k: tuple(map(str, k)))
+            if stored.get(k, 0) != counted.get(k, 0)]
+
+
+def rebuild_tallies_in_tx(tx, batch: int = 5000) -> int:
+    """Inside a write transaction: recount every tally from the Object records as this
+    transaction sees them (one scan), replacing the old ones; returns the tallies written."""
+    per_room: dict[str, Counter] = {}
+    for (room, label, colour), n in counted_tallies(tx.run(cypher.load("tally_source")).data()).items():
+        per_room.setdefault(room, Counter())[(label, colour)] = n
     rows = [row for room, counts in per_room.items() for row in tally_rows(room, counts)]
-
-    def work(tx):
-        tx.run(cypher.load("tally_clear")).consume()
-        for i in range(0, len(rows), batch):
-            tx.run(cypher.load("tally_add"), rows=rows[i:i + batch]).consume()
-
-    store.execute_write(work)
+    tx.run(cypher.load("tally_clear")).consume()
+    for i in range(0, len(rows), batch):
+        tx.run(cypher.load("tally_add"), rows=rows[i:i + batch]).consume()
     return len(rows)
+
+
+def rebuild_tallies(store, batch: int = 5000) -> int:
+    """Recount every tally from the Object records (one scan, one transaction); returns the
+    tallies written."""
+    return store.execute_write(lambda tx: rebuild_tallies_in_tx(tx, batch))
