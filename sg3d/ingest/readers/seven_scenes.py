@@ -10,6 +10,7 @@ import cv2
 import numpy as np
 
 from sg3d.ingest.readers.base import Entry, Sequence, SequenceError, read_matrix
+from sg3d.ingest.readers.image_checks import image_problem
 from sg3d.ingest.readers.registration import REGISTRATION_PROBES, Registration, estimate_registration
 
 SEVEN_SCENES_COLOUR = re.compile(r"^(frame-(\d+))\.color\.(jpg|jpeg|png)$", re.IGNORECASE)
@@ -66,14 +67,25 @@ def _probe_pairs(entries: list[Entry]) -> list[tuple[np.ndarray, np.ndarray]]:
     picks = sorted({int(i) for i in np.linspace(0, len(entries) - 1, REGISTRATION_PROBES)})
     pairs = []
     for i in picks:
-        gray = cv2.imread(str(entries[i].color), cv2.IMREAD_GRAYSCALE)
-        raw = cv2.imread(str(entries[i].depth), cv2.IMREAD_UNCHANGED)
+        gray, raw = _quiet_read(entries[i].color, cv2.IMREAD_GRAYSCALE), _quiet_read(entries[i].depth, cv2.IMREAD_UNCHANGED)
         if gray is None or raw is None or raw.ndim != 2:
             continue                      # a bad frame is reported when the build reaches it
         depth = raw.astype(np.float32) / SevenScenesSequence.depth_scale
         depth[raw == 65535] = 0.0
         pairs.append((gray, depth))
     return pairs
+
+
+def _quiet_read(path: Path, flags: int) -> Optional[np.ndarray]:
+    """An image, or None when it is missing or damaged (checked before decoding: libjpeg and
+    libpng would print their own complaint on stderr)."""
+    try:
+        data = path.read_bytes()
+    except OSError:
+        return None
+    if image_problem(data, path.suffix):
+        return None
+    return cv2.imdecode(np.frombuffer(data, np.uint8), flags)
 
 
 def _describe(name: str, scores: dict[str, float]) -> str:
