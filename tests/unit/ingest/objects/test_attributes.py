@@ -142,3 +142,85 @@ def test_measure_object_bundles_everything():
     thumb = cv2.imdecode(np.frombuffer(a.thumbnail, np.uint8), cv2.IMREAD_COLOR)
     assert thumb.shape[:2] == (50, 50)
     assert thumb[..., 2].min() > 200 and thumb[..., :2].max() < 60     # the red box, nothing around it
+
+
+# --------------------------------------------------------------------------- each threshold, on both sides
+
+def test_the_centre_cell_is_used_from_10_depths_on():                 # MIN_CENTRE_POINTS
+    def centre_cell_with(n):
+        def hook(depth):
+            cell = depth[40:50, 60:70].reshape(-1)
+            cell[n:] = 0
+            depth[40:50, 60:70] = cell.reshape(10, 10)
+        return position_gaussian(_scene(hook), BOX).region
+    assert centre_cell_with(10) == "centre cell"
+    assert centre_cell_with(9) == "centre 3x3"
+
+
+def test_the_extent_is_read_between_the_5th_and_95th_percentile():     # BOX_LOW/HIGH_PERCENTILE
+    # the patch's 50 rows, 1.5 cm apart: rows 2 to 47 of them
+    h = object_size(_scene(), BOX, -_pose()[:3, 1])[2]
+    assert h == pytest.approx(45 * 0.015, abs=0.004)
+
+
+def _step_mask(near: float, step: float) -> np.ndarray:
+    """The object mask of a 50 x 20 box whose right 10 columns lie `step` behind the rest."""
+    from sg3d.ingest.objects.attributes import object_mask
+
+    depth = np.full((20, 50), near, np.float32)
+    depth[:, 40:] = near + step
+    return object_mask(depth, (0, 0, 50, 20))
+
+
+def test_a_depth_step_under_4_cm_keeps_one_surface_at_1_m():           # DEPTH_JUMP_M
+    assert _step_mask(1.0, 0.035).all()
+    assert not _step_mask(1.0, 0.045)[:, 42:].any()
+
+
+def test_a_depth_step_under_3_percent_keeps_one_surface_at_2_m():       # DEPTH_JUMP_REL
+    assert _step_mask(2.0, 0.055).all()
+    assert not _step_mask(2.0, 0.065)[:, 42:].any()
+
+
+def test_a_box_is_sampled_on_about_6400_pixels():                      # MAX_BOX_SAMPLES
+    from sg3d.ingest.objects.attributes import sample_stride
+
+    assert sample_stride((0, 0, 80, 80)) == 1
+    assert sample_stride((0, 0, 81, 80)) == 2
+
+
+def test_a_boxs_colour_is_read_inside_a_margin_of_a_fifth():            # INNER_MARGIN
+    img = np.zeros((100, 100, 3), np.uint8)
+    img[:] = (0, 160, 0)                   # green out to 10 % of the box
+    img[20:80, 20:80] = (200, 60, 20)      # blue from 20 %
+    img[30:70, 30:70] = (0, 0, 220)        # a red core
+    assert dominant_colour(img, (0, 0, 100, 100)) == "blue"
+
+
+def _patchy_frame(valid_cols: int) -> tuple[Frame, tuple[int, int, int, int]]:
+    """A 100 px box (sampled every 2 px: its inner region is 30 x 30 samples) with depth in the
+    inner region's left `valid_cols` pixel columns only."""
+    depth = np.zeros((100, 100), np.float32)
+    depth[20:80, 20:20 + valid_cols] = 1.0
+    color = np.full((100, 100, 3), 120, np.uint8)
+    K = np.array([[100.0, 0, 50], [0, 100.0, 50], [0, 0, 1]])
+    return Frame(0, color, depth, K, np.eye(4), 0.0, "synthetic"), (0, 0, 100, 100)
+
+
+def test_a_colour_is_read_on_the_surface_depth_shows_when_it_covers_a_quarter_of_the_box():   # MIN_MASK_SHARE
+    from sg3d.ingest.objects.attributes import colour_pixels
+
+    frame, bounds = _patchy_frame(24)       # 280 of the 900 inner samples (31 %): those
+    assert len(colour_pixels(frame, bounds)[0]) == 280
+    frame, bounds = _patchy_frame(18)       # about a fifth: the whole inner region
+    assert len(colour_pixels(frame, bounds)[0]) == 900
+
+
+def test_an_objects_own_depths_lie_within_5_cm_of_its_centres_at_least():   # MIN_DEPTH_BAND
+    from sg3d.ingest.objects.attributes import within_object_depth
+
+    K = np.array([[500.0, 0, 5], [0, 500.0, 5], [0, 0, 1]])
+    crop = np.ones((10, 10), np.float32)   # a 10 px box 1 m away: 1 cm wide, the band is its floor
+    crop[0, 0], crop[0, 9] = 1.045, 1.055
+    inside = within_object_depth(crop, (0, 0, 10, 10), K)
+    assert inside[0, 0] and not inside[0, 9]

@@ -116,3 +116,16 @@ def test_grouper_with_other_thresholds():
     expected = _algorithm_1(n, analytic, 0.5, 0.9)
     groups = list(KeyframeGrouper(t_key=0.5, t_anchor=0.9, n_points=W * H).feed(_slide(i) for i in range(n)))
     assert [[f.index for f in g.frames] for g in groups] == expected
+
+
+# --------------------------------------------------------------------------- the defaults, on both sides
+
+def test_default_thresholds_start_a_group_below_20_percent_overlap_and_an_anchor_below_68():
+    # DEFAULT_T_KEY, DEFAULT_T_ANCHOR: frames 7 px apart overlap 93, 86, ... 30 (5 apart), 16 (12 apart) %
+    groups = list(KeyframeGrouper(n_points=W * H).feed(_slide(i) for i in range(40)))
+    assert [[f.index for f in g.frames] for g in groups] == [[0, 5, 10], [12, 17, 22], [24, 29, 34], [36]]
+
+
+def test_overlap_is_estimated_on_1000_samples_by_default():            # DEFAULT_POINTS
+    shifted = _frame(1, shift_m=30 * DEPTH / K[0, 0])
+    assert overlap(_frame(0), shifted) == 0.702          # 702 of the 1000 pixels drawn by seed 0

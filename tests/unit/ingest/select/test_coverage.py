@@ -99,3 +99,28 @@ def test_choose_frames_detects_the_budget_and_moves_each_choice_inside_its_windo
     windows = np.searchsorted(edges, chosen, side="right") - 1
     for r in required:      # every KGE frame's window is detected
         assert np.searchsorted(edges, r, side="right") - 1 in windows
+
+
+# --------------------------------------------------------------------------- the defaults, on both sides
+
+def test_the_default_budget_is_15_percent_and_at_least_40_frames():   # DEFAULT_FRACTION, MIN_FRAMES
+    assert coverage.frame_budget(1000) == 150
+    assert coverage.frame_budget(300) == 45
+    assert coverage.frame_budget(200) == 40
+    assert coverage.frame_budget(30) == 30
+
+
+def test_30_cm_or_a_quarter_chord_of_turning_is_one_unit_of_new_view():   # POSITION_SCALE_M, DIRECTION_SCALE
+    moved = coverage.viewpoint_features([_pose(0.0), _pose(0.3)])
+    assert np.linalg.norm(moved[1] - moved[0]) == pytest.approx(1.0)
+    chord = 2 * math.degrees(math.asin(0.125))                         # the optical axis moves 0.25
+    turned = coverage.viewpoint_features([_pose(0.0), _pose(0.0, chord)])
+    assert np.linalg.norm(turned[1] - turned[0]) == pytest.approx(1.0)
+
+
+def test_a_choice_moves_within_a_window_of_5_sharp_frames():          # SNAP_WINDOW
+    sharp = [1, 1, 1, 1, 9, 1, 1, 1, 1, 1, 1, 1, 1, 1, 9]
+    cands = _candidates(sharp)
+    assert coverage.sharpest_in_windows(cands, [0]) == [4]
+    assert coverage.sharpest_in_windows(cands, [5]) == [5]            # the next window holds no 9
+    assert coverage.sharpest_in_windows(cands, [10]) == [14]

@@ -187,3 +187,126 @@ def test_a_shaded_white_beside_a_bright_screen_is_white_when_the_screen_is_left_
     assert C.read_colour(px, C.surround_cast(img, box, emitters=[screen])).name == "white"
     inside = C.surround_cast(img, (200, 50, 260, 120), emitters=[screen])  # an object overlapping the
     assert inside.white > C.lab_luminance(90.0)                 # screen keeps its own pixels
+
+
+# --------------------------------------------------------------------------- each threshold, on both sides
+
+def _with(n_odd: int, odd, base=(40, 40, 160), n: int = 100) -> np.ndarray:
+    """n pixels of a dull red `base`, `n_odd` of them replaced by `odd` (BGR)."""
+    px = np.full((n, 3), base, np.uint8)
+    px[:n_odd] = odd
+    return px
+
+
+def test_a_highlight_is_near_white_from_200_on_every_channel():          # SPECULAR_MIN
+    assert len(C.surface_pixels(_with(10, (205, 205, 250)))) == 90
+    assert len(C.surface_pixels(_with(10, (195, 195, 250)))) == 100
+
+
+def test_a_highlight_has_a_channel_clipped_at_245():                     # SPECULAR_CLIP
+    assert len(C.surface_pixels(_with(10, (210, 210, 247)))) == 90
+    assert len(C.surface_pixels(_with(10, (210, 210, 243)))) == 100
+
+
+def test_highlights_are_dropped_while_they_are_a_quarter_of_the_pixels_at_most():   # SPECULAR_MAX_SHARE
+    assert len(C.surface_pixels(_with(24, (250, 250, 250)))) == 76
+    assert len(C.surface_pixels(_with(26, (250, 250, 250)))) == 100
+
+
+def test_a_screens_own_pixels_are_those_of_luma_90_at_most():            # SCREEN_MAX_LUMA
+    assert len(C.surface_pixels(_with(50, (88, 88, 88), base=(150, 150, 150)), screen=True)) == 50
+    assert len(C.surface_pixels(_with(50, (92, 92, 92), base=(150, 150, 150)), screen=True)) == 100
+
+
+def test_a_screens_dark_pixels_are_kept_when_they_are_a_tenth_of_it():   # SCREEN_MIN_KEPT
+    assert len(C.surface_pixels(_with(12, (20, 20, 20), base=(150, 150, 150)), screen=True)) == 12
+    assert len(C.surface_pixels(_with(8, (20, 20, 20), base=(150, 150, 150)), screen=True)) == 100
+
+
+def test_a_views_weight_on_hand_made_numbers():      # FULL_VIEW_PIXELS 2500, SHARP_HALF 30, BORDER_WEIGHT 0.3
+    assert C.view_weight(1250, 30.0, False) == pytest.approx(0.25)
+    assert C.view_weight(2600, 30.0, False) == pytest.approx(0.5)
+    assert C.view_weight(5000, 90.0, False) == pytest.approx(0.75)
+    assert C.view_weight(5000, 30.0, True) == pytest.approx(0.15)
+
+
+def test_a_cast_gain_is_at_most_1_4():                                     # MAX_GAIN
+    warm = np.full((500, 3), (100, 150, 200), np.uint8)      # blue would need 2.0
+    assert C.frame_cast(warm).gains[0] == pytest.approx(1.4)
+    mild = np.full((500, 3), (160, 190, 208), np.uint8)      # blue needs 1.3
+    assert C.frame_cast(mild).gains[0] == pytest.approx(1.3)
+
+
+def test_white_candidates_are_at_most_1_4_squared_from_neutral():          # MAX_GAIN in white_candidates
+    grey = np.full((200, 3), 150, np.uint8)
+    assert len(C.white_candidates(np.vstack([grey, [[100, 100, 195]]]))) == 201   # ratio 1.95
+    assert len(C.white_candidates(np.vstack([grey, [[100, 100, 197]]]))) == 200   # ratio 1.97
+
+
+def test_the_levels_black_point_is_at_most_40():                          # MAX_BLACK
+    def black(dark):
+        px = np.full((1000, 3), 200, np.uint8)
+        px[:50] = dark
+        return C.frame_cast(px, "levels").black[0]
+    assert black(60) == pytest.approx(40)
+    assert black(30) == pytest.approx(30)
+
+
+def test_a_cast_needs_100_lit_pixels():                                   # MIN_CAST_PIXELS
+    warm = (150, 190, 230)
+    assert C.frame_cast(np.full((101, 3), warm, np.uint8)).gains[0] > 1.3
+    assert np.allclose(C.frame_cast(np.full((99, 3), warm, np.uint8)).gains, 1.0)
+
+
+def test_the_surround_is_sampled_on_about_1200_pixels():                  # CAST_SAMPLES
+    # a neutral white frame whose every 8th pixel (what a 1200-pixel sample of 320 x 240 reads) is warm
+    img = np.full((240, 320, 3), 240, np.uint8)
+    img[::8, ::8] = (150, 190, 230)
+    assert C.surround_cast(img, (0, 0, 320, 240)).gains[0] > 1.3
+
+
+def test_a_second_colour_needs_a_quarter_of_the_object():                # SECOND_MIN_SHARE
+    def reading(**shares):
+        v = tuple(shares.get(c, 0.0) for c in COLOUR_NAMES)
+        order = sorted(shares, key=lambda c: -shares[c])
+        return C.ColourReading(order[0], order[1], shares[order[0]], shares[order[1]], 100, v)
+    assert C.vote([reading(white=0.73, red=0.27)])[:2] == ("white", "red")
+    assert C.vote([reading(white=0.77, red=0.23)])[:2] == ("white", None)
+
+
+def test_pixels_are_named_in_cells_of_8_levels():                         # LUT_LEVELS
+    assert len(C.survey_lut()) == 32 ** 3
+
+
+def test_dull_chroma_is_doubled_up_to_40():                               # CHROMA_GAIN, CHROMA_CAP
+    lab = np.array([[50.0, 10.0, 0.0], [50.0, 30.0, 0.0], [50.0, 50.0, 0.0]], np.float32)
+    assert C.boost_chroma(lab)[:, 1] == pytest.approx([20.0, 40.0, 50.0])
+
+
+def test_surface_lightness_runs_from_l_20_to_l_96():                      # SURFACE_BLACK_L, SURFACE_WHITE_L
+    lab = np.array([[20.0, 0, 0], [58.0, 0, 0], [96.0, 0, 0]], np.float32)
+    assert C.surface_lightness(lab)[:, 0] == pytest.approx([0.0, 50.0, 100.0])
+
+
+def test_the_white_reference_is_the_99th_percentile():                    # WHITE_PERCENTILE
+    def white(n_bright):
+        px = np.full((1000, 3), 128, np.uint8)
+        px[:n_bright] = 235
+        return C.white_reference(px)
+    assert white(15) > 0.7          # 1.5 % bright pixels set the white
+    assert white(5) < 0.3           # 0.5 %: the grey does
+
+
+def test_a_surface_is_white_when_its_lit_tenth_is():                      # LIT_PERCENTILE
+    assert C.read_colour(_with(12, (235, 235, 235), base=(165, 165, 165))).name == "white"
+    assert C.read_colour(_with(8, (235, 235, 235), base=(165, 165, 165))).name == "grey"
+
+
+def test_shading_darkens_a_surface_four_times_at_most():                  # SHADING_RANGE
+    assert C.shading_groups(np.array([0.8 / 3.5] * 50 + [0.8] * 50)) == [(0, 100)]
+    assert C.shading_groups(np.array([0.8 / 4.5] * 50 + [0.8] * 50)) == [(50, 100), (0, 50)]
+
+
+def test_an_object_has_three_achromatic_surfaces_at_most():               # MAX_SHADING_GROUPS
+    four = np.array([0.8 / 4.5 ** k for k in (3, 2, 1, 0) for _ in range(25)])
+    assert C.shading_groups(four) == [(75, 100), (50, 75), (0, 50)]

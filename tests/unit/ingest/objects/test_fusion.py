@@ -1,7 +1,6 @@
-"""Whole-sequence fusion and the existence test.
+"""Whole-sequence fusion (`sg3d.ingest.objects.fusion`): association, consolidation, the fused box.
 
-Hand-made sightings and poses check the rules exactly (the existence test on real kitchen frames:
-tests/test_kitchen_ingest.py).
+Hand-made sightings check the rules exactly (the existence test: test_existence.py beside this).
 """
 from __future__ import annotations
 
@@ -10,7 +9,7 @@ import pytest
 
 from sg3d.core.model import HIST_SIZE
 from sg3d.ingest.detect.models import Detection
-from sg3d.ingest.objects import existence, fusion
+from sg3d.ingest.objects import fusion
 from sg3d.ingest.objects.attributes import ObjectAttributes
 
 
@@ -57,43 +56,6 @@ def test_label_evidence_accumulates_so_the_repeated_label_wins():
     s += [_sighting(i, "book", (0, 0, 0), (0.3, 0.2, 0.05), score=0.5, labels=["book", "tv"]) for i in range(1, 5)]
     hyp = fusion.consolidate(fusion.associate(s))
     assert len(hyp) == 1 and hyp[0].label == "book"
-
-
-# --------------------------------------------------------------------------- existence
-
-def test_existence_probability_is_bayes_over_two_binomials():
-    k, n, pr, pf = 2, 10, 0.25, 0.10
-    real, false = pr ** k * (1 - pr) ** (n - k), pf ** k * (1 - pf) ** (n - k)
-    expected = real / (real + false)
-    assert existence.existence_probability(k, n, pr, pf, 0.5) == pytest.approx(expected)
-    # more detections among the same views, more belief; more silent views, less
-    assert existence.existence_probability(5, 10) > existence.existence_probability(2, 10)
-    assert existence.existence_probability(2, 40) < existence.existence_probability(2, 10)
-
-
-def test_size_prior_relabels_or_rejects():
-    assert existence.plausible_labels(["cell phone", "book"], [0.4, 0.2], (0.45, 0.36, 0.1)) == (["book"], [0.2])
-    assert existence.plausible_labels(["cup"], [0.5], (1.5, 0.9, 0.8)) == ([], [])
-    # what is left after the prior is a faint guess, not a reading of the object: rejected
-    box = (0.36, 0.46, 0.1)
-    assert existence.plausible_labels(["cell phone", "remote", "book"], [0.28, 0.10, 0.09], box) == ([], [])
-    assert existence.plausible_labels(["cell phone", "remote", "book"], [0.28, 0.10, 0.14], box) == (["book"], [0.14])
-    assert existence.size_plausible("chair", (0.5, 0.5, 0.9))
-
-
-def test_size_prior_allows_for_the_percentile_box():
-    """A table at the smallest plausible size, its points spread evenly, measures less than that
-    size between the box percentiles; the prior still lets it be a table, not a much smaller box,
-    and the upper bound stays the class's own."""
-    from sg3d.ingest.objects.attributes import BOX_HIGH_PERCENTILE, BOX_LOW_PERCENTILE
-
-    smallest, largest = existence.class_sizes()["dining table"]
-    along = np.linspace(0.0, smallest, 2001)
-    measured = float(np.percentile(along, BOX_HIGH_PERCENTILE) - np.percentile(along, BOX_LOW_PERCENTILE))
-    assert measured < smallest
-    assert existence.size_plausible("dining table", (measured, 0.3, 0.4))
-    assert not existence.size_plausible("dining table", (0.8 * smallest, 0.3, 0.4))
-    assert not existence.size_plausible("dining table", (largest * 1.01, 0.3, 0.4))
 
 
 def test_fuse_labels_means_over_all_detections():
@@ -161,16 +123,6 @@ def test_a_part_read_as_another_label_folds_into_the_whole_only_when_seen_apart(
     assert fusion.part_read_as_other(fusion.Hypothesis(1, corner), fusion.Hypothesis(0, tv))
 
 
-def test_an_object_only_tiles_named_though_big_enough_for_the_full_frame_is_a_tile_artefact():
-    def det(side, full):
-        return Detection((10, 10, 10 + side, 10 + side * 0.6), ["laptop"], [0.4], full)
-
-    assert existence.tile_artefact([det(200, False), det(180, False), det(150, False)])
-    assert not existence.tile_artefact([det(200, False), det(180, True)])      # the full frame named it once
-    assert not existence.tile_artefact([det(90, False), det(60, False)])       # small: what tiles are for
-    assert not existence.tile_artefact([])
-
-
 def test_same_label_hypotheses_never_seen_together_that_share_space_are_one_object():
     """A TV seen from one side with the wall behind it in its box, and later from the other side
     with a wider box: the centres lie beyond the gate, but never in one frame and a quarter of
@@ -181,3 +133,101 @@ def test_same_label_hypotheses_never_seen_together_that_share_space_are_one_obje
     assert len(hyps) == 1 and hyps[0].n_frames == 12
     together = [_sighting(i, "tv", (0.67, -0.08, 0.0), (0.78, 0.08, 0.40)) for i in range(0, 6)]
     assert len(fusion.consolidate(fusion.associate(first + together))) == 2
+
+
+# --------------------------------------------------------------------------- each threshold, on both sides
+
+def _n_objects(sightings) -> int:
+    return len(fusion.associate(sightings))
+
+
+def test_small_things_join_within_25_cm():                       # ASSOC_MAX_DISTANCE
+    cup = (0.1, 0.1, 0.1)
+    assert _n_objects([_sighting(0, "cup", (0, 0, 0), cup), _sighting(1, "cup", (0.24, 0, 0), cup)]) == 1
+    assert _n_objects([_sighting(0, "cup", (0, 0, 0), cup), _sighting(1, "cup", (0.26, 0, 0), cup)]) == 2
+
+
+def test_big_things_join_within_half_their_extent():             # ASSOC_EXTENT_FRACTION (a 1 m bench: 50 cm)
+    bench = (1.0, 0.2, 0.2)
+    assert _n_objects([_sighting(0, "bench", (0, 0, 0), bench), _sighting(1, "bench", (0, 0.48, 0), bench)]) == 1
+    assert _n_objects([_sighting(0, "bench", (0, 0, 0), bench), _sighting(1, "bench", (0, 0.52, 0), bench)]) == 2
+
+
+def test_another_best_label_costs_half_a_gate():                 # LABEL_MISMATCH_COST (gate 25 cm: 12.5 cm)
+    def joined(bench_x: float) -> int:
+        """The hypothesis a "bench" (listing "chair") 2 cm from a "chair" joins, with the bench at x."""
+        first = [_sighting(0, "chair", (0, 0, 0), (0.1,) * 3, labels=["chair", "bench"]),
+                 _sighting(0, "bench", (bench_x, 0, 0), (0.1,) * 3)]
+        seen = _sighting(1, "bench", (0.02, 0, 0), (0.1,) * 3, labels=["bench", "chair"])
+        return next(h.hid for h in fusion.associate(first + [seen]) if 1 in h.frames)
+    assert joined(0.15) == 1          # the bench is 11 cm farther than the chair: the same label wins
+    assert joined(0.18) == 0          # 14 cm farther: the chair, though named otherwise
+
+
+def test_a_second_box_over_half_inside_another_in_one_frame_is_a_duplicate():   # PART_OVERLAP
+    whole = _sighting(0, "chair", (0, 0, 0), (0.5, 0.5, 0.9), score=0.9)
+
+    def part(x):                                        # a 40 cm cube reaching past the chair's side
+        return _sighting(0, "chair", (x, 0, 0), (0.4, 0.4, 0.4), score=0.4)
+    assert fusion.suppress_duplicates([whole, part(0.23)]) == [whole]     # 55 % of it inside
+    assert len(fusion.suppress_duplicates([whole, part(0.27)])) == 2      # 45 %
+
+
+def _apart(shift: float, first=range(0, 6), later=range(10, 16)):
+    """A 50 cm TV seen in `first` frames and one `shift` further along x in `later` frames."""
+    size = (0.5, 0.1, 0.4)
+    return ([_sighting(i, "tv", (0.25, 0, 0), size) for i in first]
+            + [_sighting(i, "tv", (0.25 + shift, 0, 0), size) for i in later])
+
+
+def test_hypotheses_seen_apart_fold_when_they_share_a_quarter_of_the_smaller_box():   # APART_OVERLAP
+    assert len(fusion.associate(_apart(0.35))) == 2                               # beyond the gate
+    assert len(fusion.consolidate(fusion.associate(_apart(0.35)))) == 1           # 30 % shared
+    assert len(fusion.consolidate(fusion.associate(_apart(0.40)))) == 2           # 20 %
+
+
+def test_hypotheses_seen_together_in_a_tenth_of_their_frames_are_still_apart():   # MAX_SHARED_FRAMES
+    def objects(shared: int) -> int:
+        return len(fusion.consolidate(fusion.associate(
+            _apart(0.35, range(0, 20), range(20 - shared, 40 - shared)))))
+    assert objects(2) == 1            # 2 of 20 frames together
+    assert objects(3) == 2            # 3 of 20
+
+
+def test_a_part_named_otherwise_folds_when_70_percent_of_it_lies_inside_the_whole():   # NESTED_OVERLAP
+    tv = fusion.Hypothesis(0, [_sighting(i, "tv", (0, 0, 0), (0.7, 0.2, 0.45)) for i in range(10, 16)])
+
+    def corner(x):                  # a 40 cm "book" (listing "tv") reaching past the TV's side
+        return fusion.Hypothesis(1, [_sighting(i, "book", (x, 0, 0), (0.4, 0.15, 0.4), labels=["book", "tv"])
+                                     for i in range(0, 5)])
+    assert fusion.part_read_as_other(corner(0.25), tv)          # 75 % inside
+    assert not fusion.part_read_as_other(corner(0.29), tv)      # 65 %
+
+
+def test_a_hypothesis_box_spans_the_20th_to_80th_percentile_of_its_sightings():   # BOX_LOW/HIGH_PERCENTILE
+    hyp = fusion.Hypothesis(0, [_sighting(i, "cup", (0.1 * i, 0, 0), (0.1, 0.1, 0.1)) for i in range(10)])
+    # lower bounds -0.05 .. 0.85, upper bounds 0.05 .. 0.95 in steps of 0.1
+    assert hyp.lo[0] == pytest.approx(0.13) and hyp.hi[0] == pytest.approx(0.77)
+
+
+def _table_views(n: int, reaching: int, width: float = 1.2):
+    """n views of a table top `width` wide, `reaching` of them also seeing 1 m more of it."""
+    views = [_sighting(i, "dining table", (0, 0, 0.72), (width, 0.3, 0.05)) for i in range(n - reaching)]
+    views += [_sighting(n - reaching + i, "dining table", (0.5, 0, 0.72), (width + 1.0, 0.3, 0.05))
+              for i in range(reaching)]
+    return fusion.Hypothesis(0, views)
+
+
+def test_the_object_box_reaches_as_far_as_three_views_agree():     # BOX_SUPPORT
+    assert fusion.object_box(_table_views(20, 3))[1][0] == pytest.approx(1.6)
+    assert fusion.object_box(_table_views(20, 2))[1][0] == pytest.approx(0.6)
+
+
+def test_of_many_views_five_percent_must_agree():                  # BOX_SUPPORT_FRACTION
+    assert fusion.object_box(_table_views(100, 5))[1][0] == pytest.approx(1.6)
+    assert fusion.object_box(_table_views(100, 4))[1][0] == pytest.approx(0.6)
+
+
+def test_only_objects_half_a_metre_wide_are_seen_in_parts():       # PART_VIEW_MIN_EXTENT
+    assert fusion.object_box(_table_views(20, 3, width=0.52))[1][0] == pytest.approx(0.26 + 0.5 + 0.5)
+    assert fusion.object_box(_table_views(20, 3, width=0.48))[1][0] == pytest.approx(0.24)

@@ -85,3 +85,23 @@ def test_blurred_frame_in_a_sharp_stream_is_rejected():
     d = abir.update(blurred)
     assert d.blurry and d.variance < d.threshold
     assert not abir.update(base).blurry
+
+
+# --------------------------------------------------------------------------- the defaults, on both sides
+
+def test_the_default_threshold_is_10_ln_1_plus_s_plus_25():  # DEFAULT_GAIN, DEFAULT_ALPHA, DEFAULT_OFFSET
+    abir = ABIR()
+    first = abir.update_variance(100.0)
+    assert first.threshold == pytest.approx(10 * math.log(101) + 25)   # 71.15: V = 100 is sharp
+    assert not first.blurry
+    # S_2 = 0.9 * 10 + 0.1 * 60 = 15, S'_2 = 15 / 0.19: threshold 69.03, so V = 60 is blurry
+    second = abir.update_variance(60.0)
+    assert second.threshold == pytest.approx(10 * math.log(1 + 15 / 0.19) + 25)
+    assert second.blurry
+    # a first frame is judged against its own V: 75 clears 10 ln 76 + 25 = 68.3, 60 misses 66.1
+    assert not ABIR().update_variance(75.0).blurry and ABIR().update_variance(60.0).blurry
+
+
+def test_the_papers_gain_is_30():                                     # PAPER_GAIN
+    # the printed Eq. 2 starts S_1 = V_1, so S'_1 = V_1 / (1 - 0.9) = 1000
+    assert ABIR.paper().update_variance(100.0).threshold == pytest.approx(30 * math.log(1001) + 25)

@@ -200,3 +200,31 @@ def test_whole_sequence_placement_overrules_a_voted_beside_and_fills_silence():
     # an inverse pair arrives whole: one statement, both of its edges
     both = as_set(with_whole_geometry([], [Rel("tv", "ABOVE", "shelf", 0.7), Rel("shelf", "BELOW", "tv", 0.7)]))
     assert both == {("tv", "ABOVE", "shelf"), ("shelf", "BELOW", "tv")}
+
+
+# --------------------------------------------------------------------------- each threshold, on both sides
+
+def _frames(on: int, under: int, silent: int = 0):
+    """Frames stating the cup ON the table, frames stating it UNDER, frames stating nothing."""
+    return [[Rel("cup", "ON", "table", 0.9)]] * on + [[Rel("cup", "UNDER", "table", 0.9)]] * under + [[]] * silent
+
+
+def test_a_side_is_kept_when_it_holds_in_60_percent_of_the_frames_that_stated_one():   # VOTE_MAJORITY
+    assert as_set(vote_relations(_frames(13, 7))) == {("cup", "ON", "table")}           # 65 %
+    assert vote_relations(_frames(11, 9)) == []                                          # 55 %
+
+
+def test_a_relation_must_hold_in_a_quarter_of_the_frames_that_saw_the_pair():   # VOTE_MIN_SUPPORT
+    seen_together = {("cup", "table"): 20}
+    assert as_set(vote_relations(_frames(6, 0, 14), seen_together)) == {("cup", "ON", "table")}   # 30 %
+    assert vote_relations(_frames(4, 0, 16), seen_together) == []                                # 20 %
+
+
+def test_the_prior_keeps_relations_of_probability_one_half_and_more():   # RELATION_PROB_THRESHOLD
+    labels, positions = {"c": "cup", "t": "dining table"}, {"c": (0, 0, 1), "t": (0, 0, 0)}
+
+    def kept(pr):
+        prior = RelationPrior({}, default=PriorEntry(pr))
+        return as_set(filter_relations([Rel("c", "ON", "t")], labels, positions, prior))
+    assert kept(0.52) == {("c", "ON", "t")}
+    assert kept(0.48) == set()

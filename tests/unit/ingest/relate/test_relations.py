@@ -338,3 +338,194 @@ def test_a_chair_beyond_the_floor_seen_stands_on_the_floor():
     # a picture on the wall is over the floor's footprint too, but does not rest on it
     picture = ObjectGeometry("picture", "object", (0.0, 1.5, 1.5), (0.4, 0.02, 0.3))
     assert ("picture", "ON", "floor") not in rels([floor_under_room(floor, [chair, picture], UP), picture])
+
+
+# --------------------------------------------------------------------------- each threshold, on both sides
+# Literal distances just inside and just outside today's thresholds (ON_TOLERANCE 8 cm, NEAR_MAX_GAP
+# 1 m, ...): moving a threshold substantially moves one of them across it.
+
+def box(local_id, label, lo, hi):
+    """An ObjectGeometry from its corners (x, y, z up)."""
+    lo, hi = np.asarray(lo, float), np.asarray(hi, float)
+    return ObjectGeometry(local_id, label, tuple((lo + hi) / 2), tuple(hi - lo))
+
+
+def on_table(bottom, x=(0.0, 0.1), top=None, label="cup"):
+    """A 10 cm cup over the table (top 0.75 m, 0.75 m tall) with its bottom at `bottom`."""
+    return box("cup", label, (x[0], 0.0, bottom), (x[1], 0.1, top if top is not None else bottom + 0.1))
+
+
+def flat_table():
+    return box("table", "dining table", (-0.8, -0.45, 0.0), (0.8, 0.45, 0.75))
+
+
+def test_on_allows_a_gap_of_under_8_cm():                      # ON_TOLERANCE
+    assert ("cup", "ON", "table") in rels([flat_table(), on_table(0.75 + 0.07)])
+    r = rels([flat_table(), on_table(0.75 + 0.09)])
+    assert ("cup", "ON", "table") not in r and ("cup", "ABOVE", "table") in r
+
+
+def test_on_allows_sinking_a_fifth_of_the_supports_height():  # ON_PENETRATION_FRACTION (0.2 x 0.75 m = 15 cm)
+    assert ("cup", "ON", "table") in rels([flat_table(), on_table(0.75 - 0.14, top=0.95)])
+    assert ("cup", "ON", "table") not in rels([flat_table(), on_table(0.75 - 0.16, top=0.95)])
+
+
+def test_on_needs_half_the_footprint_over_the_support():      # ON_MIN_FOOTPRINT_OVERLAP
+    # the table ends at x = 0.8; the 10 cm cup reaches 5.5 cm or 4.5 cm over it
+    assert ("cup", "ON", "table") in rels([flat_table(), on_table(0.75, x=(0.745, 0.845))])
+    assert ("cup", "ON", "table") not in rels([flat_table(), on_table(0.75, x=(0.755, 0.855))])
+
+
+def test_a_flat_thing_filling_a_slab_is_on_it_only_when_the_slab_is_4x_its_footprint():
+    # PILE_BASE_FOOTPRINT_RATIO: a 1 m^2 slab (0.72-0.79 m), a magazine measured into it from below
+    slab = box("table", "dining table", (-0.5, -0.5, 0.72), (0.5, 0.5, 0.79))
+
+    def magazine(side):
+        return box("mag", "book", (-side / 2, -side / 2, 0.715), (side / 2, side / 2, 0.755))
+    assert ("mag", "ON", "table") in rels([slab, magazine(0.4939)])      # slab = 4.1 x its footprint
+    assert ("mag", "ON", "table") not in rels([slab, magazine(0.5064)])  # slab = 3.9 x
+
+
+def test_a_thing_on_a_pile_is_on_the_furniture_under_it_only_when_that_is_4x_the_item_it_touches():
+    # PILE_BASE_FOOTPRINT_RATIO in `_drop_pile_middles`: a book on a magazine on a board
+    mag = box("m", "magazine", (-0.15, -0.1, 0.75), (0.15, 0.1, 0.77))     # 0.06 m^2
+    book = box("b", "book", (-0.1, -0.08, 0.77), (0.1, 0.08, 0.80))
+
+    def board(area):                                                      # 2 cm thick, square
+        s = area ** 0.5 / 2
+        return box("t", "shelf", (-s, -s, 0.73), (s, s, 0.75))
+    assert ("b", "ON", "t") in rels([board(0.06 * 4.2), mag, book])
+    r = rels([board(0.06 * 3.8), mag, book])
+    assert ("b", "ON", "m") in r and ("b", "ON", "t") not in r
+
+
+def test_above_reaches_up_to_2_m():                             # ABOVE_MAX_GAP
+    shelf = box("shelf", "shelf", (-0.5, -0.2, 0.0), (0.5, 0.2, 0.05))
+
+    def lamp(gap):
+        return box("lamp", "lamp", (-0.1, -0.1, 0.05 + gap), (0.1, 0.1, 0.25 + gap))
+    assert ("lamp", "ABOVE", "shelf") in rels([shelf, lamp(1.95)])
+    assert ("lamp", "ABOVE", "shelf") not in rels([shelf, lamp(2.05)])
+
+
+def test_a_thing_hanging_below_reaches_up_to_2_m():             # ABOVE_MAX_GAP in UNDER
+    shelf = box("shelf", "shelf", (-0.5, -0.2, 2.5), (0.5, 0.2, 2.55))
+
+    def box_below(gap):
+        return box("box", "suitcase", (-0.1, -0.1, 2.3 - gap), (0.1, 0.1, 2.5 - gap))
+    assert ("box", "UNDER", "shelf") in rels([shelf, box_below(1.95)])
+    assert ("box", "UNDER", "shelf") not in rels([shelf, box_below(2.05)])
+
+
+def test_above_needs_half_the_smaller_footprint_over_the_other():   # VERTICAL_MIN_FOOTPRINT_OVERLAP
+    shelf = box("shelf", "shelf", (-0.5, -0.2, 0.0), (0.5, 0.2, 0.05))
+
+    def lamp(x0):                                                       # 20 cm wide, 0.5 m up
+        return box("lamp", "lamp", (x0, -0.1, 0.55), (x0 + 0.2, 0.1, 0.75))
+    assert ("lamp", "ABOVE", "shelf") in rels([shelf, lamp(0.39)])      # 55 % over the shelf
+    assert ("lamp", "ABOVE", "shelf") not in rels([shelf, lamp(0.41)])  # 45 %
+
+
+def test_under_allows_the_lower_thing_to_rise_8_cm_above_the_top():   # UNDER_TOP_TOLERANCE
+    table = box("table", "dining table", (-0.8, -0.45, 0.1), (0.8, 0.45, 0.85))   # seen down to 10 cm
+
+    def stool(top):
+        return box("stool", "chair", (-0.2, -0.2, 0.0), (0.2, 0.2, top))
+    assert ("stool", "UNDER", "table") in rels([table, stool(0.85 + 0.07)])
+    assert ("stool", "UNDER", "table") not in rels([table, stool(0.85 + 0.09)])
+
+
+def test_side_by_side_needs_bottoms_within_15_cm():            # BASE_TOLERANCE
+    a = box("a", "book", (0.0, 0.0, 0.5), (0.2, 0.2, 0.8))
+
+    def b(bottom):
+        return box("b", "book", (0.25, 0.0, bottom), (0.45, 0.2, bottom + 0.3))
+    assert ("a", "NEXT_TO", "b") in rels([a, b(0.5 + 0.14)])
+    assert ("a", "NEXT_TO", "b") not in rels([a, b(0.5 + 0.16)])
+
+
+def test_in_needs_60_percent_inside():                          # IN_MIN_INSIDE_FRACTION
+    bowl = box("bowl", "bowl", (-0.1, -0.1, 0.75), (0.1, 0.1, 0.85))
+
+    def spoon(inside):                                           # 20 cm long, `inside` of it in the bowl
+        x0 = 0.1 - inside * 0.2
+        return box("spoon", "spoon", (x0, -0.015, 0.78), (x0 + 0.2, 0.015, 0.81))
+    assert ("spoon", "IN", "bowl") in rels([bowl, spoon(0.65)])
+    assert ("spoon", "IN", "bowl") not in rels([bowl, spoon(0.55)])
+
+
+def test_side_by_side_allows_a_footprint_overlap_of_90_percent():   # NEXT_TO_MAX_FOOTPRINT_OVERLAP
+    a = box("a", "chair", (0.0, 0.0, 0.0), (0.5, 0.5, 0.9))
+
+    def b(overlap):
+        x0 = 0.5 * (1 - overlap)
+        return box("b", "chair", (x0, 0.0, 0.0), (x0 + 0.5, 0.5, 0.9))
+    assert ("a", "NEXT_TO", "b") in rels([a, b(0.85)])
+    assert ("a", "NEXT_TO", "b") not in rels([a, b(0.95)])
+
+
+def test_a_cup_touching_the_edge_of_a_half_metre_support_is_left_to_other_views():   # SUPPORT_MIN_SIDE
+    def board(width):                                            # 30 cm deep, top at 0.75
+        return box("board", "shelf", (-width, 0.0, 0.71), (0.0, 0.3, 0.75))
+    cup_beside = box("cup", "cup", (0.05, 0.1, 0.75), (0.13, 0.18, 0.85))   # 5 cm off its edge
+    assert not any({k[0], k[2]} == {"cup", "board"} for k in rels([board(0.52), cup_beside]))
+    assert ("board", "NEXT_TO", "cup") in rels([board(0.48), cup_beside])
+
+
+def _pair(side, gap, label="book"):
+    """Two `side`-square boxes on one level, `gap` apart along x."""
+    return [box("a", label, (0.0, 0.0, 0.0), (side, side, 0.2)),
+            box("b", label, (side + gap, 0.0, 0.0), (2 * side + gap, side, 0.2))]
+
+
+def test_small_things_are_next_to_each_other_within_10_cm():    # NEXT_TO_MIN_GAP
+    assert ("a", "NEXT_TO", "b") in rels(_pair(0.08, 0.09, "cup"))
+    r = rels(_pair(0.08, 0.11, "cup"))
+    assert ("a", "NEXT_TO", "b") not in r and ("a", "NEAR", "b") in r
+
+
+def test_next_to_allows_one_mean_side_of_gap():                 # NEXT_TO_GAP_FRACTION
+    assert ("a", "NEXT_TO", "b") in rels(_pair(0.3, 0.28))
+    assert ("a", "NEXT_TO", "b") not in rels(_pair(0.3, 0.32))
+
+
+def test_big_things_are_next_to_each_other_within_60_cm():      # NEXT_TO_MAX_GAP
+    assert ("a", "NEXT_TO", "b") in rels(_pair(1.0, 0.58))
+    assert ("a", "NEXT_TO", "b") not in rels(_pair(1.0, 0.62))
+
+
+def test_near_reaches_at_least_40_cm():                         # NEAR_MIN_GAP
+    assert ("a", "NEAR", "b") in rels(_pair(0.08, 0.38, "cup"))
+    assert not rels(_pair(0.08, 0.42, "cup"))
+
+
+def test_near_reaches_half_the_larger_objects_extent():         # NEAR_SIZE_FRACTION (1.4 m: 70 cm)
+    def pair(gap):
+        return [box("a", "couch", (0.0, 0.0, 0.0), (1.4, 0.8, 0.8)),
+                box("b", "box", (1.4 + gap, 0.0, 0.0), (1.6 + gap, 0.2, 0.2))]
+    assert ("a", "NEAR", "b") in rels(pair(0.67))
+    assert not any(k[1] == "NEAR" for k in rels(pair(0.73)))
+
+
+def test_near_reaches_no_farther_than_1_m():                    # NEAR_MAX_GAP (a 2.4 m bed)
+    def pair(gap):
+        return [box("a", "bed", (0.0, 0.0, 0.0), (2.4, 1.6, 0.5)),
+                box("b", "box", (2.4 + gap, 0.0, 0.0), (2.6 + gap, 0.2, 0.2))]
+    assert ("a", "NEAR", "b") in rels(pair(0.95))
+    assert not any(k[1] == "NEAR" for k in rels(pair(1.05)))
+
+
+def test_bigger_means_half_as_big_again():                      # BIGGER_VOLUME_RATIO
+    def cups(ratio):
+        return [box("c1", "cup", (0.0, 0.0, 0.0), (0.1, 0.1, 0.1 * ratio)),
+                box("c2", "cup", (2.0, 0.0, 0.0), (2.1, 0.1, 0.1))]
+    assert ("c1", "BIGGER_THAN", "c2") in rels(cups(1.55))
+    assert not any(k[1] == "BIGGER_THAN" for k in rels(cups(1.45)))
+
+
+def test_boxes_thinner_than_2_cm_are_padded_to_2_cm():           # MIN_EXTENT
+    def sheets(t1, t2):                                          # two same-label sheets far apart
+        return [box("p1", "paper", (0.0, 0.0, 0.0), (0.3, 0.2, t1)),
+                box("p2", "paper", (3.0, 0.0, 0.0), (3.3, 0.2, t2))]
+    assert not any(k[1] == "BIGGER_THAN" for k in rels(sheets(0.015, 0.001)))   # both read 2 cm
+    assert ("p1", "BIGGER_THAN", "p2") in rels(sheets(0.031, 0.019))            # 3.1 cm vs 2 cm

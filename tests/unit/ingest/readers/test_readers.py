@@ -39,10 +39,10 @@ def test_7scenes_default_registration_shifts_depth(tmp_path):
     # colour pixel u reads depth pixel u + 5
     np.testing.assert_array_equal(shifted.depth[10, 10:50], plain.depth[10, 15:55])
     assert np.all(shifted.depth[10, W - 5:] == 0)  # beyond the depth image: invalid
-    default = open_sequence(root).frame(0)  # 7-Scenes default: scale 1.09 about (cx, cy), offset (5, 1)
+    kinect = open_sequence(root, registration=Registration.kinect_v1()).frame(0)  # scale 1.09 about (cx, cy), offset (5, 1)
     u = 40
     u_d = round(K[0, 2] + 1.09 * (u - K[0, 2]) + 5)
-    assert default.depth[20, u] == pytest.approx(plain.depth[20, u_d])
+    assert kinect.depth[20, u] == pytest.approx(plain.depth[20, u_d])
 
 
 def test_lazy_frames_decode_on_access_and_count_bad_depth(tmp_path):

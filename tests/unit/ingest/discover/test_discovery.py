@@ -1,0 +1,177 @@
+"""Screens in view, left out of an object's surround: their boxes reach the border they were cut by."""
+from __future__ import annotations
+
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+from sg3d.ingest.discover.discovery import screens_in_view
+from sg3d.ingest.discover.room_cloud import RoomCloud
+
+
+def _camera_at_origin():
+    K = np.array([[500.0, 0, 320], [0, 500.0, 240], [0, 0, 1]])
+    return SimpleNamespace(pose=np.eye(4), K=K, size=(640, 480))
+
+
+def test_a_screen_box_that_stops_just_short_of_the_border_runs_to_it():
+    view = _camera_at_origin()
+    cloud = RoomCloud(np.zeros((0, 3)), np.zeros((0, 3)), np.zeros(0, int), np.eye(3), 0.0, [view])
+    # 2 m ahead: x from 0.2 to 1.16 m projects to u 370..610 (the image ends at 640)
+    near_border = (np.array([0.2, -0.3, 2.0]), np.array([1.16, 0.1, 2.05]))
+    inside = (np.array([-0.6, -0.3, 2.0]), np.array([-0.2, 0.1, 2.05]))
+    (a, b) = screens_in_view([near_border, inside], cloud, view)
+    assert a[2] == 640 and 360 <= a[0] <= 380
+    assert 160 <= b[0] <= 175 and 265 <= b[2] <= 275      # well inside: kept as measured
+
+
+# --------------------------------------------------------------------------- each threshold, on both sides
+
+def _surface(x_hi: float = 1.0, height: float = 0.75, label: str = "surface"):
+    """A horizontal surface at `height` over [0, x_hi] x [0, 1] (footprint cells of 5 cm)."""
+    from sg3d.ingest.discover.structure import Element
+
+    cells = (int(round(x_hi / 0.05)), 20)
+    return Element(label, np.array([0.0, 0.0, height - 0.03]), np.array([x_hi, 1.0, height]), 100, 3,
+                   height, np.ones(cells, bool), np.array([0.0, 0.0]))
+
+
+def _segment(voxels, frames=(0,)):
+    from sg3d.ingest.discover.segments import Segment
+
+    v = np.asarray(voxels, float)
+    return Segment(v, v.min(axis=0) - 0.0125, v.max(axis=0) + 0.0125, np.array(frames, int))
+
+
+TABLE_LO, TABLE_HI = np.array([0.0, 0.0, 0.0]), np.array([1.0, 1.0, 0.75])
+
+
+def test_a_table_owns_a_surface_covering_half_its_footprint():       # OWN_FOOTPRINT_SHARE
+    from sg3d.ingest.discover.discovery import owned_surface
+
+    assert owned_surface(TABLE_LO, TABLE_HI, [_surface(0.55)]) is not None
+    assert owned_surface(TABLE_LO, TABLE_HI, [_surface(0.45)]) is None
+
+
+def test_a_table_owns_a_surface_within_15_cm_of_its_box():           # TOP_TOLERANCE_M
+    from sg3d.ingest.discover.discovery import owned_surface
+
+    assert owned_surface(TABLE_LO, TABLE_HI, [_surface(height=0.75 + 0.14)]) is not None
+    assert owned_surface(TABLE_LO, TABLE_HI, [_surface(height=0.75 + 0.16)]) is None
+
+
+def _voxels_in_box(inside: int, n: int = 100):
+    """n voxels on a line, `inside` of them within the unit box, the rest beyond x = 1."""
+    xs = [0.5] * inside + [1.5] * (n - inside)
+    return _segment([(x, 0.5, 0.5 + 0.001 * k) for k, x in enumerate(xs)])
+
+
+def test_a_segment_is_a_named_objects_with_half_its_voxels_in_its_box():   # NAMED_SHARE
+    from sg3d.ingest.discover.discovery import named_by
+
+    unit = (np.zeros(3), np.ones(3))
+    assert named_by(_voxels_in_box(55), [unit])
+    assert not named_by(_voxels_in_box(45), [unit])
+
+
+def test_a_named_objects_box_is_grown_by_2_cm():                      # NAMED_MARGIN_M
+    from sg3d.ingest.discover.discovery import named_by
+
+    unit = (np.zeros(3), np.ones(3))
+    assert named_by(_segment([(1.019, 0.5, 0.5 + 0.01 * k) for k in range(10)]), [unit])
+    assert not named_by(_segment([(1.021, 0.5, 0.5 + 0.01 * k) for k in range(10)]), [unit])
+
+
+def _wall_x1():
+    from sg3d.ingest.discover.structure import Element
+
+    return Element("front", np.zeros(3), np.ones(3), 1000, 3, plane=(0.0, 1.0))   # the plane x = 1
+
+
+def _relief(offsets):
+    """Voxels at the given offsets from the plane x = 1."""
+    return _segment([(1.0 + off, 0.1 * k, 0.5) for k, off in enumerate(offsets)])
+
+
+def test_a_relief_within_7_cm_of_a_plane_is_part_of_it():              # REMNANT_DISTANCE_M
+    from sg3d.ingest.discover.discovery import plane_remnant
+
+    assert plane_remnant(_relief([0.065] * 10), [_wall_x1()])
+    assert not plane_remnant(_relief([0.075] * 10), [_wall_x1()])
+
+
+def test_a_relief_up_to_12_cm_thick_is_part_of_the_plane():            # REMNANT_THICKNESS_M
+    from sg3d.ingest.discover.discovery import plane_remnant
+
+    assert plane_remnant(_relief([-0.055, 0.055] * 5), [_wall_x1()])
+    assert not plane_remnant(_relief([-0.065, 0.065] * 5), [_wall_x1()])
+
+
+def _flat_piece(top: float, thickness: float):
+    from sg3d.ingest.discover.segments import Segment
+
+    return Segment(np.zeros((12, 3)), np.array([0.0, 0.0, top - thickness]), np.array([0.5, 0.5, top]), np.array([0]))
+
+
+def test_a_piece_on_the_floor_up_to_10_cm_high_is_floor():             # FLOOR_REMNANT_TOP_M
+    from sg3d.ingest.discover.discovery import floor_remnant
+
+    assert floor_remnant(_flat_piece(0.095, 0.05))
+    assert not floor_remnant(_flat_piece(0.105, 0.05))
+
+
+def test_a_piece_on_the_floor_up_to_6_cm_thick_is_floor():             # FLOOR_REMNANT_THICKNESS_M
+    from sg3d.ingest.discover.discovery import floor_remnant
+
+    assert floor_remnant(_flat_piece(0.08, 0.055))
+    assert not floor_remnant(_flat_piece(0.08, 0.065))
+
+
+def test_a_segment_rests_on_a_surface_within_5_cm_of_its_level():      # RESTING_M
+    from sg3d.ingest.discover.discovery import resting_on
+    from sg3d.ingest.discover.segments import Segment
+
+    def at(bottom):
+        return Segment(np.zeros((12, 3)), np.array([0.4, 0.4, bottom]), np.array([0.6, 0.6, bottom + 0.1]), np.array([0]))
+    assert resting_on(at(0.75 + 0.045), [_surface()])
+    assert not resting_on(at(0.75 + 0.055), [_surface()])
+
+
+@pytest.mark.parametrize("size,word", [
+    ((1.0, 0.5, 0.24), "flat"), ((1.0, 0.5, 0.26), None),              # FLAT_RATIO
+    ((0.3, 0.2, 0.61), "tall"), ((0.3, 0.2, 0.59), None),              # TALL_RATIO
+    ((0.4, 0.3, 0.74), "box-shaped"), ((0.4, 0.3, 0.76), None),        # BOX_RATIO
+])
+def test_shape_words(size, word):
+    from sg3d.ingest.discover.discovery import shape_word
+
+    assert shape_word(size) == word
+
+
+def test_an_unnamed_object_has_a_1_cm_position_spread_at_least_and_32_surface_points():
+    # VOXEL_VAR_FLOOR, SURFACE_SAMPLE: 100 voxels on a horizontal plane
+    from sg3d.ingest.discover.discovery import unnamed_object
+
+    grid = [(0.025 * i, 0.025 * j, 0.8) for i in range(10) for j in range(10)]
+    cloud = RoomCloud(np.zeros((0, 3)), np.zeros((0, 3)), np.zeros(0, int), np.eye(3), 0.0, [])
+    obs = unnamed_object("u0", _segment(grid, frames=()), cloud, lambda index: None)
+    assert obs.var[2] == pytest.approx(0.01 ** 2)
+    assert len(obs.surface) == 32 * 3
+
+
+def test_a_screen_box_6_percent_from_the_border_is_kept_as_measured():   # SCREEN_BORDER_SHARE
+    view = _camera_at_origin()
+    cloud = RoomCloud(np.zeros((0, 3)), np.zeros((0, 3)), np.zeros(0, int), np.eye(3), 0.0, [view])
+    # 2 m ahead: x up to 1.12 m projects to u = 600, 40 px (6 %) from the border
+    (box,) = screens_in_view([(np.array([0.2, -0.3, 2.0]), np.array([1.12, 0.1, 2.05]))], cloud, view)
+    assert 598 <= box[2] <= 602
+
+
+def test_a_voxel_marks_a_disc_of_12_5_mm_radius():                    # VOXEL_DISC_M
+    from sg3d.ingest.discover.discovery import segment_reading
+
+    image = np.full((480, 640, 3), 120, np.uint8)
+    one = segment_reading(np.array([320.0]), np.array([240.0]), np.array([1.0]), _camera_at_origin(), image,
+                          (300, 220, 340, 260))
+    assert one.n == 113            # 1 m away at f = 500 px: a disc of radius 6 px

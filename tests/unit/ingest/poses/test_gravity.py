@@ -1,0 +1,90 @@
+"""The room's up and floor (`sg3d.ingest.poses.gravity`) from hand-rendered depth: cameras above planes."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from sg3d.ingest.poses.gravity import depth_normals, estimate_gravity
+from sg3d.ingest.readers.frames import Frame
+
+FLOOR = ((0.0, 0.0, 1.0), 0.0, None)
+
+
+def camera(pitch_deg: float, height: float) -> np.ndarray:
+    """An OpenCV camera (x right, y down, z ahead) `height` above the floor at the origin, looking
+    along world +y, pitched down by `pitch_deg` (world z is up)."""
+    p = np.radians(pitch_deg)
+    pose = np.eye(4)
+    pose[:3, 0] = (1, 0, 0)
+    pose[:3, 1] = (0, -np.sin(p), -np.cos(p))
+    pose[:3, 2] = (0, np.cos(p), -np.sin(p))
+    pose[:3, 3] = (0, 0, height)
+    return pose
+
+
+def frame(pose: np.ndarray, planes, size=(160, 120), f: float = 120.0) -> Frame:
+    """Depth of the planes (normal, offset: n . X = offset, pixel mask or None), the nearest wins."""
+    w, h = size
+    K = np.array([[f, 0, (w - 1) / 2], [0, f, (h - 1) / 2], [0, 0, 1]])
+    v, u = np.mgrid[0:h, 0:w]
+    rays = np.stack([(u - K[0, 2]) / f, (v - K[1, 2]) / f, np.ones((h, w))], axis=-1) @ pose[:3, :3].T
+    depth = np.full((h, w), np.inf)
+    for n, c, mask in planes:
+        n = np.asarray(n, float) / np.linalg.norm(n)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            t = (c - pose[:3, 3] @ n) / (rays @ n)
+        t = np.where((t > 0) & np.isfinite(t), t, np.inf)
+        if mask is not None:
+            t = np.where(mask(u, v), t, np.inf)
+        depth = np.minimum(depth, t)
+    depth = np.where(np.isfinite(depth), depth, 0.0).astype(np.float32)
+    return Frame(0, np.zeros((h, w, 3), np.uint8), depth, K, pose, 0.0, "rendered")
+
+
+def test_up_is_sought_within_35_degrees_of_the_cameras_image_up():    # PRIOR_CONE_DEG
+    assert estimate_gravity([frame(camera(30, 1.5), [FLOOR])]).up == pytest.approx((0, 0, 1), abs=1e-6)
+    # pitched 40 degrees down, the floor's normals lie outside the cone: the prior stands
+    assert estimate_gravity([frame(camera(40, 1.5), [FLOOR])]).n_normals == 0
+
+
+def test_up_is_refined_over_the_normals_within_10_degrees():            # REFINE_CONE_DEG
+    def with_ramp(tilt):                # a ramp tilted `tilt` degrees in the image's right 30 columns
+        t = np.radians(tilt)
+        ramp = ((0, np.sin(t), np.cos(t)), 0.3 * np.cos(t) + 1.5 * np.sin(t), lambda u, v: u >= 130)
+        return estimate_gravity([frame(camera(30, 1.5), [FLOOR, ramp])]).n_normals
+    assert with_ramp(8) == 412          # the floor's 372 normals and the ramp's 40
+    assert with_ramp(12) == 372
+
+
+def test_normals_are_taken_every_4th_pixel():                          # GRID_STRIDE
+    assert len(depth_normals(frame(camera(30, 1.5), [FLOOR]))[1]) == 456   # (40 - 2) x (30 - 2), less the far rows
+
+
+def test_normals_are_taken_within_5_m():                               # MAX_RANGE_M
+    def wall(distance):
+        return frame(camera(0, 1.0), [((0, -1, 0), -distance, None)])
+    assert len(depth_normals(wall(4.9))[1]) == 1064
+    assert len(depth_normals(wall(5.1))[1]) == 0
+
+
+def test_the_floor_lies_half_a_metre_below_the_cameras_at_least():     # MIN_FLOOR_DROP
+    assert estimate_gravity([frame(camera(30, 0.55), [FLOOR])]).floor_height == pytest.approx(0.0, abs=1e-6)
+    assert estimate_gravity([frame(camera(30, 0.45), [FLOOR])]).floor_height is None
+
+
+def test_a_level_below_the_floor_is_the_floor_when_it_holds_1_percent_of_the_flat_points():   # FLOOR_MIN_SHARE
+    def hole(u, v):                     # a gap in the floor showing a level 30 cm lower (a step down)
+        return (u >= 20) & (u < 36) & (v >= 40) & (v < 200)
+    holed = frame(camera(30, 1.5), [((0, 0, 1.0), 0.0, lambda u, v: ~hole(u, v)), ((0, 0, 1.0), -0.3, hole)],
+                  size=(320, 240), f=240.0)
+    plain = frame(camera(30, 1.5), [FLOOR], size=(320, 240), f=240.0)
+    # 56 of the about 3130 flat points of a frame see the lower level
+    assert estimate_gravity([holed] * 5 + [plain] * 7).floor_height == pytest.approx(0.0, abs=1e-6)    # 0.75 %
+    assert estimate_gravity([holed] * 8 + [plain] * 4).floor_height == pytest.approx(-0.3, abs=1e-6)   # 1.2 %
+
+
+def test_the_floor_is_the_densest_level_within_5_bins_of_2_cm_above_the_lowest():   # FLOOR_BIN_M
+    def levels(dz):                     # the floor in the left 60 columns, a larger level dz above it
+        return frame(camera(30, 1.5), [((0, 0, 1.0), 0.0, lambda u, v: u < 60), ((0, 0, 1.0), dz, lambda u, v: u >= 60)])
+    assert estimate_gravity([levels(0.07)]).floor_height == pytest.approx(0.07, abs=1e-3)
+    assert estimate_gravity([levels(0.12)]).floor_height == pytest.approx(0.0, abs=1e-3)
