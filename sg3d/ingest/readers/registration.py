@@ -115,8 +115,9 @@ class DepthRegistrar:
                          borderMode=cv2.BORDER_CONSTANT, borderValue=0)
 
 
-# A depth edge: the log depth changes by this much per pixel (Sobel, 3x3), i.e. a jump of about
-# 20 %: an object's outline against what lies behind it, not a slanted surface.
+# A depth edge: the 3x3 Sobel of the log depth exceeds this (the Sobel weighs a step 4x, so a
+# jump of about 5 % from one pixel to the next): an object's outline against what lies behind
+# it, not a surface slanting away.
 DEPTH_EDGE_LOG_JUMP = 0.2
 # Too few depth-edge pixels (a frame of one flat wall) say nothing about the alignment.
 MIN_EDGE_PIXELS = 100
