@@ -361,11 +361,13 @@ def structure_node(local_id: str, el: Element, cloud: RoomCloud) -> ObjectObserv
 def discover(named: list[ObjectObservation], cloud: RoomCloud, structure: Sequence[Element],
              colour_image: Callable[[int], Optional[np.ndarray]],
              ) -> tuple[list[ObjectObservation], list[ObjectObservation]]:
-    """Give the named objects their whole boxes (in place); return the unnamed objects and the
-    structure nodes (the floor, walls, and the surfaces no named object owns). Small named
-    objects claim the points inside their boxes before segmentation; the whole boxes of
-    floor-standing furniture name the segments inside them (a chair tucked under a table
-    would be claimed by the table's box)."""
+    """Give the named objects their whole boxes (in place; a table-named object with a low solid
+    top becomes a cabinet, `furniture.low_solid_top`); return the objects found in depth (the
+    desks named from their shape, then the unnamed objects) and the structure nodes (the floor,
+    walls, and the surfaces no object owns: a level over a floor-standing object is its seat or
+    top). Small named objects claim the points inside their boxes before segmentation; the
+    whole boxes of floor-standing furniture name the segments inside them (a chair tucked under
+    a table would be claimed by the table's box)."""
     surfaces = [e for e in structure if e.footprint is not None]
     tops = [whole_object_box(o, cloud, surfaces) for o in named]
     for k, (o, top) in enumerate(zip(named, tops)):
