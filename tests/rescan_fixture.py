@@ -38,7 +38,7 @@ def paint_out(src: Path, dst: Path, centre, size, up) -> list[int]:
     src, dst = Path(src), Path(dst)
     dst.mkdir(parents=True, exist_ok=True)
     K = np.loadtxt(src / "camera-intrinsics.txt").reshape(3, 3)
-    reg = Registration.seven_scenes()
+    reg = Registration.kinect_v1()
     basis = horizontal_frame(np.asarray(up, float))
     corners = _corners(centre, size, basis)
     support = float(basis[2] @ np.asarray(centre, float)) - float(size[2]) / 2   # the box's bottom

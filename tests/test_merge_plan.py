@@ -6,10 +6,10 @@ import numpy as np
 import pytest
 
 from sg3d.core.embedding import shipped_vectors
+from sg3d.core.geometry import gravity_basis
 from sg3d.core.model import ScanInfo
 from sg3d.graphdb.merge_plan import (
     _new_props,
-    gravity_basis,
     plan_merge,
     position_scores,
 )

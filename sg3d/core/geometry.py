@@ -2,6 +2,8 @@
 furniture that stand on the floor."""
 from __future__ import annotations
 
+from typing import Optional
+
 import numpy as np
 from numpy.typing import ArrayLike
 
@@ -32,3 +34,9 @@ def horizontal_frame(up: ArrayLike) -> np.ndarray:
     """`horizontal_basis(up)` as the rows of one 3x3 matrix (e1, e2, up): `points @ frame.T` gives
     each point's coordinates along e1, e2 and up."""
     return np.stack(horizontal_basis(up))
+
+
+def gravity_basis(up: Optional[ArrayLike]) -> np.ndarray:
+    """Rows e1, e2, up of a room's gravity frame (`horizontal_frame`); the world axes when the
+    room has no up, so sizes measured along them stay axis-aligned."""
+    return np.eye(3) if up is None else horizontal_frame(up)

@@ -24,12 +24,12 @@ import numpy as np
 from neo4j import ManagedTransaction
 
 from sg3d.core.embedding import LabelEmbedding, default_embedding
+from sg3d.core.geometry import gravity_basis
 from sg3d.core.model import RELATION_TYPES, LocalGraph, ObjectObservation
 from sg3d.graphdb import cypher, rescan
 from sg3d.graphdb.consistency import resolve_pairs
 from sg3d.graphdb.merge_plan import (
     MergePlan,
-    gravity_basis,
     may_pass,
     plan_merge,
     position_scores,

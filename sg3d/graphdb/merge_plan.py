@@ -12,13 +12,13 @@ from __future__ import annotations
 
 import uuid
 from dataclasses import dataclass, field
-from typing import Optional
+from typing import Iterable, Optional, TypeVar
 
 import numpy as np
 from scipy.optimize import linear_sum_assignment
 
 from sg3d.core.embedding import LabelEmbedding
-from sg3d.core.geometry import FLOOR_STANDING_LABELS, horizontal_frame
+from sg3d.core.geometry import FLOOR_STANDING_LABELS, gravity_basis
 from sg3d.core.model import UNNAMED_LABEL, LocalGraph, ObjectObservation, ScanInfo
 from sg3d.graphdb import rescan
 from sg3d.graphdb.consistency import canonical_rows
@@ -42,6 +42,7 @@ from sg3d.graphdb.update import (
 )
 from sg3d.graphdb.values import pack_hist, unpack_hist
 
+T = TypeVar("T")
 Label = tuple[str, Optional[str]]       # (label, colour) of an object entering or leaving the tallies
 
 
@@ -79,13 +80,6 @@ def _box_centre(obj: ObjectObservation):
     return obj.box_centre if obj.box_centre is not None else obj.mean
 
 
-def gravity_basis(up) -> np.ndarray:
-    """Rows e1, e2, up of the room's gravity frame (world axes when the room has no up)."""
-    if up is None:
-        return np.eye(3)
-    return horizontal_frame(up)
-
-
 def _position_arrays(objects: list[ObjectObservation], near: list[dict]) -> dict:
     """Broadcast-ready (n_local, n_cand, 3) operands of the position tests."""
     return {
@@ -93,7 +87,7 @@ def _position_arrays(objects: list[ObjectObservation], near: list[dict]) -> dict
         "mean_o": np.array([[c["x"], c["y"], c["z"]] for c in near], float)[None, :, :],
         "var_o": np.array([c["var"] for c in near], float)[None, :, :],
         "size_o": np.array([c["size"] for c in near], float)[None, :, :],
-        "box_o": np.array([c["box_centre"] or [c["x"], c["y"], c["z"]] for c in near], float)[None, :, :],
+        "box_o": np.array([_stored_centre(c) for c in near], float)[None, :, :],
         "box_c": np.array([_box_centre(o) for o in objects], float)[:, None, :],
         "size_c": np.array([o.size for o in objects], float)[:, None, :],
         # unnamed objects are no kind: two of them are one place only by the plain Gaussian test
@@ -243,7 +237,7 @@ def _updated_props(cand: dict, obj: ObjectObservation, now: float, basis: np.nda
     mean, var, n = combine_gaussians([cand["x"], cand["y"], cand["z"]], cand["var"], cand["n_points"],
                                      obj.mean, obj.var, obj.n_points)
     hist = combine_histograms(unpack_hist(cand["hist"]), obj.hist)
-    centre, size = combine_boxes(cand["box_centre"] or [cand["x"], cand["y"], cand["z"]], cand["size"],
+    centre, size = combine_boxes(_stored_centre(cand), cand["size"],
                              _box_centre(obj), obj.size, basis)
     props = {
         "label": labels[0], "labels": labels, "scores": scores, "score": float(max(scores)),
@@ -330,21 +324,32 @@ def box_inside_share(centre_a, size_a, centre_b, size_b, basis: np.ndarray) -> f
     return float(np.prod(overlap) / max(float(np.prod(2 * ha)), 1e-9))
 
 
+def _stored_centre(cand: dict):
+    """A stored node's box centre (its Gaussian mean where no box was stored)."""
+    return cand["box_centre"] or [cand["x"], cand["y"], cand["z"]]
+
+
+def _stored_object(cand: dict) -> bool:
+    return (cand.get("layer") or "object") == "object"
+
+
+def _most_inside(shares: Iterable[tuple[T, float]]) -> Optional[T]:
+    """The key with the largest share of at least CLAIM_SHARE (the last of equal shares), else None."""
+    best, best_share = None, CLAIM_SHARE
+    for key, share in shares:
+        if share >= best_share:
+            best, best_share = key, share
+    return best
+
+
 def claimed_by_stored_box(obj: ObjectObservation, candidates: list[dict], basis: np.ndarray) -> Optional[str]:
     """Rule "stored named boxes claim": an unnamed observation with CLAIM_SHARE of its box inside
     the box of a stored named floor-standing object (a chair, a desk) is a piece of it seen
     again (a chair's base the second scan did not name); returns that node's id, else None."""
     if obj.label != UNNAMED_LABEL or obj.layer != "object":
         return None
-    best, best_share = None, CLAIM_SHARE
-    for c in candidates:
-        if c["label"] not in FLOOR_STANDING_LABELS or (c.get("layer") or "object") != "object":
-            continue
-        share = box_inside_share(_box_centre(obj), obj.size, c["box_centre"] or (c["x"], c["y"], c["z"]),
-                                 c["size"], basis)
-        if share >= best_share:
-            best, best_share = c["id"], share
-    return best
+    return _most_inside((c["id"], box_inside_share(_box_centre(obj), obj.size, _stored_centre(c), c["size"], basis))
+                        for c in candidates if c["label"] in FLOOR_STANDING_LABELS and _stored_object(c))
 
 
 def stored_pieces_named(objects: list[ObjectObservation], candidates: list[dict], matches: dict[int, int],
@@ -357,14 +362,9 @@ def stored_pieces_named(objects: list[ObjectObservation], candidates: list[dict]
     for i, obj in enumerate(objects):
         if i in matches or obj.label not in FLOOR_STANDING_LABELS or obj.layer != "object":
             continue
-        best, best_share = None, CLAIM_SHARE
-        for j, c in enumerate(candidates):
-            if j in taken or c["label"] != UNNAMED_LABEL or (c.get("layer") or "object") != "object":
-                continue
-            share = box_inside_share(c["box_centre"] or (c["x"], c["y"], c["z"]), c["size"], _box_centre(obj),
-                                     obj.size, basis)
-            if share >= best_share:
-                best, best_share = j, share
+        best = _most_inside((j, box_inside_share(_stored_centre(c), c["size"], _box_centre(obj), obj.size, basis))
+                            for j, c in enumerate(candidates)
+                            if j not in taken and c["label"] == UNNAMED_LABEL and _stored_object(c))
         if best is not None:
             out[i] = best
             taken.add(best)

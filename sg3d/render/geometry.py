@@ -9,24 +9,14 @@ a gap, and the picture says they are not aligned.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Optional
 
 import numpy as np
-from numpy.typing import ArrayLike
+
+from sg3d.core.geometry import gravity_basis
 
 ROOM_GAP_M = 1.5          # between rooms drawn side by side
 OUTLINE_PAD_M = 0.25      # room outline around its objects' footprints
 MIN_SIZE_M = 0.03
-
-
-def gravity_basis(up: Optional[ArrayLike]) -> np.ndarray:
-    """Rows e1, e2, up of a gravity frame; the world axes when up is unknown (as the merge does:
-    sg3d.graphdb.merge.gravity_basis), so sizes measured along them stay axis-aligned here."""
-    if up is None:
-        return np.eye(3)
-    from sg3d.core.geometry import horizontal_frame
-
-    return horizontal_frame(up)
 
 
 @dataclass

@@ -41,18 +41,11 @@ class Registration:
     center: Optional[tuple[float, float]] = None  # None: the colour principal point
 
     @classmethod
-    def seven_scenes(cls) -> "Registration":
-        """The kitchen's measured form (ARCHITECTURE.md): depth = c + 1.09 (colour - c) + (5, 1)."""
-        # In-sample: measured on the red kitchen only, and used for the 7-Scenes/3DMatch layout
-        # only (one Kinect rig for all its scenes, not checked on another). The living room
-        # (Open3D layout, depth already registered to colour) never uses it, so its quality
-        # floor in tests/test_quality.py says nothing about this constant.
-        return cls(scale=(1.09, 1.09), offset=(5.0, 1.0))
-
-    @classmethod
     def kinect_v1(cls) -> "Registration":
-        """The Kinect v1 rig's depth-to-colour form as 7-Scenes records it (`seven_scenes`)."""
-        return cls.seven_scenes()
+        """The Kinect v1 rig's depth-to-colour form as 7-Scenes records it, measured on the red
+        kitchen (ARCHITECTURE.md): depth = c + 1.09 (colour - c) + (5, 1). A candidate of
+        `estimate_registration` for the 7-Scenes/3DMatch layout: the reader applies it when it scores best."""
+        return cls(scale=(1.09, 1.09), offset=(5.0, 1.0))
 
     @classmethod
     def from_intrinsics(cls, K_color: np.ndarray, K_depth: np.ndarray) -> "Registration":
