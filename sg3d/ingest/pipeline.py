@@ -29,6 +29,8 @@ from collections import Counter, defaultdict
 from dataclasses import asdict, dataclass, field, fields
 from typing import Callable, Optional, Sequence
 
+import numpy as np
+
 from sg3d.core.geometry import horizontal_frame
 from sg3d.core.model import (
     KnownObject,
@@ -206,6 +208,36 @@ def _lazy_frames(seq, chosen: list[int]):
             continue                      # recorded in seq.skipped
 
 
+def detections_of(frame, detector: Detector, settings: Settings, stats: PipelineStats) -> list:
+    """The detector's boxes on one decoded frame, irrelevant classes dropped under SDR."""
+    t0 = time.perf_counter()
+    dets = detector.detect(frame.color)
+    stats.seconds["detect"] += time.perf_counter() - t0
+    stats.detected += 1
+    return reject_irrelevant(dets) if settings.method.sdr else dets
+
+
+def sightings_of(frame, dets: list, up, basis, stats: PipelineStats) -> list[fusion.Sighting]:
+    """A frame's detections lifted to 3-D with their attributes (boxes without depth drop out)."""
+    t0 = time.perf_counter()
+    screens = [det.box for det in dets if is_screen(det.label)]
+    sightings = []
+    for det in dets:
+        attrs = measure_object(frame, det.box, up, det.label, screens)
+        if attrs is not None:
+            sightings.append(fusion.Sighting.of(frame.index, det, attrs, basis))
+    stats.seconds["attributes"] += time.perf_counter() - t0
+    return sightings
+
+
+def detect_frame(frame, detector: Detector, up, basis, settings: Settings,
+                 stats: PipelineStats) -> tuple[list[fusion.Sighting], existence.View]:
+    """One decoded frame -> its sightings (`detections_of`, `sightings_of`) and its visibility
+    view (`existence.View`): what fusion and existence need of a detected frame."""
+    sightings = sightings_of(frame, detections_of(frame, detector, settings, stats), up, basis, stats)
+    return sightings, existence.View.of(frame)
+
+
 def _detect(seq, chosen: list[int], detector: Detector, up, basis, settings: Settings,
             stats: PipelineStats, progress: Optional[ProgressFn]):
     """Sightings and visibility views of the chosen frames."""
@@ -214,25 +246,14 @@ def _detect(seq, chosen: list[int], detector: Detector, up, basis, settings: Set
     position = {i: n for n, i in enumerate(chosen)}
     # the next frame's images are decoded on a reader thread while this one is detected
     for frame in decoded_ahead(_lazy_frames(seq, chosen), ("color", "depth"), ahead=2):
-        i, n = frame.index, position[frame.index]
+        n = position[frame.index]
         try:
             frame.load()
         except FrameError:
             continue                      # recorded in seq.skipped
-        t0 = time.perf_counter()
-        dets = detector.detect(frame.color)
-        stats.seconds["detect"] += time.perf_counter() - t0
-        stats.detected += 1
-        if settings.method.sdr:
-            dets = reject_irrelevant(dets)
-        t0 = time.perf_counter()
-        screens = [det.box for det in dets if is_screen(det.label)]
-        for det in dets:
-            attrs = measure_object(frame, det.box, up, det.label, screens)
-            if attrs is not None:
-                sightings.append(fusion.Sighting.of(i, det, attrs, basis))
-        views.append(existence.View.of(frame))
-        stats.seconds["attributes"] += time.perf_counter() - t0
+        found, view = detect_frame(frame, detector, up, basis, settings, stats)
+        sightings.extend(found)
+        views.append(view)
         frame.release()
         if progress is not None:
             progress("detecting", n + 1, len(chosen))
@@ -299,20 +320,19 @@ def _relations(hyps: dict[str, fusion.Hypothesis], objects: list[ObjectObservati
             + filter_relations(_structure_relations(objects, up), labels, centres))
 
 
-def _discover(seq, views, objects: list[ObjectObservation], up, floor: Optional[float],
-              stats: PipelineStats) -> list[ObjectObservation]:
+# (colour_of, views, named objects (changed in place), up, floor, stats) -> objects found from depth
+DiscoverFn = Callable[[Callable[[int], Optional[np.ndarray]], list, list[ObjectObservation], object,
+                       Optional[float], PipelineStats], list[ObjectObservation]]
+
+
+def discover_from_depth(colour_of: Callable[[int], Optional[np.ndarray]], views, objects: list[ObjectObservation],
+                        up, floor: Optional[float], stats: PipelineStats) -> list[ObjectObservation]:
     """The room's structure and its unnamed objects from the views' depth (`sg3d.ingest.discover.discovery`);
     the named objects get their whole boxes in place."""
     from sg3d.ingest.discover.room_cloud import room_cloud
     from sg3d.ingest.discover.structure import room_structure
 
-    @functools.lru_cache(maxsize=16)        # objects side by side are read in the same views
-    def colour_image(index: int):
-        try:
-            return seq.frame(index).color
-        except FrameError:
-            return None
-
+    colour_image = functools.lru_cache(maxsize=16)(colour_of)   # objects side by side are read in the same views
     cloud = room_cloud(views, up, floor)
     structure = room_structure(cloud)
     unnamed, nodes = discovery.discover(objects, cloud, structure, colour_image)
@@ -340,13 +360,22 @@ def _structure_relations(objects: list[ObjectObservation], up) -> list[RelationO
             if r.predicate == "ON" and r.object in structure and r.subject not in structure]
 
 
+def sequence_colour(seq) -> Callable[[int], Optional[np.ndarray]]:
+    """Frame index -> its colour image read again from `seq` (None when it cannot be read)."""
+    def colour(index: int) -> Optional[np.ndarray]:
+        try:
+            return seq.frame(index).color
+        except FrameError:
+            return None
+    return colour
+
+
 def chunk_graph(seq, a: int, b: int, detector: Detector, up, settings: Settings, room: str,
                 building: str, key: Optional[str], stats: PipelineStats,
                 progress: Optional[ProgressFn] = None, known: Sequence[KnownObject] = (),
                 scan: Optional[ScanInfo] = None, floor: Optional[float] = None) -> LocalGraph:
     """The local 3-D scene graph of frames [a, b) of `seq`; with the room's `known` objects
     (a re-scan), also the frames that saw each one's place empty (`sg3d.ingest.objects.rescan`)."""
-    method = settings.method
     basis = horizontal_frame(up)
     stats.chunks += 1
     stats.frames += b - a
@@ -354,6 +383,23 @@ def chunk_graph(seq, a: int, b: int, detector: Detector, up, settings: Settings,
     chosen = select_frames_to_detect(seq, a, b, settings, stats, progress)
     loading.join()
     sightings, views = _detect(seq, chosen, detector, up, basis, settings, stats, progress)
+    return graph_of_evidence(sightings, views, sequence_colour(seq), up, settings, room, building, key, stats,
+                             known=known, scan=scan, floor=floor)
+
+
+def graph_of_evidence(sightings: list[fusion.Sighting], views: list[existence.View],
+                      colour_of: Callable[[int], Optional[np.ndarray]], up, settings: Settings, room: str,
+                      building: str, key: Optional[str], stats: PipelineStats,
+                      known: Sequence[KnownObject] = (), scan: Optional[ScanInfo] = None,
+                      floor: Optional[float] = None, discover: Optional[DiscoverFn] = None) -> LocalGraph:
+    """The local graph of what detection saw: `sightings` and `views` of the detected frames (in
+    frame order), fused into object hypotheses, kept by existence, completed by discovery from
+    depth (`colour_of` reads a frame's colour image again), related. A build's chunk and a live
+    map's every publish both end here, so the same frames give the same graph. `discover`
+    replaces discovery from depth (`discover_from_depth`, same arguments): a live map between two full
+    discoveries carries the last one's findings over."""
+    method = settings.method
+    basis = horizontal_frame(up)
     t0 = time.perf_counter()
     if method.three_d:
         hyps = fusion.consolidate(fusion.associate(sightings))
@@ -370,7 +416,7 @@ def chunk_graph(seq, a: int, b: int, detector: Detector, up, settings: Settings,
     stats.seconds["fusion"] += time.perf_counter() - t0
     if method.sdr and settings.discover and views:
         t0 = time.perf_counter()
-        objects += _discover(seq, views, objects, up, floor, stats)
+        objects += (discover or discover_from_depth)(colour_of, views, objects, up, floor, stats)
         stats.seconds["discovery"] += time.perf_counter() - t0
     t0 = time.perf_counter()
     relations = _relations(by_id, objects, up, method) if method.three_d else []

@@ -1,0 +1,303 @@
+"""Map a room live (`sg3d map`): follow a source as frames arrive and keep the room's graph in the
+store current, until the source ends, the caller stops it, or no frame came for a while.
+
+Two threads share one `sg3d.ingest.live.LiveMapper`: this one judges every arriving frame and
+detects the chosen ones; a publisher recomputes the room's graph from the evidence at most every
+`publish_every` seconds and publishes it as one transaction with stable node ids
+(`sg3d.graphdb.live.publish`). Readers (`sg3d ask`, `sg3d serve`) read the last committed
+publish and never wait for mapping. At the end a source that can be read again (a folder) gets
+the frames a build would detect, so the last publish is the graph `sg3d build` gives.
+
+A map killed mid-way left the room with its last publish and the state "live": `--resume` maps
+the source again into it; the ids of what was published continue and nothing is duplicated.
+"""
+from __future__ import annotations
+
+import resource
+import threading
+import time
+from dataclasses import asdict, dataclass, field
+from pathlib import Path
+from typing import Any, Callable, Optional
+
+import numpy as np
+
+from sg3d.core.errors import Sg3dError
+from sg3d.graphdb.protocol import GraphStore
+
+# Publishing more often than this gains nothing a reader could see and costs the store writes.
+MIN_PUBLISH_EVERY_S = 0.2
+# How often an idle mapper looks for new frames.
+POLL_S = 0.03
+# Discovery from depth (structure, unnamed objects, furniture from shape) runs again at most this
+# often, on its own thread: on 2 cores it takes ~0.5-2 s for a room, too long to run before every
+# publish; publishes in between carry its findings over (`sg3d.ingest.live.carried_over`).
+DISCOVER_EVERY_S = 2.0
+
+
+class MapError(Sg3dError, ValueError):
+    """Bad input to a live map (the front end shows it as one line)."""
+
+
+@dataclass(frozen=True)
+class MapRequest:
+    source: Path
+    room: str
+    building: str = "default"
+    layout: Optional[str] = None
+    publish_every: float = 1.0
+    stop_when_idle: Optional[float] = None    # seconds without a new frame; None: until stopped
+    resume: bool = False
+
+
+@dataclass
+class MapSummary:
+    """What a live map did (`sg3d map --json`)."""
+    source: str
+    room: str
+    building: str
+    state: str                      # done | stopped
+    frames: dict
+    objects: int
+    relations: int
+    publishes: int
+    latency_s: dict                 # frame written -> its evidence visible in the store
+    first_objects_after_s: Optional[float]   # first frame written -> first published object
+    backlog_at_end: int
+    seconds: dict
+    peak_memory_mib: float
+    final: dict = field(default_factory=dict)   # the last publish: made of the frames a build detects
+
+    def as_dict(self) -> dict:
+        return asdict(self)
+
+
+def check_request(req: MapRequest) -> None:
+    if not req.room.strip() or "/" in req.room or not req.building.strip() or "/" in req.building:
+        raise MapError("room and building names must be non-empty and contain no '/'")
+    if req.publish_every < MIN_PUBLISH_EVERY_S:
+        raise MapError(f"--publish-every {req.publish_every}: at least {MIN_PUBLISH_EVERY_S} s")
+    if req.stop_when_idle is not None and req.stop_when_idle <= 0:
+        raise MapError(f"--stop-when-idle {req.stop_when_idle}: give a number of seconds above 0")
+    if not Path(req.source).expanduser().is_dir():
+        raise MapError(f"source folder not found: {req.source} (sg3d map follows a folder being written)")
+
+
+def check_room(store: GraphStore, req: MapRequest) -> None:
+    """A map writes a room of its own: refuse a room that holds a built graph, and a room an
+    earlier map left without --resume (say how to go on)."""
+    from sg3d.graphdb.live import mapping_status
+    from sg3d.graphdb.values import room_id
+
+    status = mapping_status(store, req.building, req.room)
+    held = store.read("object_count", room=room_id(req.building, req.room))
+    n = held[0]["n"] if held else 0
+    if status is None:
+        if n:
+            raise MapError(f"room {req.room} already holds {n} objects from `sg3d build` or an ingest; "
+                           f"map into a new room (or `sg3d rooms delete {req.room}` first)")
+        return
+    if not req.resume:
+        raise MapError(f"room {req.room} was mapped live before ({status.get('frames') or 0} frames, state "
+                       f"{status.get('mapping')}); add --resume to map into it again (its objects keep their ids)")
+
+
+def map_room(store: GraphStore, req: MapRequest, settings, detector=None, embedding=None,
+             on_update: Optional[Callable[[dict], None]] = None,
+             should_stop: Optional[Callable[[], bool]] = None) -> MapSummary:
+    """Follow `req.source` and keep the room's graph current (module docstring). `on_update` gets
+    a small dict after every publish (frames, objects, latency) for progress displays;
+    `should_stop` is polled (a test's or a service's stop signal; Ctrl-C stops it too)."""
+    from sg3d.app.build import check_detector
+    from sg3d.core.embedding import default_embedding
+    from sg3d.ingest.live import LiveMapper
+    from sg3d.ingest.readers.base import SequenceError
+    from sg3d.ingest.readers.follow import FolderFollower
+
+    check_request(req)
+    detector = detector if detector is not None else check_detector(settings)
+    store.ensure_schema()
+    check_room(store, req)
+    follower = FolderFollower(Path(req.source), req.layout)
+    mapper = LiveMapper(follower, detector, settings, req.room, req.building)
+    publisher = _Publisher(store, mapper, req, embedding or default_embedding(), on_update)
+    discoverer = _Discoverer(mapper)
+    started = time.time()
+    getattr(detector, "prepare", lambda: None)()
+    publisher.start()
+    discoverer.start()
+    state = "done"
+    last_frames, last_change = 0, time.monotonic()
+    t_loop = time.perf_counter()
+    try:
+        while True:
+            if should_stop is not None and should_stop():
+                state = "stopped"
+                break
+            try:
+                judged = mapper.look(limit=8)
+            except SequenceError as exc:
+                raise MapError(str(exc))
+            detected = mapper.detect_next()
+            if mapper.counts.received != last_frames:
+                last_frames, last_change = mapper.counts.received, time.monotonic()
+            if not judged and not detected:
+                if req.stop_when_idle is not None and time.monotonic() - last_change >= req.stop_when_idle:
+                    break
+                time.sleep(POLL_S)
+    except KeyboardInterrupt:
+        state = "stopped"
+    t_live = time.perf_counter() - t_loop
+    discoverer.stop()
+    publisher.stop()
+    backlog = mapper.backlog()
+    t0 = time.perf_counter()
+    final: dict[str, Any] = {}
+    if state == "done" and follower.seq is not None:
+        frames = mapper.finish(follower.seq)
+        final = {"frames": len(frames), "as_build": True}
+    else:
+        frames = mapper.detected_frames()
+        final = {"frames": len(frames), "as_build": False}
+    report = publisher.publish_now(frames, state)
+    t_final = time.perf_counter() - t0
+    if mapper.gravity is None and follower.seq is None:
+        raise MapError(f"no frame arrived in {req.source} ({follower.waiting_for})")
+    c = mapper.counts
+    return MapSummary(
+        source=str(req.source), room=req.room, building=req.building, state=state,
+        frames={"received": c.received, "read": c.read, "blurry": c.blurry, "keyframes": c.keyframes,
+                "anchors": c.anchors, "coverage": c.coverage, "detected": c.detected,
+                "detected_at_end": c.detected_at_end, "skipped_behind": c.skipped_behind,
+                "skipped": len(c.skipped), "skipped_frames": [{"frame": k, "reason": v} for k, v in c.skipped.items()]},
+        objects=report.objects if report else 0, relations=report.relations if report else 0,
+        publishes=publisher.publishes, latency_s=publisher.latency(),
+        first_objects_after_s=(round(publisher.first_objects_at - follower.written_at(0), 3)
+                               if publisher.first_objects_at is not None and follower.seq is not None else None),
+        backlog_at_end=backlog,
+        seconds={"live": round(t_live, 3), "final": round(t_final, 3), "total": round(time.time() - started, 3),
+                 "publish_mean": round(publisher.mean_seconds(), 3),
+                 "graph_mean": round(float(np.mean(publisher.graph_seconds)) if publisher.graph_seconds else 0.0, 3),
+                 "discoveries": discoverer.runs,
+                 "discovery_mean": round(float(np.mean(discoverer.seconds)) if discoverer.seconds else 0.0, 3)},
+        peak_memory_mib=round(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024, 1),
+        final=final)
+
+
+class _Discoverer:
+    """Runs discovery from depth again every DISCOVER_EVERY_S while the evidence changes."""
+
+    def __init__(self, mapper):
+        self.mapper = mapper
+        self.runs = 0
+        self.seconds: list[float] = []
+        self._stop = threading.Event()
+        self._thread = threading.Thread(target=self._run, name="sg3d-map-discover", daemon=True)
+        self.error: Optional[BaseException] = None
+
+    def start(self) -> None:
+        self._thread.start()
+
+    def stop(self) -> None:
+        self._stop.set()
+        self._thread.join()
+        if self.error is not None:
+            raise self.error
+
+    def _run(self) -> None:
+        while not self._stop.wait(DISCOVER_EVERY_S):
+            m = self.mapper
+            if m.gravity is None or (m.discovered is not None and m.discovered.version == m.version):
+                continue
+            t0 = time.perf_counter()
+            try:
+                m.graph(fast=False)
+            except Exception as exc:   # noqa: BLE001 - handed to the mapping thread by stop()
+                self.error = exc
+                return
+            self.runs += 1
+            self.seconds.append(time.perf_counter() - t0)
+
+
+class _Publisher:
+    """Publishes the mapper's graph at most every `publish_every` seconds on its own thread."""
+
+    def __init__(self, store, mapper, req: MapRequest, embedding, on_update):
+        from sg3d.core.model import ScanInfo
+
+        self.store, self.mapper, self.req, self.embedding = store, mapper, req, embedding
+        self.on_update = on_update
+        self.since = time.time()
+        self.scan = ScanInfo(f"map:{req.building}/{req.room}@{self.since:.0f}", self.since, closes=False)
+        self.publishes = 0
+        self.published_version = -1
+        self.latencies: dict[int, float] = {}
+        self.first_objects_at: Optional[float] = None
+        self.publish_seconds: list[float] = []
+        self.graph_seconds: list[float] = []
+        self._stop = threading.Event()
+        self._lock = threading.Lock()        # one publish at a time (the last one runs after the thread)
+        self._thread = threading.Thread(target=self._run, name="sg3d-map-publish", daemon=True)
+        self.error: Optional[BaseException] = None
+
+    def start(self) -> None:
+        self._thread.start()
+
+    def stop(self) -> None:
+        self._stop.set()
+        self._thread.join()
+        if self.error is not None:
+            raise self.error
+
+    def _run(self) -> None:
+        next_at = time.monotonic()
+        while not self._stop.is_set():
+            wait = next_at - time.monotonic()
+            if wait > 0 and self._stop.wait(wait):
+                break
+            next_at = time.monotonic() + self.req.publish_every
+            if self.mapper.gravity is None or self.mapper.version == self.published_version:
+                continue
+            try:
+                self.publish_now(None, "live")
+            except Exception as exc:   # noqa: BLE001 - handed to the mapping thread by stop()
+                self.error = exc
+                return
+
+    def publish_now(self, frames: Optional[list[int]], state: str):
+        from sg3d.graphdb.live import publish
+
+        with self._lock:
+            if self.mapper.gravity is None:
+                return None
+            t0 = time.perf_counter()
+            version = self.mapper.version
+            # live: the last discovery carried over; the last publish runs discovery itself
+            graph, used = self.mapper.graph(frames, scan=self.scan, fast=state == "live")
+            self.graph_seconds.append(time.perf_counter() - t0)
+            status = {"state": state, "since": self.since, "frames": self.mapper.counts.received,
+                      "source": str(self.req.source)}
+            report = publish(self.store, graph, self.scan, status, self.embedding)
+            self.publish_seconds.append(time.perf_counter() - t0)
+            self.published_version = version
+            self.publishes += 1
+            for i in used:
+                if i not in self.latencies and i not in self.mapper.late:   # frames detected live only
+                    self.latencies[i] = max(0.0, report.committed_at - self.mapper.source.written_at(i))
+            if report.objects and self.first_objects_at is None:
+                self.first_objects_at = report.committed_at
+            if self.on_update is not None:
+                self.on_update({"frames": self.mapper.counts.received, "detected": self.mapper.counts.detected,
+                                "objects": report.objects, "created": report.created, "removed": report.removed,
+                                "latency_p50": self.latency().get("p50"), "state": state})
+            return report
+
+    def latency(self) -> dict:
+        values = np.array(list(self.latencies.values()), float)
+        if not values.size:
+            return {"n": 0}
+        return {"n": int(values.size), "p50": round(float(np.percentile(values, 50)), 3),
+                "p95": round(float(np.percentile(values, 95)), 3), "max": round(float(values.max()), 3)}
+
+    def mean_seconds(self) -> float:
+        return float(np.mean(self.publish_seconds)) if self.publish_seconds else 0.0

@@ -1,0 +1,112 @@
+"""A sequence folder that is still being written (`sg3d map FOLDER`): the frames complete so far.
+
+Any folder layout sg3d reads can be followed. The folder is listed again whenever what it holds
+changes (a cheap signature: entry counts of the folder and its sub-folders, sizes and times of
+its text files: pose lists, intrinsics), and re-opened with the layout and depth registration
+chosen the first time, so a frame's index never changes as long as frames are written in order.
+A frame counts as complete once a later frame exists, or once the folder has not changed for
+`settle_s` seconds (a writer that writes colour, depth and pose one after the other is never
+caught half-way). Writers should still write each file under a temporary name and rename it:
+a half-written image is otherwise skipped as corrupt, like in any recording.
+"""
+from __future__ import annotations
+
+import os
+import time
+from pathlib import Path
+from typing import Optional
+
+from sg3d.ingest.readers.base import Sequence, SequenceError
+from sg3d.ingest.readers.frames import Frame
+
+# A frame with no later frame is taken as complete after the folder was this long unchanged.
+DEFAULT_SETTLE_S = 0.5
+
+
+def folder_signature(path: Path) -> tuple:
+    """What changes when a frame is added: entry counts of the folder and of its sub-folders,
+    and the size and time of its top-level files other than images (pose lists, intrinsics)."""
+    sig: list = []
+    try:
+        with os.scandir(path) as it:
+            entries = list(it)
+    except OSError:
+        return ()
+    sig.append(len(entries))
+    for e in sorted(entries, key=lambda e: e.name):
+        try:
+            if e.is_dir(follow_symlinks=False):
+                sig.append((e.name, sum(1 for _ in os.scandir(e.path))))
+            elif not e.name.lower().endswith((".png", ".jpg", ".jpeg")):
+                st = e.stat()
+                sig.append((e.name, st.st_size, st.st_mtime_ns))
+        except OSError:
+            continue
+    return tuple(sig)
+
+
+class FolderFollower:
+    """Follows `path` as frames are written into it; `poll()` says how many frames are complete,
+    `seq` is the sequence as last listed (its frame i is frame i of every later listing)."""
+
+    def __init__(self, path: Path, layout: Optional[str] = None, settle_s: float = DEFAULT_SETTLE_S):
+        self.path = Path(path).expanduser()
+        self.layout = layout
+        self.settle_s = float(settle_s)
+        self.seq: Optional[Sequence] = None
+        self.waiting_for = "the first frames"      # why nothing could be opened yet
+        self._signature: tuple = ()
+        self._changed_at = time.monotonic()
+        self._skipped: dict[str, str] = {}
+
+    def poll(self) -> int:
+        """The number of complete frames (0 while the folder holds no readable sequence yet)."""
+        if not self.path.is_dir():
+            raise SequenceError(f"sequence folder not found: {self.path}")
+        sig = folder_signature(self.path)
+        now = time.monotonic()
+        if sig != self._signature:
+            self._signature, self._changed_at = sig, now
+            self._reopen()
+        if self.seq is None:
+            return 0
+        n = len(self.seq)
+        return n if now - self._changed_at >= self.settle_s else max(0, n - 1)
+
+    def _reopen(self) -> None:
+        from sg3d.ingest.readers import open_sequence
+
+        old = self.seq
+        try:
+            if old is None:
+                seq = open_sequence(self.path, self.layout)
+            else:
+                seq = open_sequence(self.path, old.layout, registration=old.registration)
+        except SequenceError as exc:
+            if old is None:
+                self.waiting_for = str(exc)
+                return
+            raise
+        if old is not None:
+            for name, reason in old.skipped:
+                seq.skip(name, reason)
+            if len(seq) < len(old):
+                raise SequenceError(f"frames disappeared from {self.path} while it was followed "
+                                    f"({len(old)} before, {len(seq)} now)")
+        # the whole-recording motion check (`Sequence.motion_problems`) would re-read every pose at
+        # each listing and judge the newest frame without its next neighbour: off while following
+        seq._motion = {}
+        self.seq = seq
+
+    def frame(self, i: int) -> Frame:
+        """Frame i, lazily decoded (FrameError when it is bad; recorded in `seq.skipped`)."""
+        assert self.seq is not None
+        return self.seq.frame(i, lazy=True)
+
+    def written_at(self, i: int) -> float:
+        """When frame i was written (its colour file's time; wall clock, as `time.time()`)."""
+        assert self.seq is not None
+        try:
+            return self.seq._entries[i].color.stat().st_mtime
+        except OSError:
+            return time.time()
