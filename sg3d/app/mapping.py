@@ -29,6 +29,8 @@ from sg3d.graphdb.protocol import GraphStore
 MIN_PUBLISH_EVERY_S = 0.2
 # How often an idle mapper looks for new frames.
 POLL_S = 0.03
+# --stop-when-idle before any frame arrived: at least this long (a camera or recorder starting up).
+FIRST_FRAME_WAIT_S = 30.0
 # Discovery from depth (structure, unnamed objects, furniture from shape) runs again at most this
 # often, on its own thread: on 2 cores it takes ~0.5-2 s for a room, too long to run before every
 # publish; publishes in between carry its findings over (`sg3d.ingest.live.carried_over`).
@@ -79,8 +81,9 @@ def check_request(req: MapRequest) -> None:
         raise MapError(f"--publish-every {req.publish_every}: at least {MIN_PUBLISH_EVERY_S} s")
     if req.stop_when_idle is not None and req.stop_when_idle <= 0:
         raise MapError(f"--stop-when-idle {req.stop_when_idle}: give a number of seconds above 0")
-    if not Path(req.source).expanduser().is_dir():
-        raise MapError(f"source folder not found: {req.source} (sg3d map follows a folder being written)")
+    from sg3d.app.live_sources import source_kind
+
+    source_kind(req.source)      # SourceError (a MapError) when SOURCE names nothing to follow
 
 
 def check_room(store: GraphStore, req: MapRequest) -> None:
@@ -112,18 +115,19 @@ def map_room(store: GraphStore, req: MapRequest, settings, detector=None, embedd
     from sg3d.core.embedding import default_embedding
     from sg3d.ingest.live import LiveMapper
     from sg3d.ingest.readers.base import SequenceError
-    from sg3d.ingest.readers.follow import FolderFollower
+    from sg3d.app.live_sources import open_live_source
 
     check_request(req)
     detector = detector if detector is not None else check_detector(settings)
     store.ensure_schema()
     check_room(store, req)
-    follower = FolderFollower(Path(req.source), req.layout)
+    follower = open_live_source(req.source, req.layout)   # a folder, a RealSense, an MCAP being recorded
     mapper = LiveMapper(follower, detector, settings, req.room, req.building)
     publisher = _Publisher(store, mapper, req, embedding or default_embedding(), on_update)
     discoverer = _Discoverer(mapper)
     started = time.time()
     getattr(detector, "prepare", lambda: None)()
+    publisher.announce()
     publisher.start()
     discoverer.start()
     state = "done"
@@ -142,8 +146,11 @@ def map_room(store: GraphStore, req: MapRequest, settings, detector=None, embedd
             if mapper.counts.received != last_frames:
                 last_frames, last_change = mapper.counts.received, time.monotonic()
             if not judged and not detected:
-                if req.stop_when_idle is not None and time.monotonic() - last_change >= req.stop_when_idle:
-                    break
+                # before the first frame the camera may still be starting: wait longer
+                if req.stop_when_idle is not None:
+                    idle = req.stop_when_idle if last_frames else max(req.stop_when_idle, FIRST_FRAME_WAIT_S)
+                    if time.monotonic() - last_change >= idle:
+                        break
                 time.sleep(POLL_S)
     except KeyboardInterrupt:
         state = "stopped"
@@ -168,7 +175,7 @@ def map_room(store: GraphStore, req: MapRequest, settings, detector=None, embedd
         source=str(req.source), room=req.room, building=req.building, state=state,
         frames={"received": c.received, "read": c.read, "blurry": c.blurry, "keyframes": c.keyframes,
                 "anchors": c.anchors, "coverage": c.coverage, "detected": c.detected,
-                "detected_at_end": c.detected_at_end, "skipped_behind": c.skipped_behind,
+                "detected_at_end": c.detected_at_end, "skipped_behind": c.skipped_behind, "jumped": c.jumped,
                 "skipped": len(c.skipped), "skipped_frames": [{"frame": k, "reason": v} for k, v in c.skipped.items()]},
         objects=report.objects if report else 0, relations=report.relations if report else 0,
         publishes=publisher.publishes, latency_s=publisher.latency(),
@@ -242,6 +249,15 @@ class _Publisher:
 
     def start(self) -> None:
         self._thread.start()
+
+    def announce(self) -> None:
+        """The room exists and says it is being mapped before the first frame is in."""
+        from sg3d.graphdb.merge import create_room
+        from sg3d.graphdb.values import room_id
+
+        create_room(self.store, self.req.building, self.req.room)
+        self.store.write("live_status", room=room_id(self.req.building, self.req.room), state="live",
+                         since=self.since, frames=0, updated=time.time(), source=str(self.req.source))
 
     def stop(self) -> None:
         self._stop.set()

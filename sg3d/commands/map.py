@@ -67,7 +67,7 @@ def map_cmd(settings, source: Path, room: str, building: str, layout: Optional[s
         lat = summary["latency_s"]
         f = summary["frames"]
         click.echo(f"{summary['state']}: {summary['room']} holds {summary['objects']} objects, {summary['relations']} "
-                   f"relations; {f['received']} frames, {f['detected']} detected, {f['skipped_behind']} skipped "
+                   f"relations; {f['received']} frames, {f['detected']} detected, {f['skipped_behind'] + f['jumped']} skipped "
                    f"while behind; latency p50 {lat.get('p50')} s, p95 {lat.get('p95')} s")
     if summary["state"] == "stopped":
         raise SystemExit(130)

@@ -47,6 +47,7 @@ from sg3d.ingest.objects import existence, fusion
 from sg3d.ingest.poses.gravity import Gravity, estimate_gravity, sample_frames
 from sg3d.ingest.readers.frames import Frame, FrameError
 from sg3d.ingest.select import coverage
+from sg3d.ingest.select.selection import choose_detected_frames
 
 # Live, a sharp frame is detected for its new viewpoint when it lies at least this far (the
 # coverage module's viewpoint distance: one unit = 0.3 m or ~14 degrees) from every frame chosen so
@@ -60,6 +61,10 @@ MAX_LAG_S = 1.5
 # Gravity (up and floor) is estimated from this many frames before the first detection: the
 # build samples 20 over the whole recording; live, the first 20 (two thirds of a second).
 GRAVITY_FRAMES = 20
+# Frames waiting to be judged beyond this many (half a second of a 30 Hz camera), mapping jumps
+# to the newest: judging what the camera saw a while ago only delays what it sees now. The frames
+# jumped over are counted, and `finish` then chooses the build's frames by a whole pass.
+MAX_BACKLOG = 15
 # A named object takes the last discovery's verdict on the object of its label this near (a fused
 # centre moves by centimetres between two snapshots a few seconds apart).
 CARRY_RADIUS_M = 0.3
@@ -131,6 +136,7 @@ class LiveCounts:
     coverage: int = 0            # picked for new viewpoints
     detected: int = 0
     skipped_behind: int = 0      # chosen, but still waiting MAX_LAG_S after arrival
+    jumped: int = 0              # never judged live: more than MAX_BACKLOG frames were waiting
     detected_at_end: int = 0     # chosen frames detected by `finish`
     skipped: dict = field(default_factory=dict)     # frame name -> reason (bad frames)
 
@@ -162,12 +168,16 @@ class LiveMapper:
         self.version = 0                      # bumps whenever the evidence changes
         self.late: set[int] = set()           # frames detected by `finish`, after the source ended
         self.discovered: Optional[Discovered] = None
+        self.live = True                      # False once the source ended: every frame is judged
 
     # -- frames arriving -----------------------------------------------------------------------
     def look(self, limit: Optional[int] = None) -> int:
         """Judge the frames that arrived since the last call (ABIR, then KGE on the sharp ones),
         at most `limit`; returns how many were judged."""
         ready = self.source.poll()
+        if self.live and ready - self.next_frame > MAX_BACKLOG:
+            self.counts.jumped += ready - 1 - self.next_frame
+            self.next_frame = ready - 1
         stop = ready if limit is None else min(ready, self.next_frame + limit)
         n = 0
         for i in range(self.next_frame, stop):
@@ -340,23 +350,30 @@ class LiveMapper:
         again) make the evidence a build's: gravity as a build estimates it (sightings measured
         again under it when it differs), the coverage choice over all sharp frames, the chosen
         frames not yet detected detected now. Returns the frames the final graph is made of."""
+        self.live = False
         while self.look():
             pass
+        if seq is not None and self.counts.jumped:
+            # frames were jumped over live: the build's choice needs a whole pass of ABIR and KGE
+            choice = choose_detected_frames(seq, 0, len(seq), params=self.params)
+            final, self.required = choice.detected, choice.required
+        else:
+            budget = coverage.frame_budget(len(self.candidates), self.params.detect_fraction,
+                                           self.params.min_detect_frames)
+            final = coverage.choose_frames(self.candidates, self.required, budget)
+        if seq is not None and len(seq):
+            try:     # gravity as a build estimates it; the sightings follow it
+                built: Optional[Gravity] = estimate_gravity(sample_frames(seq, 20, 0, len(seq)))
+            except ValueError:
+                built = None
+            if built is not None and (self.gravity is None or (built.up, built.floor_height)
+                                      != (self.gravity.up, self.gravity.floor_height)):
+                self.gravity = built
+                self._measure_again(final)
         if self.gravity is None and self._gravity_frames:
             self._estimate_gravity_now()
         if self.gravity is None:
             return []
-        budget = coverage.frame_budget(len(self.candidates), self.params.detect_fraction,
-                                       self.params.min_detect_frames)
-        final = coverage.choose_frames(self.candidates, self.required, budget)
-        if seq is not None and len(seq):
-            try:
-                built = estimate_gravity(sample_frames(seq, 20, 0, len(seq)))
-            except ValueError:
-                built = self.gravity
-            if (built.up, built.floor_height) != (self.gravity.up, self.gravity.floor_height):
-                self.gravity = built
-                self._measure_again(final)
         for i in final:
             if i not in self._evidence and self._detect(i):
                 self.late.add(i)
