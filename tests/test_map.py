@@ -70,7 +70,24 @@ def _same_graph(store, a: str, b: str) -> None:
     assert abs(ma["recall"] - mb["recall"]) <= 0.03 and abs(ma["precision"] - mb["precision"]) <= 0.03, (ma, mb)
 
 
-def test_map_follows_a_folder_being_written_and_ends_with_the_build_graph(store, living_dir, tmp_path):
+def _asking(url: str, token: str, room: str, answers: list, stop: threading.Event) -> threading.Thread:
+    """POST /ask every 0.2 s until `stop`: (status, answer) of each."""
+    import httpx
+
+    def run():
+        with httpx.Client(base_url=url, headers={"Authorization": f"Bearer {token}"}, timeout=30) as c:
+            while not stop.is_set():
+                r = c.post("/ask", json={"question": "how many objects are there?", "room": room})
+                answers.append((r.status_code, r.json().get("answer") if r.status_code == 200 else r.text))
+                time.sleep(0.2)
+    t = threading.Thread(target=run, daemon=True)
+    t.start()
+    return t
+
+
+def test_map_follows_a_folder_being_written_and_ends_with_the_build_graph(store, served, living_dir, tmp_path):
+    """While the living room is written at 30 frames/s, the room grows and `sg3d serve` answers
+    from it (no error, the answer changes); at the end the room holds the build's graph."""
     from sg3d.app.build import BuildRequest, build_room
     from sg3d.app.mapping import MapRequest, map_room
     from sg3d.graphdb.live import mapping_status
@@ -80,9 +97,18 @@ def test_map_follows_a_folder_being_written_and_ends_with_the_build_graph(store,
     dst.mkdir()
     writer = _writer(living_dir, dst)
     updates: list[dict] = []
-    summary = map_room(store, MapRequest(dst, "mapped", publish_every=0.5, stop_when_idle=2.0), Settings(),
-                       on_update=updates.append)
+    answers: list = []
+    stop = threading.Event()
+    asker = _asking(*served, "mapped", answers, stop)
+    try:
+        summary = map_room(store, MapRequest(dst, "mapped", publish_every=0.5, stop_when_idle=2.0), Settings(),
+                           on_update=updates.append)
+    finally:
+        stop.set()
+        asker.join()
     writer.join()
+    assert answers and all(code == 200 for code, _ in answers), answers
+    assert len({text for _, text in answers}) >= 2, answers          # the answers follow the room
     live = [u for u in updates if u["state"] == "live"]
     assert live and max(u["objects"] for u in live) > 0, updates        # queryable while it grows
     assert summary.state == "done" and summary.final["as_build"] and summary.backlog_at_end == 0
