@@ -96,3 +96,55 @@ def test_the_living_rooms_sideboard_is_a_cabinet_named_by_its_shape(tmp_path):
     assert "dining table" in cabinets[0]["labels"]          # the detector's word is kept behind it
     assert not [n for n in nodes if n["label"] == "dining table"]
     assert cabinets[0]["size"][0] > 0.9                    # the whole sideboard, not the part boxed
+
+
+def test_the_study_rooms_couch_is_one_node_named_by_its_shape(study):
+    """Its seat level and its arm (0.93 m, longer than any chair's) are one couch, whole box."""
+    couches = [n for n in nodes_of(study, "study") if n["label"] == "couch"]
+    assert len(couches) == 1 and couches[0]["named_by"] == "shape" and couches[0]["layer"] == "object"
+    truth = next(np.array(o["world_position"]) for o in json.loads(STUDY_GT.read_text())["objects"]
+                 if o["category"] == "couch")
+    n = couches[0]
+    assert np.linalg.norm(np.array([n["x"], n["y"], n["z"]]) - truth) <= 0.5
+    assert max(n["size"][:2]) >= 0.8 and 0.6 <= n["size"][2] <= 1.0
+
+
+@pytest.fixture(scope="module")
+def study_fragment_1():
+    """Discovery alone (no detector) on every second frame of the study room's fragment-1."""
+    from sg3d.ingest.discover import discovery
+    from sg3d.ingest.discover.room_cloud import room_cloud
+    from sg3d.ingest.discover.structure import room_structure
+    from sg3d.ingest.objects.existence import View
+    from sg3d.ingest.poses.gravity import estimate_gravity, sample_frames
+
+    need(STUDY / "fragment-1")
+    seq = open_sequence(STUDY / "fragment-1")
+    gravity = estimate_gravity(sample_frames(seq, 20))
+    views = [View.of(seq.frame(i)) for i in range(0, len(seq), 2)]
+    cloud = room_cloud(views, gravity.up, gravity.floor_height)
+    found, _ = discovery.discover([], cloud, room_structure(cloud), lambda i: seq.frame(i).color)
+    return cloud, [(o, discovery.gravity_box(o, cloud)) for o in found]
+
+
+def test_the_couchs_parts_are_no_nodes_of_their_own(study_fragment_1):
+    _, found = study_fragment_1
+    couches = [(lo, hi) for o, (lo, hi) in found if o.label == "couch"]
+    assert len(couches) == 1
+    lo, hi = couches[0]
+    for o, (a, b) in found:
+        if o.label != "couch":
+            centre = (a + b) / 2
+            assert not ((centre >= lo) & (centre <= hi)).all(), (o.label, a, b)
+
+
+def test_the_carrels_side_panels_are_part_of_their_desks(study_fragment_1):
+    """The panels between the desks (seen edge-on: 0.15 m thick, up to 1.6 m tall) are no nodes."""
+    from sg3d.ingest.discover import furniture
+
+    _, found = study_fragment_1
+    desks = [box for o, box in found if o.label == "desk"]
+    assert len(desks) >= 2
+    panels = [(o.label, lo, hi) for o, (lo, hi) in found if o.label != "desk" and o.named_by is None
+              and any(furniture.carrel_panel(lo, hi, *d) for d in desks)]
+    assert not panels

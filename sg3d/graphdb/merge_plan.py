@@ -114,7 +114,7 @@ def may_pass(objects: list[ObjectObservation], near: list[dict], params: Similar
                                  params.sigma_cap)
         box = box_may_pass(a["box_o"], a["size_o"], a["box_c"], a["size_c"], basis, p_min, params.sigma_floor)
         ok = ok | (a["same_kind"] & (wide | box))
-    return ok
+    return ok | box_claims(objects, near, basis)
 
 
 def position_scores(objects: list[ObjectObservation], near: list[dict], params: SimilarityParams,
@@ -137,7 +137,35 @@ def position_scores(objects: list[ObjectObservation], near: list[dict], params: 
         s_box = box_position_similarity(a["box_o"], a["size_o"], a["box_c"], a["size_c"], basis,
                                         params.sigma_floor)
         s_pos = np.where(a["same_kind"], np.maximum(s_pos, np.maximum(s_wide, s_box)), s_pos)
-    return structure_position_similarity(objects, near, s_pos, s_box, a["same_kind"])
+    s_pos = structure_position_similarity(objects, near, s_pos, s_box, a["same_kind"])
+    # a pair a stored box may claim stays a candidate (the claim rules decide after the matching);
+    # at the lowest passing score it matches only with perfect label and colour scores
+    return np.where(box_claims(objects, near, basis), np.maximum(s_pos, params.min_position_similarity()), s_pos)
+
+
+def box_claims(objects: list[ObjectObservation], near: list[dict], basis: np.ndarray) -> np.ndarray:
+    """(n_local, n_cand): the pairs one of the stored-box rules may join (`claimed_by_stored_box`:
+    an unnamed observation and a stored named floor-standing object; `stored_pieces_named`: a named
+    floor-standing observation and a stored unnamed object) whose boxes overlap by CLAIM_SHARE of
+    the smaller. Their Gaussians may lie far apart (a chair's base seen alone, a chair's whole box),
+    so the position test alone would not even make them candidates."""
+    unnamed = np.array([o.layer == "object" and o.label == UNNAMED_LABEL for o in objects], bool)
+    standing = np.array([o.layer == "object" and o.label in FLOOR_STANDING_LABELS for o in objects], bool)
+    stored = np.array([_stored_object(c) for c in near], bool)
+    stored_standing = stored & np.array([c["label"] in FLOOR_STANDING_LABELS for c in near], bool)
+    stored_unnamed = stored & np.array([c["label"] == UNNAMED_LABEL for c in near], bool)
+    pairs = (unnamed[:, None] & stored_standing[None, :]) | (standing[:, None] & stored_unnamed[None, :])
+    if not pairs.any():
+        return pairs
+    ca = np.array([_box_centre(o) for o in objects], float) @ basis.T
+    cb = np.array([_stored_centre(c) for c in near], float) @ basis.T
+    ha = np.array([o.size for o in objects], float) / 2
+    hb = np.array([c["size"] for c in near], float) / 2
+    lo = np.maximum(ca[:, None] - ha[:, None], cb[None] - hb[None])
+    hi = np.minimum(ca[:, None] + ha[:, None], cb[None] + hb[None])
+    inter = np.prod(np.clip(hi - lo, 0, None), axis=-1)
+    smaller = np.maximum(np.minimum.outer(np.prod(2 * ha, axis=1), np.prod(2 * hb, axis=1)), 1e-9)
+    return pairs & (inter / smaller >= CLAIM_SHARE)
 
 
 def structure_position_similarity(objects: list[ObjectObservation], near: list[dict], s_pos: np.ndarray,
@@ -324,6 +352,12 @@ def box_inside_share(centre_a, size_a, centre_b, size_b, basis: np.ndarray) -> f
     return float(np.prod(overlap) / max(float(np.prod(2 * ha)), 1e-9))
 
 
+def box_overlap_share(centre_a, size_a, centre_b, size_b, basis: np.ndarray) -> float:
+    """The share of the smaller of two boxes inside the other (`box_inside_share` both ways)."""
+    return max(box_inside_share(centre_a, size_a, centre_b, size_b, basis),
+               box_inside_share(centre_b, size_b, centre_a, size_a, basis))
+
+
 def _stored_centre(cand: dict):
     """A stored node's box centre (its Gaussian mean where no box was stored)."""
     return cand["box_centre"] or [cand["x"], cand["y"], cand["z"]]
@@ -354,15 +388,16 @@ def claimed_by_stored_box(obj: ObjectObservation, candidates: list[dict], basis:
 
 def stored_pieces_named(objects: list[ObjectObservation], candidates: list[dict], matches: dict[int, int],
                         absorbed: dict[int, int], basis: np.ndarray) -> dict[int, int]:
-    """Rule "a named box claims the stored piece inside it": a named floor-standing observation
-    that matched no node updates the stored unnamed node with CLAIM_SHARE of its box inside the
-    observation's box (a chair an earlier scan saw only as its base); local index -> candidate."""
+    """Rule "a named box claims the stored piece it overlaps": a named floor-standing observation
+    that matched no node updates the stored unnamed node whose box and its own overlap by
+    CLAIM_SHARE of the smaller (`box_overlap_share`: a chair an earlier scan saw only as its base,
+    or as a blob with its base spread wider than the chair's box); local index -> candidate."""
     taken = set(matches.values()) | set(absorbed)
     out: dict[int, int] = {}
     for i, obj in enumerate(objects):
         if i in matches or obj.label not in FLOOR_STANDING_LABELS or obj.layer != "object":
             continue
-        best = _most_inside((j, box_inside_share(_stored_centre(c), c["size"], _box_centre(obj), obj.size, basis))
+        best = _most_inside((j, box_overlap_share(_stored_centre(c), c["size"], _box_centre(obj), obj.size, basis))
                             for j, c in enumerate(candidates)
                             if j not in taken and c["label"] == UNNAMED_LABEL and _stored_object(c))
         if best is not None:

@@ -12,6 +12,10 @@ chunk's named objects meet the room's cloud (`sg3d.ingest.discover.room_cloud`),
   segment resting on a surface is cut at its necks (`segments.split_at_necks`);
 - `plane_remnant`: a thin relief left along a cut wall or front (a door edge) is not an object,
   nor is a flat piece lying on the floor (`floor_remnant`);
+- furniture from shape (`sg3d.ingest.discover.furniture`): desks (a worktop cut at its carrels'
+  panels; what lies in the worktop's box and the thin panels beside it are the desks'), couches
+  (a seat level with a back or an arm longer than a chair's: its parts are one node), and a low
+  piece under a seat is that seat's base;
 - `unnamed_object`: any other segment becomes a node labelled UNNAMED_LABEL, with its size,
   colour, thumbnail from the view that saw it best, and a shape word where the geometry says one
   (`shape_word`); it is never given a class name;
@@ -62,6 +66,9 @@ REMNANT_THICKNESS_M = 0.12
 # Part of the floor: a piece whose top is this low and that is this thin.
 FLOOR_REMNANT_TOP_M = 0.10
 FLOOR_REMNANT_THICKNESS_M = 0.06
+# A segment hovering with its bottom up to this high is a seat (chairs' and couches' seats stand
+# at 0.35-0.50 m; with its cushion's underside hidden a seat's bottom shows a little lower).
+SEAT_MAX_BOTTOM_M = 0.60
 # A segment rests on a surface when its bottom is this close to the surface's level.
 RESTING_M = 0.05
 # Shape words: flat when the height is at most FLAT_RATIO of the larger horizontal side; tall
@@ -345,6 +352,34 @@ def _desks(surfaces: Sequence[Element], cloud: RoomCloud,
     return out
 
 
+def hovering_seat(seg: Segment) -> bool:
+    """A segment that hovers at seat height (its bottom between SEAT_MIN_BOTTOM_M and
+    SEAT_MAX_BOTTOM_M): a chair's seat and back seen without its legs."""
+    return furniture.SEAT_MIN_BOTTOM_M <= float(seg.lo[2]) <= SEAT_MAX_BOTTOM_M
+
+
+def _couches(seats: Sequence[Element], segments: Sequence[Segment], cloud: RoomCloud,
+             colour_image: Callable[[int], Optional[np.ndarray]],
+             ) -> tuple[list[tuple[Element, tuple[np.ndarray, np.ndarray], ObjectObservation]], list[Segment]]:
+    """The seat levels shaped like couches (`furniture.couch_shaped`), lowest first, each with its
+    whole box and its couch node; and the segments that are no couch's part."""
+    def as_object(local_id, lo, hi, idx):
+        return points_object(local_id, lo, hi, idx, cloud, colour_image)
+
+    out: list[tuple[Element, tuple[np.ndarray, np.ndarray], ObjectObservation]] = []
+    left = list(segments)
+    for e in sorted(seats, key=lambda e: e.height):
+        if furniture.part_of_furniture(e, [box for _, box, _ in out]):
+            continue                     # a second level of a couch already found
+        parts = furniture.couch_parts(e, [(s.lo, s.hi) for s in left])
+        if not furniture.couch_shaped(e.height, [furniture.back_or_arm_length(left[k].voxels, e.height) for k in parts]):
+            continue
+        lo, hi = furniture.couch_box(e, [(left[k].lo, left[k].hi) for k in parts])
+        out.append((e, (lo, hi), furniture.couch_node(f"c{len(out)}", lo, hi, cloud, as_object)))
+        left = [s for k, s in enumerate(left) if k not in set(parts)]
+    return out, left
+
+
 def structure_node(local_id: str, el: Element, cloud: RoomCloud) -> ObjectObservation:
     """A structure-layer node for a floor, wall or surface: its box, no colour evidence."""
     centre = cloud.to_world((el.lo + el.hi) / 2)
@@ -367,7 +402,10 @@ def discover(named: list[ObjectObservation], cloud: RoomCloud, structure: Sequen
     walls, and the surfaces no object owns: a level over a floor-standing object is its seat or
     top). Small named objects claim the points inside their boxes before segmentation; the
     whole boxes of floor-standing furniture name the segments inside them (a chair tucked under
-    a table would be claimed by the table's box)."""
+    a table would be claimed by the table's box). A seat level with a couch's back or arm
+    (`furniture.couch_shaped`) is a couch node that takes its parts; a worktop's box and the
+    carrel panels beside it (`furniture.carrel_panel`) are its desks'; a low piece under a seat
+    (`furniture.base_under_seat`) is that seat's base. None of these is a node of its own."""
     surfaces = [e for e in structure if e.footprint is not None]
     tops = [whole_object_box(o, cloud, surfaces) for o in named]
     for k, (o, top) in enumerate(zip(named, tops)):
@@ -383,13 +421,25 @@ def discover(named: list[ObjectObservation], cloud: RoomCloud, structure: Sequen
     standing = [b for o, b in zip(named, boxes) if o.label in FLOOR_STANDING_LABELS]
     owned |= {id(e) for e in surfaces if id(e) not in owned and furniture.part_of_furniture(e, standing)}
     boxes += [gravity_box(d, cloud) for _, d in desks]
+    # a worktop cut into desks is one piece of furniture: what lies inside its box (the carrels'
+    # back panels under the tops) is part of it, and so are the panels standing beside it
+    worktops = [furniture.desk_box(e) for e in {id(e): e for e, _ in desks}.values()]
+    boxes += worktops
     claims = [b for o, b in zip(named, boxes) if o.label not in FLOOR_STANDING_LABELS]
     segments = separate_resting(room_candidates(cloud, structure, claims), surfaces, cloud)
+    couches, segments = _couches([e for e in surfaces if id(e) not in owned], segments, cloud, colour_image)
+    couch_boxes = [box for _, box, _ in couches]
+    owned |= {id(e) for e, _, _ in couches}
+    owned |= {id(e) for e in surfaces if id(e) not in owned and furniture.part_of_furniture(e, couch_boxes)}
+    boxes += couch_boxes
+    seats = standing + couch_boxes + [(s.lo, s.hi) for s in segments if hovering_seat(s)]
     planes = [e for e in structure if e.plane is not None]
     screens = [b for o, b in zip(named, boxes) if colour_model.is_screen(o.label)]
-    unnamed: list[ObjectObservation] = [desk for _, desk in desks]
+    unnamed: list[ObjectObservation] = [desk for _, desk in desks] + [couch for _, _, couch in couches]
     for seg in segments:
-        if named_by(seg, boxes) or plane_remnant(seg, planes) or floor_remnant(seg):
+        if (named_by(seg, boxes) or plane_remnant(seg, planes) or floor_remnant(seg)
+                or furniture.base_under_seat(seg.lo, seg.hi, seats)
+                or any(furniture.carrel_panel(seg.lo, seg.hi, *top) for top in worktops)):
             continue
         unnamed.append(unnamed_object(f"u{len(unnamed)}", seg, cloud, colour_image, screens))
     nodes = [structure_node(f"s{k}", e, cloud) for k, e in enumerate(

@@ -8,7 +8,13 @@ Each rule is one function:
   seen: furniture with knee space shows the floor below its top, a solid box hides it;
 - `desk_shaped`: a top at desk height (DESK_TOP_HEIGHT) with knee space below is a desk;
 - `cabinet_shaped`: a top below table height that hides the floor under it is a cabinet, whatever
-  a detector called it.
+  a detector called it;
+- `couch_shaped`: a seat level (COUCH_SEAT_HEIGHT) with a back or an arm longer than any chair's
+  beside it is a couch; its parts are one object (`couch_parts`, `couch_box`);
+- `carrel_panel`: a thin vertical panel standing beside a desk's worktop and rising above it is
+  the carrel's side, part of the desk;
+- `base_under_seat`: a low piece on the floor under a seat is that seat's base (a chair's
+  five-star base), not an object of its own.
 A node named by these rules says so (`named_by = "shape"`); where a detector's label is
 overruled, its label stays among the node's top-k labels.
 """
@@ -47,6 +53,34 @@ PANEL_REACH_M = 0.8
 PANEL_FLOOR_GAP_M = 0.1
 PANEL_WINDOW_M = 0.2
 DESK_MIN_WIDTH = 0.5
+# Couch and sofa seats stand 0.35-0.50 m above the floor (seat cushions 0.38-0.48 m; a bed's
+# mattress is higher, a coffee table as low but with nothing raised beside it).
+COUCH_SEAT_HEIGHT = (0.35, 0.50)
+# A back or an arm: a part within COUCH_JOIN_M of the seat level seen (a dark or slanted cushion
+# shows only part of its seat as a level; back and arms stand within a cushion's depth of it) that
+# rises from the seat (its bottom at or below the seat level) at least COUCH_RISE_M above it, tops
+# out by COUCH_MAX_TOP_M (sofa backs and arms stand 0.6-1.0 m; taller is a cabinet or a wall beside
+# the level) and runs at least COUCH_MIN_PART_M along its longest horizontal axis: a sofa's back is
+# 1.2 m wide and more and its arms 0.75-0.95 m deep, while a chair's back or arm is 0.40-0.55 m
+# (the study room's chairs measure 0.58-0.65 m over back and arms together, its couch's arm 0.93 m).
+COUCH_JOIN_M = 0.35
+COUCH_RISE_M = 0.15
+COUCH_MAX_TOP_M = 1.0
+COUCH_MIN_PART_M = 0.80
+COUCH_LABEL = "couch"
+# A seat's base: a piece whose top is at most BASE_MAX_TOP_M above the floor (a five-star chair
+# base with its casters stands 0.10-0.15 m; a seat is at 0.35 m or more) and whose footprint
+# overlaps the footprint of a seat above it.
+BASE_MAX_TOP_M = 0.16
+# What stands above a base as a seat: its bottom at least this high (a chair's seat, seen without
+# its legs) or a named floor-standing object's box.
+SEAT_MIN_BOTTOM_M = 0.25
+# A carrel's side panel: a piece at most CARREL_PANEL_MAX_THICKNESS_M thick along one horizontal
+# axis (a partition is 3-8 cm thick; seen edge-on with its trim and 1-3 cm depth noise its segment
+# measures up to 0.15 m), within CARREL_REACH_M of a worktop's footprint (side panels run past the
+# top's front edge and stand beside its ends: 0.1-0.2 m in the study room) and rising above the top.
+CARREL_PANEL_MAX_THICKNESS_M = 0.20
+CARREL_REACH_M = 0.30
 # Detector labels a low, solid top overrules (a sideboard looks like a table from above).
 TABLE_LABELS = ("dining table",)
 CABINET_LABEL = "cabinet"
@@ -208,3 +242,79 @@ def low_solid_top(obj: ObjectObservation, top: Optional[Element], cloud: RoomClo
     """Whether a table-named object's own top says it is a cabinet (`cabinet_shaped`)."""
     return (obj.label in TABLE_LABELS and top is not None
             and cabinet_shaped(top.height, floor_seen_under(top, cloud)))
+
+
+def back_or_arm_length(voxels: np.ndarray, seat_height: float) -> float:
+    """How long a back or an arm a part (its voxels, gravity frame) is for a seat at `seat_height`:
+    the length along its principal horizontal axis of its voxels COUCH_RISE_M above the seat, when
+    it rises from the seat (its bottom at or below the seat level) and tops out by COUCH_MAX_TOP_M;
+    0 otherwise."""
+    if float(voxels[:, 2].min()) > seat_height or float(voxels[:, 2].max()) > COUCH_MAX_TOP_M:
+        return 0.0
+    up = voxels[voxels[:, 2] >= seat_height + COUCH_RISE_M, :2]
+    if len(up) < 2:
+        return 0.0
+    centred = up - up.mean(axis=0)
+    _, vecs = np.linalg.eigh(centred.T @ centred)
+    return float(np.ptp(centred @ vecs[:, -1]))
+
+
+def couch_shaped(seat_height: float, part_lengths: Sequence[float]) -> bool:
+    """Rule "couch": a seat level COUCH_SEAT_HEIGHT above the floor with a back or an arm beside it
+    (`couch_parts`) at least COUCH_MIN_PART_M long (`back_or_arm_length`): longer than any chair's
+    back or arm, so wider than a chair."""
+    return (COUCH_SEAT_HEIGHT[0] <= seat_height <= COUCH_SEAT_HEIGHT[1]
+            and any(length >= COUCH_MIN_PART_M for length in part_lengths))
+
+
+def _touching(lo: np.ndarray, hi: np.ndarray, lo2: np.ndarray, hi2: np.ndarray, margin: float) -> bool:
+    return bool((lo[:2] - margin <= hi2[:2]).all() and (lo2[:2] <= hi[:2] + margin).all())
+
+
+def couch_parts(seat: Element, parts: Sequence[tuple[np.ndarray, np.ndarray]]) -> list[int]:
+    """The parts (gravity boxes lo, hi) of the seat's couch: those within COUCH_JOIN_M of the seat's
+    footprint box, not lower than the floor's clutter and topping out by COUCH_MAX_TOP_M (its back,
+    arms and cushions; a cabinet or a wall beside it is taller)."""
+    return [k for k, (lo, hi) in enumerate(parts)
+            if float(hi[2]) <= COUCH_MAX_TOP_M and float(hi[2]) >= seat.height - COUCH_JOIN_M
+            and _touching(seat.lo, seat.hi, lo, hi, COUCH_JOIN_M)]
+
+
+def couch_box(seat: Element, parts: Sequence[tuple[np.ndarray, np.ndarray]]) -> tuple[np.ndarray, np.ndarray]:
+    """A couch's whole box: its seat's footprint and its parts' boxes, from the floor up."""
+    lo = np.minimum.reduce([seat.lo] + [p[0] for p in parts]).astype(float)
+    hi = np.maximum.reduce([seat.hi] + [p[1] for p in parts]).astype(float)
+    lo[2] = 0.0
+    hi[2] = max(float(hi[2]), seat.height)
+    return lo, hi
+
+
+def couch_node(local_id: str, lo: np.ndarray, hi: np.ndarray, cloud: RoomCloud,
+               as_object: Callable[[str, np.ndarray, np.ndarray, np.ndarray], ObjectObservation]) -> ObjectObservation:
+    """A node named "couch" by its shape: its whole box (`couch_box`), and the colour, histogram and
+    thumbnail `as_object` reads from the cloud's points inside it above the floor."""
+    p = cloud.points
+    idx = np.flatnonzero((p >= lo).all(axis=1) & (p <= hi).all(axis=1) & (p[:, 2] > FLOOR_SLAB_M))
+    obj = as_object(local_id, lo, hi, idx)
+    centre = cloud.to_world((lo + hi) / 2)
+    return replace(obj, labels=[COUCH_LABEL], scores=[1.0], size=vec3(hi - lo), box_centre=vec3(centre),
+                   shape=None, named_by="shape")
+
+
+def base_under_seat(lo: np.ndarray, hi: np.ndarray, seats: Sequence[tuple[np.ndarray, np.ndarray]]) -> bool:
+    """Rule "a seat's base": a piece (gravity box lo, hi) whose top is at most BASE_MAX_TOP_M above
+    the floor and whose footprint overlaps the footprint of a seat standing above it (`seats`: a
+    named floor-standing object's box, or a part whose bottom is at least SEAT_MIN_BOTTOM_M high)
+    is that seat's base or legs (a chair's five-star base), not an object of its own."""
+    if float(hi[2]) > BASE_MAX_TOP_M:
+        return False
+    return any(_touching(lo, hi, slo, shi, 0.0) and float(shi[2]) > BASE_MAX_TOP_M for slo, shi in seats)
+
+
+def carrel_panel(lo: np.ndarray, hi: np.ndarray, top_lo: np.ndarray, top_hi: np.ndarray) -> bool:
+    """Rule "a carrel's panel": a piece (gravity box lo, hi) at most CARREL_PANEL_MAX_THICKNESS_M
+    thick along a horizontal axis, within CARREL_REACH_M of a desk worktop's box (top_lo, top_hi:
+    `desk_box`) and rising above its top is a side panel of the carrel, part of the desk."""
+    thin = float(np.min(hi[:2] - lo[:2])) <= CARREL_PANEL_MAX_THICKNESS_M
+    return (thin and float(hi[2]) > float(top_hi[2])
+            and _touching(lo, hi, top_lo, top_hi, CARREL_REACH_M))

@@ -53,3 +53,28 @@ def test_a_new_chair_takes_over_the_stored_piece_inside_its_box():
     assert stored_pieces_named([chair, cup], [far, base], {}, {}, BASIS) == {0: 1}
     assert stored_pieces_named([chair], [base], {0: 0}, {}, BASIS) == {}          # matched already
     assert stored_pieces_named([chair], [base], {}, {0: 5}, BASIS) == {}          # folded elsewhere
+
+
+def test_a_new_chair_takes_over_a_stored_blob_wider_than_its_box():
+    """The earlier scan saw the chair as an unnamed blob with its base spread wider than the chair's
+    box: the overlap is judged on the smaller box (`box_overlap_share`)."""
+    from sg3d.graphdb.merge_plan import stored_pieces_named
+
+    chair = piece((0, 0, 0.4), (0.88, 0.55, 0.8), label="chair")
+    blob = {**stored(UNNAMED_LABEL, (-0.1, 0.1, 0.42), (0.8, 0.98, 0.84)), "id": "o-blob"}
+    assert box_inside_share((-0.1, 0.1, 0.42), (0.8, 0.98, 0.84), (0, 0, 0.4), (0.88, 0.55, 0.8), BASIS) < 0.5
+    assert stored_pieces_named([chair], [blob], {}, {}, BASIS) == {0: 0}
+
+
+@pytest.mark.parametrize("shift,candidate", [(0.0, True), (0.3, True), (0.55, False)])
+def test_pairs_a_stored_box_may_claim_stay_candidates(shift, candidate):
+    """The Gaussians of a chair and of its base seen alone lie apart; the claim rules still see them."""
+    from sg3d.graphdb.merge_plan import box_claims
+
+    chair = stored("chair", (0, 0, 0.4), (0.6, 0.6, 0.8))
+    cup = stored("cup", (0, 0, 0.4), (0.6, 0.6, 0.8))
+    base = piece((shift, 0, 0.15), (0.6, 0.6, 0.3))
+    assert box_claims([base], [chair, cup], BASIS).tolist() == [[candidate, False]]
+    named = piece((shift, 0, 0.4), (0.6, 0.6, 0.8), label="chair")
+    blob = stored(UNNAMED_LABEL, (0, 0, 0.15), (0.6, 0.6, 0.3))
+    assert box_claims([named], [blob, chair], BASIS).tolist() == [[candidate, False]]

@@ -131,3 +131,80 @@ def test_a_low_solid_top_makes_a_table_a_cabinet_but_not_a_chair():
     assert not furniture.low_solid_top(obj("dining table"), top(0.0, 1.0, 0.0, 0.5, 0.72), solid)
     open_below = cloud_of(grid(0.0, 1.0, 0.0, 0.5, 0.0, 0.0))
     assert not furniture.low_solid_top(obj("dining table"), low, open_below)
+
+
+# --- couch: a seat level with a back or an arm longer than any chair's -----------------------
+
+def slab(a0, a1, b0, b1, h0, h1, step=0.025) -> np.ndarray:
+    """Voxel centres filling a box (gravity frame)."""
+    return grid(a0, a1, b0, b1, h0, h1, step)
+
+
+@pytest.mark.parametrize("height,ok", [(0.33, False), (0.37, True), (0.48, True), (0.52, False)])
+def test_couch_seat_height(height, ok):
+    assert furniture.couch_shaped(height, [1.0]) is ok
+
+
+@pytest.mark.parametrize("length,ok", [(0.6, False), (0.75, False), (0.85, True), (1.4, True)])
+def test_couch_back_or_arm_longer_than_a_chairs(length, ok):
+    assert furniture.couch_shaped(0.42, [0.4, length]) is ok
+
+
+def test_back_or_arm_rises_from_the_seat_and_stays_below_a_cabinets_top():
+    arm = slab(0.0, 0.1, 0.0, 0.95, 0.20, 0.78)                # an arm 0.95 m deep, up to 0.8 m
+    assert furniture.back_or_arm_length(arm, 0.42) == pytest.approx(0.925, abs=0.03)
+    floating = slab(0.0, 0.1, 0.0, 0.95, 0.60, 0.70)           # a table's edge above the level
+    assert furniture.back_or_arm_length(floating, 0.42) == 0.0
+    assert furniture.back_or_arm_length(slab(0.0, 0.1, 0.0, 0.95, 0.20, 0.95), 0.42) > 0.8   # top 0.95 m
+    assert furniture.back_or_arm_length(slab(0.0, 0.1, 0.0, 0.95, 0.20, 1.05), 0.42) == 0.0  # top 1.05 m
+    low = slab(0.0, 0.1, 0.0, 0.95, 0.20, 0.55)                # not COUCH_RISE_M above the seat
+    assert furniture.back_or_arm_length(low, 0.42) == 0.0
+
+
+@pytest.mark.parametrize("gap,joined", [(0.0, True), (0.3, True), (0.4, False)])
+def test_couch_parts_lie_within_a_cushions_depth_of_the_seat(gap, joined):
+    seat = top(0.0, 0.5, 0.0, 0.5, 0.42)
+    arm = (np.array([-0.15 - gap, 0.0, 0.2]), np.array([-gap, 0.9, 0.8]))
+    cabinet = (np.array([0.5, 0.0, 0.0]), np.array([1.0, 0.5, 1.3]))   # beside it but taller
+    assert (furniture.couch_parts(seat, [arm, cabinet]) == [0]) is joined
+
+
+def test_couch_box_spans_seat_and_parts_from_the_floor():
+    seat = top(0.0, 0.5, 0.0, 0.5, 0.42)
+    lo, hi = furniture.couch_box(seat, [(np.array([-0.2, -0.1, 0.2]), np.array([-0.05, 0.9, 0.8]))])
+    assert np.allclose(lo, [-0.2, -0.1, 0.0]) and np.allclose(hi, [0.5, 0.9, 0.8])
+
+
+# --- a seat's base; a carrel's panel -------------------------------------------------------------
+
+@pytest.mark.parametrize("base_top,ok", [(0.10, True), (0.15, True), (0.18, False)])
+def test_a_low_piece_under_a_seat_is_its_base(base_top, ok):
+    seat = (np.array([0.0, 0.0, 0.32]), np.array([0.5, 0.5, 0.92]))
+    base = (np.array([-0.2, -0.2, 0.04]), np.array([0.7, 0.7, base_top]))
+    assert furniture.base_under_seat(*base, [seat]) is ok
+
+
+def test_a_low_piece_with_no_seat_over_it_stays():
+    seat = (np.array([2.0, 2.0, 0.32]), np.array([2.5, 2.5, 0.92]))
+    base = (np.array([-0.2, -0.2, 0.04]), np.array([0.7, 0.7, 0.12]))
+    assert not furniture.base_under_seat(*base, [seat])
+    assert not furniture.base_under_seat(*base, [])
+
+
+WORKTOP = (np.array([0.0, 0.0, 0.0]), np.array([2.0, 0.7, 0.7]))
+
+
+@pytest.mark.parametrize("thickness,ok", [(0.10, True), (0.18, True), (0.25, False)])
+def test_carrel_panel_is_thin(thickness, ok):
+    panel = (np.array([1.0, 0.75, 0.05]), np.array([1.0 + thickness, 1.0, 1.4]))
+    assert furniture.carrel_panel(*panel, *WORKTOP) is ok
+
+
+@pytest.mark.parametrize("gap,ok", [(0.05, True), (0.25, True), (0.35, False)])
+def test_carrel_panel_stands_beside_the_worktop(gap, ok):
+    panel = (np.array([1.0, 0.7 + gap, 0.05]), np.array([1.15, 1.0 + gap, 1.4]))
+    assert furniture.carrel_panel(*panel, *WORKTOP) is ok
+
+
+def test_carrel_panel_rises_above_the_top():
+    assert not furniture.carrel_panel(np.array([1.0, 0.75, 0.05]), np.array([1.15, 1.0, 0.6]), *WORKTOP)
