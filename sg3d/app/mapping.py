@@ -266,14 +266,15 @@ class _Publisher:
             raise self.error
 
     def _run(self) -> None:
-        next_at = time.monotonic()
-        while not self._stop.is_set():
-            wait = next_at - time.monotonic()
-            if wait > 0 and self._stop.wait(wait):
-                break
-            next_at = time.monotonic() + self.req.publish_every
+        """Publish as soon as the evidence changed and `publish_every` passed since the last
+        publish began (a frame detected just after a quiet spell is visible at once)."""
+        last = -float("inf")
+        while not self._stop.wait(POLL_S):
             if self.mapper.gravity is None or self.mapper.version == self.published_version:
                 continue
+            if time.monotonic() - last < self.req.publish_every:
+                continue
+            last = time.monotonic()
             try:
                 self.publish_now(None, "live")
             except Exception as exc:   # noqa: BLE001 - handed to the mapping thread by stop()
@@ -317,3 +318,22 @@ class _Publisher:
 
     def mean_seconds(self) -> float:
         return float(np.mean(self.publish_seconds)) if self.publish_seconds else 0.0
+
+
+def room_state(store: GraphStore, building: str, room: str) -> dict:
+    """One room as `GET /rooms/{building}/{room}` shows it: what `sg3d rooms` lists of it, and
+    `mapping`: whether a live map is building it (state live/done, since when, frames so far,
+    last publish) or null. NotFound when the room is not in the store."""
+    from sg3d.app.errors import NotFound
+    from sg3d.app.rooms import list_rooms
+    from sg3d.graphdb.live import mapping_status
+
+    known = [r for r in list_rooms(store, building) if r["name"] == room]
+    if not known:
+        raise NotFound(f"no room {room!r} in building {building!r}")
+    status = mapping_status(store, building, room)
+    mapping = None
+    if status is not None:
+        mapping = {"state": status["mapping"], "since": status["since"], "frames": status["frames"],
+                   "last_publish": status["updated"], "source": status["source"]}
+    return {**known[0], "mapping": mapping}
