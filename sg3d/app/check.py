@@ -80,3 +80,55 @@ def check_store(store: GraphStore, repair: bool = False) -> CheckReport:
         store.execute_write(lambda tx: repair_in_tx(tx, ids, rooms))
         report.repaired = True
     return report
+
+
+# Counters of ArcadeDB's CHECK DATABASE result that name damage (any non-zero one does).
+DAMAGE_COUNTS = ("totalErrors", "totalCorruptedRecords", "totalUndecodableRecords", "invalidLinks",
+                 "edgesMissingOutReference", "edgesMissingInReference", "missingReferenceBack",
+                 "danglingPlaceholderPointers", "unreachableEdgeRecords", "distinctMissingReferences",
+                 "totalConstraintViolations", "crossLinkedChunks", "orphanedChunks")
+# Lists of that result that name damaged parts.
+DAMAGE_LISTS = ("corruptedIndexes", "corruptedRecords", "undecodableRecords", "unreadableStripeDirectories",
+                "corruptedTimeSeries", "constraintViolatingRecords")
+
+
+def integrity_problems(result: dict, database_dir=None) -> list[str]:
+    """What a CHECK DATABASE `result` (`EmbeddedServer.check_database`) names as damage, one line
+    each ("totalCorruptedRecords: 3", "corruptedIndexes: Object[id]", and its warnings); also a
+    database folder `database_dir` that is not there. Empty: the store's files are sound."""
+    from pathlib import Path
+
+    problems = []
+    if database_dir is not None and not Path(database_dir).is_dir():
+        problems.append(f"the store's database folder {database_dir} is gone while the store runs: "
+                        f"what it held is lost at its stop")
+    for key in DAMAGE_COUNTS:
+        n = result.get(key) or 0
+        if isinstance(n, (int, float)) and n > 0:
+            problems.append(f"{key}: {n:g}")
+    for key in DAMAGE_LISTS:
+        items = result.get(key) or []
+        if items:
+            shown = ", ".join(str(x)[:80] for x in list(items)[:5])
+            problems.append(f"{key}: {shown}" + (f" (+{len(items) - 5})" if len(items) > 5 else ""))
+    if problems:     # the warnings say where; alone they are no damage
+        problems += [f"warning: {str(w)[:200]}" for w in list(result.get("warnings") or [])[:10]]
+    return problems
+
+
+def record_problems(store: GraphStore) -> list[str]:
+    """Records missing a property sg3d always writes (`check_required_properties`), one line per
+    kind: what a damaged dictionary of property names looks like from outside (the store's own
+    CHECK DATABASE passes it, while every question about the room is answered wrong)."""
+    rows = _raw(store, "check_required_properties")
+    if not rows:
+        return []
+    r = rows[0]
+    out = []
+    for kind, total, missing, what in (("Object", "objects", "objects_missing", "id, room or label"),
+                                       ("Room", "rooms", "rooms_missing", "id"),
+                                       ("Tally", "tallies", "tallies_missing", "room or label")):
+        if r.get(missing):
+            out.append(f"{r[missing]} of {r[total]} {kind} records have no {what} (the store's dictionary of "
+                       f"property names is damaged?)")
+    return out

@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import json
 import time
+from typing import NoReturn
 
 import click
 
@@ -57,6 +58,9 @@ def start(settings) -> None:
     if st.running and st.info:
         click.echo(f"already running: {st.info.uri} pid {st.info.pid}")
         return
+    lost = server.accept_lost()
+    if lost:
+        click.echo(f"starting an empty store: {lost}", err=True)
     t0 = time.monotonic()
     info = server.start()
     settings.store().ensure_schema()
@@ -90,20 +94,35 @@ def reset(settings, yes: bool) -> None:
 @click.option("--json", "as_json", is_flag=True, help="Machine-readable output.")
 @click.pass_obj
 def check(settings, repair: bool, as_json: bool) -> None:
-    """Find stored values no reader can use (NaN, Infinity, positions beyond the world extent, an
-    up that is no direction); --repair removes such objects and clears such up directions."""
-    from sg3d.app.check import check_store
+    """Check the store: the embedded store's own integrity (ArcadeDB's CHECK DATABASE: pages,
+    records, edges, indexes; and whether its database folder is still there), exit status 1 when
+    it is damaged; then stored values no reader can use (NaN, Infinity, positions beyond the world
+    extent, an up that is no direction) and tallies that disagree with the objects; --repair
+    removes such objects, clears such up directions and recounts the tallies."""
+    from sg3d.app.check import check_store, integrity_problems, record_problems
 
+    damage: list[str] = []
+    server = _server(settings) if settings.embedded else None
+    if server is not None:
+        lost = server.lost()
+        if lost:
+            _damaged([lost + "; what it held is gone (`sg3d db start` starts an empty store)"], as_json)
     store = settings.store()
     store.ensure_schema()
+    if server is not None:
+        damage = integrity_problems(server.check_database(), server.database_dir)
+    damage += record_problems(store)
+    if damage:
+        _damaged(damage, as_json)
     report = check_store(store, repair=repair)
     data = {"objects": [{"id": i, "room": r} for i, r in report.objects], "rooms": report.rooms,
-            "tallies": report.tallies, "repaired": report.repaired}
+            "tallies": report.tallies, "repaired": report.repaired, "integrity": "clean" if server else "not checked"}
     if as_json:
         click.echo(json.dumps(data))
         return
     if report.clean:
-        click.echo("the store holds no unusable values")
+        click.echo("the store holds no unusable values" + ("; its files passed the store's CHECK DATABASE"
+                                                             if server else ""))
         return
     verb = "removed" if report.repaired else "found"
     click.echo(f"{verb} {len(report.objects)} object(s) with unusable numbers, "
@@ -116,6 +135,18 @@ def check(settings, repair: bool, as_json: bool) -> None:
         click.echo(f"  room {room}: up")
     for t in report.tallies[:20]:
         click.echo(f"  tally {t['label']} ({t['colour']}) in {t['room']}: {t['stored']} stored, {t['counted']} counted")
+
+
+def _damaged(damage: list[str], as_json: bool) -> NoReturn:
+    """Report a damaged store and exit 1 (a damaged store is no bad input, and no repair here
+    can bring back what it lost)."""
+    if as_json:
+        click.echo(json.dumps({"integrity": "damaged", "damage": damage}))
+    else:
+        click.echo(f"the store is damaged: {damage[0]}" + (f" (and {len(damage) - 1} more)" if len(damage) > 1 else ""))
+        for line in damage[1:20]:
+            click.echo(f"  {line}")
+    raise SystemExit(1)
 
 
 @db.command("rebuild-tallies")

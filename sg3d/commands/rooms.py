@@ -1,5 +1,5 @@
 """`sg3d rooms`: a building's rooms; `sg3d rooms link A B`: align two rooms and link them;
-`sg3d rooms delete ROOM`: remove one room."""
+`sg3d rooms unlink A B`: remove that link; `sg3d rooms delete ROOM`: remove one room."""
 from __future__ import annotations
 
 import json
@@ -19,7 +19,7 @@ from sg3d.errors import UserError
 def rooms(ctx: click.Context, building: str, as_json: bool) -> None:
     """List the building's rooms: object counts, whether each has a transform, adjacent rooms.
 
-    With a subcommand (`link`, `delete`), that subcommand runs instead.
+    With a subcommand (`link`, `unlink`, `delete`), that subcommand runs instead.
     """
     if ctx.invoked_subcommand is not None:
         return
@@ -50,19 +50,21 @@ def rooms(ctx: click.Context, building: str, as_json: bool) -> None:
                    "skips the alignment.")
 @click.option("--tolerance", type=float, default=None,
               help="Metres within which two objects of the rooms are one (default 0.3).")
+@click.option("--force", is_flag=True,
+              help="Store the alignment even when it rests on too little evidence (fewer than 3 objects "
+                   "agreeing in label, colour and size, a small share of what could match, a large residual "
+                   "or floors tilted against each other).")
 @click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
 @click.pass_context
 def link(ctx: click.Context, room_a: str, room_b: str, building: Optional[str], transform_file: Optional[Path],
-         tolerance: Optional[float], as_json: bool) -> None:
+         tolerance: Optional[float], force: bool, as_json: bool) -> None:
     """Align ROOM_B to ROOM_A from their shared objects (or a transform file), store both rooms'
-    building transforms and link the shared objects (SAME_AS) and the rooms (ADJACENT_TO)."""
+    building transforms and link the shared objects (SAME_AS) and the rooms (ADJACENT_TO).
+
+    An alignment without enough independent evidence is refused, with the reason (exit 2);
+    --force stores it anyway, `sg3d rooms unlink` removes a link."""
     settings = ctx.obj
-    assert ctx.parent is not None                 # a subcommand: the group's context holds --building
-    outer = ctx.parent.params["building"]
-    if building is not None and outer != building and \
-            ctx.parent.get_parameter_source("building") is not click.core.ParameterSource.DEFAULT:
-        raise UserError(f"two buildings given ({outer!r} before link, {building!r} after it): give --building once")
-    building = building or outer
+    building = _building(ctx, building, "link")
     from sg3d.graphdb.align import AlignmentError
     from sg3d.graphdb.building import (
         LINK_TOL_M,
@@ -76,7 +78,7 @@ def link(ctx: click.Context, room_a: str, room_b: str, building: Optional[str], 
     try:
         T = load_transform(transform_file) if transform_file else None
         report = link_rooms(settings.store(), room_id(building, room_a), room_id(building, room_b),
-                            transform=T, link_tol_m=LINK_TOL_M if tolerance is None else tolerance)
+                            transform=T, link_tol_m=LINK_TOL_M if tolerance is None else tolerance, force=force)
     except (AlignmentError, TransformError) as exc:
         raise UserError(str(exc)) from None
     residual = None if math.isnan(report.residual_rms_m) else round(report.residual_rms_m, 4)
@@ -85,13 +87,56 @@ def link(ctx: click.Context, room_a: str, room_b: str, building: Optional[str], 
                                "transform": report.T.tolist(), "to_building_a": report.to_building_a.tolist(),
                                "to_building_b": report.to_building_b.tolist(), "residual_rms_m": residual,
                                "pairs": report.pairs, "same_as": len(report.same_as),
-                               "from_file": report.from_file}, indent=2))
+                               "from_file": report.from_file, "evidence": report.evidence,
+                               "share": round(report.share, 3),
+                               "up_angle_deg": None if report.up_angle_deg is None else round(report.up_angle_deg, 2),
+                               "forced": report.forced}, indent=2))
         return
     source = "from file" if report.from_file else "aligned"
+    if report.forced:
+        click.echo(f"linked with --force although {report.forced}", err=True)
     click.echo(f"{report.room_b} -> {report.room_a} ({source}):")
     click.echo(format_matrix(report.T))
     click.echo(f"residual: {'n/a' if residual is None else f'{residual:.4f} m'}  pairs: {report.pairs}  "
                f"SAME_AS links: {len(report.same_as)}")
+
+
+def _building(ctx: click.Context, building: Optional[str], command: str) -> str:
+    """The building of a subcommand: its own --building or the group's (given twice: one error)."""
+    assert ctx.parent is not None                 # a subcommand: the group's context holds --building
+    outer = ctx.parent.params["building"]
+    if building is not None and outer != building and \
+            ctx.parent.get_parameter_source("building") is not click.core.ParameterSource.DEFAULT:
+        raise UserError(f"two buildings given ({outer!r} before {command}, {building!r} after it): "
+                        f"give --building once")
+    return building or outer
+
+
+@rooms.command("unlink")
+@click.argument("room_a")
+@click.argument("room_b")
+@click.option("--building", default=None,
+              help="Building of the rooms (default: `sg3d rooms --building`, else 'default').")
+@click.option("--json", "as_json", is_flag=True, help="Print what was removed as JSON.")
+@click.pass_context
+def unlink(ctx: click.Context, room_a: str, room_b: str, building: Optional[str], as_json: bool) -> None:
+    """Remove the link between ROOM_A and ROOM_B: their ADJACENT_TO edges and the SAME_AS links
+    between their objects (one transaction). The rooms keep their building transforms."""
+    from sg3d.graphdb.align import AlignmentError
+    from sg3d.graphdb.building import unlink_rooms
+    from sg3d.graphdb.values import room_id
+
+    building = _building(ctx, building, "unlink")
+    a, b = room_id(building, room_a), room_id(building, room_b)
+    try:
+        removed = unlink_rooms(ctx.obj.store(), a, b)
+    except AlignmentError as exc:
+        raise UserError(str(exc)) from None
+    if as_json:
+        click.echo(json.dumps({"room_a": a, "room_b": b, **removed}))
+        return
+    click.echo(f"unlinked {b} from {a}: {removed['adjacent']} ADJACENT_TO edge(s) and {removed['same_as']} "
+               f"SAME_AS link(s) removed")
 
 
 @rooms.command("delete")

@@ -33,8 +33,36 @@ RANSAC_ITERS = 1000
 MIN_SAMPLE_AREA_M2 = 0.01
 
 
+# What an alignment must rest on before `sg3d rooms link` stores it (without --force). Two unrelated
+# rooms always share a floor, walls and some unnamed blobs of one colour, and RANSAC fits three such
+# pairs within centimetres (the 7-Scenes kitchen and the 3DMatch study room: a wall, a shelf level
+# and two blobs 0.1 m and 2 m across, residual 0.03 m). So evidence is counted only on things:
+# - at least this many distinct object pairs (never the structure layer: floor, walls, counters and
+#   shelf levels match in any two rooms) agreeing on label, colour and size with the transform;
+MIN_EVIDENCE_PAIRS = 3
+# - those pairs at least this share of the things that could have matched (the label- and
+#   colour-compatible things of the room with fewer of them): one room seen twice shares most,
+#   two rooms that share a doorway cabinet and a chair still share a third of what could match;
+MIN_INLIER_SHARE = 0.3
+# - the residual of the fit on them at most half the inlier distance (INLIER_M);
+MAX_RESIDUAL_M = 0.15
+# - and, where both rooms know their up direction (the floor's normal, found independently of the
+#   objects), the transform must carry one onto the other within this angle: gravity estimates of
+#   one room differ by a degree or two, a wrong alignment tilts the room by tens of degrees.
+MAX_UP_ANGLE_DEG = 10.0
+# Two boxes are of a compatible size when each of their sorted extents agrees within this factor
+# (partial views and depth noise: the same chair measures 0.56-0.61 m in two builds); extents under
+# SIZE_FLOOR_M count as SIZE_FLOOR_M (a thin object's depth is mostly noise).
+SIZE_RATIO_MAX = 2.0
+SIZE_FLOOR_M = 0.05
+
+
 class AlignmentError(Sg3dError, ValueError):
     """The two rooms cannot be aligned (too few or degenerate correspondences)."""
+
+
+class WeakAlignment(AlignmentError):
+    """An alignment was found but rests on too little independent evidence to be stored."""
 
 
 @dataclass
@@ -44,6 +72,13 @@ class Alignment:
     residual_rms_m: float
     pairs: list[tuple[str, str]] = field(default_factory=list)   # (object in A, object in B), inliers
     candidates: int = 0                                           # label+colour pairs RANSAC saw
+    evidence: list[tuple[str, str]] = field(default_factory=list)  # inliers that are things, not structure
+    matchable: int = 0                  # things of the room with fewer that had a label+colour partner
+
+    @property
+    def share(self) -> float:
+        """Evidence pairs over the things that could have matched (0 when none could)."""
+        return len(self.evidence) / self.matchable if self.matchable else 0.0
 
 
 def estimate_rigid_transform(src_points, dst_points) -> np.ndarray:
@@ -119,7 +154,7 @@ def ransac_rigid(src, dst, iters: int = RANSAC_ITERS, inlier_m: float = INLIER_M
 
 
 def room_objects(store, room_id: str) -> list[dict]:
-    return store.read("building_room_objects", room=room_id)
+    return store.read("align_room_objects", room=room_id)
 
 
 def candidate_pairs(objs_a: list[dict], objs_b: list[dict], embedding=None,
@@ -145,7 +180,24 @@ def candidate_pairs(objs_a: list[dict], objs_b: list[dict], embedding=None,
     h_b = np.array([unpack_hist(o["hist"]) for o in objs_b])
     s_col = histogram_intersection(h_a[rows], h_b[cols])
     keep = s_col >= colour_min
-    return [(int(i), int(j)) for i, j in zip(rows[keep], cols[keep])]
+    return [(int(i), int(j)) for i, j in zip(rows[keep], cols[keep])
+            if is_structure(objs_a[i]) or is_structure(objs_b[j]) or sizes_compatible(objs_a[i], objs_b[j])]
+
+
+def is_structure(o: dict) -> bool:
+    """Floor, walls, counters and shelf levels: every room has them, so they prove nothing."""
+    return o.get("layer") == "structure"
+
+
+def sizes_compatible(a: dict, b: dict, ratio: float = SIZE_RATIO_MAX) -> bool:
+    """Whether two objects' boxes agree in size: each sorted extent within `ratio` of the other's
+    (extents below SIZE_FLOOR_M raised to it); True when either has no size."""
+    sa, sb = a.get("size"), b.get("size")
+    if not sa or not sb or len(sa) != 3 or len(sb) != 3:
+        return True
+    ea = np.maximum(np.sort(np.asarray(sa, dtype=float)), SIZE_FLOOR_M)
+    eb = np.maximum(np.sort(np.asarray(sb, dtype=float)), SIZE_FLOOR_M)
+    return bool(np.all(np.maximum(ea / eb, eb / ea) <= ratio))
 
 
 def positions(objs: list[dict]) -> np.ndarray:
@@ -191,8 +243,44 @@ def align_objects(objs_a: list[dict], objs_b: list[dict], embedding=None, iters:
     # final fit on one pair per object, so a repeated label cannot weigh twice
     T = estimate_rigid_transform(pb[[j for _, j in chosen]], pa[[i for i, _ in chosen]])
     err = np.linalg.norm(apply(T, pb[[j for _, j in chosen]]) - pa[[i for i, _ in chosen]], axis=1)
+    things = [(i, j) for i, j in pairs if not is_structure(objs_a[i]) and not is_structure(objs_b[j])]
+    matchable = min(len({i for i, _ in things}), len({j for _, j in things}))
     return Alignment(T=T, residual_rms_m=float(np.sqrt(np.mean(err ** 2))),
-                     pairs=[(objs_a[i]["id"], objs_b[j]["id"]) for i, j in chosen], candidates=len(pairs))
+                     pairs=[(objs_a[i]["id"], objs_b[j]["id"]) for i, j in chosen], candidates=len(pairs),
+                     evidence=[(objs_a[i]["id"], objs_b[j]["id"]) for i, j in chosen
+                               if not is_structure(objs_a[i]) and not is_structure(objs_b[j])],
+                     matchable=matchable)
+
+
+def up_angle_deg(T: np.ndarray, up_a, up_b) -> Optional[float]:
+    """Angle (degrees) between room A's up and room B's up carried into A's frame by T; None when
+    either room has no usable up."""
+    if up_a is None or up_b is None:
+        return None
+    a, b = np.asarray(up_a, dtype=float), np.asarray(T, dtype=float)[:3, :3] @ np.asarray(up_b, dtype=float)
+    na, nb = np.linalg.norm(a), np.linalg.norm(b)
+    if not (np.isfinite(na) and np.isfinite(nb)) or na == 0 or nb == 0:
+        return None
+    return float(np.degrees(np.arccos(np.clip(a @ b / (na * nb), -1.0, 1.0))))
+
+
+def evidence_problem(al: Alignment, up_angle: Optional[float] = None) -> Optional[str]:
+    """Why `al` rests on too little independent evidence to be stored, in one clause, or None
+    (rules: MIN_EVIDENCE_PAIRS, MIN_INLIER_SHARE, MAX_RESIDUAL_M, MAX_UP_ANGLE_DEG)."""
+    n = len(al.evidence)
+    if n < MIN_EVIDENCE_PAIRS:
+        return (f"only {n} of the {len(al.pairs)} pairs it rests on are objects agreeing in label, colour and "
+                f"size (floor, walls, counters and shelves match in any two rooms); at least "
+                f"{MIN_EVIDENCE_PAIRS} are needed")
+    if al.share < MIN_INLIER_SHARE:
+        return (f"{n} of {al.matchable} objects that could match agree with it ({al.share:.0%}; at least "
+                f"{MIN_INLIER_SHARE:.0%} are needed)")
+    if al.residual_rms_m > MAX_RESIDUAL_M:
+        return f"its residual is {al.residual_rms_m:.2f} m (at most {MAX_RESIDUAL_M:g} m)"
+    if up_angle is not None and up_angle > MAX_UP_ANGLE_DEG:
+        return (f"it tilts one room's floor {up_angle:.0f} deg against the other's (at most "
+                f"{MAX_UP_ANGLE_DEG:g} deg)")
+    return None
 
 
 def align_rooms(store, room_a_id: str, room_b_id: str, embedding=None, iters: int = RANSAC_ITERS,

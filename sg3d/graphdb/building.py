@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Optional
+from typing import Any, Optional
 
 import numpy as np
 
@@ -20,12 +20,15 @@ from sg3d.graphdb import cypher
 from sg3d.graphdb.align import (
     Alignment,
     AlignmentError,
+    WeakAlignment,
     align_objects,
     apply,
     candidate_pairs,
     one_to_one,
+    evidence_problem,
     positions,
     room_objects,
+    up_angle_deg,
 )
 
 # Two objects are one when their building-frame centres are this close: alignment residuals
@@ -50,6 +53,10 @@ class LinkReport:
     pairs: int                      # correspondences the transform rests on
     same_as: list[dict] = field(default_factory=list)   # {a, b, distance}
     from_file: bool = False
+    evidence: int = 0                  # object pairs (not structure) the alignment rests on
+    share: float = 0.0                 # ... over the objects that could have matched
+    up_angle_deg: Optional[float] = None   # tilt between the rooms' up directions after the transform
+    forced: Optional[str] = None       # the evidence rule --force overrode
 
 
 def load_transform(path) -> np.ndarray:
@@ -114,9 +121,14 @@ def set_room_transform(store, rid: str, T: np.ndarray) -> None:
 
 
 def link_rooms(store, room_a: str, room_b: str, transform: Optional[np.ndarray] = None,
-               link_tol_m: float = LINK_TOL_M, embedding=None, seed: int = 0) -> LinkReport:
+               link_tol_m: float = LINK_TOL_M, embedding=None, seed: int = 0, force: bool = False) -> LinkReport:
     """Align room B to room A (or take `transform`, B frame → A frame), store the transforms
-    and replace the two rooms' SAME_AS / ADJACENT_TO links, all in one write transaction."""
+    and replace the two rooms' SAME_AS / ADJACENT_TO links, all in one write transaction.
+
+    An alignment resting on too little independent evidence (`align.evidence_problem`: too few
+    objects agreeing in label, colour and size, too small a share of what could match, a large
+    residual, floors tilted against each other) is refused with WeakAlignment, which says why,
+    unless `force`."""
     if room_a == room_b:
         raise AlignmentError("a room cannot be linked to itself")
     ra, rb = get_room(store, room_a), get_room(store, room_b)
@@ -132,7 +144,18 @@ def link_rooms(store, room_a: str, room_b: str, transform: Optional[np.ndarray] 
             raise AlignmentError(f"room {empty!r} holds no objects to align by (give --transform)")
         al: Alignment = align_objects(objs_a, objs_b, embedding, seed=seed)
         T, residual, n_pairs = al.T, al.residual_rms_m, len(al.pairs)
+        ups = {r["id"]: r["up"] for r in store.read("vqa_room_up", rooms=[room_a, room_b])}
+        tilt = up_angle_deg(T, ups.get(room_a), ups.get(room_b))
+        problem = evidence_problem(al, tilt)
+        if problem and not force:
+            raise WeakAlignment(f"refusing to link {room_b!r} to {room_a!r}: the alignment is not trustworthy: "
+                                f"{problem} (residual {residual:.3f} m; `sg3d rooms link --force` links anyway, "
+                                f"--transform FILE takes a known transform)")
+        evidence: dict[str, Any] = dict(evidence=len(al.evidence), share=al.share, up_angle_deg=tilt,
+                                        forced=problem)
     else:
+        evidence = {}
+    if transform is not None:
         check_rigid(transform)
         T, residual, n_pairs = np.asarray(transform, dtype=float), float("nan"), 0
     if T_a is None:
@@ -161,7 +184,27 @@ def link_rooms(store, room_a: str, room_b: str, transform: Optional[np.ndarray] 
                    shared=len(same_as), residual=None if np.isnan(residual) else residual).consume()
 
     store.execute_write(work)
-    return LinkReport(room_a, room_b, T, T_a, T_b, residual, n_pairs, same_as, transform is not None)
+    return LinkReport(room_a, room_b, T, T_a, T_b, residual, n_pairs, same_as, transform is not None, **evidence)
+
+
+def unlink_rooms(store, room_a: str, room_b: str) -> dict:
+    """Remove the link between two rooms: their ADJACENT_TO edges (both directions) and every
+    SAME_AS edge between their objects, in ONE write transaction. The rooms keep their transforms
+    (other links may rest on them). AlignmentError when either room is missing or they are not
+    linked. Returns {adjacent, same_as}: the edges removed."""
+    if room_a == room_b:
+        raise AlignmentError("a room is never linked to itself")
+    get_room(store, room_a)
+    get_room(store, room_b)
+
+    def work(tx):
+        return {key: sum(int(r["n"] or 0) for r in tx.run(cypher.load(name), room_a=room_a, room_b=room_b).data())
+                for key, name in (("same_as", "building_unlink_same_as"), ("adjacent", "building_unlink_adjacent"))}
+
+    removed = store.execute_write(work)
+    if not removed["adjacent"] and not removed["same_as"]:
+        raise AlignmentError(f"{room_a!r} and {room_b!r} are not linked (see `sg3d rooms`)")
+    return removed
 
 
 def _coinciding(objs_a, objs_b, T_a, T_b, tol, embedding) -> list[dict]:

@@ -13,6 +13,7 @@ import sys
 import threading
 import time
 from pathlib import Path
+from typing import Optional
 
 from sg3d.graphdb.embedded import (
     DATABASE,
@@ -101,6 +102,39 @@ class Keeper:
 
     def __init__(self, home: EmbeddedServer, lock_fd: int):
         self.home, self.lock_fd, self.info_text = home, lock_fd, ""
+        # the database folder and its inode when the store opened it; None: not watched
+        self.database: Optional[tuple[Path, int]] = None
+
+    def watch_database(self, path: Path) -> None:
+        self.database = (path, path.stat().st_ino)
+
+    def database_lost(self) -> Optional[str]:
+        """Why the database folder the store has open is gone (deleted or replaced: the store
+        would go on writing into deleted files, and lose every acknowledged write at its stop),
+        or None."""
+        if self.database is None:
+            return None
+        path, inode = self.database
+        try:
+            if path.stat().st_ino == inode:
+                return None
+            what = "was replaced"
+        except FileNotFoundError:
+            what = "vanished"
+        except OSError as exc:
+            what = f"cannot be read ({exc.strerror or exc})"
+        return (f"the store's database folder {path} {what} while the store ran "
+                f"({time.strftime('%Y-%m-%d %H:%M:%S')}); the store stopped rather than acknowledge writes it "
+                f"could not keep")
+
+    def mark_lost(self, why: str) -> None:
+        """Leave `why` in the home's LOST_FILE (0600): no command starts the store on its own again."""
+        try:
+            fd = os.open(self.home.lost_path, os.O_WRONLY | os.O_CREAT | os.O_TRUNC | os.O_NOFOLLOW, 0o600)
+            with os.fdopen(fd, "w") as f:
+                f.write(why)
+        except OSError as exc:
+            print(f"cannot write {self.home.lost_path}: {exc}", flush=True)
 
     def write_info(self, text: str) -> None:
         self.info_text = text
@@ -145,13 +179,19 @@ def main(home: str) -> None:
         root_path=str(server_home.home / "databases"),
         root_password=server_home.password(),
         config={
+            # ArcadeDB always runs its HTTP API (26.10 has no setting that turns it off; sg3d's
+            # `db check` uses it for CHECK DATABASE, which Bolt cannot send): it listens on loopback
+            # only (the wrapper's default host) on a random port, behind the root password. The wheel
+            # ships no Studio (GET / is 404) and its MCP endpoint stays off (config/mcp-config.json).
+            # Production mode was tried and rejected: it replaces every error message the store
+            # sends over Bolt by "The request failed", which users and agents need to read.
             "http_port": http_port,
             "server_plugins": "Bolt:com.arcadedb.bolt.BoltProtocolPlugin",
             "bolt_port": bolt_port,
         },
     )
     server.start()
-    if not (server_home.home / "databases" / DATABASE).exists():
+    if not server_home.database_dir.exists():
         server.create_database(DATABASE)
     install_users(server, server_home.credentials())
 
@@ -160,6 +200,7 @@ def main(home: str) -> None:
         signal.signal(sig, lambda *_: stop.set())
 
     keeper = Keeper(server_home, lock_fd)
+    keeper.watch_database(server_home.database_dir)
     keeper.write_info(json.dumps({
         "pid": os.getpid(), "bolt_port": bolt_port, "http_port": http_port,
         "database": DATABASE, "started_at": time.time(), "users": True,
@@ -168,6 +209,12 @@ def main(home: str) -> None:
 
     while not stop.wait(0.5):
         keeper.heal()
+        lost = keeper.database_lost()
+        if lost:
+            keeper.mark_lost(lost)
+            print(lost, flush=True)
+            server_home.info_path.unlink(missing_ok=True)
+            os._exit(4)     # no flush: the files it would write to are gone; every connection drops now
     print("stopping", flush=True)
     server_home.info_path.unlink(missing_ok=True)
     try:

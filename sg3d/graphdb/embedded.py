@@ -51,6 +51,11 @@ class StoreStopped(EmbeddedStoreError):
     """The store was stopped with `sg3d db stop`; long-running services do not restart it."""
 
 
+class StoreLost(EmbeddedStoreError):
+    """The store's database folder vanished while the daemon ran (`LOST_FILE`): what it held is
+    gone, so no command starts it again on its own; `sg3d db start` starts an empty store."""
+
+
 # The embedded store stops any single statement (sg3d's own included) after this many seconds
 # (ArcadeDB's arcadedb.command.timeout); SG3D_STORE_TIMEOUT_S changes it when the store starts.
 STORE_TIMEOUT_S = 30.0
@@ -68,7 +73,25 @@ def store_timeout_s() -> float:
 
 
 MIN_FREE_MB = 64          # the store refuses to start with less free space on its disk
+# SG3D_MIN_FREE_MB changes it (read at every check): `/health` reports a full disk below it, so an
+# operator can warn earlier, and a test can see the full-disk answer without filling a disk.
+MIN_FREE_ENV = "SG3D_MIN_FREE_MB"
+
+
+def min_free_mb() -> float:
+    """The free space (MiB) below which the store's disk counts as full (MIN_FREE_MB, or
+    SG3D_MIN_FREE_MB when it is a number >= 0)."""
+    import math
+
+    try:
+        value = float(os.environ.get(MIN_FREE_ENV, MIN_FREE_MB))
+    except ValueError:
+        return MIN_FREE_MB
+    return value if math.isfinite(value) and value >= 0 else MIN_FREE_MB
 STOPPED_FILE = "stopped"  # written by `sg3d db stop`, removed by the next start
+# Written by the daemon when its database folder vanished under it (then it stops: a write it
+# acknowledged would live only in deleted files); only `sg3d db start` removes it.
+LOST_FILE = "store-lost"
 
 
 def free_mb(path: Path) -> float:
@@ -83,15 +106,15 @@ def free_mb(path: Path) -> float:
 
 def disk_full_message(path: Path, minimum_mb: Optional[float] = None) -> Optional[str]:
     """'the disk holding PATH is full (N MB free)' when it has less than `minimum_mb` (default
-    MIN_FREE_MB) free, else None."""
-    minimum_mb = MIN_FREE_MB if minimum_mb is None else minimum_mb
+    `min_free_mb()`) free, else None."""
+    minimum_mb = min_free_mb() if minimum_mb is None else minimum_mb
     try:
         free = free_mb(path)
     except OSError:
         return None
     if free >= minimum_mb:
         return None
-    return f"the disk holding {path} is full ({free:.0f} MB free; the store needs at least {minimum_mb} MB)"
+    return f"the disk holding {path} is full ({free:.0f} MB free; the store needs at least {minimum_mb:g} MB)"
 
 
 def default_home() -> Path:
@@ -461,8 +484,73 @@ class EmbeddedServer:
     def was_stopped(self) -> bool:
         return self.stopped_path.exists()
 
+    @property
+    def database_dir(self) -> Path:
+        """ArcadeDB's folder of sg3d's database (`<home>/databases/databases/sg3d`)."""
+        return self.home / "databases" / "databases" / DATABASE
+
+    @property
+    def lost_path(self) -> Path:
+        return self.home / LOST_FILE
+
+    def lost(self) -> Optional[str]:
+        """Why the store's data is gone (its database folder vanished while the daemon ran), or
+        None. Written by the daemon, cleared by `accept_lost` (`sg3d db start`)."""
+        if not os.path.lexists(self.lost_path):     # also False when the home is no directory
+            return None
+        try:
+            return read_secret(self.lost_path) or "the store's database folder vanished while it ran"
+        except FileNotFoundError:
+            return None
+        except (OSError, EmbeddedStoreError):
+            return f"{self.lost_path} exists (unreadable): the store's database folder vanished while it ran"
+
+    def accept_lost(self) -> Optional[str]:
+        """Clear the lost-store mark (the user starts an empty store); what it said, or None."""
+        why = self.lost()
+        if why is not None:
+            self.lost_path.unlink(missing_ok=True)
+        return why
+
+    def check_database(self, timeout_s: float = 600.0) -> dict:
+        """ArcadeDB's own integrity check (SQL `CHECK DATABASE`: pages, records, edges, indexes)
+        of the running daemon's database: its result row. The Bolt plugin speaks only Cypher, so
+        this goes through the daemon's HTTP API (loopback, its random port) as the store's root
+        user, whose password only this user can read. EmbeddedStoreError when it cannot run."""
+        import base64
+        import urllib.error
+        import urllib.request
+
+        st = self.status()
+        if not st.running or st.info is None:
+            raise EmbeddedStoreError(f"the embedded store in {self.home} is not running")
+        auth = base64.b64encode(f"{ROOT_USER}:{self.password()}".encode()).decode()
+        request = urllib.request.Request(
+            f"http://127.0.0.1:{st.info.http_port}/api/v1/command/{DATABASE}",
+            data=json.dumps({"language": "sql", "command": "CHECK DATABASE"}).encode(),
+            headers={"Authorization": f"Basic {auth}", "Content-Type": "application/json"})
+        try:
+            with urllib.request.urlopen(request, timeout=timeout_s) as response:   # noqa: S310 - loopback
+                body = json.loads(response.read())
+        except urllib.error.HTTPError as exc:
+            detail = exc.read(2000).decode("utf-8", "replace")
+            try:
+                detail = json.loads(detail).get("error") or json.loads(detail).get("detail") or detail
+            except ValueError:
+                pass
+            line = (str(detail).strip().splitlines() or [""])[0][:300]
+            raise EmbeddedStoreError(f"the store's CHECK DATABASE failed (HTTP {exc.code}): {line}") from None
+        except (OSError, ValueError) as exc:
+            raise EmbeddedStoreError(f"the store's CHECK DATABASE could not run: {exc}") from None
+        rows = body.get("result") or [{}]
+        return rows[0] if isinstance(rows[0], dict) else {}
+
     def _start(self) -> ServerInfo:
         self.ensure_home()
+        lost = self.lost()
+        if lost:
+            raise StoreLost(f"{lost}; what it held is gone (restore your backup into {self.home / 'databases'}, "
+                            f"or `sg3d db start` to start an empty store)")
         full = disk_full_message(self.home)
         if full:
             raise EmbeddedStoreError(full)

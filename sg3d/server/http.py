@@ -92,13 +92,14 @@ def store_failure(exc: Exception, settings) -> tuple[int, str, dict]:
 
     from sg3d.graphdb.embedded import (
         EmbeddedStoreError,
+        StoreLost,
         StoreStopped,
         disk_full_message,
         store_dir,
     )
     from sg3d.graphdb.store import StatementTooLarge
 
-    if isinstance(exc, StoreStopped):
+    if isinstance(exc, (StoreStopped, StoreLost)):     # no retry helps: the way out is in the detail
         return 503, str(exc), {}
     if isinstance(exc, StatementTooLarge):
         return 413, str(exc), {}
@@ -223,27 +224,45 @@ def _add_error_handlers(api: FastAPI, settings) -> None:
         api.add_exception_handler(known, _store_error)
 
 
+DISK_FULL = "disk full"
+
+
+def disk_full(settings) -> Optional[str]:
+    """Why the embedded store's disk counts as full (less free space in its folder than
+    `sg3d.graphdb.embedded.min_free_mb()`, SG3D_MIN_FREE_MB), or None (also for a --uri store)."""
+    if not getattr(settings, "embedded", False):
+        return None
+    from sg3d.graphdb.embedded import disk_full_message, store_dir
+
+    return disk_full_message(store_dir(Path(settings.embedded_home()).expanduser().resolve()))
+
+
 def _add_health_route(api: FastAPI, stores: StoreHandle, settings, calls: Dispatcher, watch: StoreWatch) -> None:
-    def check() -> None:
+    def check() -> Optional[str]:
         watch.raise_if_down(probe=True)     # the daemon's process and port, without the driver
         stores.call(lambda s: s.driver.verify_connectivity())
+        return disk_full(settings)          # up, but a write may fail any moment
 
     @api.get("/health", tags=["service"], response_model=schemas.Health,
              responses={503: {"model": schemas.Health, "description": "the store is down, restarting or stopped "
                                                                       "(Retry-After unless stopped)"},
                         507: {"model": schemas.Health, "description": "the store's disk is full"}})
     async def health():
-        """Whether the store answers (`state`: up, down, stopped), and the version. No token needed;
-        answers within a few seconds whatever the store does."""
+        """Whether the store answers (`state`: up, down, stopped, disk full), and the version. No
+        token needed; answers within a few seconds whatever the store does. A store whose disk
+        has less free space than SG3D_MIN_FREE_MB (default 64 MB) is 507, state "disk full"."""
         try:
-            await calls.run(check, HEALTH_TIMEOUT_S)
+            full = await calls.run(check, HEALTH_TIMEOUT_S)
         except Exception as exc:  # noqa: BLE001 - any failure means not reachable; named by store_failure
             code, detail, headers = store_failure(exc, settings)
-            state = STOPPED if watch.state() == STOPPED else "down"
+            state = STOPPED if watch.state() == STOPPED else DISK_FULL if code == 507 else "down"
             response = json_response({"status": detail, "store": False, "state": state, "version": __version__},
                                      status_code=code)
             response.headers.update(headers)
             return response
+        if full:
+            return json_response({"status": full, "store": True, "state": DISK_FULL, "version": __version__},
+                                 status_code=507)
         return json_response({"status": "ok", "store": True, "state": UP, "version": __version__})
 
 

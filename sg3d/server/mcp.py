@@ -35,6 +35,20 @@ INSTRUCTIONS = (
 TIMEOUTS = {"cypher": CYPHER_TIMEOUT_S, "read": QUICK_TIMEOUT_S, "plan": LONG_TIMEOUT_S}
 
 
+STORE_MESSAGE_CHARS = 300   # an agent reads one line; a store's message may quote the whole statement
+
+
+def store_message(exc: Exception) -> str:
+    """One line for an agent from a store or driver error: the store's code and the first line of
+    its message (e.g. "Neo.DatabaseError.General.UnknownError: TypeError: Cannot access property
+    'foo' on Long value"), at most STORE_MESSAGE_CHARS characters."""
+    code = getattr(exc, "code", None)
+    message = (getattr(exc, "message", None) or str(exc) or type(exc).__name__).strip()
+    line = message.splitlines()[0] if message else type(exc).__name__
+    text = f"{code}: {line}" if code else f"{type(exc).__name__}: {line}"
+    return text if len(text) <= STORE_MESSAGE_CHARS else text[:STORE_MESSAGE_CHARS - 1] + "…"
+
+
 def build_server(settings, handle: Optional[StoreHandle] = None, dispatcher=None,
                  timeouts: Optional[dict[str, float]] = None):
     """The MCP server for `settings`' store (run it with `.run("stdio")`). `timeouts`: seconds per
@@ -61,10 +75,14 @@ def build_server(settings, handle: Optional[StoreHandle] = None, dispatcher=None
             with transaction_timeout(seconds):     # in the worker's thread, where the driver runs
                 return stores.call(fn)
 
+        from neo4j.exceptions import DriverError, Neo4jError
+
         try:
             return await calls.run(call, seconds)
         except (AppError, EmbeddedStoreError, StatementTooLarge, StoreUnavailable) as exc:
             raise ToolError(str(exc)) from exc
+        except (Neo4jError, DriverError) as exc:    # the store's own words, not a bare "Error executing tool"
+            raise ToolError(store_message(exc)) from exc
 
     @server.tool()
     async def ask(question: str, room: Optional[str] = None, building: Optional[str] = None) -> dict[str, Any]:

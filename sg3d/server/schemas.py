@@ -20,7 +20,8 @@ class Health(_Open):
     status: str = Field(description="'ok', or why the store cannot be reached")
     store: bool = Field(description="whether the store answered")
     state: str = Field(description="'up'; 'down' (unreachable, restarting or not answering: 503 with "
-                                   "Retry-After); 'stopped' (`sg3d db stop`: 503 until `sg3d db start`)")
+                                   "Retry-After); 'stopped' (`sg3d db stop`: 503 until `sg3d db start`); "
+                                   "'disk full' (507: less free space than SG3D_MIN_FREE_MB by the store)")
     version: str
 
 

@@ -12,7 +12,7 @@ import numpy as np
 from sg3d.core.errors import Sg3dError
 from sg3d.ingest.readers.frames import Frame, FrameError, FrameSource
 from sg3d.ingest.readers.image_checks import image_problem
-from sg3d.ingest.readers.pose_check import pose_problem, rigid
+from sg3d.ingest.readers.pose_check import implausible_motion, pose_problem, rigid
 from sg3d.ingest.readers.registration import DepthRegistrar, Registration
 
 
@@ -172,6 +172,22 @@ class Sequence:
             entry.pose = poses.get(i)
             entry.pose_file = None
         self._unplaced = {i: why for i, why in unplaced.items() if i not in poses}
+        self._motion: Optional[dict[int, str]] = None
+
+    def motion_problems(self) -> dict[int, str]:
+        """Frame index -> why its pose is no plausible move of the camera from its neighbours
+        (`pose_check.implausible_motion`: a jump or a turn no hand-held or robot camera makes),
+        found once over the whole sequence's poses."""
+        if getattr(self, "_motion", None) is None:
+            poses: list[Optional[np.ndarray]] = []
+            for entry in self._entries:
+                try:
+                    poses.append(_parse_pose(entry))
+                except FrameError:
+                    poses.append(None)       # named when the frame is reached
+            self._motion = implausible_motion(poses, [e.timestamp for e in self._entries],
+                                              [e.name for e in self._entries])
+        return self._motion or {}
 
     def _source(self, entry) -> FrameSource:
         """What decodes one entry's pixels (a bag reader decodes messages instead of files)."""
@@ -222,6 +238,10 @@ class Sequence:
         except FrameError as exc:
             self.skip(exc.name, exc.reason)
             raise
+        jump = self.motion_problems().get(i)
+        if jump:
+            self.skip(entry.name, jump)
+            raise FrameError(entry.name, jump)
         frame = Frame(i, None, None, self.K, pose, entry.timestamp, entry.name,
                       size=self.image_size, source=self._source(entry), on_error=self.skip)
         return frame if lazy else frame.load()

@@ -1,7 +1,7 @@
 """The check every camera pose passes before its frame is used, whatever layout it came from."""
 from __future__ import annotations
 
-from typing import Optional
+from typing import Optional, Sequence
 
 import numpy as np
 from scipy.spatial.transform import Rotation
@@ -42,3 +42,77 @@ def rigid(pose: np.ndarray) -> np.ndarray:
     out[:3, :3] = Rotation.from_matrix(out[:3, :3]).as_matrix()
     out[3] = (0.0, 0.0, 0.0, 1.0)
     return out
+
+
+# -- continuity: how far a camera can move between two frames --------------------------------------
+# A person walking with a camera moves at ~1.5 m/s, an indoor robot at 0.5-2 m/s; the three sample
+# recordings peak at 1.3 m/s (kitchen 1.09, living room 1.30, study room 0.57 m/s between frames).
+# 10 m/s is a sprint: no camera a room is scanned with gets there, so a faster step is a pose
+# error (a glitch, a block of frames shifted or from another recording), not motion.
+MAX_SPEED_M_S = 10.0
+# A person turns the head at up to ~400-700 deg/s in a quick glance; a hand-held or robot camera
+# turns much slower (the samples peak at 48 deg/s). Two full turns a second is no camera's motion.
+MAX_TURN_RATE_DEG_S = 720.0
+# Allowed on top of the rates in any one step: tracking jitter and rounded pose files (a few cm and
+# a degree on the samples), and clocks that tick unevenly.
+STEP_SLACK_M = 0.1
+STEP_SLACK_DEG = 5.0
+# Two frames are never taken as closer in time than this (equal or out-of-order timestamps, a
+# layout that numbers frames without a clock): 60 Hz, the fastest depth cameras sg3d reads.
+MIN_STEP_S = 1.0 / 60.0
+
+
+def motion_problem(a: np.ndarray, b: np.ndarray, dt: float) -> Optional[str]:
+    """Why a camera cannot have moved from pose `a` to pose `b` (4x4 camera-to-world) in `dt`
+    seconds, or None. Rule: the distance between the camera centres is at most
+    MAX_SPEED_M_S * dt + STEP_SLACK_M and the angle of the relative rotation at most
+    MAX_TURN_RATE_DEG_S * dt + STEP_SLACK_DEG (dt at least MIN_STEP_S)."""
+    dt = max(abs(float(dt)), MIN_STEP_S)
+    a, b = np.asarray(a, dtype=np.float64), np.asarray(b, dtype=np.float64)
+    dist = float(np.linalg.norm(b[:3, 3] - a[:3, 3]))
+    if dist > MAX_SPEED_M_S * dt + STEP_SLACK_M:
+        return (f"the camera jumps {dist:.3g} m in {dt:.3g} s ({dist / dt:.3g} m/s; a hand-held or robot "
+                f"camera moves at most {MAX_SPEED_M_S:g} m/s)")
+    cos = (np.trace(a[:3, :3].T @ b[:3, :3]) - 1.0) / 2.0
+    angle = float(np.degrees(np.arccos(np.clip(cos, -1.0, 1.0))))
+    if angle > MAX_TURN_RATE_DEG_S * dt + STEP_SLACK_DEG:
+        return (f"the camera turns {angle:.3g} deg in {dt:.3g} s ({angle / dt:.3g} deg/s; a hand-held or robot "
+                f"camera turns at most {MAX_TURN_RATE_DEG_S:g} deg/s)")
+    return None
+
+
+def implausible_motion(poses: Sequence[Optional[np.ndarray]], stamps: Sequence[float],
+                       names: Sequence[str]) -> dict[int, str]:
+    """Frame index -> why its pose is left out, for the frames whose poses cannot belong to one
+    camera's path with the rest (`motion_problem`). Frames are taken in order: a frame joins the
+    run of the frame before it when the step is plausible, else the most recent earlier run it can
+    be reached from (a shifted block ends where the path comes back), else it opens a new run. The
+    run with the most frames is the camera's path (ties: the earliest); every other run's frames
+    are named, with the jump that opened their run. A pose of None (missing, unusable) is passed over."""
+    runs: list[dict] = []          # {last: index, frames: [indices], why: str}
+    current: Optional[dict] = None
+    for i, pose in enumerate(poses):
+        if pose is None:
+            continue
+        if current is None:
+            current = {"last": i, "frames": [i], "why": ""}
+            runs.append(current)
+            continue
+        why = motion_problem(poses[current["last"]], pose, stamps[i] - stamps[current["last"]])
+        home: Optional[dict] = current
+        if why is not None:
+            home = next((r for r in sorted(runs, key=lambda r: -r["last"]) if r is not current and
+                         motion_problem(poses[r["last"]], pose, stamps[i] - stamps[r["last"]]) is None), None)
+            if home is None:
+                home = {"last": i, "frames": [], "why": f"{why} from {names[current['last']]}"}
+                runs.append(home)
+                if not current["why"]:          # the first run: named by the jump that ended it
+                    current["why"] = f"{why} to {names[i]}"
+        assert home is not None
+        home["frames"].append(i)
+        home["last"] = i
+        current = home
+    if len(runs) < 2:
+        return {}
+    path = max(runs, key=lambda r: len(r["frames"]))     # max keeps the first of equals
+    return {i: r["why"] for r in runs if r is not path for i in r["frames"]}
