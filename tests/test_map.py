@@ -79,6 +79,9 @@ def _asking(url: str, token: str, room: str, answers: list, stop: threading.Even
             while not stop.is_set():
                 r = c.post("/ask", json={"question": "how many objects are there?", "room": room})
                 answers.append((r.status_code, r.json().get("answer") if r.status_code == 200 else r.text))
+                state = c.get(f"/rooms/default/{room}")
+                if state.status_code == 200 and state.json()["mapping"]:
+                    answers.append((200, "mapping: " + state.json()["mapping"]["state"]))
                 time.sleep(0.2)
     t = threading.Thread(target=run, daemon=True)
     t.start()
@@ -108,7 +111,14 @@ def test_map_follows_a_folder_being_written_and_ends_with_the_build_graph(store,
         asker.join()
     writer.join()
     assert answers and all(code == 200 for code, _ in answers), answers
-    assert len({text for _, text in answers}) >= 2, answers          # the answers follow the room
+    import httpx
+
+    url, token = served
+    room = httpx.get(f"{url}/rooms/default/mapped", headers={"Authorization": f"Bearer {token}"}).json()
+    assert room["mapping"]["state"] == "done" and room["mapping"]["frames"] == summary.frames["received"], room
+    assert room["objects"] == summary.objects
+    assert len({text for _, text in answers if not text.startswith("mapping")}) >= 2, answers   # they follow the room
+    assert (200, "mapping: live") in answers                          # GET /rooms/{b}/{r} says it is being mapped
     live = [u for u in updates if u["state"] == "live"]
     assert live and max(u["objects"] for u in live) > 0, updates        # queryable while it grows
     assert summary.state == "done" and summary.final["as_build"] and summary.backlog_at_end == 0

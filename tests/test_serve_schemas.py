@@ -12,7 +12,8 @@ from pydantic import TypeAdapter
 
 from tests.serve_helpers import kitchen_body
 
-AUTHED = {("post", "/ask"), ("post", "/plan"), ("get", "/rooms"), ("get", "/rooms/{building}/{room}/objects"),
+AUTHED = {("post", "/ask"), ("post", "/plan"), ("get", "/rooms"), ("get", "/rooms/{building}/{room}"),
+          ("get", "/rooms/{building}/{room}/objects"),
           ("get", "/graph"), ("post", "/ingest")}
 
 
@@ -65,6 +66,7 @@ def test_real_responses_match_their_documented_models(kitchen, served, embedded_
                             "where is the bottle?", "is there a sink?", "paint the moon")],
         ("post", "/plan"): [kitchen.post("/plan", json={"command": "put the red cup in the sink", "room": "kitchen"})],
         ("get", "/rooms"): [kitchen.get("/rooms")],
+        ("get", "/rooms/{building}/{room}"): [kitchen.get("/rooms/home/kitchen")],
         ("get", "/rooms/{building}/{room}/objects"): [
             kitchen.get("/rooms/home/kitchen/objects"),
             kitchen.get("/rooms/home/kitchen/objects", params={"near": "2.6,0,1.0", "radius": 0.5})],
@@ -81,6 +83,7 @@ def test_real_responses_match_their_documented_models(kitchen, served, embedded_
                 assert set(schemas.AskAnswer.model_fields) <= set(r.json())
     error = TypeAdapter(schemas.Error)
     error.validate_python(kitchen.get("/rooms/home/attic/objects").json())
+    assert kitchen.get("/rooms/home/attic").status_code == 404
     error.validate_python(httpx.get(served[0] + "/rooms").json())
     TypeAdapter(schemas.ValidationFailure).validate_python(kitchen.post("/ask", json={"room": "kitchen"}).json())
 

@@ -29,6 +29,7 @@ from sg3d.app import ask as app_ask
 from sg3d.app import bounds
 from sg3d.app import graph as app_graph
 from sg3d.app import ingest as app_ingest
+from sg3d.app import mapping as app_mapping
 from sg3d.app import plan as app_plan
 from sg3d.app import rooms as app_rooms
 from sg3d.app.errors import AppError, NotFound, Refused
@@ -291,6 +292,12 @@ def _add_read_routes(api: FastAPI, stores: StoreHandle, calls: Dispatcher, auth:
     async def rooms(building: Optional[str] = Query(None, max_length=NAME_CHARS)):
         """Rooms (of one building, or all) with object counts, transforms and adjacent rooms."""
         return await calls.quick(lambda: json_response(read(lambda s: app_rooms.list_rooms(s, building))))
+
+    @api.get("/rooms/{building}/{room}", response_model=schemas.RoomState, **opts)
+    async def room(building: str = PathParam(max_length=NAME_CHARS), room: str = PathParam(max_length=NAME_CHARS)):
+        """One room: objects, placement, neighbours, and `mapping` while `sg3d map` builds it
+        (state live/done, since when, frames so far, last publish; null when never mapped live)."""
+        return await calls.quick(lambda: json_response(read(lambda s: app_mapping.room_state(s, building, room))))
 
     @api.get("/rooms/{building}/{room}/objects", response_model=list[schemas.RoomObject], **opts)
     async def objects(building: str = PathParam(max_length=NAME_CHARS), room: str = PathParam(max_length=NAME_CHARS),

@@ -92,6 +92,18 @@ class Room(_Open):
     adjacent: list[Any] = Field(default_factory=list)
 
 
+class Mapping(_Open):
+    state: str = Field(description="live while `sg3d map` follows its source, done once it ended")
+    since: Optional[float] = Field(None, description="when mapping began (seconds since the epoch)")
+    frames: int = Field(0, description="frames received so far")
+    last_publish: Optional[float] = Field(None, description="when the graph was last published")
+    source: Optional[str] = None
+
+
+class RoomState(Room):
+    mapping: Optional[Mapping] = Field(None, description="the live map building this room; null: never mapped live")
+
+
 class RoomObject(_Open):
     id: str
     name: str
