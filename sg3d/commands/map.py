@@ -30,8 +30,11 @@ from sg3d.errors import UserError
 @click.pass_obj
 def map_cmd(settings, source: Path, room: str, building: str, layout: Optional[str], publish_every: float,
             stop_when_idle: Optional[float], resume: bool, detector: Optional[str], as_json: bool) -> None:
-    """Follow SOURCE, a folder that frames are being written into (any layout `sg3d build` reads),
-    and keep ROOM's scene graph in the store current while they arrive.
+    """Follow SOURCE and keep ROOM's scene graph in the store current while frames arrive. SOURCE
+    is a folder that frames are being written into (any layout `sg3d build` reads), `realsense`,
+    `realsense:SERIAL` or `realsense:FILE.bag|.db3` (a RealSense camera or recording; pip install
+    'sg3d[live]'), or an MCAP file (or ROS 2 bag folder) that `ros2 bag record -s mcap` is writing.
+    Sources without poses (a RealSense, an MCAP without /tf or odometry) are tracked online.
 
     Every frame is judged as it arrives (blur, keyframes), the chosen ones are detected, and the
     room's graph is recomputed from all evidence so far and published at most every
