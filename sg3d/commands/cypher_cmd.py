@@ -68,7 +68,7 @@ def cypher_command(settings, statement: str, param, write: bool, as_json: bool) 
     from sg3d.errors import UserError
 
     try:
-        check_statement(statement)
+        check_statement(statement, params)
     except AppError as exc:
         raise UserError(str(exc)) from None
     keys, rows = (settings.store() if write else reader(settings)).run_raw(statement, params, write=write)
@@ -78,7 +78,7 @@ def cypher_command(settings, statement: str, param, write: bool, as_json: bool) 
 def checked_runner(store, write: bool):
     """The shell's way to run a statement: `sg3d.app.graph.check_statement` first, then the store."""
     def run(text: str, params: dict):
-        check_statement(text)
+        check_statement(text, params)
         return store.run_raw(text, params, write=write)
     return run
 
