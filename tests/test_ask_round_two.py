@@ -174,3 +174,111 @@ def test_next_to_any_cup(store, home, ):
     near = {e["s"] for e in rows if e["o"] in cups} | {e["o"] for e in rows if e["s"] in cups}
     a = ask(store, "which things are next to a cup?", room="kitchen")
     assert {o["id"] for o in a.objects} == near - cups and near
+
+
+# -- round two, second part: one reader, and the phrasings of issue 37 --------------------------------
+@pytest.fixture
+def study(store, home):
+    """'study' (building 'home') beside the kitchen: furniture sg3d named from its shape (a desk,
+    a cabinet, a couch, a shelf: named_by "shape"), a chair and a bottle on the desk."""
+    items = [_o("d", "desk", (1, 1, 0.38), (1.2, 0.6, 0.75), colour="brown"),
+             _o("k", "cabinet", (3, 1, 0.5), (0.8, 0.5, 1.0), colour="white"),
+             _o("s", "couch", (1, 3, 0.4), (1.8, 0.8, 0.8), colour="brown"),
+             _o("h", "shelf", (3, 3, 1.0), (1.0, 0.3, 0.05), colour="white"),
+             _o("ch", "chair", (1, 0.4, 0.45), (0.5, 0.5, 0.9), colour="green"),
+             _o("bt", "bottle", (1.1, 1.0, 0.85), (0.07, 0.07, 0.2), colour="green")]
+    for o in items[:4]:
+        o.named_by = "shape"
+    study = graph(items, relations=[("bt", "ON", "d", 0.9), ("ch", "NEXT_TO", "d", 0.8)], room="study", building="home")
+    ids = dict(home)
+    ids.update(merge_local_graph(store, study).node_ids)
+    return ids
+
+
+def _labels(a) -> set:
+    return {o["label"] for o in a.objects if isinstance(o, dict) and o.get("label")}
+
+
+@pytest.mark.parametrize("question, expected", [
+    ("is there anything on the table besides the book?", {"u1", "u2"}),
+    ("is there anything on the table other than the cups?", {"b1"}),
+    ("is there anything on the table that is not a cup?", {"b1"}),
+])
+def test_anything_besides(store, home, question, expected):
+    a = ask(store, question, room="kitchen")
+    assert a.value is True and {o["id"] for o in a.objects} == {home[k] for k in expected}
+    assert "except" in a.text
+
+
+@pytest.mark.parametrize("question, holds", [
+    ("are there exactly 3 chairs?", True), ("are there exactly two chairs?", False),
+    ("do we have at least 3 chairs?", True), ("do we have more than 3 chairs?", False),
+])
+def test_exactly_and_at_least(store, home, question, holds):
+    n = len([o for o in objects(store) if o["label"] == "chair"])
+    assert n == 3
+    assert ask(store, question, room="kitchen").value is holds
+
+
+def test_rooms_by_content_and_by_neighbours(store, study):
+    per = {r: len(objects(store, r)) for r in ("kitchen", "livingroom", "study")}
+    a = ask(store, "which 2 rooms have the fewest objects?")
+    assert [v["room"].split("/", 1)[-1] for v in a.value] == sorted(per, key=lambda r: (per[r], r))[:2]
+    a = ask(store, "what are the 2 rooms with the most objects?")
+    assert [v["n"] for v in a.value] == sorted(per.values(), reverse=True)[:2]
+    a = ask(store, "which room has the fewest neighbours?")
+    assert a.ok and "neighbour" in a.text
+    assert ask(store, "in how many rooms is there a chair?").value == 3
+
+
+def test_possessives_and_owners(store, home):
+    n = len([o for o in objects(store) if o["label"] == "chair"])
+    assert ask(store, "how many chairs does the kitchen have?").value == n
+    assert ask(store, "how many chairs the kitchen has").value == n
+    assert len(ask(store, "what are the kitchen's chairs?").value) == n
+    a = ask(store, "the kitchen's chairs")
+    assert a.value is True and "3 chairs" in a.text
+
+
+def test_affordances_through_one_table_with_shape_named_furniture(store, study):
+    stored = {o["id"]: o for r in ("kitchen", "livingroom", "study") for o in objects(store, r)}
+
+    def afford(*labels):
+        return {i for i, o in stored.items() if o["label"] in labels and o["room"] == "home/study"}
+
+    assert set(ask(store, "where can someone take a seat?", room="study").value) == afford("chair", "couch")
+    assert set(ask(store, "where can I store things?", room="study").value) == afford("cabinet", "shelf")
+    assert set(ask(store, "where can I work?", room="study").value) == afford("desk")
+    assert set(ask(store, "I need something to pour water into", room="study").value) == afford("bottle")
+    assert set(ask(store, "where can I put my cup down?", room="study").value) == afford("desk", "shelf")
+    a = ask(store, "how many pieces of furniture for sitting are there?", room="study")
+    assert a.value == len(afford("chair", "couch")) and "for sitting" in a.text and "cutting" not in a.text
+    assert ask(store, "how many things can I sit on?", room="study").value == len(afford("chair", "couch"))
+
+
+def test_the_x_with_several_asks_which(store, home):
+    a = ask(store, "where is the cup?", room="kitchen")
+    assert len(a.value) == 2 and "which one did you mean" in a.text
+    a = ask(store, "where is a cup?", room="kitchen")
+    assert len(a.value) == 2 and "which one" not in a.text
+    assert "which one" not in ask(store, "where are all the chairs?", room="kitchen").text
+
+
+def test_refusals_name_the_word_and_viewpoints_are_read_once(store, home):
+    a = answer(store, "how many chairs are near the tv and also singing?", use_embedding=False)
+    assert not a.ok and "'also'" in a.text
+    a = answer(store, "what is the weather like?", use_embedding=False)
+    assert not a.ok and "'like'" in a.text
+    a = answer(store, "is there a chair behind the table as seen from the tv?", room="kitchen", use_embedding=False)
+    assert a.ok and a.logical is not None and a.logical["seen_from"] == {"noun": "tv"}
+    a = answer(store, "what changed in the kitchen?", use_embedding=False)
+    assert not a.ok and "sg3d ask" in a.text and a.logical is not None and a.logical["op"] == "changes"
+
+
+def test_explain_shows_one_reading_and_its_plan(store, home):
+    a = ask(store, "where is the red cup?", room="kitchen")
+    lines = a.explain_lines()
+    assert sum(x.startswith("logical form:") for x in lines) == 1
+    assert any(x.startswith("plan: per-form templates") for x in lines)
+    lines = ask(store, "is there anything on the table besides the book?", room="kitchen").explain_lines()
+    assert sum(x.startswith("logical form:") for x in lines) == 1 and any(x.startswith("plan: scene read") for x in lines)

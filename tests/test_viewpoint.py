@@ -5,7 +5,9 @@ import numpy as np
 import pytest
 
 from sg3d.graphdb.merge import merge_local_graph
-from sg3d.queries.viewpoint import describe_place, split_viewpoint, viewpoint_relations
+from sg3d.queries.grammar import read
+from sg3d.queries.phrasing import tidy
+from sg3d.queries.viewpoint import describe_place, viewpoint_relations
 from sg3d.queries.vqa import answer
 from tests.factories import graph, hist_of, obj
 
@@ -35,12 +37,13 @@ def test_front_and_behind_flip_with_the_viewpoint():
     assert not {"IN_FRONT_OF", "BEHIND"} & viewpoint_relations(CHAIR, TABLE, east, UP)
 
 
-def test_viewpoint_phrase_is_split_off_the_question():
-    assert split_viewpoint("is there a chair in front of the table as seen from the sink?") == \
-        ("is there a chair in front of the table?", "sink")
-    assert split_viewpoint("how many chairs are behind the table, viewed from the tv") == \
-        ("how many chairs are behind the table?", "tv")
-    assert split_viewpoint("where is the cup?") == ("where is the cup?", None)
+def test_viewpoint_phrase_is_read_by_the_grammar():
+    form = read(tidy("is there a chair in front of the table as seen from the sink?").text)
+    assert form.seen_from is not None and form.seen_from.text() == "sink"
+    assert form.sets[0].filters[0].relation == "in front of"
+    form = read(tidy("how many chairs are behind the table, viewed from the tv").text)
+    assert form.seen_from is not None and form.seen_from.text() == "tv" and form.filters[0].relation == "behind"
+    assert read(tidy("where is the cup?").text).seen_from is None
 
 
 def test_where_sentence_gives_support_first_and_names_others_once():

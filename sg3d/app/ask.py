@@ -83,10 +83,9 @@ def ask(store: GraphStore, question: str, room: Optional[str] = None, building: 
     from sg3d.queries.picture import write_picture
     from sg3d.queries.vqa import answer
 
-    result = change_answer(store, question, room=room, building=building, embedding=embedding)
-    if result is not None:
-        return Asked(result)
-    result = answer(store, question, room=room, building=building, embedding=embedding, viewpoint=viewpoint)
+    # the question is read once; one about re-scans is answered from the scans' history
+    result = answer(store, question, room=room, building=building, embedding=embedding, viewpoint=viewpoint,
+                    on_change=lambda cq: change_answer(store, question, cq, room=room, building=building))
     path = None
     if picture and result.ok and result.thumbnail:
         try:

@@ -13,6 +13,7 @@ from sg3d.graphdb.protocol import GraphStore
 
 if TYPE_CHECKING:
     from sg3d.queries.answer_parts import AnswerObject
+    from sg3d.queries.logic import ChangeQuery
 
 
 def _scans(store: GraphStore, rid: str) -> list[dict]:
@@ -108,19 +109,12 @@ def _room_ids(store: GraphStore, name: Optional[str], building: Optional[str]) -
             if building is None or r["room"].split("/", 1)[0] == building]
 
 
-def change_answer(store: GraphStore, question: str, room: Optional[str] = None, building: Optional[str] = None,
-                  embedding=None):
+def change_answer(store: GraphStore, question: str, cq: ChangeQuery, room: Optional[str] = None,
+                  building: Optional[str] = None):
     """The answer (sg3d.queries.vqa.Answer) to a question about re-scans ("what changed in the kitchen",
-    "what is gone", "where was the cup before"), or None when the question is not one."""
-    from sg3d.queries.parse import ParseError, parse_change
+    "what is gone", "where was the cup before"), as the question reader read it (`cq`)."""
     from sg3d.queries.vqa import Answer
 
-    try:
-        cq = parse_change(question, lambda n: bool(_room_ids(store, n, building)), embedding)
-    except ParseError as exc:
-        return Answer(question, False, str(exc), form="changes")
-    if cq is None:
-        return None
     if cq.room and room and cq.room.lower() != room.lower():
         return Answer(question, False, f"the question says '{cq.room}' but --room is '{room}'", form="changes")
     rids = _room_ids(store, cq.room or room, building)

@@ -9,16 +9,17 @@ from typing import Optional, Sequence
 
 from sg3d.core.model import UNNAMED_LABEL
 from sg3d.core.relation_rules import SYMMETRIC
-from sg3d.queries.grammar import DISTANCE_SUPERLATIVES, SUPERLATIVES
+from sg3d.queries.lexicon import lemma
 from sg3d.queries.logic import NP, Filter, Form
-from sg3d.queries.sets import (
+from sg3d.queries.sets import Evaluator, Unanswerable, activity, same_as_roots
+from sg3d.queries.vocabulary import (
     ABSENT,
-    AFFORDANCES,
+    ACTIVITIES,
+    DISTANCE_SUPERLATIVES,
+    EXTRA_AFFORDANCES,
+    GERUNDS,
     LIST_SHOWN,
-    Evaluator,
-    Unanswerable,
-    is_structure,
-    same_as_roots,
+    SUPERLATIVES,
 )
 from sg3d.queries.wording import plural, the, without_place
 
@@ -58,7 +59,7 @@ class Answerer:
             return np.text()
         if not np.words:
             return "thing" if n == 1 else "things"
-        return self.ev.resolved(np).noun(n)
+        return self.ev.resolved(np).noun(n) + (f" for {GERUNDS[activity(np.purpose)]}" if np.purpose else "")
 
     def phrase(self, np: NP, n: int, filters: Sequence[Filter] = ()) -> str:
         extra = [_filter_text(self, f) for f in list(np.filters) + list(filters)]
@@ -74,8 +75,14 @@ class Answerer:
 
 
 def _filter_text(a: Answerer, f: Filter) -> str:
-    """The filter in the answer's words: the other set as the answer phrases it."""
-    return f.describe(f"the {a.phrase(f.other, 1)}" if not f.other.number else a.phrase(f.other, 1))
+    """The filter in the answer's words: the other set as the answer phrases it ("next to a
+    cup" when any cup was asked for, "next to the cup" when one was)."""
+    if f.other.number:
+        return f.describe(a.phrase(f.other, 1))
+    article = "a" if f.other.indefinite and not f.other.alternatives else "the"
+    if article == "a" and a.phrase(f.other, 1)[:1] in "aeiou":
+        article = "an"
+    return f.describe(f"{article} {a.phrase(f.other, 1)}")
 
 
 def _sizes(o: dict) -> str:
@@ -160,8 +167,8 @@ def _what_not_found(a: "Answerer", np: NP, form: Form) -> str:
 def op_at_least(a: Answerer, form: Form):
     np = _head(form)
     rows = _all_rows(a.ev, form, np)
-    n, k = len(rows), form.number
-    holds = n > k if form.compare == "more" else n < k
+    n, k = len(rows), form.number or 0
+    holds = n > k if form.compare == "more" else n == k if form.compare == "exactly" else n < k
     return f"{'yes' if holds else 'no'}: {n} {a.phrase(np, n, form.filters)}{a.where}", holds, rows
 
 
@@ -227,7 +234,7 @@ def op_attribute(a: Answerer, form: Form):
     named = a.names(rows[:LIST_SHOWN])
     values, parts = [], []
     for o in rows[:LIST_SHOWN]:
-        v, said = _attribute_of(a, o, form.attribute)
+        v, said = _attribute_of(a, o, form.attribute or "size")
         values.append(v)
         parts.append(f"{the(named[o['id']])} {said}")
     text = "; ".join(parts)
@@ -266,9 +273,9 @@ def op_extreme(a: Answerer, form: Form):
     name = the(a.names([o])[o["id"]])
     k = a.ev.key(np)(o)
     if np.superlative in DISTANCE_SUPERLATIVES:
-        detail = f"{k:.2f} m from the {a.phrase(np.toward, 1)}"
+        detail = f"{k:.2f} m from the {a.phrase(np.toward, 1) if np.toward is not None else '?'}"
     else:
-        key = SUPERLATIVES[np.superlative][0]
+        key = SUPERLATIVES[np.superlative or ""][0]
         detail = {"volume": f"{k:.3g} m^3", "height": f"{k:.2f} m tall", "top": f"top at {k:.2f} m"}[key]
     what = a.noun_of(np, 1)
     filters = " ".join(_filter_text(a, f) for f in np.filters)
@@ -372,24 +379,46 @@ def op_rooms(a: Answerer, form: Form):
     return text, [{"room": r, "n": k} for r, k in sorted(per.items())], rows
 
 
+NEIGHBOUR_WORDS = ("neighbour", "neighbor", "neighbouring room", "neighboring room", "adjacent room")
+
+
 def op_room_most(a: Answerer, form: Form):
+    """"which room has the most chairs", "which 2 rooms have the fewest objects", "which room has
+    the fewest neighbours" (rooms linked by ADJACENT_TO: a scan saw into both)."""
     np = _head(form)
-    rows = _all_rows(a.ev, form, np)
     rooms = {r["id"]: r for r in a.run.read("vqa_rooms_all", building=a.ev.building)}
     if a.scene.rooms is not None:
         rooms = {k: v for k, v in rooms.items() if k in a.scene.rooms}
     per = {rid: 0 for rid in rooms}
-    for o in rows:
-        per[o["room"]] = per.get(o["room"], 0) + 1
+    neighbours = " ".join(lemma(w) for w in np.words) in NEIGHBOUR_WORDS
+    if neighbours:
+        rows: list[dict] = []
+        for e in a.run.read("vqa_rooms_adjacent", rooms=sorted(rooms)) if rooms else []:
+            per[e["room"]] = per.get(e["room"], 0) + 1
+    else:
+        rows = _all_rows(a.ev, form, np)
+        for o in rows:
+            per[o["room"]] = per.get(o["room"], 0) + 1
     if not per:
         return "the store holds no rooms", None, rows
+
+    def said(k: int) -> str:
+        return f"{k} neighbour{'s' if k != 1 else ''}" if neighbours else f"{k} {a.phrase(np, k)}"
+
     sign = 1 if form.compare == "more" else -1
-    best = max(per.items(), key=lambda kv: (sign * kv[1], kv[0]))
+    ranked = sorted(per.items(), key=lambda kv: (-sign * kv[1], kv[0]))
+    want = int(form.number or 1)
+    if want > 1:
+        top = ranked[:want]
+        text = ", ".join(f"the {r.split('/', 1)[-1]} ({said(k)})" for r, k in top)
+        if len(per) < want:
+            text += f"; only {len(per)} room{'s' if len(per) != 1 else ''} in scope"
+        return text, [{"room": r, "n": k} for r, k in top], rows
+    best = ranked[0]
     ties = [r for r, k in per.items() if k == best[1]]
-    name = best[0].split("/", 1)[-1]
-    text = f"the {name} ({best[1]} {a.phrase(np, best[1])})"
+    text = f"the {best[0].split('/', 1)[-1]} ({said(best[1])})"
     if len(ties) > 1:
-        text = "a tie: " + ", ".join(f"the {r.split('/', 1)[-1]}" for r in sorted(ties)) + f" ({best[1]} {a.phrase(np, best[1])} each)"
+        text = "a tie: " + ", ".join(f"the {r.split('/', 1)[-1]}" for r in sorted(ties)) + f" ({said(best[1])} each)"
     if len(per) == 1:
         text += "; it is the only room in scope"
     return text, {"room": best[0], "n": best[1]}, rows
@@ -413,19 +442,30 @@ def op_room_count(a: Answerer, form: Form):
     return f"{len(rows)} room{'s' if len(rows) != 1 else ''}: " + _join(names) if rows else "0 rooms", len(rows), []
 
 
+PREPOSITION = {"sit": "on", "drink": "from", "put things down": "on", "store things": "in", "work": "at"}
+
+
 def op_affordance(a: Answerer, form: Form):
+    """"where can I sit", "I need something to pour water into": the objects of the curated
+    activity table (vocabulary.ACTIVITIES), whichever layer holds them (a counter or a shelf
+    sg3d named from its shape is furniture to put things on)."""
     verb = form.verb or ""
-    words = verb.split()
-    key = next((k for k in sorted(AFFORDANCES, key=len, reverse=True) if words[:len(k.split())] == k.split()), None)
-    if key is None:
-        raise Unanswerable(f"I don't know what things afford '{verb}'")
-    labels, structure = AFFORDANCES[key]
-    objs = [o for o in a.scene.objects.values()
-            if (o["label"] in labels and not is_structure(o)) or (o["label"] in structure and is_structure(o))]
+    extra = next((k for k in sorted(EXTRA_AFFORDANCES, key=len, reverse=True)
+                  if verb.split()[:len(k.split())] == k.split()), None)
+    if extra is not None:
+        key, labels = extra, EXTRA_AFFORDANCES[extra]
+    else:
+        key = activity(verb)
+        labels = ACTIVITIES[key]
+    objs = [o for o in a.scene.objects.values() if o["label"] in labels]
+    for f in form.filters:
+        objs = a.ev.apply(f, objs)
+    objs.sort(key=lambda o: o["id"])
     if not objs:
         return (f"I have not found anything to {key} on or at{a.where} (looked for "
-                f"{_join(labels + structure)}; {ABSENT})"), [], []
-    text = f"to {key}: {a.listing(objs)}{a.where} (things one can {key} on or at: {', '.join(labels + structure)})"
+                f"{_join(labels)}; {ABSENT})"), [], []
+    text = f"to {key}: {a.listing(objs)}{a.where} (what one can {key} {PREPOSITION.get(key, 'on or at')}: " \
+           f"{', '.join(labels)})"
     return text, [o["id"] for o in objs], objs
 
 

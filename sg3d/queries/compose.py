@@ -26,26 +26,28 @@ from dataclasses import dataclass, field
 from typing import Callable, Optional
 
 from sg3d.core.model import SHAPE_WORDS
+from sg3d.core.relation_rules import VIEWPOINT
 from sg3d.queries.answers import OPS, Answerer
-from sg3d.queries.grammar import SUPERLATIVES
-from sg3d.queries.logic import NP, Filter, Form
-from sg3d.queries.sets import (
-    AFFORDANCES,
+from sg3d.queries.lexicon import Target, lemma
+from sg3d.queries.logic import NP, Filter, Form, Query
+from sg3d.queries.sets import Evaluator, Resolved, Unanswerable
+from sg3d.queries.vocabulary import (
+    AFFORDANCE_VERBS,
     COLOURS,
     EVERYWHERE,
+    EXTRA_AFFORDANCES,
     GENERIC,
+    RELATIONS,
     SIZES,
     STRUCTURE_LABELS,
-    Evaluator,
-    Resolved,
-    Unanswerable,
+    SUPERLATIVES,
 )
 from sg3d.queries.wording import plural
 
 # -- from question text to answer -----------------------------------------------------------------
 SIMPLE_OPS = ("count", "exists", "list", "where", "attribute", "rooms")
-# words the per-form reader (sg3d/queries/parse.py) would pass over: a question holding one that the
-# grammar cannot read is refused, naming it, rather than answered without it
+# words that carry a condition (a number, a negation, a distance): a question holding one that the
+# grammar cannot read is refused naming it (the one that leads), rather than answered without it
 UNREAD = ("not", "between", "more", "fewer", "less", "except", "without", "farther", "further",
           "closer", "nearer", "within", "apart", "distance", "far", "nor", "than")
 
@@ -71,7 +73,7 @@ def room_filters(form: Form, ev: Evaluator) -> list[Resolved]:
                     and not f.other.filters:
                 if " ".join(f.other.words) in EVERYWHERE:
                     continue            # "in the house": the whole scope
-                r = ev.resolved(f.other, may_be_room=True)
+                r = _room_or_object(ev, f.other)
                 if r.kind == "room":
                     found.append(r)
                     continue
@@ -92,27 +94,44 @@ def room_filters(form: Form, ev: Evaluator) -> list[Resolved]:
     return found
 
 
+def _room_or_object(ev: Evaluator, np: NP) -> Resolved:
+    """What "in X" names: a stored room, else an object; a word that is neither is refused as a
+    room the store does not hold (with the rooms it holds)."""
+    try:
+        return ev.resolved(np, may_be_room=True)
+    except Unanswerable:
+        if np.number is not None or np.alternatives or len(np.words) > 3:
+            raise
+        rows = ev.run.read("vqa_rooms_all", building=ev.building)
+        stored = ", ".join(sorted({f"{r['building']}/{r['name']}" for r in rows})) or "none"
+        raise Unanswerable(f"no room '{np.text()}' in the store (rooms: {stored})") from None
+
+
 def is_simple(form: Form, ev: Evaluator) -> bool:
     """One kind of object, at most one stored relation to one other kind, no number, colour,
     extreme or negation: the per-form templates of sg3d/queries/vqa.py answer it."""
     if form.op == "extreme":
         return _simple_extreme(form, ev)
-    if form.op not in SIMPLE_OPS or len(form.sets) != 1:
+    sets = form.sets or ([NP([])] if form.op == "list" else [])    # "what is behind the table"
+    if form.op not in SIMPLE_OPS or len(sets) != 1:
         return False
     if form.op == "attribute" and form.attribute not in ("colour", "size"):
         return False
-    head = form.sets[0]
+    head = sets[0]
     filters = list(head.filters) + list(form.filters)
     if len(filters) > 1:
         return False
+    # a viewpoint relation is computed from boxes for any set ("what is behind the table")
+    seen = bool(filters) and filters[0].kind == "rel" and RELATIONS[filters[0].relation or ""][0] in VIEWPOINT
+    kinds = ("named", "unknown", "any") if seen else ("named", "unknown")
 
     def plain(np: NP, with_colour: bool) -> bool:
         if np.alternatives:
             return all(plain(a, False) and not a.filters for a in np.alternatives)
-        if np.number is not None or np.superlative or np.toward is not None:
+        if np.number is not None or np.superlative or np.toward is not None or np.purpose:
             return False
         r = ev.resolved(np)
-        return r.kind in ("named", "unknown") and r.shape is None and (with_colour or r.colour is None)
+        return r.kind in kinds and r.shape is None and (with_colour or r.colour is None)
 
     if not plain(head, True) or (not head.alternatives and ev.resolved(head).size and filters):
         return False
@@ -124,11 +143,20 @@ def is_simple(form: Form, ev: Evaluator) -> bool:
     return True
 
 
+def neighbours(form: Form) -> bool:
+    """"which room has the fewest neighbours": rooms counted by their ADJACENT_TO links."""
+    from sg3d.queries.answers import NEIGHBOUR_WORDS
+    from sg3d.queries.lexicon import lemma
+
+    return form.op == "room_most" and len(form.sets) == 1 and \
+        " ".join(lemma(w) for w in form.sets[0].words) in NEIGHBOUR_WORDS
+
+
 def labels_read(form: Form, ev: Evaluator) -> Optional[list[str]]:
     """The labels whose objects the form needs (the floor too: "how high" stands on it); None
     when a set is any object ("what is on the table") or the form is about rooms or
     affordances."""
-    if form.op in ("affordance", "room_count", "rooms_next_to") or not form.sets:
+    if form.op in ("affordance", "room_count", "rooms_next_to") or not form.sets or neighbours(form):
         return None         # no set named: "what is on the table" asks about any object
     labels: set[str] = {"floor"}
     pending = list(form.sets) + [f.other for f in form.filters]
@@ -160,7 +188,7 @@ def _simple_extreme(form: Form, ev: Evaluator) -> bool:
             return False
         o = ev.resolved(other)
         return o.kind == "named" and o.colour is None and not o.size and not o.shape
-    if SUPERLATIVES.get(head.superlative, ("", 0))[0] != "volume" or len(head.filters) > 1:
+    if SUPERLATIVES.get(head.superlative or "", ("", 0))[0] != "volume" or len(head.filters) > 1:
         return False
     return all(f.kind == "rel" and not f.negated and not f.other.filters and f.other.number is None
                and not f.other.alternatives and ev.resolved(f.other).kind == "named" and not f.other.superlative
@@ -196,17 +224,18 @@ def _vocabulary() -> frozenset:
 
     from sg3d.queries.grammar import RESERVED
     from sg3d.queries.lexicon import SYNONYMS, vocabulary
-    from sg3d.queries.parse import FILLER
     from sg3d.queries.taxonomy import Taxonomy
 
-    words: set[str] = set(RESERVED) | set(FILLER) | set(COLOURS) | set(SIZES) | set(SHAPE_WORDS)
-    words |= set(STRUCTURE_LABELS) | GENERIC | {w for x in EVERYWHERE for w in x.split()} | {w for k in AFFORDANCES for w in k.split()}
+    words: set[str] = set(RESERVED) | set(COLOURS) | set(SIZES) | set(SHAPE_WORDS)
+    words |= set(STRUCTURE_LABELS) | GENERIC | {w for x in EVERYWHERE for w in x.split()}
+    words |= {w for k in list(AFFORDANCE_VERBS) + list(EXTRA_AFFORDANCES) for w in k.split()}
     words |= {"please", "tell", "know", "could", "would", "should", "me", "us", "find", "put", "my",
               "cup", "does", "kitchen", "bedroom", "bathroom", "office", "living", "dining", "objects",
               "things", "items", "walls", "shelves", "surfaces", "counters", "color", "colors", "whats",
               "everything", "total", "type", "types", "kind", "kinds", "piece", "pieces", "sort",
               "sorts", "ones", "visible", "present", "stored", "there", "up", "down", "yes", "no",
-              "left", "right", "front", "behind", "seen", "as", "bigger", "smaller", "larger",
+              "left", "right", "front", "behind", "seen", "as", "bigger", "smaller", "larger", "altogether",
+              "currently", "one", "that", "here",
               "size", "sizes", "hello", "thanks", "thank", "get", "where", "on", "top", "something"}
     words |= COMMON_WORDS
     nouns = set(vocabulary()) | set(Taxonomy.load().names)
@@ -222,11 +251,11 @@ def _vocabulary() -> frozenset:
 
 @dataclass
 class Outcome:
-    """What the compiler made of a question: an answer, the fixed text for the per-form reader
-    (`simple`), or a refusal."""
+    """What the compiler made of a question: an answer, a plan for the per-form templates
+    (`simple`: its Query), or a refusal."""
 
     kind: str                         # answer | simple | refuse | unread
-    text: str = ""                    # the answer / refusal text, or the text to read per form
+    text: str = ""                    # the answer / refusal text
     op: str = ""
     value: object = None
     rows: list = field(default_factory=list)
@@ -235,6 +264,8 @@ class Outcome:
     absent: bool = False
     room: Optional[str] = None        # the room the question names
     thumbnail: Optional[bytes] = None
+    query: Optional[Query] = None     # simple: what the per-form templates run with
+    room_ids: Optional[list[str]] = None   # simple: the rooms the question names, already looked up
 
 
 def read_question(text: str, room_rows: Callable[[str], list], all_room_names: Callable[[], list]):
@@ -293,45 +324,111 @@ def _room_placeholders(text: str, stored: list) -> tuple[str, dict[str, str]]:
     return out.strip(), placeholders
 
 
-def compile_question(run, text: str, room: Optional[str], building: Optional[str], room_rows, all_room_names,
-                     scope: Callable, embedding=None, use_embedding=True, evaluate: bool = False) -> Outcome:
-    """Read `text` (normalised, typos fixed) and answer it, or say that the per-form reader
-    should (a simple form; `evaluate`: answer it here all the same), or refuse naming the word
-    not read."""
-    from sg3d.queries.grammar import GrammarError
+def grammar_refusal(text: str, exc) -> Outcome:
+    """The grammar stopped: refuse naming the word it could not read (a word that carries a
+    condition first, then where reading stopped, else the whole text)."""
+    if "has no unit" in str(exc):
+        return Outcome("refuse", str(exc))
+    word = unread_word(text) or exc.word
+    if word is None:
+        said = text if len(text) <= 60 else text[:57] + "..."
+        return Outcome("unread", f"I could not read '{said}' as a question", notes=[str(exc)])
+    return Outcome("unread", f"I could not read '{word}' in this question", notes=[str(exc)])
 
-    try:
-        form, rows_of = read_question(text, room_rows, all_room_names)
-    except GrammarError as exc:
-        if "has no unit" in str(exc):
-            return Outcome("refuse", str(exc))
-        word = unread_word(text)
-        if word is not None:
-            return Outcome("unread", f"I could not read '{word}' in this question", notes=[str(exc)])
-        return Outcome("simple", text)
+
+def compile_question(run, form: Form, room: Optional[str], room_rows, scope: Callable, embedding=None,
+                     use_embedding=True, building: Optional[str] = None) -> Outcome:
+    """Plan a read form: a simple one becomes a Query for the per-form templates (kind
+    `simple`), any other is answered here over the scope's rows; or refuse naming the word."""
     if form.op == "list" and form.sets and form.sets[0].superlative:
         form.op = "extreme"          # "show me the biggest bowl"
     logical = form.form()
-    ev = Evaluator(run, rows_of, embedding, use_embedding, building)
+    ev = Evaluator(run, room_rows, embedding, use_embedding, building)
     try:
         found = room_filters(form, ev)
         q_room = found[0].room if found else None
         if q_room and room and q_room.lower() != room.lower():
             return Outcome("refuse", f"the question says '{q_room}' but --room is '{room}'", form=logical)
-        # the per-form reader knows plain ASCII room names only ("küche", "my room" are ours)
-        plain_room = q_room is None or (q_room.isascii() and q_room.split()[0] not in ("my", "our", "this"))
-        if plain_room and not evaluate and is_simple(form, ev):
-            return Outcome("simple", text, form=logical, room=q_room)
-        ev.load(scope(q_room or room), labels_read(form, ev))
-        label = q_room or room
-        answerer = Answerer(ev, label)
+        if is_simple(form, ev):
+            return Outcome("simple", form=logical, room=q_room, query=plan_simple(form, ev, q_room),
+                           room_ids=found[0].room_ids if found else None, notes=ev.notes)
+        ev.load(found[0].room_ids if found else scope(room), labels_read(form, ev))
+        answerer = Answerer(ev, q_room or room)
         value_text, value, rows = OPS[form.op](answerer, form)
     except Unanswerable as exc:
-        if ev.scene is None:
-            # a word the compiler cannot place ("in the environment"): the per-form reader,
-            # which knows such scope words, reads it or refuses
-            return Outcome("simple", text, form=logical)
-        return Outcome("refuse", str(exc), form=logical)
+        # a word that names nothing (before any scene is read): refused with an example
+        return Outcome("unread" if ev.scene is None else "refuse", str(exc), form=logical)
     return Outcome("answer", value_text, form.op if form.op != "extreme" else "show", value, rows, logical,
                    ev.notes, bool(ev.absent), q_room, answerer.thumbnail)
 
+
+# -- the planner: a simple form as the per-form templates' Query -----------------------------------
+def _target(np: NP, ev: Evaluator) -> Target:
+    """What a set's words name, as the per-form templates take it."""
+    if np.alternatives:
+        return _either(" or ".join(a.text() for a in np.alternatives), [_target(a, ev) for a in np.alternatives])
+    r = ev.resolved(np)
+    if r.target is not None:
+        t = r.target
+        return Target(t.phrase, list(t.labels) if t.labels is not None else None, list(t.names), t.how,
+                      t.similarity, list(t.ignored))
+    return Target(np.text(), r.labels, list(r.names), "any" if r.kind == "any" else "label")
+
+
+def _either(phrase: str, hits: list[Target]) -> Target:
+    """'A or B', 'A / B', 'A and B': one category if both name it, else every category named
+    (how='either'; "how many tables and chairs" counts both)."""
+    if any(h.labels is None for h in hits):
+        return Target(phrase, None, [], "any")
+    ignored = [w for h in hits for w in h.ignored]
+    known = [h for h in hits if h.how != "unknown"] or hits
+    if all(sorted(h.labels or []) == sorted(known[0].labels or []) for h in known):
+        first = known[0]
+        return Target(phrase, first.labels, first.names, first.how, first.similarity, ignored)
+    names = list(dict.fromkeys(n for h in known for n in h.names))
+    labels = sorted({lab for h in known for lab in h.labels or []})
+    return Target(phrase, labels, names, "either", ignored=ignored)
+
+
+def plan_simple(form: Form, ev: Evaluator, room: Optional[str]) -> Query:
+    """A simple form (`is_simple`) -> the Query the per-form templates run with: one target, its
+    colour and size, at most one relation to an anchor, or an extreme ("show")."""
+    head = form.sets[0] if form.sets else NP([])
+    q = Query(form="show" if form.op == "extreme" else form.op, target=_target(head, ev), room=room,
+              attribute=form.attribute if form.op == "attribute" else None)
+    # "the cup" means one cup: an answer about several says so and asks which
+    q.one = head.definite and not head.indefinite and not head.alternatives and bool(head.words) \
+        and head.words[-1] == lemma(head.words[-1]) and head.number is None
+    if not head.alternatives:
+        r = ev.resolved(head)
+        q.colour, q.size = r.colour, r.size
+    q.ignored = list(q.target.ignored) + list(head.ignored)
+    if form.op == "extreme" and head.superlative in ("closest", "nearest") and head.toward is not None:
+        q.superlative, q.anchor = "closest", _target(head.toward, ev)
+        return q
+    if form.op == "extreme":
+        q.superlative = "max" if SUPERLATIVES[head.superlative or "biggest"][1] > 0 else "min"
+    filters = list(head.filters) + list(form.filters)
+    if filters:
+        f = filters[0]
+        q.relation, q.symmetric = RELATIONS[f.relation or ""]
+        q.relation_word = f.relation
+        q.anchor = _target(f.other, ev)
+        q.anchor_article = "a" if f.other.indefinite and not f.other.alternatives else "the"
+        if not f.other.alternatives:
+            q.anchor_colour = ev.resolved(f.other).colour
+        q.ignored += list(q.anchor.ignored) + list(f.other.ignored)
+    return q
+
+
+def plan_question(question: str, embedding=None, use_embedding: bool = True) -> Query:
+    """The plan of a simple question without a store (no room names known): what the per-form
+    templates would run with. GrammarError or Unanswerable when it is not read, or not simple."""
+    from sg3d.queries.grammar import read
+    from sg3d.queries.phrasing import tidy
+
+    form = read(tidy(question).text)
+    ev = Evaluator(None, lambda name: [], embedding, use_embedding)
+    if not is_simple(form, ev):
+        raise Unanswerable(f"'{question}' is not a simple question (one kind, at most one relation)")
+    return plan_simple(form, ev, None)

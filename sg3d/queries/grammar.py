@@ -16,41 +16,45 @@ from lark.exceptions import LarkError, UnexpectedInput, VisitError
 from sg3d.core.errors import Sg3dError
 from sg3d.queries.logic import NP, Filter, Form
 
-# relation word -> (stored relation type, symmetric?)
-RELATIONS: dict[str, tuple[str, bool]] = {
-    "on": ("ON", False), "on top of": ("ON", False), "onto": ("ON", False), "in": ("IN", False),
-    "inside": ("IN", False), "under": ("UNDER", False), "underneath": ("UNDER", False),
-    "beneath": ("UNDER", False), "below": ("BELOW", False), "above": ("ABOVE", False),
-    "over": ("ABOVE", False), "next to": ("NEXT_TO", True), "beside": ("NEXT_TO", True),
-    "by": ("NEXT_TO", True), "adjacent to": ("NEXT_TO", True), "near": ("NEAR", True),
-    "close to": ("NEAR", True), "nearby": ("NEAR", True), "around": ("NEAR", True),
-}
-SUPERLATIVES = {   # word -> (key, sign): key volume | height (box height) | top (height above floor)
-    "biggest": ("volume", 1), "largest": ("volume", 1), "smallest": ("volume", -1),
-    "tiniest": ("volume", -1), "tallest": ("height", 1), "shortest": ("height", -1),
-    "highest": ("top", 1), "lowest": ("top", -1),
-}
-DISTANCE_SUPERLATIVES = {"closest": -1, "nearest": -1, "farthest": 1, "furthest": 1}
-UNIT_M = {"m": 1.0, "cm": 0.01, "mm": 0.001, "ft": 0.3048, "inch": 0.0254}
-ATTRIBUTES = {"big": "size", "large": "size", "tall": "tall", "high": "high", "wide": "width",
-              "long": "length", "far": "far"}
+from sg3d.queries.vocabulary import (
+    ATTRIBUTES,
+    COLOURS,
+    DISTANCE_SUPERLATIVES,
+    RELATIONS,
+    SIZES,
+    SUPERLATIVES,
+    UNIT_M,
+)
 
 GRAMMAR = r"""
-start: count | exists | at_least | compare | listing | where | attribute | extreme | distance
-     | room_count | rooms_with | room_most | rooms_next | afford | size_compare
+start: question seen?
+?question: count | exists | at_least | compare | listing | where | attribute | extreme | distance
+     | room_count | rooms_with | room_most | rooms_next | afford | size_compare | changes | gone | before
 
 be: "is" | "are"
 _there: "there"
 _det: "the" | INDEF | "any" | "some" | "all" | "my" | "this" | "your"
+_do: "do" | "does"
+_have: "have" | "has" | "hold" | "holds" | "contain" | "contains"
+_was: "was" | "were"
 
 count: "how" "many" np be? _there? preds
+     | "how" "many" np _do owner _have preds               -> count_owned
+     | "how" "many" np owned _have preds                   -> count_owned
+     | "how" "many" np ("have" | "has") INDEF? _words preds  -> count_having
+     | "how" "many" np ("can" | "could") "i" verb preds      -> count_purpose
      | "count" np preds
      | WHAT be "the" "number" "of" np be? _there? preds
+owner: "we" | "you" | "i" | _det? WORD+
+owned: _det WORD+                                       -> owner
 exists: be _there np preds
       | np_one                                          -> bare
       | "do" "you" ("have" | "see") np preds
       | be np preds
 at_least: be _there MORELESS "than" NUMBER np preds
+        | be _there EXACTLY NUMBER np preds
+        | "do" ("we" | "you") "have" MORELESS "than" NUMBER np preds
+        | "do" ("we" | "you") "have" EXACTLY NUMBER np preds
 compare: be _there MORELESS np "than" np preds
        | be "the" "number" "of" np COMPARE "than" "the" "number" "of" np preds
        | "do" ("we" | "you") "have" MORELESS np "than" np preds
@@ -67,36 +71,59 @@ attribute: WHAT "color" be np preds                        -> colour_of
          | WHAT "size" be np preds                       -> size_of
          | "how" ATTR be np preds                          -> measure_of
 extreme: WHAT np? be _det? SUPER np? preds
+       | WHAT "of" np be _det? SUPER preds
        | WHAT np be _det? DSUPER "away"? _tofrom np
        | WHAT be np_closest
+       | WHAT be _det WORD+ DSUPER _tofrom np_one          -> extreme_after
 np_closest: _det? DSUPER WORD+ _tofrom np_one
 distance: "how" "far" be np _tofrom np
         | "how" "far" "apart" be np
         | WHAT be "the" "distance" "between" np_one "and" np_one
         | WHAT be "the" "distance" "from" np_one "to" np_one
-room_count: "how" "many" "rooms" be? _there? ("in" _det? WORD+)? (("do" | "does") _det? ("you" | WORD) WORD* ("have" | "has" | "hold" | "contain" | "see")?)?
-rooms_with: WHAT "rooms" ("have" | "has" | "contain" | "hold") np preds
-          | "in" WHAT "rooms" be _there? np preds
+room_count: "how" "many" "rooms" be? _there? ("in" _det? WORD+)? (_do _det? ("you" | WORD) WORD* ("have" | "has" | "hold" | "contain" | "see")?)?
+rooms_with: WHAT _rooms _have np preds
+          | "in" WHAT _rooms be _there? np preds
           | "in" "how" "many" "rooms" be _there? np preds   -> rooms_counted
+_rooms: "rooms" | "room"
 size_compare: be np COMPARE "than" np preds             -> bigger
             | WHAT be COMPARE np preds                  -> bigger_which
-room_most: WHAT "room" ("has" | "have" | "holds" | "contains") _det? MOSTFEW np preds
+room_most: WHAT NUMBER? _rooms _have _det? MOSTFEW np preds
+         | _det? NUMBER? "rooms" "with" _det? MOSTFEW np preds
+         | WHAT be _det? NUMBER? _rooms "with" _det? MOSTFEW np preds
+         | LIST _det? NUMBER? _rooms "with" _det? MOSTFEW np preds
 rooms_next: WHAT "rooms" be (_next_to | "near" | "beside") np_one
-afford: "where" ("can" | "could") "i" WORD (_det | WORD)*
-      | WHAT ("can" | "could") "i" WORD (_det | WORD)*
+afford: "where" ("can" | "could") "i" verb preds
+      | WHAT ("can" | "could") "i" verb preds
+      | "i" ("need" | "want") WORD? ("to" | "for") verb preds
+verb: WORD (WORD | _det)* _dangling?
+_dangling: "from" | "on" | "in" | "with"
+changes: WHAT ("has" | "have")? CHANGED _since? preds
+       | WHAT be "different" _since? preds
+gone: WHAT (be | _was | "has" | "have") "been"? GONE preds
+    | WHAT GONE preds
+    | WHAT "went" "missing" preds
+before: "where" (_was | "did") np BEFORE
+_since: "since" _det? "last" ("scan" | "time")
+seen: SEEN "from" np_one
 
 np: np_one (_conj np_one)*
 np_or: np_one ("or" np_one)*
 _conj: "or" | "and" | "as" "well" "as"
-np_one: _det? SUPER? WORD+ NUMBER? postmod*
-      | _det? SUPER postmod*
-      | _det? SUPER? WORD+ NUMBER? DSUPER _tofrom np_one
+np_one: _dets? _pieces? SUPER? _words NUMBER? postmod*
+      | _dets? SUPER postmod*
+      | _dets? _pieces? SUPER? _words DSUPER _tofrom np_one
       | np_closest
+_pieces: PIECES "of"
+_dets: _det | "all" "the" | "all" "of" "the" | "any" "of" "the" | "each" "of" "the" | "one" "of" "the"
+_words: (WORD | SIZE | ATTR)+
 postmod: NOT? relation np_or                 -> rel_filter
        | NOT? band                          -> dist_filter
+       | HAVING _det? WORD+                 -> having
+       | "for" WORD+                        -> purpose
 preds: pred*
 pred: NOT? relation np_or                   -> rel_filter
     | NOT? band                             -> dist_filter
+    | EXCEPT np_or                          -> except_filter
     | "and" pred
 band: "within" length _ofrom np_one                      -> within
     | ("closer" | "nearer") "than" length _tofrom np_one  -> within
@@ -107,39 +134,57 @@ length: NUMBER UNIT?
 _ofrom: "of" | "from" | "to"
 _tofrom: "to" | "from"
 _next_to: "next" "to" | "adjacent" "to"
-!relation: "on" | "on" "top" "of" | "onto" | "in" | "inside" | "under" | "underneath" | "beneath"
-        | "below" | "above" | "over" | "next" "to" | "beside" | "by" | "adjacent" "to" | "near"
-        | "close" "to" | "nearby" | "around"
+!relation: RELATION_WORDS
 
 INDEF: "a" | "an"
 WHAT: "what" | "which"
 LIST: "list" | "show" | "name" | "find"
 NOT: "not"
+EXCEPT: "except" | "besides" | "excluding"
+EXACTLY: "exactly"
+HAVING: "with" | "having" | "featuring" | "showing"
+PIECES: "piece" | "pieces" | "kind" | "kinds" | "type" | "types" | "sort" | "sorts"
 MORELESS: "more" | "fewer" | "less"
 COMPARE: "bigger" | "larger" | "greater" | "higher" | "smaller" | "lower"
 MOSTFEW: "most" | "fewest" | "least"
 MEASURE: "height" | "width" | "length" | "size"
 ATTR: "big" | "large" | "tall" | "high" | "wide" | "long"
-SUPER: "biggest" | "largest" | "smallest" | "tiniest" | "tallest" | "shortest" | "highest" | "lowest"
-DSUPER: "closest" | "nearest" | "farthest" | "furthest"
-UNIT: "m" | "cm" | "mm" | "ft" | "inch"
+SIZE: "huge" | "small" | "little" | "tiny"
+SUPER: SUPER_WORDS
+DSUPER: DSUPER_WORDS
+CHANGED: "changed" | "moved"
+GONE: "gone" | "missing" | "disappeared" | "removed" | "vanished"
+BEFORE: "before" | "previously" | "earlier" | "yesterday"
+SEEN: "seen" | "viewed" | "looking"
+UNIT: UNIT_WORDS
 NUMBER: /\d+(\.\d+)?/
 WORD: /(?!(?:RESERVED)\b)[^\W\d_][\w-]*/
 %ignore " "
 """
 
-# every literal of the grammar: never an object word (a noun phrase ends where one begins)
-RESERVED = sorted({
-    "is", "are", "there", "the", "a", "an", "any", "some", "all", "my", "this", "your", "how", "many",
-    "count", "what", "which", "number", "of", "do", "you", "have", "see", "than", "where", "can", "i",
-    "find", "color", "size", "far", "apart", "distance", "between", "and", "or", "as", "well",
-    "rooms", "room", "has", "contain", "hold", "holds", "contains", "in", "near", "beside", "next",
-    "to", "adjacent", "on", "top", "onto", "inside", "under", "underneath", "beneath", "below",
-    "above", "over", "by", "close", "nearby", "around", "within", "closer", "nearer", "less",
-    "away", "farther", "further", "more", "from", "list", "show", "name", "not", "fewer",
-    "most", "fewest", "least", "me", "we", "could", "bigger", "larger", "greater", "higher", "smaller", "lower", "height", "width", "length", "big", "large", "tall", "high", "wide", "long", "m", "cm", "mm",
-    "ft", "inch", *SUPERLATIVES, *DISTANCE_SUPERLATIVES,
-}, key=lambda w: (-len(w), w))
+
+def _alternatives(words) -> str:
+    return " | ".join(f'"{w}"' for w in sorted(words, key=lambda w: (-len(w), w)))
+
+
+def _grammar_text() -> str:
+    """The grammar with its word lists filled in from sg3d/queries/vocabulary.py."""
+    relations = " | ".join(" ".join(f'"{w}"' for w in phrase.split()) for phrase in sorted(RELATIONS))
+    return (GRAMMAR.replace("RELATION_WORDS", relations)
+            .replace("DSUPER_WORDS", _alternatives(DISTANCE_SUPERLATIVES))
+            .replace("SUPER_WORDS", _alternatives(SUPERLATIVES))
+            .replace("UNIT_WORDS", _alternatives(UNIT_M)))
+
+
+def _reserved() -> list[str]:
+    """Every literal of the grammar: never an object word (a noun phrase ends where one begins)."""
+    import re
+
+    text = _grammar_text().split("WORD: ")[0]
+    return sorted({w for w in re.findall(r'"([a-z]+)"', text)}, key=lambda w: (-len(w), w))
+
+
+RESERVED = _reserved()
 
 
 class GrammarError(Sg3dError, ValueError):
@@ -153,7 +198,7 @@ class GrammarError(Sg3dError, ValueError):
 @functools.cache
 def parser() -> Lark:
     """The LALR parser, built once per process."""
-    grammar = GRAMMAR.replace("RESERVED", "|".join(RESERVED))
+    grammar = _grammar_text().replace("RESERVED", "|".join(RESERVED))
     # the LALR tables are kept in sg3d's cache (not the temporary folder): a cold process loads
     # them instead of building them (0.2 s)
     return Lark(grammar, parser="lalr", maybe_placeholders=False, cache=_table_cache(grammar))
@@ -181,13 +226,36 @@ def _table_cache(grammar: str):
 
 
 def _words(items) -> list[str]:
-    return [str(t) for t in items if isinstance(t, Token) and t.type == "WORD"]
+    return [str(t) for t in items if isinstance(t, Token) and t.type in ("WORD", "SIZE", "ATTR")]
 
 
 @v_args(inline=False)
 class _ToForm(Transformer):
     def start(self, items):
-        return items[0]
+        form = items[0]
+        if len(items) > 1:
+            form.seen_from = items[1]
+        return form
+
+    def seen(self, items):
+        return items[-1]
+
+    def owner(self, items):
+        return NP(_words(items), definite=True)
+
+    def verb(self, items):
+        return " ".join(_words(items))
+
+    def having(self, items):
+        """"with a white glaze", "having a red pattern": colour and size words describe the
+        object; the other words are kept to be said as not used."""
+        return ("having", _words(items))
+
+    def purpose(self, items):
+        return ("purpose", " ".join(_words(items)))
+
+    def except_filter(self, items):
+        return Filter("except", items[-1])
 
     def be(self, items):
         return "be"
@@ -258,6 +326,12 @@ class _ToForm(Transformer):
         sup = next((str(t) for t in items if isinstance(t, Token) and t.type in ("SUPER", "DSUPER")), None)
         nps = [i for i in items if isinstance(i, NP)]
         np = NP(words, number=number, superlative=sup, filters=[i for i in items if isinstance(i, Filter)])
+        for kind, said in (i for i in items if isinstance(i, tuple)):
+            if kind == "purpose":
+                np.purpose = said
+            else:
+                np.words += [w for w in said if w in COLOURS or w in SIZES]
+                np.ignored += [w for w in said if w not in COLOURS and w not in SIZES]
         np.definite = True
         # "next to a cup": any cup, never the one whose printed name is "cup"
         np.indefinite = any(isinstance(t, Token) and t.type == "INDEF" for t in items)
@@ -301,9 +375,49 @@ class _ToForm(Transformer):
         return Form("exists", sets=[np])
 
     def at_least(self, items):
-        word = next(str(t) for t in items if isinstance(t, Token) and t.type == "MORELESS")
+        word = next(str(t) for t in items if isinstance(t, Token) and t.type in ("MORELESS", "EXACTLY"))
         n = next(float(t) for t in items if isinstance(t, Token) and t.type == "NUMBER")
-        return self._op("at_least", items, compare="more" if word == "more" else "fewer", number=n)
+        compare = {"more": "more", "exactly": "exactly"}.get(word, "fewer")
+        return self._op("at_least", items, compare=compare, number=n)
+
+    def count_owned(self, items):
+        """"how many chairs does the kitchen have", "how many chairs do we have": the owner
+        is a room (the scope) or the asker (no filter)."""
+        owner = next(i for i in items if isinstance(i, NP) and i is not items[0])
+        form = self._op("count", [items[0]] + [i for i in items if isinstance(i, list)])
+        if owner.words and owner.words != ["we"] and owner.words != ["you"] and owner.words != ["i"]:
+            form.filters.append(Filter("rel", owner, relation="in"))
+        return form
+
+    def count_purpose(self, items):
+        """"how many things can I sit on": the things that afford it."""
+        np = items[0]
+        np.purpose = next(i for i in items if isinstance(i, str) and not isinstance(i, Token))
+        return self._op("count", [np] + [i for i in items if isinstance(i, list)])
+
+    def count_having(self, items):
+        """"how many mugs have a red pattern": the clause's colour and size words describe them."""
+        np = items[0]
+        said = _words(items[1:])
+        np.words += [w for w in said if w in COLOURS or w in SIZES]
+        np.ignored += [w for w in said if w not in COLOURS and w not in SIZES]
+        return self._op("count", [np] + [i for i in items if isinstance(i, list)])
+
+    def changes(self, items):
+        return self._op("changes", items)
+
+    def gone(self, items):
+        return self._op("gone", items)
+
+    def before(self, items):
+        return self._op("before", items)
+
+    def extreme_after(self, items):
+        """"which is the cup closest to the sink": the distance extreme on the named set."""
+        sup = next(str(t) for t in items if isinstance(t, Token) and t.type == "DSUPER")
+        other = next(i for i in items if isinstance(i, NP))
+        np = NP(_words(items), superlative=sup, toward=other, definite=True)
+        return Form("extreme", sets=[np])
 
     def compare(self, items):
         word = next(str(t) for t in items if isinstance(t, Token) and t.type in ("MORELESS", "COMPARE"))
@@ -383,13 +497,16 @@ class _ToForm(Transformer):
 
     def room_most(self, items):
         word = next(str(t) for t in items if isinstance(t, Token) and t.type == "MOSTFEW")
-        return self._op("room_most", items, compare="more" if word == "most" else "fewer")
+        n = next((float(t) for t in items if isinstance(t, Token) and t.type == "NUMBER"), None)
+        return self._op("room_most", items, compare="more" if word == "most" else "fewer", number=n)
 
     def rooms_next(self, items):
         return self._op("rooms_next_to", items)
 
     def afford(self, items):
-        return Form("affordance", verb=" ".join(_words(items)))
+        verb = next(i for i in items if isinstance(i, str) and not isinstance(i, Token))
+        filters = [f for i in items if isinstance(i, list) for f in i]
+        return Form("affordance", verb=verb, filters=filters)
 
 
 def read(text: str) -> Form:

@@ -44,7 +44,8 @@ POSTURE = [
     (re.compile(r"\b(is|are) (?:mounted|placed|located|sitting|standing|lying|hanging|kept|stored|resting|put|"
                 r"positioned|found|situated|set|lieing)\b"), r"\1"),
     (re.compile(r"\b(?:lies|sits|stands|rests|hangs|stays)\b" + _REL_AHEAD), "is"),
-    (re.compile(r"\b(?:lie|sit|stand|rest|hang)\b" + _REL_AHEAD), "are"),
+    # "the cups that sit on the table", but not "what can i sit on" (an activity)
+    (re.compile(r"(?<!\bcan i )(?<!\bcould i )(?<!\bto )\b(?:lie|sit|stand|rest|hang)\b" + _REL_AHEAD), "are"),
     (re.compile(r" (?:lying|sitting|standing|resting|hanging|placed|located|kept|stored|positioned|situated|"
                 r"mounted|found|put)\b" + _REL_AHEAD), ""),
 ]
@@ -53,7 +54,9 @@ _PLACE_TO = re.compile(r"^(?:is there|do you know|do you have) (?:somewhere|anyw
                        r"anything)(?: where| that| which)? i (?:can|could) (.+)$")
 _TRAILING = re.compile(r"\b(?:anywhere|at all|around here|in here|here|located|situated|placed|kept|stored)$")
 # adverbs that change nothing the graph can answer
-_ADVERBS = re.compile(r"\b(?:exactly|precisely|actually|currently|roughly|approximately|really|just)\b ?")
+# "exactly" stays before a number ("exactly 4 chairs" is a condition)
+_ADVERBS = re.compile(r"\b(?:precisely|actually|currently|roughly|approximately|really|just|"
+                      r"exactly(?! (?:\d|zero|one|two|three|four|five|six|seven|eight|nine|ten)\b))\b ?")
 # "the cups that are near the sink": a relative clause says what the set's filters say
 _RELATIVE = re.compile(r"(?<=\w) (?:that|which|who) (?:are|is) ")
 # "how many of the chairs": the chairs
@@ -73,7 +76,7 @@ NUMBER_WORDS = {
 UNITS = {"m": "m", "metre": "m", "metres": "m", "meter": "m", "meters": "m", "cm": "cm",
          "centimetre": "cm", "centimetres": "cm", "centimeter": "cm", "centimeters": "cm",
          "mm": "mm", "millimetre": "mm", "millimetres": "mm", "millimeter": "mm", "millimeters": "mm",
-         "ft": "ft", "foot": "ft", "feet": "ft", "inch": "in", "inches": "in"}
+         "ft": "ft", "foot": "ft", "feet": "ft", "inch": "inch", "inches": "inch"}
 _UNIT_RE = re.compile(r"(\d+(?:\.\d+)?)\s*(" + "|".join(sorted(map(re.escape, UNITS), key=len, reverse=True))
                       + r")\b")
 
@@ -159,6 +162,33 @@ def rephrase(text: str) -> str:
                          else f"fewer than {int(m.group(2)) + 1}", text)
 
 
+# one spelling for phrases the grammar reads under another: "other than the sink" = "except
+# the sink", "as seen from" = "seen from", "to the left of" = "left of", "A as well as B" = "A and B"
+SAME_WORDS = [
+    (re.compile(r"\b(?:that|which|who) (?:is|are) not (a|an|the|any) "), r"except \1 "),
+    (re.compile(r"\b(?:other than|apart from|aside from|but not|save for)\b"), "except"),
+    (re.compile(r"\bas (seen|viewed|looking) from\b"), r"\1 from"),
+    (re.compile(r"\bto the (left|right) of\b"), r"\1 of"),
+    (re.compile(r"^(which|what) one (is|are)\b"), r"\1 \2"),
+    # "somewhere to sit", "places to sit", "something to drink from": what affords it
+    (re.compile(r"^(?:is there|are there|do you have|do you know) (?:somewhere|anywhere|a place|any place|"
+                r"places|a spot|something|anything)(?: for me)? to "), "where can i "),
+    (re.compile(r"\b(places?|spots?|things?|somewhere|something|anything|anywhere) to (?=\w)"), r"\1 for "),
+    (re.compile(r"\bas well as\b"), "and"),
+]
+# "the kitchen's chairs" = "the chairs in the kitchen"; "the cup's colour" = "the colour of the cup"
+_POSSESSIVE_MEASURE = re.compile(r"\b(?:the )?([\w-]+)'s (color|size|height|width|length)\b")
+_POSSESSIVE_LIST = re.compile(r"^(what|which) (is|are) (?:the )?([\w-]+)'s ([\w-]+(?: [\w-]+)?)\s*[?.!]*\s*$")
+_POSSESSIVE = re.compile(r"\b(?:the )?([\w-]+)'s ([\w-]+(?: [\w-]+)?)"
+                         r"(?= (?:is|are|in|on|next|near|there)\b|\s*[?.!,]*\s*$)")
+
+
+def _possessives(text: str) -> str:
+    text = _POSSESSIVE_MEASURE.sub(r"the \2 of the \1", text)
+    text = _POSSESSIVE_LIST.sub(r"\1 \4 \2 in the \3", text)     # "what are the kitchen's chairs"
+    return _POSSESSIVE.sub(r"the \2 in the \1", text)
+
+
 def tidy(question: str) -> Phrased:
     """Question -> normalised words (no typo fixing yet): lower case, asides dropped,
     contractions and frames undone, numbers and units read, punctuation gone."""
@@ -172,6 +202,7 @@ def tidy(question: str) -> Phrased:
         text = re.sub(r"\([^()]*\)|\[[^\[\]]*\]", " ", text)
     text = _contractions(text)
     text = text.replace("colour", "color")
+    text = _possessives(text)
     # "A / B", "A + B", "A and/or B" name alternatives: read as "A or B"
     text = re.sub(r"\band\s*/\s*or\b", " or ", text)
     text = re.sub(r"\s*[/+&]\s*", " or ", text)
@@ -186,6 +217,8 @@ def tidy(question: str) -> Phrased:
         text = regex.sub(repl, text)
     text = _PLACE_TO.sub(r"where can i \1", text)
     text = _ADVERBS.sub("", text)
+    for regex, repl in SAME_WORDS:
+        text = regex.sub(repl, text)
     text = _RELATIVE.sub(" ", text)
     text = _OF_THE.sub("how many ", text)
     text = _DISLOCATED.sub(r"\2 \3 \1", text)

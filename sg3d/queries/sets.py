@@ -17,38 +17,26 @@ from dataclasses import dataclass, field
 from typing import Callable, Optional
 
 from sg3d.core.errors import Sg3dError
-from sg3d.core.model import COLOUR_NAMES, SHAPE_WORDS
-from sg3d.core.relation_rules import SYMMETRIC
-from sg3d.queries.grammar import DISTANCE_SUPERLATIVES, RELATIONS, SUPERLATIVES
-from sg3d.queries.lexicon import lemma, resolve
+from sg3d.core.model import SHAPE_WORDS
+from sg3d.core.relation_rules import SYMMETRIC, VIEWPOINT
+from sg3d.queries.lexicon import Target, lemma, resolve
 from sg3d.queries.logic import NP, Filter
 from sg3d.queries.scoping import by_size, few_rooms
+from sg3d.queries.vocabulary import (
+    ACTIVITIES,
+    AFFORDANCE_VERBS,
+    COLOURS,
+    DISTANCE_SUPERLATIVES,
+    GENERIC,
+    IMPLIED_BY,
+    RELATIONS,
+    ROW_LIMIT,
+    SIZES,
+    STORED_TYPES,
+    STRUCTURE_LABELS,
+    SUPERLATIVES,
+)
 from sg3d.queries.wording import plural
-
-STRUCTURE_LABELS = {"floor": "floor", "ground": "floor", "wall": "wall", "counter": "counter",
-                    "countertop": "counter", "worktop": "counter", "shelf": "shelf", "surface": "surface"}
-GENERIC = {"object", "thing", "item", "stuff", "everything", "something", "anything"}
-COLOURS = {c: c for c in COLOUR_NAMES} | {"gray": "grey", "silver": "grey", "golden": "yellow"}
-SIZES = {"big": "big", "large": "big", "huge": "big", "small": "small", "little": "small", "tiny": "small"}
-# What a person may do -> the kinds of object that afford it (a small curated table).
-AFFORDANCES: dict[str, tuple[list[str], list[str]]] = {   # verb -> (labels, structure labels)
-    "sit": (["chair", "couch", "bench"], []),
-    "sit down": (["chair", "couch", "bench"], []),
-    "lie down": (["bed", "couch"], []), "sleep": (["bed", "couch"], []),
-    "put": (["dining table"], ["counter", "shelf", "surface"]),
-    "place": (["dining table"], ["counter", "shelf", "surface"]),
-    "eat": (["dining table"], []), "wash": (["sink"], []), "watch": (["tv"], []),
-    "read": (["book"], []), "drink": (["cup", "wine glass", "bottle"], []),
-    "cook": (["oven", "microwave"], []), "work": (["laptop", "dining table"], []),
-}
-# "in the house": the whole store (or --building), not a room or an object
-EVERYWHERE = {"house", "home", "building", "environment", "scene", "world", "map", "whole house",
-              "whole building", "whole home", "total", "everywhere"}
-STORED_TYPES = ("ON", "IN", "UNDER", "ABOVE", "BELOW", "NEXT_TO", "NEAR")
-IMPLIED_BY = {"NEAR": ("NEAR", "NEXT_TO")}
-ABSENT = "small or uncommon things may be missed"
-LIST_SHOWN = 12
-ROW_LIMIT = 100_000
 
 
 class Unanswerable(Sg3dError, ValueError):
@@ -70,6 +58,7 @@ class Resolved:
     room_ids: list[str] = field(default_factory=list)
     how: str = "label"
     notes: list[str] = field(default_factory=list)
+    target: Optional[Target] = None      # how the lexicon read the words (mapping, ignored words)
 
     def noun(self, n: int = 2) -> str:
         if self.kind == "any":
@@ -79,6 +68,19 @@ class Resolved:
         else:
             base = " or ".join(plural(x, n) for x in self.names)
         return " ".join(x for x in (self.size, self.shape, self.colour, base) if x)
+
+
+def activity(words: str) -> str:
+    """The activity of the curated table (vocabulary.ACTIVITIES) that words ask for: "sitting",
+    "take a seat", "pour water into", "put my cup down"; Unanswerable naming them otherwise."""
+    said = words.split()
+    for n in range(len(said), 0, -1):
+        key = " ".join(said[:n])
+        if key in AFFORDANCE_VERBS:
+            return AFFORDANCE_VERBS[key]
+        if lemma(key) in AFFORDANCE_VERBS:
+            return AFFORDANCE_VERBS[lemma(key)]
+    raise Unanswerable(f"I don't know what things afford '{words}' (I know: {', '.join(ACTIVITIES)})")
 
 
 def split_modifiers(words: list[str]) -> tuple[list[str], dict]:
@@ -123,14 +125,14 @@ def resolve_np(np: NP, is_room: Callable[[str], list], embedding=None, use_embed
             raise Unanswerable(f"'{text}' is a room; ask e.g. 'how many chairs are in the {text}'")
         raise Unanswerable(why)
     if hit.labels is None:
-        return Resolved(np, "any", None, [], **mods)
+        return Resolved(np, "any", None, [], target=hit, **mods)
     notes = []
     if hit.how == "embedding":
         notes.append(f"'{hit.phrase}' read as {' + '.join(hit.names)} (similarity {hit.similarity:.2f})")
     if hit.ignored:
         notes.append("ignored: " + " ".join(hit.ignored))
     kind = "unknown" if hit.how == "unknown" or not hit.labels else "named"
-    return Resolved(np, kind, list(hit.labels), list(hit.names), how=hit.how, notes=notes, **mods)
+    return Resolved(np, kind, list(hit.labels), list(hit.names), how=hit.how, notes=notes, target=hit, **mods)
 
 
 # -- the scene: the scope's objects and edges, read once ---------------------------------------
@@ -217,7 +219,8 @@ class Evaluator:
     def resolved(self, np: NP, may_be_room: bool = False) -> Resolved:
         if id(np) not in self._resolved:
             r = resolve_np(np, self.is_room, self.embedding, self.use_embedding, may_be_room)
-            self.notes += [n for n in r.notes if n not in self.notes]
+            said = r.notes + ([f"ignored: {' '.join(np.ignored)}"] if np.ignored else [])
+            self.notes += [n for n in said if n not in self.notes]
             self._resolved[id(np)] = r
         return self._resolved[id(np)]
 
@@ -226,10 +229,10 @@ class Evaluator:
         if r.kind == "any":
             return [o for o in objs if not is_structure(o)]
         if r.kind == "structure":
-            return [o for o in objs if is_structure(o) and o["label"] in r.labels]
+            return [o for o in objs if is_structure(o) and o["label"] in (r.labels or [])]
         if r.kind == "unknown":
             return []
-        return [o for o in objs if o["label"] in r.labels and not is_structure(o)]
+        return [o for o in objs if o["label"] in (r.labels or []) and not is_structure(o)]
 
     def members(self, np: NP) -> list[dict]:
         if np.alternatives:
@@ -256,9 +259,11 @@ class Evaluator:
                 continue
             out.append(o)
         if second:
-            self.notes.append(f"by main colour; {len(second)} more {r.noun(len(second)).replace(r.colour + ' ', '')} "
+            self.notes.append(f"by main colour; {len(second)} more {r.noun(len(second)).replace(f'{r.colour} ', '')} "
                               f"{'has' if len(second) == 1 else 'have'} {r.colour} as a second colour")
         out = self._by_size(out, r.size)
+        if np.purpose:
+            out = [o for o in out if o["label"] in ACTIVITIES[activity(np.purpose)]]
         if np.number is not None:
             out = self._numbered(np, r, out)
         for f in np.filters:
@@ -298,6 +303,12 @@ class Evaluator:
         return hit
 
     def apply(self, f: Filter, rows: list[dict]) -> list[dict]:
+        if f.kind == "except":      # "anything on the counter besides the sink"
+            drop = {o["id"] for o in self.members(f.other)}
+            return [o for o in rows if o["id"] not in drop]
+        if f.kind == "rel" and RELATIONS[f.relation or ""][0] in VIEWPOINT:
+            raise Unanswerable(f"'{f.relation}' depends on a viewpoint and is read in questions about one kind of "
+                               f"object and one relation only (e.g. 'how many chairs are {f.relation} the table')")
         others = self.members(f.other)
         if not others and f.other.filters and not f.other.number:
             # "on the table next to the pink book": no table is next to it, so the second
@@ -314,7 +325,7 @@ class Evaluator:
                 return out
         other_ids = {o["id"] for o in others}
         if f.kind == "rel":
-            rel_type, symmetric = RELATIONS[f.relation]
+            rel_type, symmetric = RELATIONS[f.relation or ""]
             types = IMPLIED_BY.get(rel_type, (rel_type,))
             linked: set[str] = set()
             for e in self.scene.edges():
@@ -344,11 +355,11 @@ class Evaluator:
 
     def key(self, np: NP) -> Callable[[dict], float]:
         if np.superlative in DISTANCE_SUPERLATIVES:
-            others = self.members(np.toward)
+            others = self.members(np.toward) if np.toward is not None else []
             if not others:
                 return lambda o: math.nan
             return lambda o: min((self.scene.distance(o, b) for b in others if b["id"] != o["id"]), default=math.nan)
-        key, _ = SUPERLATIVES[np.superlative]
+        key, _ = SUPERLATIVES[np.superlative or ""]
         if key == "volume":
             return lambda o: float(o.get("volume") or 0.0)
         if key == "height":
@@ -356,7 +367,8 @@ class Evaluator:
         return self.scene.top
 
     def extreme(self, rows: list[dict], np: NP) -> list[dict]:
-        sign = DISTANCE_SUPERLATIVES.get(np.superlative) or SUPERLATIVES[np.superlative][1]
+        word = np.superlative or ""
+        sign = DISTANCE_SUPERLATIVES.get(word) or SUPERLATIVES[word][1]
         k = self.key(np)
         scored = [(k(o), o) for o in rows]
         scored = [(v, o) for v, o in scored if not math.isnan(v)]

@@ -4,9 +4,9 @@
 graph never stores them (`sg3d.core.relation_rules`). They are computed when asked, from the stored
 3-D boxes, relative to a viewpoint given in one of three ways:
 
-- in the question: "is the cup in front of the table as seen from the sink" (`split_viewpoint`
-  takes "as seen from / seen from / viewed from / looking from the <object>" off the end; the
-  object's box centre is the eye);
+- in the question: "is the cup in front of the table as seen from the sink" (the grammar reads
+  "as seen from / seen from / viewed from / looking from the <object>" at the end; the object's
+  box centre is the eye);
 - by the caller: `answer(..., viewpoint=...)` / `ask` with a camera pose (4x4 camera-to-world,
   `{"pose": [[...]]}`), a point (`{"position": [x, y, z]}`, world frame of the room), or an object
   name (`{"object": "sink"}`): what a robot passes for "in front of the table, from where I am";
@@ -22,7 +22,6 @@ FRONT_TOLERANCE); RIGHT_OF the mirror.
 """
 from __future__ import annotations
 
-import re
 from typing import Optional
 
 import numpy as np
@@ -37,18 +36,6 @@ FRONT_TOLERANCE = 0.05
 MIN_LATERAL_OVERLAP = 0.3
 MAX_DEPTH_GAP = 1.5
 MAX_SIDE_GAP = 1.0
-
-_SEEN_FROM = re.compile(r"\s*,?\s+(?:as\s+)?(?:seen|viewed|looking)\s+from\s+(?:the\s+|a\s+)?(?P<what>[\w\s-]+?)\s*[?.!]?\s*$",
-                        re.IGNORECASE)
-
-
-def split_viewpoint(question: str) -> tuple[str, Optional[str]]:
-    """(question without its viewpoint phrase, the named viewpoint object or None)."""
-    m = _SEEN_FROM.search(question)
-    if not m:
-        return question, None
-    return question[:m.start()].rstrip() + "?", m.group("what").strip()
-
 
 def eye_from(viewpoint) -> Optional[np.ndarray]:
     """The eye position of a caller's viewpoint: {"pose": 4x4}, {"position": xyz} or an xyz;

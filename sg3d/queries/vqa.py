@@ -1,6 +1,9 @@
 """`sg3d ask`: question -> query form -> Cypher template -> answer (paper Sec. VI-A).
 
-Entry point: `answer(store, question, room=None, building=None) -> Answer`. One function per
+Entry point: `answer(store, question, room=None, building=None) -> Answer`. The question is read
+once, by the grammar (sg3d/queries/grammar.py), into a logical form (sg3d/queries/logic.py); the
+planner (sg3d/queries/compose.py) turns a simple form into a `Query` for the per-form functions
+here, and answers every other form over the scope's rows. One function per
 query form (`count`, `exists`, `list_objects`, `attribute`, `show`); each runs templates of
 `cypher/vqa_*.cypher` in READ transactions with the question's words as parameters only. The
 one write is `ensure_taxonomy` (once per store and taxonomy version). An unparsed or
@@ -31,7 +34,7 @@ SAME_AS; counts over more than one room count each SAME_AS group once (`_same_as
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any, Optional, Sequence, Union, cast
+from typing import Any, Callable, Optional, Sequence, Union, cast
 
 from sg3d.core.errors import Sg3dError
 from sg3d.core.relation_rules import SYMMETRIC, VIEWPOINT
@@ -40,18 +43,29 @@ from sg3d.queries import compose
 from sg3d.queries import viewpoint as views
 from sg3d.queries.answer_parts import AnswerObject, Provenance, TemplateStep
 from sg3d.queries.answers import row_value
+from sg3d.queries.logic import ChangeQuery, Form, Query
 from sg3d.queries.naming import names_in_store
-from sg3d.queries.parse import ParseError, Query, parse, refusal
 from sg3d.queries.scoping import by_size, few_rooms
-from sg3d.queries.sets import ABSENT, same_as_roots
-from sg3d.queries.viewpoint import split_viewpoint
+from sg3d.queries.sets import same_as_roots
+from sg3d.queries.vocabulary import (
+    ABSENT,
+    IMPLIED_BY,
+    LIST_SHOWN,
+    MAX_QUESTION,
+    PROVENANCE_MAX,
+    REL_WORDS,
+    ROW_LIMIT,
+    refusal,
+)
 from sg3d.queries.wording import plural, the, without_place
 
-MAX_QUESTION = 500    # characters; longer text is refused before any parsing
-PROVENANCE_MAX = 50   # objects whose provenance an answer carries (a count of more names none)
+CHANGE_OPS = ("changes", "gone", "before")      # answered from the scans' history (sg3d/app/changes.py)
+# how a reading is answered, as --explain says it
+PLANS = {"templates": "per-form templates (index-aware variants), the query below",
+         "sets": "scene read (vqa_scene_objects, vqa_scene_relations) + set operations",
+         "history": "the scans' history (sg3d/app/changes.py)"}
 
-ROW_LIMIT = 100_000   # rows fetched for listing/size filtering; counts without size use count()
-LIST_SHOWN = 12       # objects named in a one-line answer
+
 @dataclass
 class Answer:
     question: str
@@ -68,11 +82,12 @@ class Answer:
     logical: Optional[dict] = None          # the logical form the grammar read (sg3d/queries/logic.py)
     # no object of an asked kind is in scope: the answer says it was not found, not that none is
     absent_evidence: bool = False
+    plan: Optional[str] = None              # how the reading was answered (--explain): see PLANS
 
     def to_json(self) -> dict:
         return {"question": self.question, "ok": self.ok, "form": self.form, "answer": self.text,
                 "value": self.value, "objects": self.objects, "logical_form": self.logical,
-                "absent_evidence": self.absent_evidence,
+                "absent_evidence": self.absent_evidence, "plan": self.plan,
                 "query": self.query.summary() if self.query else None, "steps": self.steps,
                 "templates": [s["template"] for s in self.steps], "provenance": self.provenance,
                 "thumbnail_bytes": len(self.thumbnail) if self.thumbnail else None}
@@ -85,6 +100,8 @@ class Answer:
         out = []
         if self.logical is not None:
             out.append(f"logical form: {json.dumps(self.logical)}")
+        if self.plan is not None:
+            out.append(f"plan: {PLANS.get(self.plan, self.plan)}")
         if self.query is not None:
             out.append(f"form: {json.dumps(self.query.summary())}")
             out += [f"read as: {m}" for m in self.query.mappings()]
@@ -158,7 +175,9 @@ def _where(q: Query, rooms_asked: bool) -> str:
     out = ""
     if q.relation:
         colour = f"{q.anchor_colour} " if q.anchor_colour else ""
-        out += f" {q.relation_word} the {colour}{' or '.join(q.anchor.names)}"
+        said = f"{colour}{' or '.join(q.anchor_target().names)}"
+        article = "an" if q.anchor_article == "a" and said[:1] in "aeiou" else q.anchor_article
+        out += f" {q.relation_word} {article} {said}"
     if q.room:
         out += f" in the {q.room}"
     return out
@@ -243,7 +262,7 @@ def _scope(run: _Run, room: Optional[str], building: Optional[str],
         said = rows[0].get("read_as") if rows else None
         if said and said not in run.notes:
             run.notes.append(said)
-    else:
+    elif building is not None:
         rows = run.read("vqa_rooms", room=None, building=building.lower()) or _building_like(run, building)
     if not rows:
         stored = sorted({f"{r['building']}/{r['name']}" for r in run.store.read("vqa_rooms", room=None, building=None)})
@@ -256,11 +275,6 @@ def _scope(run: _Run, room: Optional[str], building: Optional[str],
 
 def _filters(q: Query, rooms) -> dict:
     return {"labels": q.target.labels, "rooms": rooms, "colour": q.colour}
-
-
-# A stored pair is either NEXT_TO or NEAR (one statement per pair): "next to" is the closer form
-# of "near", so a question about what is near (around, close to) X also means what is next to it.
-IMPLIED_BY = {"NEAR": ("NEAR", "NEXT_TO")}
 
 
 def asked_types(relation: str) -> tuple[str, ...]:
@@ -288,7 +302,8 @@ def _read_candidates(run: _Run, q: Query, rooms) -> list[dict]:
             raise Refusal(str(exc)) from None
     if q.relation:
         name = _variant("vqa_related_any" if q.symmetric else "vqa_related", rooms)
-        rows = run.read_rel(name, asked_types(q.relation), anchors=q.anchor.labels, anchor_colour=q.anchor_colour,
+        rows = run.read_rel(name, asked_types(q.relation), anchors=q.anchor_target().labels,
+                            anchor_colour=q.anchor_colour,
                             limit=ROW_LIMIT, **_filters(q, rooms))
         seen, unique = set(), []
         for r in rows:
@@ -395,8 +410,8 @@ def attribute(run: _Run, q: Query, rooms) -> Answer:
 def show(run: _Run, q: Query, rooms) -> Answer:
     """The multimodal answer: the biggest/smallest/closest object and its thumbnail."""
     if q.superlative == "closest":
-        rows = run.read(_variant("vqa_closest", rooms), anchors=q.anchor.labels, **_filters(q, rooms))
-        how = f"closest to the {' or '.join(q.anchor.names)}"
+        rows = run.read(_variant("vqa_closest", rooms), anchors=q.anchor_target().labels, **_filters(q, rooms))
+        how = f"closest to the {' or '.join(q.anchor_target().names)}"
     else:
         if q.size:
             raise Refusal("'big'/'small' together with a superlative is not supported")
@@ -409,7 +424,7 @@ def show(run: _Run, q: Query, rooms) -> Answer:
             rows = run.read(_variant("vqa_extreme", rooms, q.target.labels), sign=sign, **_filters(q, rooms))
             run.rows_by_id.update((r["id"], r) for r in rows if "observations" in r)
         how = "biggest" if q.superlative == "max" else "smallest"
-    rel = f" {q.relation_word} the {' or '.join(q.anchor.names)}" if q.relation else ""
+    rel = f" {q.relation_word} the {' or '.join(q.anchor_target().names)}" if q.relation else ""
     if not rows:
         return Answer("", True, f"I have not found {_a(_what(q, 1))}{rel}{' in the ' + q.room if q.room else ''}",
                       "show", None, query=q)
@@ -446,10 +461,6 @@ def rooms_with(run: _Run, q: Query, rooms) -> Answer:
     return Answer("", True, text, "rooms", value, value, q)
 
 
-REL_WORDS = {"ON": "on", "IN": "in", "UNDER": "under", "BELOW": "below", "ABOVE": "above",
-             "NEXT_TO": "next to", "NEAR": "near"}
-
-
 def where(run: _Run, q: Query, rooms) -> Answer:
     """Where is the <object>: per matching object, what it is on/in/next to, and its room."""
     rows = _candidates(run, q, rooms)
@@ -483,15 +494,19 @@ FORMS = {"where": where, "rooms": rooms_with, "count": count, "exists": exists, 
 
 
 def answer(store, question: str, room: Optional[str] = None, building: Optional[str] = None,
-           embedding=None, use_embedding: bool = True, viewpoint=None) -> Answer:
+           embedding=None, use_embedding: bool = True, viewpoint=None,
+           on_change: Optional[Callable[[ChangeQuery], Answer]] = None) -> Answer:
     """Answer one question from the stored scene graph (read-only, except the taxonomy load).
     `viewpoint`: where "in front of / behind / left of / right of" are seen from (a camera pose,
-    a point or an object; sg3d/queries/viewpoint.py), unless the question says "as seen from the X"."""
+    a point or an object; sg3d/queries/viewpoint.py), unless the question says "as seen from the X".
+    `on_change`: answers a question about re-scans (the application's history of scans); without
+    it such a question is refused."""
+    from sg3d.queries.grammar import GrammarError
+
     if len(question) > MAX_QUESTION:
         return Answer(question[:60] + "...", False,
                       f"the question is {len(question)} characters long; ask in at most {MAX_QUESTION}")
-    text, seen_from = split_viewpoint(question)
-    run = _Run(store, viewpoint, seen_from)
+    run = _Run(store, viewpoint)
     seen: dict[str, list[dict]] = {}
 
     def room_rows(name: str) -> list[dict]:
@@ -503,57 +518,90 @@ def answer(store, question: str, room: Optional[str] = None, building: Optional[
                 run.notes.append(said)
         return seen[name]
 
-    def is_room(name: str) -> bool:
-        return bool(room_rows(name))
-
-    phrased, typos = _phrase(store, text, building)
-    logical, notes = None, list(typos)
-    if seen_from is None:
-        def compiled(evaluate: bool = False):
-            return compose.compile_question(
-                run, phrased, room, building, room_rows, lambda: _room_names(store, building),
-                lambda name: _scope(run, name, building, seen), embedding, use_embedding, evaluate)
-
-        try:
-            outcome = compiled()
-        except Refusal as exc:
-            return Answer(question, False, str(exc), steps=run.steps)
-        if outcome.kind == "answer":
-            return _composed(question, outcome, notes, run)
-        if outcome.kind in ("refuse", "unread"):
-            return Answer(question, False, refusal(outcome.text, question) if outcome.kind == "unread"
-                          else outcome.text, logical=outcome.form, steps=run.steps)
-        logical, text = outcome.form, outcome.text
+    phrased, notes = _phrase(store, question, building)
+    if not phrased:
+        return Answer(question, False, refusal("empty question", question))
+    try:       # the one reading of the question
+        form, rows_of = compose.read_question(phrased, room_rows, lambda: _room_names(store, building))
+    except GrammarError as exc:
+        o = compose.grammar_refusal(phrased, exc)
+        return Answer(question, False, refusal(o.text, question) if o.kind == "unread" else o.text)
+    if form.op in CHANGE_OPS:
+        return _change(question, form, on_change, embedding)
+    run.seen_from = form.seen_from.text() if form.seen_from is not None else None
     try:
-        q = parse(text, is_room, embedding=embedding, use_embedding=use_embedding)
-    except ParseError as exc:
-        if logical is not None:
-            # a simple form the per-form reader does not know in these words ("the closest
-            # chair to the tv"): the compiler answers it
-            try:
-                outcome = compiled(evaluate=True)
-            except Refusal as refused:
-                return Answer(question, False, str(refused), steps=run.steps)
-            if outcome.kind == "answer":
-                return _composed(question, outcome, notes, run)
-        return Answer(question, False, refusal(str(exc), question), logical=logical)
+        outcome = compose.compile_question(run, form, room, rows_of, lambda name: _scope(run, name, building, seen),
+                                           embedding, use_embedding, building)
+    except Refusal as exc:
+        return Answer(question, False, str(exc), steps=run.steps, logical=form.form())
+    if outcome.kind == "answer":
+        return _composed(question, outcome, notes, run)
+    if outcome.kind != "simple" or outcome.query is None:
+        return Answer(question, False, refusal(outcome.text, question) if outcome.kind == "unread"
+                      else outcome.text, logical=outcome.form, steps=run.steps)
+    return _planned(question, outcome.query, outcome, run, room, building, seen, notes)
+
+
+def _planned(question: str, q: Query, outcome, run: _Run, room, building, seen, notes: list[str]) -> Answer:
+    """A simple form's plan run on the per-form templates (index-aware variants)."""
+    store = run.store
     if q.target.how == "group" or (q.anchor is not None and q.anchor.how == "group"):
         _expand_groups(store, q)
-    if q.room and room and q.room.lower() != room.lower():
-        return Answer(question, False, f"the question says '{q.room}' but --room is '{room}'", query=q)
     try:
-        rooms = _scope(run, q.room or room, building, seen)
+        if outcome.room_ids is not None:       # the room the question names, looked up while reading
+            run.steps.insert(0, {"template": "cypher/vqa_room_named.cypher",
+                                 "params": {"names": [q.room], "building": building}})
+        rooms = outcome.room_ids if outcome.room_ids is not None else _scope(run, room, building, seen)
         result = FORMS[q.form](run, q, rooms)
     except Refusal as exc:
-        return Answer(question, False, str(exc), query=q, steps=run.steps)
+        return Answer(question, False, str(exc), query=q, steps=run.steps, logical=outcome.form)
     if _nothing(result) and not run.read("object_total")[0]["n"]:
         return Answer(question, False, "the store holds no scene graph yet: build one first (sg3d build ...)",
                       query=q, steps=run.steps)
-    result.question, result.query, result.logical = question, q, logical
+    result.question, result.query, result.logical, result.plan = question, q, outcome.form, "templates"
     result.provenance = _provenance(run, result, q, rooms)
     _honest_absence(run, result, q, rooms)
     result.steps = run.steps
-    result.text += _understood(q, notes + run.notes)
+    result.text += _understood(q, notes + run.notes + _which(q, result))
+    return result
+
+
+def _which(q: Query, a: Answer) -> list[str]:
+    """"where is the cup" when three cups match: the answer gives each and asks which was meant."""
+    many = [o for o in a.objects if isinstance(o, dict) and o.get("id")]
+    if not q.one or q.form not in ("where", "attribute") or len(many) < 2:
+        return []
+    noun = q.target.names[0] if len(q.target.names) == 1 else "object"
+    return [f"{len(many)} {plural(noun, len(many))} match 'the {noun}': which one did you mean?"]
+
+
+def change_query(form: Form, embedding=None) -> ChangeQuery:
+    """A change form (changes | gone | before) as the scans' history reads it; Refusal naming the
+    object words it cannot place."""
+    from sg3d.queries.lexicon import resolve
+
+    nps = list(form.sets)
+    filters = list(form.filters) + [f for np in nps for f in np.filters]
+    room = next((" ".join(f.other.words) for f in filters if f.kind == "rel" and f.relation in ("in", "inside")), None)
+    if form.op != "before":
+        return ChangeQuery(form.op, room=room)
+    words = " ".join(w for np in nps for w in np.words)
+    target, why = resolve(words, embedding=embedding)
+    if target is None or not target.labels:
+        raise Refusal(why or f"I don't know what '{words}' is")
+    return ChangeQuery("before", target=target, room=room)
+
+
+def _change(question: str, form: Form, on_change, embedding) -> Answer:
+    if on_change is None:
+        return Answer(question, False, "questions about re-scans are answered by `sg3d ask` (the scans' history)",
+                      form="changes", logical=form.form())
+    try:
+        asked = change_query(form, embedding)
+    except Refusal as exc:
+        return Answer(question, False, str(exc), form="changes", logical=form.form())
+    result = on_change(asked)
+    result.logical, result.plan = form.form(), "history"
     return result
 
 
@@ -584,7 +632,7 @@ def _composed(question: str, o, notes: list[str], run: _Run) -> Answer:
     objects = [cast(AnswerObject, row_value(r, run.names([r]).get(r["id"], r["label"])))
                for r in o.rows[:PROVENANCE_MAX]] if o.rows else []
     a = Answer(question, True, text, o.op, o.value, objects, steps=run.steps, logical=o.form,
-               absent_evidence=o.absent, thumbnail=bytes(o.thumbnail) if o.thumbnail else None)
+               absent_evidence=o.absent, thumbnail=bytes(o.thumbnail) if o.thumbnail else None, plan="sets")
     ids = [r["id"] for r in o.rows[:PROVENANCE_MAX]]
     a.provenance = [{"id": i, "name": run.names([run.rows_by_id[i]]).get(i), "label": run.rows_by_id[i]["label"],
                      "room": run.rows_by_id[i].get("room"), "score": run.rows_by_id[i].get("score"),

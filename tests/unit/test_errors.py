@@ -8,7 +8,7 @@ from pathlib import Path
 from sg3d.app.build import BuildError
 from sg3d.app.errors import NotFound
 from sg3d.core.errors import Sg3dError
-from sg3d.queries.parse import ParseError
+from sg3d.queries.grammar import GrammarError
 
 REPO = Path(__file__).resolve().parents[2]
 PACKAGES = ("sg3d",)   # the one top-level package; its layers are subpackages
@@ -41,5 +41,5 @@ def test_every_product_exception_derives_from_sg3d_error():
 def test_the_base_keeps_names_messages_and_builtin_bases():
     exc = BuildError("no frames found in /x")
     assert isinstance(exc, Sg3dError) and isinstance(exc, ValueError) and str(exc) == "no frames found in /x"
-    assert issubclass(NotFound, Sg3dError) and issubclass(ParseError, ValueError)
+    assert issubclass(NotFound, Sg3dError) and issubclass(GrammarError, ValueError)
     assert type(exc).__name__ == "BuildError"
