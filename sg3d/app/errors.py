@@ -15,3 +15,7 @@ class NotFound(AppError):
 
 class Refused(AppError):
     """A request this path will not run, e.g. a writing statement on the read-only path (HTTP 403)."""
+
+
+class MapError(AppError):
+    """Bad input to a live map (`sg3d map`): a source that cannot be followed, a room it may not write."""

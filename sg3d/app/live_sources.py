@@ -17,7 +17,7 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Optional
 
-from sg3d.app.mapping import MapError
+from sg3d.app.errors import MapError
 
 
 class SourceError(MapError):

@@ -22,7 +22,7 @@ from typing import Any, Callable, Optional
 
 import numpy as np
 
-from sg3d.core.errors import Sg3dError
+from sg3d.app.errors import MapError
 from sg3d.graphdb.protocol import GraphStore
 
 # Publishing more often than this gains nothing a reader could see and costs the store writes.
@@ -35,10 +35,6 @@ FIRST_FRAME_WAIT_S = 30.0
 # often, on its own thread: on 2 cores it takes ~0.5-2 s for a room, too long to run before every
 # publish; publishes in between carry its findings over (`sg3d.ingest.live.carried_over`).
 DISCOVER_EVERY_S = 2.0
-
-
-class MapError(Sg3dError, ValueError):
-    """Bad input to a live map (the front end shows it as one line)."""
 
 
 @dataclass(frozen=True)
@@ -112,10 +108,9 @@ def map_room(store: GraphStore, req: MapRequest, settings, detector=None, embedd
     a small dict after every publish (frames, objects, latency) for progress displays;
     `should_stop` is polled (a test's or a service's stop signal; Ctrl-C stops it too)."""
     from sg3d.app.build import check_detector
+    from sg3d.app.live_sources import open_live_source
     from sg3d.core.embedding import default_embedding
     from sg3d.ingest.live import LiveMapper
-    from sg3d.ingest.readers.base import SequenceError
-    from sg3d.app.live_sources import open_live_source
 
     check_request(req)
     detector = detector if detector is not None else check_detector(settings)
@@ -130,30 +125,8 @@ def map_room(store: GraphStore, req: MapRequest, settings, detector=None, embedd
     publisher.announce()
     publisher.start()
     discoverer.start()
-    state = "done"
-    last_frames, last_change = 0, time.monotonic()
     t_loop = time.perf_counter()
-    try:
-        while True:
-            if should_stop is not None and should_stop():
-                state = "stopped"
-                break
-            try:
-                judged = mapper.look(limit=8)
-            except SequenceError as exc:
-                raise MapError(str(exc))
-            detected = mapper.detect_next()
-            if mapper.counts.received != last_frames:
-                last_frames, last_change = mapper.counts.received, time.monotonic()
-            if not judged and not detected:
-                # before the first frame the camera may still be starting: wait longer
-                if req.stop_when_idle is not None:
-                    idle = req.stop_when_idle if last_frames else max(req.stop_when_idle, FIRST_FRAME_WAIT_S)
-                    if time.monotonic() - last_change >= idle:
-                        break
-                time.sleep(POLL_S)
-    except KeyboardInterrupt:
-        state = "stopped"
+    state = _follow(mapper, req, should_stop)
     t_live = time.perf_counter() - t_loop
     discoverer.stop()
     publisher.stop()
@@ -189,6 +162,35 @@ def map_room(store: GraphStore, req: MapRequest, settings, detector=None, embedd
                  "discovery_mean": round(float(np.mean(discoverer.seconds)) if discoverer.seconds else 0.0, 3)},
         peak_memory_mib=round(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024, 1),
         final=final)
+
+
+def _follow(mapper, req: MapRequest, should_stop: Optional[Callable[[], bool]]) -> str:
+    """The mapping loop: judge what arrived (at most 8 frames a turn), detect one chosen frame,
+    until the source is idle for `req.stop_when_idle`, `should_stop` says so or Ctrl-C;
+    returns "done" or "stopped"."""
+    from sg3d.ingest.readers.base import SequenceError
+
+    last_frames, last_change = 0, time.monotonic()
+    try:
+        while True:
+            if should_stop is not None and should_stop():
+                return "stopped"
+            try:
+                judged = mapper.look(limit=8)
+            except SequenceError as exc:
+                raise MapError(str(exc))
+            detected = mapper.detect_next()
+            if mapper.counts.received != last_frames:
+                last_frames, last_change = mapper.counts.received, time.monotonic()
+            if not judged and not detected:
+                if req.stop_when_idle is not None:
+                    # before the first frame the camera may still be starting: wait longer
+                    idle = req.stop_when_idle if last_frames else max(req.stop_when_idle, FIRST_FRAME_WAIT_S)
+                    if time.monotonic() - last_change >= idle:
+                        return "done"
+                time.sleep(POLL_S)
+    except KeyboardInterrupt:
+        return "stopped"
 
 
 class _Discoverer:
