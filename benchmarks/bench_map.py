@@ -24,6 +24,7 @@ import threading
 import time
 from collections import Counter
 from pathlib import Path
+from typing import Any
 
 import httpx
 
@@ -111,7 +112,7 @@ def main(argv=None) -> None:
         writer_cmd = [sys.executable, "-m", "benchmarks.live_writer", str(a.room_dir), str(folder), "--fps", str(a.fps)]
         if a.stop:
             writer_cmd += ["--stop", str(a.stop)]
-        asked = {"ms": [], "errors": 0, "answers": {q: set() for q in QUESTIONS}}
+        asked: dict[str, Any] = {"ms": [], "errors": 0, "answers": {q: set() for q in QUESTIONS}}
         stop = threading.Event()
         t_write = time.monotonic()
         writer = subprocess.Popen(writer_cmd, cwd=REPO)
