@@ -79,6 +79,12 @@ def _filter_text(a: Answerer, f: Filter) -> str:
     cup" when any cup was asked for, "next to the cup" when one was)."""
     if f.other.number:
         return f.describe(a.phrase(f.other, 1))
+    if f.kind == "except" and not f.other.alternatives and f.other.words and not f.other.filters:
+        r = a.ev.resolved(f.other)
+        if r.kind == "any" and r.colour:       # "that is not white": every white thing
+            return f"except {r.colour} things"
+        if lemma(f.other.words[-1]) != f.other.words[-1]:      # "that are not cups": every cup
+            return f"except {a.phrase(f.other, 2)}"
     article = "a" if f.other.indefinite and not f.other.alternatives else "the"
     if article == "a" and a.phrase(f.other, 1)[:1] in "aeiou":
         article = "an"
@@ -252,9 +258,13 @@ def _attribute_of(a: Answerer, o: dict, attribute: str):
         return size, f"is {_sizes(o)} (w x d x h)"
     if attribute == "tall":
         return round(size[2], 3), f"is {size[2]:.2f} m tall (its box height)"
-    if attribute in ("width", "length"):
-        v = max(size[0], size[1]) if attribute == "length" else min(size[0], size[1])
-        return round(v, 3), f"is {v:.2f} m {'long' if attribute == 'length' else 'wide'}"
+    if attribute in ("width", "length", "depth"):
+        # width and length: the larger horizontal extent of the box (a cabinet 1.15 m wide and
+        # 0.56 m deep); depth: the smaller one
+        v = min(size[0], size[1]) if attribute == "depth" else max(size[0], size[1])
+        word = {"length": "long", "width": "wide", "depth": "deep"}[attribute]
+        return round(v, 3), f"is {v:.2f} m {word} (the {'smaller' if attribute == 'depth' else 'larger'} " \
+                            f"horizontal side of its box)"
     # high: the box top above the floor
     floor = a.scene.floor_level(o["room"])
     if floor is None:
@@ -389,6 +399,14 @@ def op_room_most(a: Answerer, form: Form):
     rooms = {r["id"]: r for r in a.run.read("vqa_rooms_all", building=a.ev.building)}
     if a.scene.rooms is not None:
         rooms = {k: v for k, v in rooms.items() if k in a.scene.rooms}
+    if form.among:      # "which room has more chairs, the kitchen or the study": only those
+        named: set[str] = set()
+        for np_room in form.among:
+            r = a.ev.resolved(np_room, may_be_room=True)
+            if r.kind != "room":
+                raise Unanswerable(f"'{np_room.text()}' is not a room in the store")
+            named |= set(r.room_ids)
+        rooms = {k: v for k, v in rooms.items() if k in named}
     per = {rid: 0 for rid in rooms}
     neighbours = " ".join(lemma(w) for w in np.words) in NEIGHBOUR_WORDS
     if neighbours:
@@ -442,7 +460,8 @@ def op_room_count(a: Answerer, form: Form):
     return f"{len(rows)} room{'s' if len(rows) != 1 else ''}: " + _join(names) if rows else "0 rooms", len(rows), []
 
 
-PREPOSITION = {"sit": "on", "drink": "from", "put things down": "on", "store things": "in", "work": "at"}
+PREPOSITION = {"sit": "on", "drink": "from", "put things down": "on", "store things": "in", "work": "at",
+               "keep things cold": "in"}
 
 
 def op_affordance(a: Answerer, form: Form):

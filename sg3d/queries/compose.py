@@ -37,6 +37,7 @@ from sg3d.queries.vocabulary import (
     EVERYWHERE,
     EXTRA_AFFORDANCES,
     GENERIC,
+    INVERSE,
     RELATIONS,
     SIZES,
     STRUCTURE_LABELS,
@@ -137,7 +138,9 @@ def is_simple(form: Form, ev: Evaluator) -> bool:
         return False
     if filters:
         f = filters[0]
+        # "above the desk" is read both ways (desk -UNDER-> chair): over the scene's edges
         if f.kind != "rel" or f.negated or f.other.filters or not plain(f.other, True) \
+                or RELATIONS[f.relation or ""][0] in INVERSE \
                 or ev.resolved(f.other).size:
             return False
     return True

@@ -37,9 +37,11 @@ _det: "the" | INDEF | "any" | "some" | "all" | "my" | "this" | "your"
 _do: "do" | "does"
 _have: "have" | "has" | "hold" | "holds" | "contain" | "contains"
 _was: "was" | "were"
+_perceive: "see" | "spot" | "notice" | "find" | "count"
 
 count: "how" "many" np be? _there? preds
-     | "how" "many" np _do owner _have preds               -> count_owned
+     | "how" "many" np _do owner (_have | _perceive) preds  -> count_owned
+     | "how" "many" np ("can" | "could") ("you" | "we") _perceive preds
      | "how" "many" np owned _have preds                   -> count_owned
      | "how" "many" np ("have" | "has") INDEF? _words preds  -> count_having
      | "how" "many" np ("can" | "could") "i" verb preds      -> count_purpose
@@ -78,16 +80,18 @@ extreme: WHAT np? be _det? SUPER np? preds
 np_closest: _det? DSUPER WORD+ _tofrom np_one
 distance: "how" "far" be np _tofrom np
         | "how" "far" "apart" be np
-        | WHAT be "the" "distance" "between" np_one "and" np_one
+        | WHAT be "the" "distance" "between" np
         | WHAT be "the" "distance" "from" np_one "to" np_one
 room_count: "how" "many" "rooms" be? _there? ("in" _det? WORD+)? (_do _det? ("you" | WORD) WORD* ("have" | "has" | "hold" | "contain" | "see")?)?
 rooms_with: WHAT _rooms _have np preds
           | "in" WHAT _rooms be _there? np preds
           | "in" "how" "many" "rooms" be _there? np preds   -> rooms_counted
+          | "how" "many" _rooms _have np preds               -> rooms_counted
 _rooms: "rooms" | "room"
 size_compare: be np COMPARE "than" np preds             -> bigger
             | WHAT be COMPARE np preds                  -> bigger_which
 room_most: WHAT NUMBER? _rooms _have _det? MOSTFEW np preds
+         | WHAT _rooms _have MORELESS np np_or preds      -> room_more
          | _det? NUMBER? "rooms" "with" _det? MOSTFEW np preds
          | WHAT be _det? NUMBER? _rooms "with" _det? MOSTFEW np preds
          | LIST _det? NUMBER? _rooms "with" _det? MOSTFEW np preds
@@ -124,6 +128,7 @@ preds: pred*
 pred: NOT? relation np_or                   -> rel_filter
     | NOT? band                             -> dist_filter
     | EXCEPT np_or                          -> except_filter
+    | NOT np_or                             -> except_filter
     | "and" pred
 band: "within" length _ofrom np_one                      -> within
     | ("closer" | "nearer") "than" length _tofrom np_one  -> within
@@ -147,8 +152,8 @@ PIECES: "piece" | "pieces" | "kind" | "kinds" | "type" | "types" | "sort" | "sor
 MORELESS: "more" | "fewer" | "less"
 COMPARE: "bigger" | "larger" | "greater" | "higher" | "smaller" | "lower"
 MOSTFEW: "most" | "fewest" | "least"
-MEASURE: "height" | "width" | "length" | "size"
-ATTR: "big" | "large" | "tall" | "high" | "wide" | "long"
+MEASURE: "height" | "width" | "length" | "depth" | "size"
+ATTR: "big" | "large" | "tall" | "high" | "wide" | "long" | "deep"
 SIZE: "huge" | "small" | "little" | "tiny"
 SUPER: SUPER_WORDS
 DSUPER: DSUPER_WORDS
@@ -440,7 +445,7 @@ class _ToForm(Transformer):
         word = next(str(t) for t in items if isinstance(t, Token) and t.type == "MEASURE")
         # "the height of the table" is its own height (the box), as "how tall"
         return self._op("attribute", items, attribute={"height": "tall", "width": "width", "length": "length",
-                                                       "size": "size"}[word])
+                                                       "depth": "depth", "size": "size"}[word])
 
     def measure_of(self, items):
         word = next(str(t) for t in items if isinstance(t, Token) and t.type == "ATTR")
@@ -496,9 +501,16 @@ class _ToForm(Transformer):
         return form
 
     def room_most(self, items):
-        word = next(str(t) for t in items if isinstance(t, Token) and t.type == "MOSTFEW")
+        word = next(str(t) for t in items if isinstance(t, Token) and t.type in ("MOSTFEW", "MORELESS"))
         n = next((float(t) for t in items if isinstance(t, Token) and t.type == "NUMBER"), None)
-        return self._op("room_most", items, compare="more" if word == "most" else "fewer", number=n)
+        return self._op("room_most", items, compare="more" if word in ("most", "more") else "fewer", number=n)
+
+    def room_more(self, items):
+        """"which room has more chairs, the kitchen or the study": the most among the rooms named."""
+        nps = [i for i in items if isinstance(i, NP)]
+        form = self.room_most([i for i in items if not isinstance(i, NP)] + nps[:1])
+        form.among = list(nps[1].alternatives) or [nps[1]]
+        return form
 
     def rooms_next(self, items):
         return self._op("rooms_next_to", items)

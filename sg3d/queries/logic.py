@@ -102,6 +102,7 @@ class Form:
     filters: list[Filter] = field(default_factory=list)     # predicates after the verb
     verb: Optional[str] = None              # affordance: "sit", "put"
     seen_from: Optional[NP] = None          # "as seen from the sink": the eye of a viewpoint relation
+    among: list[NP] = field(default_factory=list)   # room_most: only these rooms ("the kitchen or the study")
 
     def form(self) -> dict:
         out: dict = {"op": self.op, "sets": [s.form() for s in self.sets]}
@@ -112,6 +113,8 @@ class Form:
             out["filters"] = [f.form() for f in self.filters]
         if self.seen_from is not None:
             out["seen_from"] = self.seen_from.form()
+        if self.among:
+            out["among"] = [a.form() for a in self.among]
         return out
 
 

@@ -20,9 +20,12 @@ FRAMES = (
     "okay", "excuse me",
 )
 _FRAME_RE = re.compile(r"^(?:(?:" + "|".join(map(re.escape, FRAMES)) + r")\b[ ,]*)+")
-_TAIL_RE = re.compile(r"[ ,]*\b(?:please|thanks|thank you)$")
+_TAIL_RE = re.compile(r"[ ,]*\b(?:please|thanks|thank you|for me|for us)$")
+# "can you show me what is on the table", "tell me whether ...": a request that frames a question
+_SHOW_FRAME = re.compile(r"^(?:(?:can|could|would|will) you )?(?:show|tell|list|give) (?:me|us) "
+                         r"(?=(?:what|which|where|how|whether|if)\b)")
 # "tell me where the sink is" -> "where is the sink": the embedded question's verb moves back
-_EMBEDDED = re.compile(r"^(where|what|which|how many \w+(?: \w+)?|how far|how tall|how high|how big) "
+_EMBEDDED = re.compile(r"^(what color|what size|where|what|which|how many \w+(?: \w+)?|how far|how tall|how high|how big) "
                        r"(the [\w\s-]+?|[\w\s-]+?) (is|are)$")
 _EMBEDDED_THERE = re.compile(r"^how many (.+?) there (?:is|are)\b(.*)$")
 
@@ -41,6 +44,9 @@ CONTRACTIONS = {
 _REL_AHEAD = (r"(?= (?:on|under|in|inside|above|below|next|near|beside|by|over|underneath|beneath|close|within|"
               r"less|more|closer|nearer|farther|further|between)\b)")
 POSTURE = [
+    # "the chairs pulled up to the table": how they stand says nothing the graph stores
+    (re.compile(r"\b(is|are) (?:pulled up|pulled|pushed up|pushed in|pushed|tucked in|tucked|drawn up|lined up|grouped|"
+                r"gathered|clustered|arranged)\b" + _REL_AHEAD), r"\1"),
     (re.compile(r"\b(is|are) (?:mounted|placed|located|sitting|standing|lying|hanging|kept|stored|resting|put|"
                 r"positioned|found|situated|set|lieing)\b"), r"\1"),
     (re.compile(r"\b(?:lies|sits|stands|rests|hangs|stays)\b" + _REL_AHEAD), "is"),
@@ -132,6 +138,7 @@ def strip_frames(text: str) -> str:
         prev = text
         text = _FRAME_RE.sub("", text).strip(" ,")
         text = _TAIL_RE.sub("", text).strip(" ,")
+        text = _SHOW_FRAME.sub("", text)
     return text
 
 
@@ -147,8 +154,43 @@ REPHRASE = [
     # "what is red (in the kitchen)", "which things are white": the things of that colour
     (re.compile(r"^(what|which)(?: (?:things|objects|items))? (?:is|are) " + _COLOURS + r"\b"),
      r"\1 \2 things are there"),
+    # "which chairs are red": the red chairs
+    (re.compile(r"^(what|which) (?!one\b|ones\b)([a-z-]+) (?:is|are) " + _COLOURS + r"$"), r"\1 \3 \2 are there"),
     # "the number of chairs in the kitchen" (what is left of "could you tell me ...")
     (re.compile(r"^the number of "), "what is the number of "),
+    # "whereabouts is the sink" = "where is the sink"
+    (re.compile(r"^whereabouts\b"), "where"),
+    # "any mugs around?", "any sinks about": whether there are
+    (re.compile(r"^any (?!thing\b|one\b|body\b|where\b)(.+?)(?: around| about)?$"), r"are there any \1"),
+    # "have you spotted a sink", "did you notice any mugs": whether there is
+    (re.compile(r"^(?:have|did|do) you (?:ever )?(?:spotted|spot|seen|see|noticed|notice|found|find|come across|"
+                r"came across|got)(?= (?:a|an|any|some)\b)"), "is there"),
+    # "(i wonder) whether there is a tv" = "is there a tv"
+    (re.compile(r"^(?:whether|if) there (is|are)\b"), r"\1 there"),
+    # "the desks in the study, how many are there": the dislocated noun phrase goes back in
+    (re.compile(r"^(?:the |all the )?(.+?) how many (are there|is there|do you see|do you have|do we have|"
+                r"can you see|are in it|does it have)$"), r"how many \1 \2"),
+    # "how many objects does this room hold": the room of the scope
+    (re.compile(r"\b(?:does|do) (?:this|the|our|my|that) (?:room|place|space) (?:have|hold|contain)\b"), "are there"),
+    # "how many chairs across all the rooms": everywhere the scope holds (a count only: "is there
+    # a chair in every room" asks something else, and "in each room" asks for a count per room)
+    (re.compile(r"^(how many .+?) (?:across|in|throughout|over) (?:all (?:of )?(?:the )?rooms|the whole house)\b"),
+     r"\1 in the house"),
+    # "in which rooms can i find cups" = "which rooms have cups"
+    (re.compile(r"^in (which|what) rooms? (?:can|could|do|would|will) (?:i|you|we|one) (?:find|see|get|spot) "),
+     r"\1 rooms have "),
+    # "the distance between the 2 cups": between the cups, the two of them
+    (re.compile(r"\bbetween (?:the )?(?:2|both|both of the|both the) "), "between the "),
+    # "how many metres is the cup from the sink", "how many cm away is it": how far
+    (re.compile(r"^how many (?:m|cm|mm|ft|inch|metres|meters|centimetres|centimeters|millimetres|millimeters|feet|"
+                r"inches|steps) (?:away )?(is|are) "), r"how far \1 "),
+    # "how far is the tv from the fridge in centimetres": the unit of the answer, not a room
+    (re.compile(r" in (?:m|cm|mm|ft|inch|metres|meters|centimetres|centimeters|millimetres|millimeters|feet|"
+                r"inches)$"), ""),
+    # "how far is the closest chair from the fridge": the distance of the closest pair
+    (re.compile(r"^how far (is|are) (?:the )?(?:closest|nearest) (.+?) (from|to) "), r"how far \1 the \2 \3 "),
+    # "exactly one tv", "more than one chair": a number
+    (re.compile(r"\b(exactly|than|least|most) one\b"), r"\1 1"),
 ]
 # "at least 2" = "more than 1", "at most 2" = "fewer than 3" (whole numbers)
 _AT_LEAST = re.compile(r"\bat (least|most) (\d+)\b(?!\.\d)")
@@ -166,6 +208,10 @@ def rephrase(text: str) -> str:
 # the sink", "as seen from" = "seen from", "to the left of" = "left of", "A as well as B" = "A and B"
 SAME_WORDS = [
     (re.compile(r"\b(?:that|which|who) (?:is|are) not (a|an|the|any) "), r"except \1 "),
+    # "something on the cabinet that is not white", "things that are not cups": all but those
+    (re.compile(r"\b(?:that|which|who) (?:is|are) not(?! (?:on|under|in|inside|above|below|next|near|beside|by|"
+                r"over|underneath|beneath|close|within|less|more|fewer|closer|nearer|farther|further|between|"
+                r"behind|left|right|adjacent|alongside|around|onto|far)\b) "), "except "),
     (re.compile(r"\b(?:other than|apart from|aside from|but not|save for)\b"), "except"),
     (re.compile(r"\bas (seen|viewed|looking) from\b"), r"\1 from"),
     (re.compile(r"\bto the (left|right) of\b"), r"\1 of"),
@@ -177,16 +223,33 @@ SAME_WORDS = [
     (re.compile(r"\bas well as\b"), "and"),
 ]
 # "the kitchen's chairs" = "the chairs in the kitchen"; "the cup's colour" = "the colour of the cup"
-_POSSESSIVE_MEASURE = re.compile(r"\b(?:the )?([\w-]+)'s (color|size|height|width|length)\b")
-_POSSESSIVE_LIST = re.compile(r"^(what|which) (is|are) (?:the )?([\w-]+)'s ([\w-]+(?: [\w-]+)?)\s*[?.!]*\s*$")
-_POSSESSIVE = re.compile(r"\b(?:the )?([\w-]+)'s ([\w-]+(?: [\w-]+)?)"
-                         r"(?= (?:is|are|in|on|next|near|there)\b|\s*[?.!,]*\s*$)")
+_POSSESSIVE_MEASURE = re.compile(r"\b(?:the )?((?:[\w-]+ )?room|[\w-]+)'s (color|size|height|width|length)\b")
+_POSSESSIVE_LIST = re.compile(r"^(what|which) (is|are) (?:the )?((?:[\w-]+ )?room|[\w-]+)'s ([\w-]+(?: [\w-]+)?)\s*[?.!]*\s*$")
+_POSSESSIVE = re.compile(r"\b(?:the )?((?:[\w-]+ )?room|[\w-]+)'s ([\w-]+(?: [\w-]+)?)"
+                         r"(?= (?:is|are|in|on|next|near|there)\b|\s*[?.!,]*\s*$|\s*[,:;])")
 
 
 def _possessives(text: str) -> str:
     text = _POSSESSIVE_MEASURE.sub(r"the \2 of the \1", text)
     text = _POSSESSIVE_LIST.sub(r"\1 \4 \2 in the \3", text)     # "what are the kitchen's chairs"
     return _POSSESSIVE.sub(r"the \2 in the \1", text)
+
+
+_UNIT_WORDS = r"(m|cm|mm|ft|inch|inches|metres|meters|centimetres|centimeters|millimetres|millimeters|feet|foot)"
+_ASKED_UNIT = [re.compile(r"^how many " + _UNIT_WORDS + r" (?:away )?(?:is|are)\b"),
+               re.compile(r"\bhow far\b.* in " + _UNIT_WORDS + r"$")]
+
+
+def asked_unit(text: str) -> str | None:
+    """The unit a distance is asked in ("how far ... in centimetres", "how many metres is ..."),
+    as a key of vocabulary.UNIT_M; None when none is named."""
+    said = " ".join(re.sub(r"[^\w' ]+", " ", _contractions(fold(text))).split())
+    said = strip_frames(said)
+    for regex in _ASKED_UNIT:
+        m = regex.search(said)
+        if m:
+            return UNITS.get(m.group(1))
+    return None
 
 
 def tidy(question: str) -> Phrased:

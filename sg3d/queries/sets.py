@@ -24,11 +24,13 @@ from sg3d.queries.logic import NP, Filter
 from sg3d.queries.scoping import by_size, few_rooms
 from sg3d.queries.vocabulary import (
     ACTIVITIES,
+    AFFORDANCE_PARTICLES,
     AFFORDANCE_VERBS,
     COLOURS,
     DISTANCE_SUPERLATIVES,
     GENERIC,
     IMPLIED_BY,
+    INVERSE,
     RELATIONS,
     ROW_LIMIT,
     SIZES,
@@ -74,12 +76,25 @@ def activity(words: str) -> str:
     """The activity of the curated table (vocabulary.ACTIVITIES) that words ask for: "sitting",
     "take a seat", "pour water into", "put my cup down"; Unanswerable naming them otherwise."""
     said = words.split()
-    for n in range(len(said), 0, -1):
-        key = " ".join(said[:n])
-        if key in AFFORDANCE_VERBS:
-            return AFFORDANCE_VERBS[key]
-        if lemma(key) in AFFORDANCE_VERBS:
-            return AFFORDANCE_VERBS[lemma(key)]
+
+    def known(key: str) -> Optional[str]:
+        return AFFORDANCE_VERBS.get(key) or AFFORDANCE_VERBS.get(lemma(key))
+
+    if known(words):
+        return known(words) or ""
+    for n in range(len(said) - 1, 0, -1):
+        head = said[:n]
+        if not known(" ".join(head)):
+            continue
+        # the words after the verb: those saying how or where ("down", "cold") go with it, the
+        # others name what is handled ("my cup", "food"); "keep food cold" is never "keep"
+        how = [w for w in said[n:] if w in AFFORDANCE_PARTICLES]
+        for key in (" ".join(head + how), " ".join(said[:1] + how)):
+            if known(key):
+                return known(key) or ""
+        if not how:
+            return known(" ".join(head)) or ""
+        raise Unanswerable(f"I could not read '{how[-1]}' in '{words}' (things afford: {', '.join(ACTIVITIES)})")
     raise Unanswerable(f"I don't know what things afford '{words}' (I know: {', '.join(ACTIVITIES)})")
 
 
@@ -328,7 +343,10 @@ class Evaluator:
             rel_type, symmetric = RELATIONS[f.relation or ""]
             types = IMPLIED_BY.get(rel_type, (rel_type,))
             linked: set[str] = set()
+            inverse = INVERSE.get(rel_type, ())
             for e in self.scene.edges():
+                if e["type"] in inverse and e["s"] in other_ids:    # desk -UNDER-> chair: chair above desk
+                    linked.add(e["o"])
                 if e["type"] not in types:
                     continue
                 if e["o"] in other_ids:

@@ -28,6 +28,10 @@ STORED_TYPES = ("ON", "IN", "UNDER", "ABOVE", "BELOW", "NEXT_TO", "NEAR")
 # A stored pair is either NEXT_TO or NEAR (one statement per pair): "next to" is the closer form
 # of "near", so a question about what is near (around, close to) X also means what is next to it.
 IMPLIED_BY: dict[str, tuple[str, ...]] = {"NEAR": ("NEAR", "NEXT_TO")}
+# Stored edges that say the same read from the other end: "the chair is above the desk" also
+# when the graph stores desk -UNDER-> chair (or -BELOW->); "X is under Y" when Y -ABOVE-> X. An
+# answer reads a relation both ways, never reversing one (X -ON-> Y is never "Y is on X").
+INVERSE: dict[str, tuple[str, ...]] = {"ABOVE": ("UNDER", "BELOW"), "UNDER": ("ABOVE",), "BELOW": ("ABOVE",)}
 # how an answer says a stored relation
 REL_WORDS = {"ON": "on", "IN": "in", "UNDER": "under", "BELOW": "below", "ABOVE": "above",
              "NEXT_TO": "next to", "NEAR": "near"}
@@ -41,7 +45,7 @@ SUPERLATIVES = {   # word -> (key, sign): key volume | height (box height) | top
 }
 DISTANCE_SUPERLATIVES = {"closest": -1, "nearest": -1, "farthest": 1, "furthest": 1}
 UNIT_M = {"m": 1.0, "cm": 0.01, "mm": 0.001, "ft": 0.3048, "inch": 0.0254}
-ATTRIBUTES = {"big": "size", "large": "size", "tall": "tall", "high": "high", "wide": "width",
+ATTRIBUTES = {"big": "size", "large": "size", "tall": "tall", "high": "high", "wide": "width", "deep": "depth",
               "long": "length", "far": "far"}
 
 STRUCTURE_LABELS = {"floor": "floor", "ground": "floor", "wall": "wall", "counter": "counter",
@@ -58,13 +62,14 @@ EVERYWHERE = {"house", "home", "building", "environment", "scene", "world", "map
 ACTIVITIES: dict[str, list[str]] = {
     "sit": ["chair", "couch", "sofa", "bench", "stool", "bed"],
     "drink": ["cup", "mug", "wine glass", "glass", "bottle"],
-    "put things down": ["dining table", "table", "desk", "counter", "shelf"],
+    "put things down": ["dining table", "table", "desk", "counter", "shelf", "cabinet", "sideboard"],
     "store things": ["cabinet", "shelf", "drawer", "sideboard", "refrigerator"],
+    "keep things cold": ["refrigerator"],
     "work": ["desk", "dining table", "table"],
 }
 # how an answer names an activity a set is for: "4 pieces of furniture for sitting"
 GERUNDS = {"sit": "sitting", "drink": "drinking", "put things down": "putting things down",
-           "store things": "storing things", "work": "working"}
+           "store things": "storing things", "work": "working", "keep things cold": "keeping things cold"}
 # the words that ask for an activity ("where can I <verb>", "something to <verb>",
 # "furniture for <verb>ing") -> the activity
 AFFORDANCE_VERBS: dict[str, str] = {
@@ -73,12 +78,24 @@ AFFORDANCE_VERBS: dict[str, str] = {
     "pour water in": "drink", "pour something into": "drink", "pour into": "drink", "pouring": "drink",
     "put": "put things down", "put things down": "put things down", "put something down": "put things down",
     "put things": "put things down", "put something": "put things down", "place": "put things down",
-    "place things": "put things down", "set": "put things down", "set things down": "put things down",
+    "place things": "put things down", "set down": "put things down", "place down": "put things down",
+    "leave": "put things down", "set": "put things down", "set things down": "put things down",
     "put my cup down": "put things down", "put down": "put things down", "putting things down": "put things down",
     "store": "store things", "store things": "store things", "store something": "store things",
     "storing": "store things", "storage": "store things", "keep things": "store things", "keep": "store things",
     "work": "work", "work at": "work", "working": "work", "working at": "work", "work on": "work",
+    "keep cold": "keep things cold", "keep things cold": "keep things cold", "chill": "keep things cold",
+    "cool": "keep things cold", "refrigerate": "keep things cold", "freeze": "keep things cold",
+    "keep cool": "keep things cold", "keep fresh": "keep things cold",
 }
+# The words of an activity phrase that say how or where (kept, to be matched with the verb:
+# "keep food cold" asks for "keep cold", never for "keep"); the other words after the verb name
+# what is handled ("my cup", "water", "food") and change nothing the table answers.
+AFFORDANCE_PARTICLES = {"down", "on", "in", "into", "at", "from", "up", "away", "off", "out", "cold", "cool",
+                        "fresh", "warm", "hot", "dry", "clean", "safe", "frozen", "a", "seat", "to", "with"}
+# words of an activity phrase that name nothing (never a reason to refuse)
+AFFORDANCE_FILLER = {"my", "the", "a", "an", "some", "any", "this", "that", "these", "those", "our", "your", "it",
+                     "them", "things", "something", "stuff", "anything"}
 # verbs that name no activity of the table but were in the older table (kept: asked and answered)
 EXTRA_AFFORDANCES: dict[str, list[str]] = {
     "lie down": ["bed", "couch"], "sleep": ["bed", "couch"], "eat": ["dining table"],

@@ -470,8 +470,14 @@ def where(run: _Run, q: Query, rooms) -> Answer:
     ids = [r["id"] for r in rows[:LIST_SHOWN]]
     rels: dict[str, list[dict]] = {i: [] for i in ids}
     placed: dict[str, list[dict]] = {i: [] for i in ids}    # with colour and score, for the sentence
+    # the direction test of vqa_where is not kept by the store (both directions come back), so
+    # an edge of a directed type is said only when it leaves the object (the cabinet is never
+    # "on" the vase that stands on it): checked against the edges that leave the objects
+    leaving = {(e["s"], e["type"], e["o"]) for e in run.read("vqa_scene_relations", ids=ids, types=sorted(REL_WORDS))}
     for incoming, types in ((False, sorted(REL_WORDS)), (True, sorted(SYMMETRIC))):
         for e in run.read("vqa_where", ids=ids, types=types, incoming=incoming):
+            if e["rel"] not in SYMMETRIC and (e["id"], e["rel"], e["other_id"]) not in leaving:
+                continue
             if not any(x["other_id"] == e["other_id"] and x["rel"] == e["rel"] for x in rels[e["id"]]):
                 rels[e["id"]].append({"rel": e["rel"], "other_id": e["other_id"], "other_label": e["other_label"]})
                 placed[e["id"]].append(dict(e))
@@ -535,7 +541,7 @@ def answer(store, question: str, room: Optional[str] = None, building: Optional[
     except Refusal as exc:
         return Answer(question, False, str(exc), steps=run.steps, logical=form.form())
     if outcome.kind == "answer":
-        return _composed(question, outcome, notes, run)
+        return _in_unit(_composed(question, outcome, notes, run), question)
     if outcome.kind != "simple" or outcome.query is None:
         return Answer(question, False, refusal(outcome.text, question) if outcome.kind == "unread"
                       else outcome.text, logical=outcome.form, steps=run.steps)
@@ -623,6 +629,19 @@ def _phrase(store, text: str, building: Optional[str]) -> tuple[str, list[str]]:
 def _room_names(store, building: Optional[str], with_buildings: bool = False) -> list[str]:
     rows = store.read("vqa_rooms_all", building=building.lower() if building else None)
     return [r["name"] for r in rows] + ([r["building"] for r in rows] if with_buildings else [])
+
+
+def _in_unit(a: Answer, question: str) -> Answer:
+    """A distance asked in a unit ("how far ... in centimetres") says it in that unit too."""
+    from sg3d.queries.phrasing import asked_unit
+    from sg3d.queries.vocabulary import UNIT_M
+
+    unit = asked_unit(question)
+    if unit is None or unit == "m" or a.form != "distance" or not isinstance(a.value, float):
+        return a
+    said = f"{a.value:.2f} m"
+    a.text = a.text.replace(said, f"{said} ({a.value / UNIT_M[unit]:.0f} {unit})", 1)
+    return a
 
 
 def _composed(question: str, o, notes: list[str], run: _Run) -> Answer:

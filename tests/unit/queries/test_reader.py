@@ -94,10 +94,11 @@ def test_a_question_the_grammar_cannot_read_names_the_word(question, word):
 
 
 def test_one_affordance_table_covers_the_activities_and_the_shape_named_furniture():
-    assert set(ACTIVITIES) == {"sit", "drink", "put things down", "store things", "work"}
+    assert set(ACTIVITIES) == {"sit", "drink", "put things down", "store things", "work", "keep things cold"}
     assert {"chair", "couch", "sofa", "bench", "stool", "bed"} <= set(ACTIVITIES["sit"])
     assert {"cup", "mug", "glass", "bottle"} <= set(ACTIVITIES["drink"])
-    assert {"desk", "counter", "shelf"} <= set(ACTIVITIES["put things down"])
+    assert {"desk", "counter", "shelf", "cabinet", "sideboard"} <= set(ACTIVITIES["put things down"])
+    assert ACTIVITIES["keep things cold"] == ["refrigerator"]
     assert {"cabinet", "shelf", "drawer", "sideboard", "refrigerator"} <= set(ACTIVITIES["store things"])
     assert {"desk"} <= set(ACTIVITIES["work"])
     assert set(AFFORDANCE_VERBS.values()) == set(ACTIVITIES)
