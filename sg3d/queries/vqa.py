@@ -470,14 +470,10 @@ def where(run: _Run, q: Query, rooms) -> Answer:
     ids = [r["id"] for r in rows[:LIST_SHOWN]]
     rels: dict[str, list[dict]] = {i: [] for i in ids}
     placed: dict[str, list[dict]] = {i: [] for i in ids}    # with colour and score, for the sentence
-    # the direction test of vqa_where is not kept by the store (both directions come back), so
     # an edge of a directed type is said only when it leaves the object (the cabinet is never
-    # "on" the vase that stands on it): checked against the edges that leave the objects
-    leaving = {(e["s"], e["type"], e["o"]) for e in run.read("vqa_scene_relations", ids=ids, types=sorted(REL_WORDS))}
+    # "on" the vase that stands on it); symmetric ones from either end
     for incoming, types in ((False, sorted(REL_WORDS)), (True, sorted(SYMMETRIC))):
         for e in run.read("vqa_where", ids=ids, types=types, incoming=incoming):
-            if e["rel"] not in SYMMETRIC and (e["id"], e["rel"], e["other_id"]) not in leaving:
-                continue
             if not any(x["other_id"] == e["other_id"] and x["rel"] == e["rel"] for x in rels[e["id"]]):
                 rels[e["id"]].append({"rel": e["rel"], "other_id": e["other_id"], "other_label": e["other_label"]})
                 placed[e["id"]].append(dict(e))
