@@ -1027,6 +1027,9 @@ the room holds one X (or one X of that colour); "a X" means any X.
 """
 
 
+HELDOUT_MARK = "## Held-out set"
+
+
 def _revision() -> str:
     """The checkout's commit (read-only: `git rev-parse`), or 'unknown'."""
     try:
@@ -1081,13 +1084,14 @@ def open_reader(home: Path):
     return reader(Settings.from_options(home=str(home)))
 
 
-def run(home: Path) -> list[dict]:
+def run(home: Path, qs: Optional[list[Q]] = None) -> list[dict]:
+    """Ask `qs` (default: this module's questions) of the rooms in `home` and judge them."""
     store = open_reader(home)
     world = World.load(store)
     missing = [n for n in ROOMS if n not in world.rooms]
     if missing:
         raise SystemExit(f"the store in {home} lacks room(s) {', '.join(missing)}: build them, or leave out --home")
-    return ask_all(store, world, questions())
+    return ask_all(store, world, questions() if qs is None else qs)
 
 
 def main(argv=None) -> int:
@@ -1123,7 +1127,9 @@ def main(argv=None) -> int:
     else:
         print(table(rows))
     if args.md:
-        args.md.write_text(markdown(rows))
+        # keep a hand-written held-out section (benchmarks/paraphrases_heldout.py) at the page's end
+        kept = args.md.read_text().partition(HELDOUT_MARK)[1:] if args.md.exists() else ("", "")
+        args.md.write_text(markdown(rows) + ("\n" + "".join(kept) if kept[0] else ""))
     return 0
 
 
