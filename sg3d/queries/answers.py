@@ -477,6 +477,9 @@ def op_affordance(a: Answerer, form: Form):
         key = activity(verb)
         labels = ACTIVITIES[key]
     objs = [o for o in a.scene.objects.values() if o["label"] in labels]
+    if form.sets:           # "which desk could I work at": of that kind only
+        kind = {o["id"] for np in form.sets for o in a.ev.members(np)}
+        objs = [o for o in objs if o["id"] in kind]
     for f in form.filters:
         objs = a.ev.apply(f, objs)
     objs.sort(key=lambda o: o["id"])

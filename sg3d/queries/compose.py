@@ -139,7 +139,7 @@ def is_simple(form: Form, ev: Evaluator) -> bool:
     if filters:
         f = filters[0]
         # "above the desk" is read both ways (desk -UNDER-> chair): over the scene's edges
-        if f.kind != "rel" or f.negated or f.other.filters or not plain(f.other, True) \
+        if f.kind != "rel" or f.negated or f.reverse or f.other.filters or not plain(f.other, True) \
                 or RELATIONS[f.relation or ""][0] in INVERSE \
                 or ev.resolved(f.other).size:
             return False
@@ -330,7 +330,7 @@ def _room_placeholders(text: str, stored: list) -> tuple[str, dict[str, str]]:
 def grammar_refusal(text: str, exc) -> Outcome:
     """The grammar stopped: refuse naming the word it could not read (a word that carries a
     condition first, then where reading stopped, else the whole text)."""
-    if "has no unit" in str(exc):
+    if "has no unit" in str(exc) or "to what?" in str(exc):
         return Outcome("refuse", str(exc))
     word = unread_word(text) or exc.word
     if word is None:

@@ -27,13 +27,15 @@ from sg3d.queries.vocabulary import (
 )
 
 GRAMMAR = r"""
-start: question seen?
+start: fronted? question seen?
+// "apart from the sink, what is on the counter": the exception said first
+fronted: EXCEPT np_or
 ?question: count | exists | at_least | compare | listing | where | attribute | extreme | distance
      | room_count | rooms_with | room_most | rooms_next | afford | size_compare | changes | gone | before
 
 be: "is" | "are"
 _there: "there"
-_det: "the" | INDEF | "any" | "some" | "all" | "my" | "this" | "your"
+_det: "the" | INDEF | "any" | "some" | "all" | "my" | "this" | "your" | "each" | "every"
 _do: "do" | "does"
 _have: "have" | "has" | "hold" | "holds" | "contain" | "contains"
 _was: "was" | "were"
@@ -51,7 +53,9 @@ owner: "we" | "you" | "i" | _det? WORD+
 owned: _det WORD+                                       -> owner
 exists: be _there np preds
       | np_one                                          -> bare
-      | "do" "you" ("have" | "see") np preds
+      | "do" ("you" | "we" | "i") ("have" | "see" | "got") np preds
+      | ("have" | "has") ("you" | "we") "got" np preds
+      | "got" np preds
       | be np preds
 at_least: be _there MORELESS "than" NUMBER np preds
         | be _there EXACTLY NUMBER np preds
@@ -63,7 +67,9 @@ compare: be _there MORELESS np "than" np preds
 listing: WHAT np? be _there? preds
        | WHAT np? ("can" | "do") "you" "see" _there? preds
        | LIST "me"? np preds
+       | WHAT be _det? WORD+ NUMBER? strand            -> stranded
 where: "where" be np preds
+     | "where" "in" _det? WORD+ be _there? np preds       -> where_in
      | "where" "can" "i" "find" np preds
 attribute: WHAT "color" be np preds                        -> colour_of
          | WHAT be "the" "color" "of" np preds         -> colour_of
@@ -77,11 +83,13 @@ extreme: WHAT np? be _det? SUPER np? preds
        | WHAT np be _det? DSUPER "away"? _tofrom np
        | WHAT be np_closest
        | WHAT be _det WORD+ DSUPER _tofrom np_one          -> extreme_after
-np_closest: _det? DSUPER WORD+ _tofrom np_one
+np_closest: _det? DSUPER WORD+ (_tofrom np_one)?
 distance: "how" "far" be np _tofrom np
         | "how" "far" "apart" be np
-        | WHAT be "the" "distance" "between" np
-        | WHAT be "the" "distance" "from" np_one "to" np_one
+        | (WHAT be)? "the"? _gap "between" np
+        | (WHAT be)? "the"? _gap "from" np_one "to" np_one
+        | "how" "many" UNIT (be "it"?)? _there? "between" np
+_gap: "distance" | "gap" | "separation"
 room_count: "how" "many" "rooms" be? _there? ("in" _det? WORD+)? (_do _det? ("you" | WORD) WORD* ("have" | "has" | "hold" | "contain" | "see")?)?
 rooms_with: WHAT _rooms _have np preds
           | "in" WHAT _rooms be _there? np preds
@@ -90,16 +98,18 @@ rooms_with: WHAT _rooms _have np preds
 _rooms: "rooms" | "room"
 size_compare: be np COMPARE "than" np preds             -> bigger
             | WHAT be COMPARE np preds                  -> bigger_which
+            | WHAT "of" np be COMPARE preds             -> bigger_which
 room_most: WHAT NUMBER? _rooms _have _det? MOSTFEW np preds
          | WHAT _rooms _have MORELESS np np_or preds      -> room_more
          | _det? NUMBER? "rooms" "with" _det? MOSTFEW np preds
          | WHAT be _det? NUMBER? _rooms "with" _det? MOSTFEW np preds
          | LIST _det? NUMBER? _rooms "with" _det? MOSTFEW np preds
 rooms_next: WHAT "rooms" be (_next_to | "near" | "beside") np_one
-afford: "where" ("can" | "could") "i" verb preds
-      | WHAT ("can" | "could") "i" verb preds
+afford: "where" ("can" | "could" | "should" | "might" | "may") "i" verb preds
+      | WHAT ("can" | "could" | "should" | "might" | "may") "i" verb preds
+      | WHAT np ("can" | "could" | "should" | "might" | "may") "i" verb preds   -> afford_kind
       | "i" ("need" | "want") WORD? ("to" | "for") verb preds
-verb: WORD (WORD | _det)* _dangling?
+verb: WORD (WORD | _det | PARTICLE)* _dangling?
 _dangling: "from" | "on" | "in" | "with"
 changes: WHAT ("has" | "have")? CHANGED _since? preds
        | WHAT be "different" _since? preds
@@ -120,6 +130,7 @@ np_one: _dets? _pieces? SUPER? _words NUMBER? postmod*
 _pieces: PIECES "of"
 _dets: _det | "all" "the" | "all" "of" "the" | "any" "of" "the" | "each" "of" "the" | "one" "of" "the"
 _words: (WORD | SIZE | ATTR)+
+strand: relation
 postmod: NOT? relation np_or                 -> rel_filter
        | NOT? band                          -> dist_filter
        | HAVING _det? WORD+                 -> having
@@ -141,7 +152,9 @@ _tofrom: "to" | "from"
 _next_to: "next" "to" | "adjacent" "to"
 !relation: RELATION_WORDS
 
-INDEF: "a" | "an"
+// a word of its own, never the start of one ("away" is not "a way")
+INDEF: /an?(?![\w-])/
+PARTICLE: "away"
 WHAT: "what" | "which"
 LIST: "list" | "show" | "name" | "find"
 NOT: "not"
@@ -186,7 +199,7 @@ def _reserved() -> list[str]:
     import re
 
     text = _grammar_text().split("WORD: ")[0]
-    return sorted({w for w in re.findall(r'"([a-z]+)"', text)}, key=lambda w: (-len(w), w))
+    return sorted({w for w in re.findall(r'"([a-z]+)"', text)} | {"a", "an"}, key=lambda w: (-len(w), w))
 
 
 RESERVED = _reserved()
@@ -234,12 +247,56 @@ def _words(items) -> list[str]:
     return [str(t) for t in items if isinstance(t, Token) and t.type in ("WORD", "SIZE", "ATTR")]
 
 
+def _measured_from(nps: list[NP]) -> None:
+    """"the nearest chair" names one only beside the thing it is nearest to ("the nearest chair
+    to the tv", or the other end of a distance); alone it is refused naming the word."""
+    for np in nps:
+        if np.superlative in DISTANCE_SUPERLATIVES and np.toward is None:
+            raise GrammarError(f"'{np.superlative}' to what? say e.g. 'the chair {np.superlative} to the tv'",
+                               np.superlative)
+        _measured_from(np.alternatives + [f.other for f in np.filters])
+
+
 @v_args(inline=False)
 class _ToForm(Transformer):
     def start(self, items):
-        form = items[0]
-        if len(items) > 1:
-            form.seen_from = items[1]
+        form = next(i for i in items if isinstance(i, Form))
+        form.filters += [i for i in items if isinstance(i, Filter)]     # a fronted exception
+        seen = [i for i in items if isinstance(i, NP)]
+        if seen:
+            form.seen_from = seen[-1]
+        if form.op != "distance":
+            _measured_from(form.sets + [f.other for f in form.filters])
+        return form
+
+    def fronted(self, items):
+        return Filter("except", items[-1])
+
+    def strand(self, items):
+        return ("strand", items[-1])
+
+    def stranded(self, items):
+        """"what is the cup on", "what's the chair next to": the things the named object stands
+        in that relation to (the relation's other end)."""
+        relation = next(i[1] for i in items if isinstance(i, tuple))
+        number = next((int(float(t)) for t in items if isinstance(t, Token) and t.type == "NUMBER"), None)
+        np = NP(_words(items), number=number, definite=True,
+                indefinite=any(isinstance(t, Token) and t.type == "INDEF" for t in items))
+        return Form("list", sets=[], filters=[Filter("rel", np, relation=relation, reverse=True)])
+
+    def where_in(self, items):
+        """"where in the house is there a tv": the place words scope the question (a room, or
+        the whole house)."""
+        np = next(i for i in items if isinstance(i, NP))
+        place = NP(_words(items[:items.index(np)]), definite=True)
+        form = self._op("where", items)
+        form.filters.append(Filter("rel", place, relation="in"))
+        return form
+
+    def afford_kind(self, items):
+        """"which desk could I work at": the affording objects of that kind only."""
+        form = self.afford(items)
+        form.sets = [i for i in items if isinstance(i, NP)]
         return form
 
     def seen(self, items):
@@ -249,7 +306,7 @@ class _ToForm(Transformer):
         return NP(_words(items), definite=True)
 
     def verb(self, items):
-        return " ".join(_words(items))
+        return " ".join(str(t) for t in items if isinstance(t, Token) and t.type in ("WORD", "SIZE", "ATTR", "PARTICLE"))
 
     def having(self, items):
         """"with a white glaze", "having a red pattern": colour and size words describe the
@@ -326,6 +383,8 @@ class _ToForm(Transformer):
         return items[-1]
 
     def np_one(self, items):
+        if len(items) == 1 and isinstance(items[0], NP):
+            return items[0]             # np_closest: already a noun phrase
         words = _words(items)
         number = next((int(float(t)) for t in items if isinstance(t, Token) and t.type == "NUMBER"), None)
         sup = next((str(t) for t in items if isinstance(t, Token) and t.type in ("SUPER", "DSUPER")), None)
@@ -469,7 +528,17 @@ class _ToForm(Transformer):
         return form
 
     def distance(self, items):
-        return self._op("distance", items)
+        """"how far is A from B", "the gap between A and B", "how far apart are A and the nearest
+        B": two sets; a nearest / farthest one without its own other end is measured from the other."""
+        form = self._op("distance", items)
+        if len(form.sets) == 1 and len(form.sets[0].alternatives) == 2 \
+                and any(a.superlative in DISTANCE_SUPERLATIVES for a in form.sets[0].alternatives):
+            form.sets = list(form.sets[0].alternatives)
+        if len(form.sets) == 2:
+            for mine, other in (form.sets, form.sets[::-1]):
+                if mine.superlative in DISTANCE_SUPERLATIVES and mine.toward is None:
+                    mine.toward = other
+        return form
 
     def room_count(self, items):
         return Form("room_count", sets=[NP(_words(items))] if _words(items) else [])

@@ -21,11 +21,14 @@ class Filter:
     low_m: Optional[float] = None           # distance band, metres (centre to centre)
     high_m: Optional[float] = None
     negated: bool = False
+    reverse: bool = False                   # "what is the cup on": the relation's other end
 
     def describe(self, other: Optional[str] = None) -> str:
         """The filter in words; `other` names the other set (default: its own description)."""
         neg = "not " if self.negated else ""
         other = self.other.describe() if other is None else other
+        if self.kind == "rel" and self.reverse:
+            return f"that {other} is {neg}{self.relation}"
         if self.kind == "rel":
             return f"{neg}{self.relation} {other}"
         if self.kind == "except":
@@ -40,6 +43,8 @@ class Filter:
         out = {"filter": self.kind, "negated": self.negated, "of": self.other.form()}
         if self.kind == "rel":
             out["relation"] = self.relation
+            if self.reverse:
+                out["reverse"] = True
         elif self.kind == "distance":
             out["within_m"] = [self.low_m, self.high_m]
         return out

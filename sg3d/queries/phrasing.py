@@ -10,7 +10,7 @@ import functools
 import re
 import unicodedata
 from dataclasses import dataclass, field
-from typing import Iterable
+from typing import Callable, Iterable
 
 # question frames that carry no meaning: stripped from the front (longest first)
 FRAMES = (
@@ -18,8 +18,13 @@ FRAMES = (
     "would you tell me", "please tell me", "tell me", "do you know", "i would like to know",
     "i want to know", "id like to know", "i d like to know", "i would love to know", "i wonder", "could you say", "can you say", "please", "hey", "hi", "so", "ok",
     "okay", "excuse me",
+    # polite frames: "would you mind telling me ...", "i was wondering ..."
+    "would you mind telling me", "would you mind telling us", "would you mind saying", "do you mind telling me",
+    "do you happen to know", "would you happen to know", "could you let me know", "can you let me know",
+    "i was wondering", "i am wondering", "im wondering", "i was curious", "i am curious", "im curious",
+    "i was hoping you could tell me", "can you tell us", "could you tell us",
 )
-_FRAME_RE = re.compile(r"^(?:(?:" + "|".join(map(re.escape, FRAMES)) + r")\b[ ,]*)+")
+_FRAME_RE = re.compile(r"^(?:(?:" + "|".join(map(re.escape, sorted(FRAMES, key=len, reverse=True))) + r")\b[ ,]*)+")
 _TAIL_RE = re.compile(r"[ ,]*\b(?:please|thanks|thank you|for me|for us)$")
 # "can you show me what is on the table", "tell me whether ...": a request that frames a question
 _SHOW_FRAME = re.compile(r"^(?:(?:can|could|would|will) you )?(?:show|tell|list|give) (?:me|us) "
@@ -51,7 +56,7 @@ POSTURE = [
                 r"positioned|found|situated|set|lieing)\b"), r"\1"),
     (re.compile(r"\b(?:lies|sits|stands|rests|hangs|stays)\b" + _REL_AHEAD), "is"),
     # "the cups that sit on the table", but not "what can i sit on" (an activity)
-    (re.compile(r"(?<!\bcan i )(?<!\bcould i )(?<!\bto )\b(?:lie|sit|stand|rest|hang)\b" + _REL_AHEAD), "are"),
+    (re.compile(r"(?<!\bcan i )(?<!\bcould i )(?<!\bshould i )(?<!\bmight i )(?<!\bmay i )(?<!\bto )\b(?:lie|sit|stand|rest|hang)\b" + _REL_AHEAD), "are"),
     (re.compile(r" (?:lying|sitting|standing|resting|hanging|placed|located|kept|stored|positioned|situated|"
                 r"mounted|found|put)\b" + _REL_AHEAD), ""),
 ]
@@ -100,6 +105,8 @@ def fold(text: str) -> str:
 
 
 def _contractions(text: str) -> str:
+    # "which one's bigger": "one's" is "one is" after a question word, a possessive elsewhere
+    text = re.sub(r"\b(which|what) one's\b", r"\1 one is", text)
     for k, v in CONTRACTIONS.items():
         text = re.sub(rf"(?<![\w']){re.escape(k)}(?![\w'])", v, text)
     return text
@@ -144,7 +151,7 @@ def strip_frames(text: str) -> str:
 
 # round-two phrasings, rewritten to forms the grammar reads
 _COLOURS = r"(red|orange|yellow|green|blue|purple|pink|brown|black|white|grey|gray|silver|golden)"
-REPHRASE = [
+REPHRASE: list[tuple[re.Pattern[str], str | Callable[[re.Match[str]], str]]] = [
     # "where can someone take a seat" = "where can i sit"
     (re.compile(r"^(where|what) (can|could) (?:someone|somebody|anyone|anybody|one|people|we|a person) "),
      r"\1 \2 i "),
@@ -181,6 +188,9 @@ REPHRASE = [
      r"\1 rooms have "),
     # "the distance between the 2 cups": between the cups, the two of them
     (re.compile(r"\bbetween (?:the )?(?:2|both|both of the|both the) "), "between the "),
+    # "how many metres between the cup and the tv", "how many cm is it between ...": the gap, in that unit
+    (re.compile(r"^how many (" + "|".join(sorted(map(re.escape, UNITS), key=len, reverse=True))
+                + r") (?:(?:is|are) (?:it |there )?)?between\b"), lambda m: f"how many {UNITS[m.group(1)]} between"),
     # "how many metres is the cup from the sink", "how many cm away is it": how far
     (re.compile(r"^how many (?:m|cm|mm|ft|inch|metres|meters|centimetres|centimeters|millimetres|millimeters|feet|"
                 r"inches|steps) (?:away )?(is|are) "), r"how far \1 "),
@@ -236,7 +246,7 @@ def _possessives(text: str) -> str:
 
 
 _UNIT_WORDS = r"(m|cm|mm|ft|inch|inches|metres|meters|centimetres|centimeters|millimetres|millimeters|feet|foot)"
-_ASKED_UNIT = [re.compile(r"^how many " + _UNIT_WORDS + r" (?:away )?(?:is|are)\b"),
+_ASKED_UNIT = [re.compile(r"^how many " + _UNIT_WORDS + r" (?:away )?(?:is|are|between)\b"),
                re.compile(r"\bhow far\b.* in " + _UNIT_WORDS + r"$")]
 
 
@@ -343,19 +353,73 @@ def is_word(word: str, vocab: frozenset) -> bool:
     return word in vocab or word in common_words() or any(c.isdigit() for c in word)
 
 
+# the question words: a short unknown word one edit from exactly one of them is that word ("hw",
+# "wher", "waht"), before any longer vocabulary word is tried
+QUESTION_WORDS = frozenset({"what", "where", "which", "how", "many", "much", "who", "whose", "why", "when"})
+
+
+def _question_word(word: str, after: str | None = None) -> str | None:
+    """The one question word `word` is a typo of; between two, "how" before "many"/"much"
+    ("hwo many"), else the one reached by adding or dropping a letter ("wher": where, not when)."""
+    from rapidfuzz.distance import DamerauLevenshtein, Indel
+
+    if len(word) < 2 or len(word) > 6:
+        return None
+    hits = sorted(q for q in QUESTION_WORDS if DamerauLevenshtein.distance(word, q) <= 1)
+    if len(hits) > 1 and after in ("many", "much") and "how" in hits:
+        return "how"
+    if len(hits) > 1:
+        best = min(Indel.distance(word, q) for q in hits)
+        hits = [q for q in hits if Indel.distance(word, q) == best]
+    return hits[0] if len(hits) == 1 else None
+
+
 def fix_typos(text: str, vocab: frozenset, known: Iterable[str] = ()) -> tuple[str, list[str]]:
     """Each unknown word (outside `vocab`, not a common English word, not a number) that is
-    within `max_edits` of exactly one vocabulary word is read as that word; the notes say so."""
+    one edit from exactly one question word (QUESTION_WORDS), or else within `max_edits` of
+    exactly one vocabulary word, is read as that word; the notes say so."""
     keep = set(known)
     out, notes = [], []
-    for w in text.split():
+    words = text.split()
+    for i, w in enumerate(words):
         if w in keep or is_word(w, vocab):
             out.append(w)
             continue
-        fixed = _closest(w, vocab)
+        fixed = _question_word(w, words[i + 1] if i + 1 < len(words) else None) or _closest(w, vocab)
         if fixed is None:
             out.append(w)
         else:
             out.append(fixed)
             notes.append(f"read '{w}' as '{fixed}'")
     return " ".join(out), notes
+
+
+def said_word(question: str, text: str, word: str) -> str:
+    """The words of `question` (as the user typed them) that `word` of the rewritten `text` came
+    from: itself where the user typed it, else the span a rewrite or a typo fix put in its place
+    ("except" <- "apart from", "what" <- "waht", "is" <- "what's")."""
+    import difflib
+
+    said = [w.strip(".'") for w in re.sub(r"[^\w'. -]+", " ", fold(question)).split()]
+    said = [w for w in said if w]
+    if word in said:
+        return word
+    words = text.split()
+    if word not in words:
+        return word
+    at = words.index(word)
+    shown = [w.lower() for w in said]
+    # each typed word as the rewrite reads it alone (contractions undone, numbers as digits)
+    parts: list[str] = []
+    origin: list[int] = []
+    for i, w in enumerate(shown):
+        for p in _numbers(_contractions(w)).split() or [w]:
+            parts.append(p)
+            origin.append(i)
+    for tag, i1, i2, j1, j2 in difflib.SequenceMatcher(a=parts, b=words, autojunk=False).get_opcodes():
+        if j1 <= at < j2 and tag != "equal" and i2 > i1:
+            typed = sorted({origin[i] for i in range(i1, i2)})
+            return " ".join(said[i] for i in range(typed[0], typed[-1] + 1))
+        if j1 <= at < j2 and tag == "equal":
+            return said[origin[i1 + at - j1]]
+    return word

@@ -334,7 +334,7 @@ class Evaluator:
             if self.members(bare):
                 note = f"read as: {f.relation} {bare.describe()} and " + ", ".join(x.describe() for x in f.other.filters)
                 self.notes.append(note)
-                out = self.apply(Filter(f.kind, bare, f.relation, f.low_m, f.high_m, f.negated), rows)
+                out = self.apply(Filter(f.kind, bare, f.relation, f.low_m, f.high_m, f.negated, f.reverse), rows)
                 for g in f.other.filters:
                     out = self.apply(g, out)
                 return out
@@ -345,6 +345,14 @@ class Evaluator:
             linked: set[str] = set()
             inverse = INVERSE.get(rel_type, ())
             for e in self.scene.edges():
+                if f.reverse:       # "what is the cup on": where the cup's own edge ends
+                    if e["type"] in types and e["s"] in other_ids:
+                        linked.add(e["o"])
+                    if e["type"] in inverse and e["o"] in other_ids:
+                        linked.add(e["s"])
+                    if (symmetric or e["type"] in SYMMETRIC) and e["type"] in types and e["o"] in other_ids:
+                        linked.add(e["s"])
+                    continue
                 if e["type"] in inverse and e["s"] in other_ids:    # desk -UNDER-> chair: chair above desk
                     linked.add(e["o"])
                 if e["type"] not in types:

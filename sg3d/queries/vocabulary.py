@@ -81,6 +81,7 @@ AFFORDANCE_VERBS: dict[str, str] = {
     "place things": "put things down", "set down": "put things down", "place down": "put things down",
     "leave": "put things down", "set": "put things down", "set things down": "put things down",
     "put my cup down": "put things down", "put down": "put things down", "putting things down": "put things down",
+    "put away": "store things", "put things away": "store things", "tidy away": "store things",
     "store": "store things", "store things": "store things", "store something": "store things",
     "storing": "store things", "storage": "store things", "keep things": "store things", "keep": "store things",
     "work": "work", "work at": "work", "working": "work", "working at": "work", "work on": "work",

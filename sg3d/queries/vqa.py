@@ -503,11 +503,47 @@ def answer(store, question: str, room: Optional[str] = None, building: Optional[
     a point or an object; sg3d/queries/viewpoint.py), unless the question says "as seen from the X".
     `on_change`: answers a question about re-scans (the application's history of scans); without
     it such a question is refused."""
-    from sg3d.queries.grammar import GrammarError
-
     if len(question) > MAX_QUESTION:
         return Answer(question[:60] + "...", False,
                       f"the question is {len(question)} characters long; ask in at most {MAX_QUESTION}")
+    phrased, notes = _phrase(store, question, building)
+    if not phrased:
+        return Answer(question, False, refusal("empty question", question))
+    a = _answer(store, question, phrased, notes, room, building, embedding, use_embedding, viewpoint, on_change)
+    if not a.ok:
+        a.text = own_words(question, phrased, a.text)
+    return a
+
+
+def own_words(question: str, phrased: str, text: str) -> str:
+    """A refusal names the words the user typed: a quoted word that a rewrite or a typo fix put
+    in ("except" for "apart from", "what" for "waht") is said as typed (the example after
+    "try e.g." is left alone)."""
+    import re
+
+    from sg3d.queries.phrasing import said_word
+
+    head, sep, tail = text.partition("; try e.g.")
+    typed = {w.strip(".'") for w in re.sub(r"[^\w'. -]+", " ", question.lower()).split()}
+
+    def mapped(m: "re.Match[str]") -> str:
+        words = m.group(1).split()
+        if all(w in typed for w in words):
+            return m.group(0)
+        out: list[str] = []
+        for w in words:
+            said = w if w in typed else said_word(question, phrased, w)
+            if not out or out[-1] != said:
+                out.append(said)
+        return f"'{' '.join(out)}'"
+
+    return re.sub(r"(?<!\w)'([^']+)'(?!\w)", mapped, head) + sep + tail
+
+
+def _answer(store, question: str, phrased: str, notes: list[str], room, building, embedding, use_embedding,
+            viewpoint, on_change) -> Answer:
+    from sg3d.queries.grammar import GrammarError
+
     run = _Run(store, viewpoint)
     seen: dict[str, list[dict]] = {}
 
@@ -520,9 +556,6 @@ def answer(store, question: str, room: Optional[str] = None, building: Optional[
                 run.notes.append(said)
         return seen[name]
 
-    phrased, notes = _phrase(store, question, building)
-    if not phrased:
-        return Answer(question, False, refusal("empty question", question))
     try:       # the one reading of the question
         form, rows_of = compose.read_question(phrased, room_rows, lambda: _room_names(store, building))
     except GrammarError as exc:
