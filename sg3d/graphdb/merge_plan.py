@@ -18,7 +18,7 @@ import numpy as np
 from scipy.optimize import linear_sum_assignment
 
 from sg3d.core.embedding import LabelEmbedding
-from sg3d.core.geometry import FLOOR_STANDING_LABELS, gravity_basis
+from sg3d.core.geometry import DESK_LABEL, FLOOR_STANDING_LABELS, carrel_panel, gravity_basis
 from sg3d.core.model import UNNAMED_LABEL, LocalGraph, ObjectObservation, ScanInfo
 from sg3d.graphdb import rescan
 from sg3d.graphdb.consistency import canonical_rows
@@ -147,16 +147,18 @@ def box_claims(objects: list[ObjectObservation], near: list[dict], basis: np.nda
     """(n_local, n_cand): the pairs one of the stored-box rules may join (`claimed_by_stored_box`:
     an unnamed observation and a stored named floor-standing object; `stored_pieces_named`: a named
     floor-standing observation and a stored unnamed object) whose boxes overlap by CLAIM_SHARE of
-    the smaller. Their Gaussians may lie far apart (a chair's base seen alone, a chair's whole box),
-    so the position test alone would not even make them candidates."""
+    the smaller, and the pairs `panel_pairs` finds (a carrel's panel beside a stored desk). Their
+    Gaussians may lie far apart (a chair's base seen alone, a chair's whole box, a panel's end), so
+    the position test alone would not even make them candidates."""
     unnamed = np.array([o.layer == "object" and o.label == UNNAMED_LABEL for o in objects], bool)
     standing = np.array([o.layer == "object" and o.label in FLOOR_STANDING_LABELS for o in objects], bool)
     stored = np.array([_stored_object(c) for c in near], bool)
     stored_standing = stored & np.array([c["label"] in FLOOR_STANDING_LABELS for c in near], bool)
     stored_unnamed = stored & np.array([c["label"] == UNNAMED_LABEL for c in near], bool)
     pairs = (unnamed[:, None] & stored_standing[None, :]) | (standing[:, None] & stored_unnamed[None, :])
+    panels = panel_pairs(objects, near, basis)
     if not pairs.any():
-        return pairs
+        return panels
     ca = np.array([_box_centre(o) for o in objects], float) @ basis.T
     cb = np.array([_stored_centre(c) for c in near], float) @ basis.T
     ha = np.array([o.size for o in objects], float) / 2
@@ -165,7 +167,7 @@ def box_claims(objects: list[ObjectObservation], near: list[dict], basis: np.nda
     hi = np.minimum(ca[:, None] + ha[:, None], cb[None] + hb[None])
     inter = np.prod(np.clip(hi - lo, 0, None), axis=-1)
     smaller = np.maximum(np.minimum.outer(np.prod(2 * ha, axis=1), np.prod(2 * hb, axis=1)), 1e-9)
-    return pairs & (inter / smaller >= CLAIM_SHARE)
+    return (pairs & (inter / smaller >= CLAIM_SHARE)) | panels
 
 
 def structure_position_similarity(objects: list[ObjectObservation], near: list[dict], s_pos: np.ndarray,
@@ -321,7 +323,9 @@ def plan_merge(graph: LocalGraph, candidates: list[dict], s_pos: Optional[np.nda
             continue
         if i in matches:
             _plan_update(plan, obj, candidates, matches[i], absorbed, basis)
-        elif (owner := claimed_by_stored_box(obj, candidates, basis)) is not None:
+        elif (owner := (claimed_by_stored_box(obj, candidates, basis)
+                        or claimed_by_stored_desk(obj, candidates, basis)
+                        or desk_named_solid(obj, candidates, basis))) is not None:
             plan.node_ids[obj.local_id] = owner      # a piece of a stored chair is that chair
             plan.claimed += 1
         else:
@@ -384,6 +388,66 @@ def claimed_by_stored_box(obj: ObjectObservation, candidates: list[dict], basis:
         return None
     return _most_inside((c["id"], box_inside_share(_box_centre(obj), obj.size, _stored_centre(c), c["size"], basis))
                         for c in candidates if c["label"] in FLOOR_STANDING_LABELS and _stored_object(c))
+
+
+def _gravity_box(centre, size, basis: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    c, half = basis @ np.asarray(centre, float), np.asarray(size, float) / 2
+    return c - half, c + half
+
+
+def _panel_of(obj: ObjectObservation, cand: dict, basis: np.ndarray) -> bool:
+    """Whether an unnamed observation is a carrel panel (`sg3d.core.geometry.carrel_panel`) of a
+    stored desk."""
+    return (obj.label == UNNAMED_LABEL and obj.layer == "object" and cand["label"] == DESK_LABEL
+            and _stored_object(cand)
+            and carrel_panel(*_gravity_box(_box_centre(obj), obj.size, basis),
+                             *_gravity_box(_stored_centre(cand), cand["size"], basis)))
+
+
+def panel_pairs(objects: list[ObjectObservation], near: list[dict], basis: np.ndarray) -> np.ndarray:
+    """(n_local, n_cand): the (unnamed observation, stored desk) pairs where the observation is a
+    panel of that desk's carrel (`_panel_of`)."""
+    out = np.zeros((len(objects), len(near)), bool)
+    desks = [j for j, c in enumerate(near) if c["label"] == DESK_LABEL]
+    for i, obj in enumerate(objects):
+        if obj.label == UNNAMED_LABEL:
+            for j in desks:
+                out[i, j] = _panel_of(obj, near[j], basis)
+    return out
+
+
+def claimed_by_stored_desk(obj: ObjectObservation, candidates: list[dict], basis: np.ndarray) -> Optional[str]:
+    """Rule "a carrel's panel", across scans: an unnamed observation that is a carrel panel
+    (`sg3d.core.geometry.carrel_panel`: thin, beside a desk, rising above its top) of a STORED
+    desk is part of that desk (a later scan that never saw the desk tops sees only the panels);
+    returns the nearest such desk's id (box centres in the gravity frame), else None."""
+    desks = [c for c in candidates if _panel_of(obj, c, basis)]
+    if not desks:
+        return None
+    centre = basis @ np.asarray(_box_centre(obj), float)
+    return min(desks, key=lambda c: float(np.linalg.norm(basis @ np.asarray(_stored_centre(c), float) - centre)))["id"]
+
+
+# Kinds that stand solid to the floor (no knee space under them): a desk named from its shape had
+# the floor seen under its top (`sg3d.ingest.discover.furniture.desk_shaped`), so it is none of them.
+SOLID_TO_THE_FLOOR = frozenset({"refrigerator", "oven"})
+
+
+def _solid_over_desk(obj: ObjectObservation, cand: dict, basis: np.ndarray) -> bool:
+    return (obj.layer == "object" and obj.label in SOLID_TO_THE_FLOOR and cand["label"] == DESK_LABEL
+            and cand.get("named_by") == "shape" and _stored_object(cand)
+            and box_inside_share(_stored_centre(cand), cand["size"], _box_centre(obj), obj.size, basis) >= CLAIM_SHARE)
+
+
+def desk_named_solid(obj: ObjectObservation, candidates: list[dict], basis: np.ndarray) -> Optional[str]:
+    """Rule "the shape decides": a detection of a kind solid to the floor (SOLID_TO_THE_FLOOR: a
+    refrigerator, an oven) whose box holds CLAIM_SHARE of a stored desk named from its shape (a top
+    with knee space: the floor seen under it) is that desk misread (a carrel's panel and its desk
+    read as a refrigerator); returns the desk's id (the one most inside), else None. Judged
+    against the candidates the position test found (a stored desk there is one: the new scan's
+    own view of it, or its panels, lie close), so the pair takes no part in the matching."""
+    return _most_inside((c["id"], box_inside_share(_stored_centre(c), c["size"], _box_centre(obj), obj.size, basis))
+                        for c in candidates if _solid_over_desk(obj, c, basis))
 
 
 def stored_pieces_named(objects: list[ObjectObservation], candidates: list[dict], matches: dict[int, int],

@@ -12,8 +12,15 @@ chunk's named objects meet the room's cloud (`sg3d.ingest.discover.room_cloud`),
   segment resting on a surface is cut at its necks (`segments.split_at_necks`);
 - `plane_remnant`: a thin relief left along a cut wall or front (a door edge) is not an object,
   nor is a flat piece lying on the floor (`floor_remnant`);
+- `separate_at_walls`: a segment welded along a wall no structure rule found (a far wall whose
+  normals were too noisy to vote) is cut at that wall's plane (`segments.split_at_wall`: the bins
+  before a whiteboard's wall); what lies flat on or just behind such a wall is the wall's
+  (`relief_of_found_wall`);
+- `one_sheet`: tall pieces of one colour on one vertical plane, a fold's shadow apart, are one
+  object (a curtain's folds);
 - furniture from shape (`sg3d.ingest.discover.furniture`): desks (a worktop cut at its carrels'
-  panels; what lies in the worktop's box and the thin panels beside it are the desks'), couches
+  panels; what lies in the worktop's box and the thin panels beside it are the desks':
+  `sg3d.core.geometry.carrel_panel`, which the merge applies to stored desks too), couches
   (a seat level with a back or an arm longer than a chair's: its parts are one node), and a low
   piece under a seat is that seat's base;
 - `unnamed_object`: any other segment becomes a node labelled UNNAMED_LABEL, with its size,
@@ -24,6 +31,7 @@ chunk's named objects meet the room's cloud (`sg3d.ingest.discover.room_cloud`),
 """
 from __future__ import annotations
 
+from dataclasses import replace
 from typing import Callable, Iterable, Optional, Sequence
 
 import cv2
@@ -36,11 +44,14 @@ from sg3d.ingest.discover.room_cloud import RoomCloud
 from sg3d.ingest.discover.segments import (
     GOOD_VIEWS,
     VOXEL_M,
+    WELD_PLANE_SLAB_M,
     Segment,
     depth_evidence,
     exists,
     room_candidates,
     split_at_necks,
+    split_at_wall,
+    welded_wall,
 )
 from sg3d.ingest.discover.structure import Element
 from sg3d.ingest.objects import colour as colour_model
@@ -63,6 +74,10 @@ NAMED_MARGIN_M = 0.02
 # that stands out less than that from the plane it is on.
 REMNANT_DISTANCE_M = 0.07
 REMNANT_THICKNESS_M = 0.12
+# A wall found inside a welded segment (`segments.split_at_wall`) is placed only to the width of
+# the slab its plane was voted in (segments.WELD_PLANE_SLAB_M: the board on it may be the plane
+# found, the wall then lies behind it), so what lies behind it is its own within that much more.
+FOUND_WALL_DISTANCE_M = REMNANT_DISTANCE_M + WELD_PLANE_SLAB_M
 # Part of the floor: a piece whose top is this low and that is this thin.
 FLOOR_REMNANT_TOP_M = 0.10
 FLOOR_REMNANT_THICKNESS_M = 0.06
@@ -84,6 +99,15 @@ SURFACE_SAMPLE = 32
 SCREEN_BORDER_SHARE = 0.05
 # The half-width a voxel covers, for marking a segment's own pixels.
 VOXEL_DISC_M = 0.0125
+# One hanging or standing sheet (a curtain, a door leaf, a panel) comes apart in depth along its
+# folds and the shadows between them: two tall pieces (`shape_word` "tall") of one colour whose
+# footprints lie within REJOIN_GAP_M of each other (a fold's shadow: a few cm; things placed side by
+# side stand farther apart or touch), that share REJOIN_HEIGHT_SHARE of the shorter one's height
+# and whose voxels together lie on one vertical plane (at most REJOIN_MAX_THICKNESS_M across their
+# principal horizontal axis: a curtain's folds stand 10-15 cm deep) are one object.
+REJOIN_GAP_M = 0.10
+REJOIN_HEIGHT_SHARE = 0.5
+REJOIN_MAX_THICKNESS_M = 0.20
 
 
 def gravity_box(obj: ObjectObservation, cloud: RoomCloud) -> tuple[np.ndarray, np.ndarray]:
@@ -185,6 +209,53 @@ def separate_resting(segments: Sequence[Segment], surfaces: Sequence[Element], c
             if exists(part):
                 out.append(part)
     return out
+
+
+def separate_at_walls(segments: Sequence[Segment], cloud: RoomCloud) -> tuple[list[Segment], list[Element]]:
+    """Segments welded along a wall no structure rule found are cut there
+    (`segments.split_at_wall`); each part must pass the depth existence test on its own. Returns
+    the segments and the walls found so, each as a wall element (its plane, the box of its
+    plane's piece)."""
+    out: list[Segment] = []
+    found: list[Element] = []
+    for seg in segments:
+        wall = welded_wall(seg)
+        parts = split_at_wall(seg, wall) if wall is not None else [seg]
+        if wall is None or len(parts) == 1:
+            out.append(seg)
+            continue
+        th, rho = wall[0], wall[1]
+        # the room's side of the wall: where the cameras stand
+        cams = np.array([v.pose[:3, 3] for v in cloud.views]) @ cloud.basis.T
+        side = float(np.sign(np.median(cams[:, 0] * np.cos(th) + cams[:, 1] * np.sin(th)) - rho)) or 1.0
+        found.append(Element("wall", parts[0].lo, parts[0].hi, len(parts[0].voxels), len(seg.frames),
+                             plane=(th, rho), side=side))
+        for part in parts:
+            depth_evidence(part, cloud)
+            if exists(part):
+                out.append(part)
+    return out, found
+
+
+def relief_of_found_wall(seg: Segment, walls: Sequence[Element]) -> bool:
+    """Rule "relief of a plane" (`plane_remnant`) for the walls found in welded segments
+    (`separate_at_walls`): a segment whose median voxel lies within REMNANT_DISTANCE_M of such a
+    wall's plane on the room's side (what stands on a counter against it is not the wall), or
+    within FOUND_WALL_DISTANCE_M behind it, at most REMNANT_THICKNESS_M thick across it and near
+    the piece of wall seen (its box grown by REJOIN_GAP_M: the wall's extent is known only there)
+    is part of the wall. The wall's own piece is no relief of itself."""
+    for e in walls:
+        assert e.plane is not None
+        if (np.array_equal(seg.lo, e.lo) and np.array_equal(seg.hi, e.hi)
+                or not furniture.boxes_touch(seg.lo, seg.hi, e.lo, e.hi, REJOIN_GAP_M)
+                or float(seg.lo[2]) > float(e.hi[2]) + REJOIN_GAP_M or float(seg.hi[2]) < float(e.lo[2]) - REJOIN_GAP_M):
+            continue
+        theta, rho = e.plane
+        off = e.side * (seg.voxels[:, 0] * np.cos(theta) + seg.voxels[:, 1] * np.sin(theta) - rho)
+        reach = FOUND_WALL_DISTANCE_M if float(np.median(off)) < 0 else REMNANT_DISTANCE_M
+        if float(np.median(np.abs(off))) <= reach and float(np.ptp(off)) <= REMNANT_THICKNESS_M:
+            return True
+    return False
 
 
 def shape_word(size: Iterable[float]) -> Optional[str]:
@@ -324,6 +395,64 @@ def unnamed_object(local_id: str, seg: Segment, cloud: RoomCloud,
         shape=shape_word(seg.size), surface=surface_sample(world))
 
 
+def plane_thickness(voxels: np.ndarray) -> float:
+    """The extent of voxels (gravity frame) across their principal horizontal axis: how far they
+    lie from one vertical plane."""
+    xy = voxels[:, :2] - voxels[:, :2].mean(axis=0)
+    if len(xy) < 2:
+        return 0.0
+    _, vecs = np.linalg.eigh(xy.T @ xy)
+    return float(np.ptp(xy @ vecs[:, 0]))
+
+
+def one_sheet(a: Segment, b: Segment, colour_a: str, colour_b: str) -> bool:
+    """Rule "one sheet, in pieces": two tall pieces (`shape_word`) of one colour, their footprints
+    within REJOIN_GAP_M of each other, sharing REJOIN_HEIGHT_SHARE of the shorter one's height
+    range, whose voxels together lie on one vertical plane (`plane_thickness` at most
+    REJOIN_MAX_THICKNESS_M), are one object (a curtain's folds)."""
+    if colour_a != colour_b or shape_word(a.size) != "tall" or shape_word(b.size) != "tall":
+        return False
+    if not furniture.boxes_touch(a.lo, a.hi, b.lo, b.hi, REJOIN_GAP_M):
+        return False
+    shared = min(float(a.hi[2]), float(b.hi[2])) - max(float(a.lo[2]), float(b.lo[2]))
+    if shared < REJOIN_HEIGHT_SHARE * min(float(a.size[2]), float(b.size[2])):
+        return False
+    return plane_thickness(np.concatenate([a.voxels, b.voxels])) <= REJOIN_MAX_THICKNESS_M
+
+
+def joined(a: Segment, b: Segment) -> Segment:
+    """One segment of two (`one_sheet`): their voxels and frames, depth evidence summed, the
+    views of the one seen better."""
+    vox = np.concatenate([a.voxels, b.voxels])
+    best = a if a.seen_views >= b.seen_views else b
+    return Segment(vox, np.minimum(a.lo, b.lo), np.maximum(a.hi, b.hi), np.union1d(a.frames, b.frames),
+                   hits=a.hits + b.hits, free=a.free + b.free, seen_views=max(a.seen_views, b.seen_views),
+                   looked_views=max(a.looked_views, b.looked_views), best_view=best.best_view,
+                   good_views=best.good_views)
+
+
+def rejoin_sheets(pieces: list[tuple[Segment, ObjectObservation]], remake: Callable[[Segment], ObjectObservation],
+                  ) -> list[tuple[Segment, ObjectObservation]]:
+    """The unnamed pieces with those of one sheet (`one_sheet`) joined, each join a node made
+    again (`remake`) from the joined segment, until no two pieces are one sheet."""
+    out = list(pieces)
+    merged = True
+    while merged:
+        merged = False
+        for i in range(len(out)):
+            for j in range(i + 1, len(out)):
+                (a, oa), (b, ob) = out[i], out[j]
+                if one_sheet(a, b, oa.colour, ob.colour):
+                    seg = joined(a, b)
+                    out[i] = (seg, remake(seg))
+                    del out[j]
+                    merged = True
+                    break
+            if merged:
+                break
+    return out
+
+
 def points_object(local_id: str, lo: np.ndarray, hi: np.ndarray, idx: np.ndarray, cloud: RoomCloud,
                   colour_image: Callable[[int], Optional[np.ndarray]]) -> ObjectObservation:
     """An object node for the cloud points `idx` inside the box (lo, hi): `unnamed_object` of a
@@ -428,6 +557,7 @@ def discover(named: list[ObjectObservation], cloud: RoomCloud, structure: Sequen
     claims = [b for o, b in zip(named, boxes) if o.label not in FLOOR_STANDING_LABELS]
     segments = separate_resting(room_candidates(cloud, structure, claims), surfaces, cloud)
     couches, segments = _couches([e for e in surfaces if id(e) not in owned], segments, cloud, colour_image)
+    segments, found_walls = separate_at_walls(segments, cloud)
     couch_boxes = [box for _, box, _ in couches]
     owned |= {id(e) for e, _, _ in couches}
     owned |= {id(e) for e in surfaces if id(e) not in owned and furniture.part_of_furniture(e, couch_boxes)}
@@ -436,12 +566,17 @@ def discover(named: list[ObjectObservation], cloud: RoomCloud, structure: Sequen
     planes = [e for e in structure if e.plane is not None]
     screens = [b for o, b in zip(named, boxes) if colour_model.is_screen(o.label)]
     unnamed: list[ObjectObservation] = [desk for _, desk in desks] + [couch for _, _, couch in couches]
+    pieces: list[tuple[Segment, ObjectObservation]] = []
     for seg in segments:
         if (named_by(seg, boxes) or plane_remnant(seg, planes) or floor_remnant(seg)
+                or relief_of_found_wall(seg, found_walls)
                 or furniture.base_under_seat(seg.lo, seg.hi, seats)
                 or any(furniture.carrel_panel(seg.lo, seg.hi, *top) for top in worktops)):
             continue
-        unnamed.append(unnamed_object(f"u{len(unnamed)}", seg, cloud, colour_image, screens))
+        pieces.append((seg, unnamed_object("u", seg, cloud, colour_image, screens)))
+    pieces = rejoin_sheets(pieces, lambda seg: unnamed_object("u", seg, cloud, colour_image, screens))
+    for _, obj in pieces:
+        unnamed.append(replace(obj, local_id=f"u{len(unnamed)}"))
     nodes = [structure_node(f"s{k}", e, cloud) for k, e in enumerate(
         e for e in structure if e.label != "front" and id(e) not in owned)]
     return unnamed, nodes

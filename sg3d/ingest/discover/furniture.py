@@ -11,8 +11,8 @@ Each rule is one function:
   a detector called it;
 - `couch_shaped`: a seat level (COUCH_SEAT_HEIGHT) with a back or an arm longer than any chair's
   beside it is a couch; its parts are one object (`couch_parts`, `couch_box`);
-- `carrel_panel`: a thin vertical panel standing beside a desk's worktop and rising above it is
-  the carrel's side, part of the desk;
+- `carrel_panel` (`sg3d.core.geometry`, shared with the merge of a later scan): a thin vertical
+  panel standing beside a desk's worktop and rising above it is the carrel's side, part of the desk;
 - `base_under_seat`: a low piece on the floor under a seat is that seat's base (a chair's
   five-star base), not an object of its own.
 A node named by these rules says so (`named_by = "shape"`); where a detector's label is
@@ -25,6 +25,13 @@ from typing import Callable, Optional, Sequence
 
 import numpy as np
 
+from sg3d.core.geometry import (  # noqa: F401  (the carrel rule is shared with the merge)
+    CARREL_PANEL_MAX_THICKNESS_M,
+    CARREL_REACH_M,
+    DESK_LABEL,
+    boxes_touch,
+    carrel_panel,
+)
 from sg3d.core.model import ObjectObservation, vec3
 from sg3d.ingest.discover.room_cloud import RoomCloud
 from sg3d.ingest.discover.structure import FLOOR_SLAB_M, SURFACE_CELL_M, Element
@@ -75,16 +82,9 @@ BASE_MAX_TOP_M = 0.16
 # What stands above a base as a seat: its bottom at least this high (a chair's seat, seen without
 # its legs) or a named floor-standing object's box.
 SEAT_MIN_BOTTOM_M = 0.25
-# A carrel's side panel: a piece at most CARREL_PANEL_MAX_THICKNESS_M thick along one horizontal
-# axis (a partition is 3-8 cm thick; seen edge-on with its trim and 1-3 cm depth noise its segment
-# measures up to 0.15 m), within CARREL_REACH_M of a worktop's footprint (side panels run past the
-# top's front edge and stand beside its ends: 0.1-0.2 m in the study room) and rising above the top.
-CARREL_PANEL_MAX_THICKNESS_M = 0.20
-CARREL_REACH_M = 0.30
 # Detector labels a low, solid top overrules (a sideboard looks like a table from above).
 TABLE_LABELS = ("dining table",)
 CABINET_LABEL = "cabinet"
-DESK_LABEL = "desk"
 
 
 def footprint_cells(surface: Element, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -267,8 +267,7 @@ def couch_shaped(seat_height: float, part_lengths: Sequence[float]) -> bool:
             and any(length >= COUCH_MIN_PART_M for length in part_lengths))
 
 
-def _touching(lo: np.ndarray, hi: np.ndarray, lo2: np.ndarray, hi2: np.ndarray, margin: float) -> bool:
-    return bool((lo[:2] - margin <= hi2[:2]).all() and (lo2[:2] <= hi[:2] + margin).all())
+_touching = boxes_touch
 
 
 def couch_parts(seat: Element, parts: Sequence[tuple[np.ndarray, np.ndarray]]) -> list[int]:
@@ -309,12 +308,3 @@ def base_under_seat(lo: np.ndarray, hi: np.ndarray, seats: Sequence[tuple[np.nda
     if float(hi[2]) > BASE_MAX_TOP_M:
         return False
     return any(_touching(lo, hi, slo, shi, 0.0) and float(shi[2]) > BASE_MAX_TOP_M for slo, shi in seats)
-
-
-def carrel_panel(lo: np.ndarray, hi: np.ndarray, top_lo: np.ndarray, top_hi: np.ndarray) -> bool:
-    """Rule "a carrel's panel": a piece (gravity box lo, hi) at most CARREL_PANEL_MAX_THICKNESS_M
-    thick along a horizontal axis, within CARREL_REACH_M of a desk worktop's box (top_lo, top_hi:
-    `desk_box`) and rising above its top is a side panel of the carrel, part of the desk."""
-    thin = float(np.min(hi[:2] - lo[:2])) <= CARREL_PANEL_MAX_THICKNESS_M
-    return (thin and float(hi[2]) > float(top_hi[2])
-            and _touching(lo, hi, top_lo, top_hi, CARREL_REACH_M))

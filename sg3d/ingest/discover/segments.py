@@ -7,6 +7,9 @@ segment. A segment is an object candidate when its size is plausible for a house
 (`plausible_size`) and it passes the depth existence test (`depth_evidence`): in the frames that
 look at its place, the depth camera sees a surface there (hits) rather than through it (free
 space). A shadow, a reflection or one frame's artefact is seen through from the other views.
+Segments that touch are cut apart where they meet: at necks in the top view (`split_at_necks`:
+things side by side on a table) and at a wall's plane (`split_at_wall`: things standing against a
+wall no structure rule found).
 """
 from __future__ import annotations
 
@@ -52,6 +55,19 @@ MIN_HIT_RATIO = 0.5           # share of its voxels that are solid (hit more tha
 # each remaining core of at least CORE_CELLS voxels is one thing.
 NECK_CELLS = 1
 CORE_CELLS = 6
+# Welded along a wall no structure rule found (a short wall seen far away, its normals too noisy to
+# vote): a segment at least WELD_MIN_EXTENT_M across (what stands on its own in a room is smaller,
+# chairs up to 1.1 m; couches and desks are taken before; what is bigger holds a piece of wall, a
+# long front or things standing against them) is cut along its strongest vertical plane when
+# that plane holds WELD_PLANE_SHARE of its voxels and spans WELD_PLANE_MIN_SPAN_M along it and in
+# height (a wall or a board on it, not one object's side). The plane's voxels lie within
+# WELD_PLANE_SLAB_M of it (depth at 3 m scatters a flat board by +-5 cm); planes are tried every
+# WELD_ANGLE_STEP_DEG.
+WELD_MIN_EXTENT_M = 1.2
+WELD_PLANE_SHARE = 0.3
+WELD_PLANE_MIN_SPAN_M = 0.6
+WELD_PLANE_SLAB_M = 0.06
+WELD_ANGLE_STEP_DEG = 3.0
 
 
 @dataclass
@@ -290,3 +306,75 @@ def room_segments(cloud: RoomCloud, structure: Sequence[Element],
     """Every segment of the room that passes the depth existence test (`room_candidates`,
     `exists`)."""
     return [s for s in room_candidates(cloud, structure, claimed) if exists(s)]
+
+
+def strongest_vertical_plane(voxels: np.ndarray) -> tuple[float, float, np.ndarray]:
+    """(angle, offset, mask of the voxels within WELD_PLANE_SLAB_M) of the vertical plane holding
+    the most voxels: offsets along every horizontal normal direction (WELD_ANGLE_STEP_DEG apart)
+    binned 2 * WELD_PLANE_SLAB_M wide, the fullest bin (and its neighbours' centre) wins."""
+    best = (0.0, 0.0, np.zeros(len(voxels), bool))
+    count = -1
+    for deg in np.arange(0.0, 180.0, WELD_ANGLE_STEP_DEG):
+        th = np.radians(deg)
+        off = voxels[:, 0] * np.cos(th) + voxels[:, 1] * np.sin(th)
+        bins = np.floor(off / WELD_PLANE_SLAB_M).astype(int)
+        vals, counts = np.unique(bins, return_counts=True)
+        # a slab two bins wide: each pair of neighbouring bins
+        pair = counts[:-1] + np.where(np.diff(vals) == 1, counts[1:], 0) if len(vals) > 1 else counts
+        k = int(np.argmax(pair))
+        if int(pair[k]) > count:
+            rho = float(np.median(off[(bins == vals[k]) | (bins == vals[min(k + 1, len(vals) - 1)])]))
+            count = int(pair[k])
+            best = (float(th), rho, np.abs(off - rho) <= WELD_PLANE_SLAB_M)
+    return best
+
+
+def welded_wall(seg: Segment) -> Optional[tuple[float, float, np.ndarray]]:
+    """The wall a segment is welded along (`split_at_wall`): (angle, offset, its voxels' mask) of
+    its strongest vertical plane when the segment is at least WELD_MIN_EXTENT_M across and the
+    plane holds WELD_PLANE_SHARE of its voxels and spans WELD_PLANE_MIN_SPAN_M along it and in
+    height; else None."""
+    if float(np.max(seg.size)) < WELD_MIN_EXTENT_M:
+        return None
+    th, rho, on = strongest_vertical_plane(seg.voxels)
+    if on.mean() < WELD_PLANE_SHARE:
+        return None
+    along = -seg.voxels[on, 0] * np.sin(th) + seg.voxels[on, 1] * np.cos(th)
+    if float(np.ptp(along)) < WELD_PLANE_MIN_SPAN_M or float(np.ptp(seg.voxels[on, 2])) < WELD_PLANE_MIN_SPAN_M:
+        return None
+    return th, rho, on
+
+
+def split_at_wall(seg: Segment, wall: Optional[tuple[float, float, np.ndarray]] = None) -> list[Segment]:
+    """Rule "welded along a wall": a segment at least WELD_MIN_EXTENT_M across whose strongest
+    vertical plane (`strongest_vertical_plane`) holds WELD_PLANE_SHARE of its voxels and spans
+    WELD_PLANE_MIN_SPAN_M along the plane and in height (`welded_wall`; `wall` when already found)
+    is cut there: the plane's piece (a piece of wall, or a board on it: its voxels and the parts of
+    the rest lying within 2 WELD_PLANE_SLAB_M of the plane, its relief), first, and each other
+    connected part of the rest (what stands against it) of MIN_VOXELS are segments of their own,
+    without depth evidence yet (`depth_evidence`). Otherwise the segment is returned whole."""
+    found = wall if wall is not None else welded_wall(seg)
+    if found is None:
+        return [seg]
+    th, rho, on = found
+    off = np.abs(seg.voxels[:, 0] * np.cos(th) + seg.voxels[:, 1] * np.sin(th) - rho)
+    rest = np.flatnonzero(~on)
+    plane = on.copy()
+    parts = []
+    if len(rest):
+        vox = seg.voxels[rest]
+        ijk = np.floor((vox - vox.min(axis=0)) / VOXEL_M + 0.5).astype(int)
+        grid = np.zeros(ijk.max(axis=0) + 1, bool)
+        grid[tuple(ijk.T)] = True
+        labels, n = ndimage.label(grid, structure=np.ones((3, 3, 3), bool))
+        owner = labels[tuple(ijk.T)]
+        for c in range(1, n + 1):
+            idx = rest[owner == c]
+            if float(off[idx].max()) <= 2 * WELD_PLANE_SLAB_M:
+                plane[idx] = True          # the plane's relief
+            elif len(idx) >= MIN_VOXELS:
+                parts.append(seg.voxels[idx])
+    if not parts or int(plane.sum()) < MIN_VOXELS:
+        return [seg]
+    return [Segment(v, v.min(axis=0) - VOXEL_M / 2, v.max(axis=0) + VOXEL_M / 2, seg.frames)
+            for v in [seg.voxels[plane]] + parts]

@@ -78,3 +78,61 @@ def test_pairs_a_stored_box_may_claim_stay_candidates(shift, candidate):
     named = piece((shift, 0, 0.4), (0.6, 0.6, 0.8), label="chair")
     blob = stored(UNNAMED_LABEL, (0, 0, 0.15), (0.6, 0.6, 0.3))
     assert box_claims([named], [blob, chair], BASIS).tolist() == [[candidate, False]]
+
+
+# --- a carrel's panel beside a STORED desk (`claimed_by_stored_desk`) ------------------------------
+
+DESK = stored("desk", (0.5, 0.35, 0.35), (1.0, 0.7, 0.7))        # from the floor (0) to its top (0.7)
+
+
+@pytest.mark.parametrize("gap,claimed", [(0.05, True), (0.35, True), (0.45, False)])
+def test_a_panel_before_a_stored_desk_is_that_desk(gap, claimed):     # CARREL_REACH_M
+    from sg3d.graphdb.merge_plan import box_claims, claimed_by_stored_desk
+
+    panel = piece((0.6, 0.7 + gap + 0.15, 0.7), (0.15, 0.3, 1.4))     # 0.15 thick, up to 1.4 m
+    assert (claimed_by_stored_desk(panel, [DESK], BASIS) == "o-desk") is claimed
+    assert box_claims([panel], [DESK], BASIS).tolist() == [[claimed]]
+
+
+@pytest.mark.parametrize("thickness,claimed", [(0.20, True), (0.25, False)])
+def test_a_stored_desks_panel_is_thin(thickness, claimed):            # CARREL_PANEL_MAX_THICKNESS_M
+    from sg3d.graphdb.merge_plan import claimed_by_stored_desk
+
+    panel = piece((1.1, 0.35, 0.7), (thickness, 0.6, 1.4))           # beside the desk's end
+    assert (claimed_by_stored_desk(panel, [DESK], BASIS) == "o-desk") is claimed
+
+
+def test_only_unnamed_pieces_rising_above_a_stored_desk_are_its_panels():
+    from sg3d.graphdb.merge_plan import claimed_by_stored_desk
+
+    low = piece((1.1, 0.35, 0.3), (0.15, 0.6, 0.6))                  # tops out under the desk top
+    named = piece((1.1, 0.35, 0.7), (0.15, 0.6, 1.4), label="book")
+    panel = piece((1.1, 0.35, 0.7), (0.15, 0.6, 1.4))
+    table = stored("dining table", (0.5, 0.35, 0.35), (1.0, 0.7, 0.7))
+    assert claimed_by_stored_desk(low, [DESK], BASIS) is None
+    assert claimed_by_stored_desk(named, [DESK], BASIS) is None
+    assert claimed_by_stored_desk(panel, [table], BASIS) is None
+
+
+# --- a solid kind read over a stored shape-named desk (`desk_named_solid`) -------------------------
+
+SHAPE_DESK = {**DESK, "named_by": "shape"}
+
+
+@pytest.mark.parametrize("shift,claimed", [(0.0, True), (0.55, True), (0.65, False)])
+def test_a_refrigerator_holding_half_a_stored_desk_is_that_desk(shift, claimed):   # CLAIM_SHARE
+    from sg3d.graphdb.merge_plan import desk_named_solid
+
+    # the desk spans a 0..1; the refrigerator's box a shift-0.1 .. shift+0.9: it holds 1.1 - shift of it
+    fridge = piece((0.4 + shift, 0.35, 0.6), (1.0, 1.1, 1.2), label="refrigerator")
+    assert (desk_named_solid(fridge, [SHAPE_DESK], BASIS) == "o-desk") is claimed
+
+
+def test_only_solid_kinds_over_a_desk_named_by_its_shape():
+    from sg3d.graphdb.merge_plan import desk_named_solid
+
+    over = ((0.5, 0.35, 0.6), (1.2, 1.1, 1.2))
+    assert desk_named_solid(piece(*over, label="oven"), [SHAPE_DESK], BASIS) == "o-desk"
+    assert desk_named_solid(piece(*over, label="chair"), [SHAPE_DESK], BASIS) is None      # open below
+    assert desk_named_solid(piece(*over, label="refrigerator"), [DESK], BASIS) is None     # no shape evidence
+    assert desk_named_solid(piece(*over), [SHAPE_DESK], BASIS) is None

@@ -175,3 +175,101 @@ def test_a_voxel_marks_a_disc_of_12_5_mm_radius():                    # VOXEL_DI
     one = segment_reading(np.array([320.0]), np.array([240.0]), np.array([1.0]), _camera_at_origin(), image,
                           (300, 220, 340, 260))
     assert one.n == 113            # 1 m away at f = 500 px: a disc of radius 6 px
+
+
+# --- one sheet in pieces (`one_sheet`: a curtain's folds) ------------------------------------------
+
+def _sheet(a0: float, width: float = 0.15, depth: float = 0.1, h0: float = 0.1, h1: float = 1.5):
+    from sg3d.ingest.discover.segments import Segment
+
+    g = np.arange(0.0125, 3, 0.025)
+    v = np.array([(a0 + x, y, z) for x in g[g < width] for y in g[g < depth] for z in h0 + g[g < h1 - h0]])
+    return Segment(v, v.min(axis=0) - 0.0125, v.max(axis=0) + 0.0125, np.array([0]))
+
+
+@pytest.mark.parametrize("gap,one", [(0.08, True), (0.12, False)])
+def test_two_tall_pieces_within_10_cm_are_one_sheet(gap, one):          # REJOIN_GAP_M
+    from sg3d.ingest.discover.discovery import one_sheet
+
+    assert one_sheet(_sheet(0.0), _sheet(0.15 + gap), "white", "white") is one
+
+
+def test_pieces_of_two_colours_or_not_tall_are_two_things():
+    from sg3d.ingest.discover.discovery import one_sheet
+
+    assert not one_sheet(_sheet(0.0), _sheet(0.2), "white", "red")
+    assert not one_sheet(_sheet(0.0, h1=0.3), _sheet(0.2, h1=0.3), "white", "white")
+
+
+@pytest.mark.parametrize("h0,one", [(1.0, True), (1.2, False)])
+def test_one_sheets_pieces_share_half_the_shorter_ones_height(h0, one):  # REJOIN_HEIGHT_SHARE
+    from sg3d.ingest.discover.discovery import one_sheet
+
+    # the second piece runs from h0 to 1.9 m (0.9 or 0.7 m tall, tall either way); the first up to
+    # 1.5 m: they share 0.5 m (over half of 0.9) or 0.3 m (under half of 0.7)
+    assert one_sheet(_sheet(0.0), _sheet(0.2, width=0.1, h0=h0, h1=1.9), "white", "white") is one
+
+
+@pytest.mark.parametrize("depth,one", [(0.175, True), (0.225, False)])
+def test_one_sheet_lies_on_one_vertical_plane(depth, one):               # REJOIN_MAX_THICKNESS_M
+    from sg3d.ingest.discover.discovery import one_sheet, plane_thickness
+
+    a, b = _sheet(0.0, width=0.4, depth=depth, h1=1.9), _sheet(0.45, width=0.4, depth=depth, h1=1.9)
+    assert (plane_thickness(np.concatenate([a.voxels, b.voxels])) <= 0.2) is one
+    assert one_sheet(a, b, "white", "white") is one
+
+
+def test_rejoined_pieces_are_one_node():
+    from sg3d.ingest.discover.discovery import rejoin_sheets
+
+    made = []
+
+    def remake(seg):
+        made.append(seg)
+        return SimpleNamespace(colour="white")
+
+    pieces = [(_sheet(0.0), SimpleNamespace(colour="white")), (_sheet(2.0), SimpleNamespace(colour="white")),
+              (_sheet(0.2), SimpleNamespace(colour="white"))]
+    out = rejoin_sheets(pieces, remake)
+    assert len(out) == 2 and len(made) == 1
+    assert len(made[0].voxels) == len(pieces[0][0].voxels) + len(pieces[2][0].voxels)
+
+
+# --- relief of a wall found in a welded segment (`relief_of_found_wall`) ----------------------------
+
+def _found_wall():
+    """A wall found on the plane b = 0 (normal along b), the room on its b > 0 side, seen from a = 0
+    to 1.4 m and up to 2 m."""
+    from sg3d.ingest.discover.structure import Element
+
+    return Element("wall", np.array([0.0, -0.05, 0.0]), np.array([1.4, 0.05, 2.0]), 100, 5,
+                   plane=(np.pi / 2, 0.0), side=1.0)
+
+
+def _board(b: float, thickness: float = 0.05, a0: float = 0.2):
+    from sg3d.ingest.discover.segments import Segment
+
+    g = np.arange(0.0, 0.7, 0.025)
+    v = np.array([(a0 + x, b + y, 1.6 + z) for x in g[g < 0.7] for y in g[g < thickness] for z in g[g < 0.3]])
+    return Segment(v, v.min(axis=0) - 0.0125, v.max(axis=0) + 0.0125, np.array([0]))
+
+
+@pytest.mark.parametrize("b,relief", [(-0.12, True), (-0.15, False)])
+def test_what_lies_up_to_13_cm_behind_a_found_wall_is_the_wall(b, relief):   # FOUND_WALL_DISTANCE_M
+    from sg3d.ingest.discover.discovery import relief_of_found_wall
+
+    assert relief_of_found_wall(_board(b, thickness=0.025), [_found_wall()]) is relief
+
+
+@pytest.mark.parametrize("b,relief", [(0.06, True), (0.09, False)])
+def test_what_stands_before_a_found_wall_is_its_relief_within_7_cm(b, relief):   # REMNANT_DISTANCE_M
+    from sg3d.ingest.discover.discovery import relief_of_found_wall
+
+    assert relief_of_found_wall(_board(b, thickness=0.025), [_found_wall()]) is relief
+
+
+def test_a_found_wall_claims_reliefs_only_near_the_piece_seen():                # REJOIN_GAP_M
+    from sg3d.ingest.discover.discovery import relief_of_found_wall
+
+    assert relief_of_found_wall(_board(0.0, a0=1.45), [_found_wall()])
+    assert not relief_of_found_wall(_board(0.0, a0=1.55), [_found_wall()])

@@ -175,3 +175,65 @@ def test_a_segment_30_cm_behind_a_sure_wall_is_outside_the_room():     # WALL_FA
 
 def test_a_wall_is_sure_when_1_percent_of_the_points_lie_far_behind_it():   # WALL_SURE_FAR
     assert _beyond(2.5, far_behind=0.009) and not _beyond(2.5, far_behind=0.011)
+
+
+# --- welded along a wall (`split_at_wall`) ---------------------------------------------------------
+
+def _wall_and_box(width: float = 1.4, height: float = 1.2, box: float = 0.4, plane_rows: int = 1):
+    """A board/wall piece on the plane b = 0 (`width` along a, `height` tall, `plane_rows` voxels
+    deep) welded to a solid box standing in front of it (b from 0.1 to 0.1 + box)."""
+    from sg3d.ingest.discover.segments import VOXEL_M
+
+    g = np.arange(0.0125, 10, VOXEL_M)
+    a, h = g[g < width], g[g < height]
+    wall = np.array([(x, -0.0125 - VOXEL_M * r, z) for x in a for z in h for r in range(plane_rows)])
+    s = g[g < box]
+    # the box touches the wall through a bridge of voxels 2.5 cm apart (one 26-neighbourhood)
+    front = np.array([(x, 0.0125 + y, z) for x in s for y in np.concatenate([[0.0], s + VOXEL_M]) for z in s])
+    v = np.concatenate([wall, front])
+    return Segment(v, v.min(axis=0) - 0.0125, v.max(axis=0) + 0.0125, np.array([0]))
+
+
+def test_a_big_segment_with_a_wall_in_it_is_cut_there():
+    from sg3d.ingest.discover.segments import split_at_wall
+
+    parts = split_at_wall(_wall_and_box())
+    assert len(parts) == 2
+    wall, box = parts
+    assert float(np.ptp(wall.voxels[:, 1])) <= 0.12 and float(box.lo[1]) > 0.05
+
+
+@pytest.mark.parametrize("width,cut", [(1.25, True), (1.10, False)])
+def test_only_a_segment_wider_than_an_object_is_cut_at_a_wall(width, cut):     # WELD_MIN_EXTENT_M
+    from sg3d.ingest.discover.segments import split_at_wall
+
+    assert (len(split_at_wall(_wall_and_box(width=width, height=1.0))) > 1) is cut
+
+
+@pytest.mark.parametrize("height,cut", [(0.65, True), (0.55, False)])
+def test_the_wall_cut_away_spans_60_cm_in_height(height, cut):                 # WELD_PLANE_MIN_SPAN_M
+    from sg3d.ingest.discover.segments import split_at_wall
+
+    assert (len(split_at_wall(_wall_and_box(width=1.4, height=height, box=0.3))) > 1) is cut
+
+
+@pytest.mark.parametrize("box,cut", [(0.40, True), (0.70, False)])
+def test_the_wall_holds_30_percent_of_the_segment(box, cut):                   # WELD_PLANE_SHARE
+    from sg3d.ingest.discover.segments import strongest_vertical_plane, split_at_wall
+
+    seg = _wall_and_box(width=1.3, height=0.7, box=box)
+    share = float(strongest_vertical_plane(seg.voxels)[2].mean())
+    assert (share >= 0.3) is cut
+    assert (len(split_at_wall(seg)) > 1) is cut
+
+
+@pytest.mark.parametrize("rows,one", [(4, True), (6, False)])
+def test_a_board_scattered_6_cm_by_depth_noise_stays_one_piece(rows, one):      # WELD_PLANE_SLAB_M
+    """Voxels within 6 cm of the plane are its own; a thicker layer leaves a relief part (within 12 cm,
+    it goes with the plane) or, farther, a part of its own."""
+    from sg3d.ingest.discover.segments import strongest_vertical_plane
+
+    seg = _wall_and_box(width=1.4, height=1.0, box=0.3, plane_rows=rows)
+    on = strongest_vertical_plane(seg.voxels)[2]
+    wall = seg.voxels[:, 1] < 0
+    assert bool(on[wall].all()) is one
