@@ -1094,38 +1094,54 @@ def run(home: Path, qs: Optional[list[Q]] = None) -> list[dict]:
     return ask_all(store, world, questions() if qs is None else qs)
 
 
-def main(argv=None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+def arguments(description: str) -> argparse.ArgumentParser:
+    """The options every question set's command takes (this one, the held-out sets)."""
+    ap = argparse.ArgumentParser(description=description)
     where_ = ap.add_mutually_exclusive_group()
     where_.add_argument("--keep-home", type=Path, help="build the rooms into this SG3D_HOME and keep it")
     where_.add_argument("--home", type=Path, help="reuse this SG3D_HOME, which already holds the three rooms")
     ap.add_argument("--json", action="store_true", help="one JSON object per question, then the summary")
-    ap.add_argument("--md", type=Path, help="also write the questions, oracle rules and results (markdown) here")
-    args = ap.parse_args(argv)
+    return ap
 
+
+def ask_set(args, qs: Optional[list[Q]], prefix: str) -> list[dict]:
+    """Ask a question set of the rooms of `--home`, or of rooms built into `--keep-home` or a
+    scratch home (whose store is stopped afterwards, and the scratch home removed)."""
     scratch = None
     if args.home:
         home = args.home
     else:
-        home = args.keep_home or Path(scratch := tempfile.mkdtemp(prefix="sg3d-paraphrases-"))
+        home = args.keep_home or Path(scratch := tempfile.mkdtemp(prefix=prefix))
         home.mkdir(parents=True, exist_ok=True)
     os.environ["SG3D_HOME"] = str(home)
     try:
         if not args.home:
             build(home)
-        rows = run(home)
+        return run(home, qs)
     finally:
         if not args.home:           # the store this run started: stop it (a kept home restarts on demand)
             subprocess.run([sys.executable, "-m", "sg3d", "db", "stop"], env={**os.environ, "SG3D_HOME": str(home)},
                            capture_output=True)
         if scratch:
             shutil.rmtree(scratch, ignore_errors=True)
-    if args.json:
+
+
+def report(rows: list[dict], as_json: bool) -> None:
+    """The table, or one JSON object per question and the summary."""
+    if as_json:
         for r in rows:
             print(json.dumps(r))
         print(json.dumps({"summary": summary(rows)}))
     else:
         print(table(rows))
+
+
+def main(argv=None) -> int:
+    ap = arguments(__doc__.splitlines()[0])
+    ap.add_argument("--md", type=Path, help="also write the questions, oracle rules and results (markdown) here")
+    args = ap.parse_args(argv)
+    rows = ask_set(args, None, "sg3d-paraphrases-")
+    report(rows, args.json)
     if args.md:
         # keep a hand-written held-out section (benchmarks/paraphrases_heldout.py) at the page's end
         kept = args.md.read_text().partition(HELDOUT_MARK)[1:] if args.md.exists() else ("", "")

@@ -20,20 +20,12 @@ last result.
 """
 from __future__ import annotations
 
-import argparse
-import json
-import os
-import shutil
-import subprocess
-import sys
-import tempfile
-from pathlib import Path
 
 from benchmarks.paraphrases import (
+    arguments, ask_set, report,
     CABINET, CHAIRS, COL, COUNTER, CUPS, DESKS, DRINKABLE, FRIDGE, NOT_LABEL, PUT_PLACES, SHELVES, SINK, SITTABLE,
-    STORE_PLACES, SURFACES, TABLE, TABLES, THINGS, TVS, WORK_PLACES, L, Oracle, Q, S, Truth, _q, afford, bigger, build,
-    colour_of, count, dims, distance, exists, measure, objects, pick_bigger, quantity, rel, room_extreme, rooms_with,
-    run, summary, table, total_count, vol, where, where_all,
+    STORE_PLACES, SURFACES, TABLE, TABLES, THINGS, TVS, WORK_PLACES, L, Oracle, Q, S, Truth, _q, afford, bigger, colour_of, count, dims, distance, exists, measure, objects, pick_bigger, quantity, rel, room_extreme, rooms_with,
+    total_count, vol, where, where_all,
 )
 
 BOOKS = L("book")
@@ -141,36 +133,8 @@ def questions() -> list[Q]:
 
 
 def main(argv: list[str] | None = None) -> int:
-    ap = argparse.ArgumentParser(description=(__doc__ or "").splitlines()[0])
-    where_ = ap.add_mutually_exclusive_group()
-    where_.add_argument("--keep-home", type=Path, help="build the rooms into this SG3D_HOME and keep it")
-    where_.add_argument("--home", type=Path, help="reuse this SG3D_HOME, which already holds the three rooms")
-    ap.add_argument("--json", action="store_true", help="one JSON object per question, then the summary")
-    args = ap.parse_args(argv)
-
-    scratch = None
-    if args.home:
-        home = args.home
-    else:
-        home = args.keep_home or Path(scratch := tempfile.mkdtemp(prefix="sg3d-heldout-"))
-        home.mkdir(parents=True, exist_ok=True)
-    os.environ["SG3D_HOME"] = str(home)
-    try:
-        if not args.home:
-            build(home)
-        rows = run(home, questions())
-    finally:
-        if not args.home:           # the store this run started: stop it (a kept home restarts on demand)
-            subprocess.run([sys.executable, "-m", "sg3d", "db", "stop"], env={**os.environ, "SG3D_HOME": str(home)},
-                           capture_output=True)
-        if scratch:
-            shutil.rmtree(scratch, ignore_errors=True)
-    if args.json:
-        for r in rows:
-            print(json.dumps(r))
-        print(json.dumps({"summary": summary(rows)}))
-    else:
-        print(table(rows))
+    args = arguments((__doc__ or "").splitlines()[0]).parse_args(argv)
+    report(ask_set(args, questions(), "sg3d-heldout-"), args.json)
     return 0
 
 

@@ -161,6 +161,17 @@ class Frame:
             self._color = self._depth = self._gray = None
 
 
+def ring_item(items, count: int, i: int, name: str, ring: int):
+    """Frame i of a live source that keeps only its last `ring` frames (`items`, the newest last,
+    `count` received so far): FrameError when it has not arrived or is no longer held."""
+    first = count - len(items)
+    if i >= count:
+        raise FrameError(name, "has not arrived yet")
+    if i < first:
+        raise FrameError(name, f"no longer held (the last {ring} frames are kept in memory)")
+    return items[i - first]
+
+
 def decoded_ahead(frames: Iterable[Frame], what: tuple[str, ...], ahead: int = 4) -> Iterator[Frame]:
     """`frames` in order, with their `what` images decoded on a reader thread up to `ahead` frames
     before the caller reaches them (JPEG and PNG decoding release the GIL, so decoding overlaps

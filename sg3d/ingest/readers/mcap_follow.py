@@ -61,7 +61,7 @@ from sg3d.ingest.readers.bag import (
     header_stamp,
 )
 from sg3d.ingest.readers.base import SequenceError
-from sg3d.ingest.readers.frames import Frame, FrameError
+from sg3d.ingest.readers.frames import Frame, FrameError, ring_item
 
 MAGIC = b"\x89MCAP0\r\n"
 OP_FOOTER = 0x02
@@ -189,12 +189,7 @@ class McapFollower:
     def frame(self, i: int) -> Frame:
         name = f"frame-{i:06d}"
         with self._lock:
-            first = self._count - len(self._frames)
-            if i >= self._count:
-                raise FrameError(name, "has not arrived yet")
-            if i < first:
-                raise FrameError(name, f"no longer held (the last {self.ring} frames are kept in memory)")
-            held = self._frames[i - first]
+            held = ring_item(self._frames, self._count, i, name, self.ring)
         if held.error:
             raise FrameError(held.name, held.error)
         assert held.K is not None and held.pose is not None

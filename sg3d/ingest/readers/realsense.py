@@ -32,7 +32,7 @@ import cv2
 import numpy as np
 
 from sg3d.ingest.readers.base import SequenceError
-from sg3d.ingest.readers.frames import Frame, FrameError
+from sg3d.ingest.readers.frames import Frame, ring_item
 
 PREFIX = "realsense"
 RING_FRAMES = 90              # frames held in memory (3 s at 30 frames/s)
@@ -196,12 +196,7 @@ class RealSenseSource:
     def frame(self, i: int) -> Frame:
         name = f"realsense-{i:06d}"
         with self._lock:
-            first = self._count - len(self._frames)
-            if i >= self._count:
-                raise FrameError(name, "has not arrived yet")
-            if i < first:
-                raise FrameError(name, f"no longer held (the last {self.ring} frames are kept in memory)")
-            colour, depth, stamp = self._frames[i - first]
+            colour, depth, stamp = ring_item(self._frames, self._count, i, name, self.ring)
         assert self.K is not None
         return Frame(i, colour, depth, self.K, np.full((4, 4), np.nan), stamp, name)
 
