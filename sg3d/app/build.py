@@ -38,9 +38,14 @@ class BuildRequest:
     trajectory_out: Optional[Path] = None  # write the estimated trajectory here (TUM format)
 
 
+def check_names(room: str, building: str, error: type[Exception] = BuildError) -> None:
+    """`error` unless both names are non-empty and hold no '/' (a room's id is building/room)."""
+    if not room.strip() or "/" in room or not building.strip() or "/" in building:
+        raise error("room and building names must be non-empty and contain no '/'")
+
+
 def validate(req: BuildRequest) -> None:
-    if not req.room.strip() or "/" in req.room or not req.building.strip() or "/" in req.building:
-        raise BuildError("room and building names must be non-empty and contain no '/'")
+    check_names(req.room, req.building)
     if sum(map(bool, (req.transform_file, req.align_to, req.shared_frame))) > 1:
         raise BuildError("give at most one of --transform, --align-to and --shared-frame")
     if req.trajectory_out is not None and not Path(req.trajectory_out).expanduser().parent.is_dir():

@@ -71,8 +71,9 @@ class MapSummary:
 
 
 def check_request(req: MapRequest) -> None:
-    if not req.room.strip() or "/" in req.room or not req.building.strip() or "/" in req.building:
-        raise MapError("room and building names must be non-empty and contain no '/'")
+    from sg3d.app.build import check_names
+
+    check_names(req.room, req.building, MapError)
     if req.publish_every < MIN_PUBLISH_EVERY_S:
         raise MapError(f"--publish-every {req.publish_every}: at least {MIN_PUBLISH_EVERY_S} s")
     if req.stop_when_idle is not None and req.stop_when_idle <= 0:
@@ -193,15 +194,13 @@ def _follow(mapper, req: MapRequest, should_stop: Optional[Callable[[], bool]]) 
         return "stopped"
 
 
-class _Discoverer:
-    """Runs discovery from depth again every DISCOVER_EVERY_S while the evidence changes."""
+class _Worker:
+    """A loop on its own thread (`_run`, until `_stop` is set); an error ends it and is raised
+    again on the mapping thread by `stop()`."""
 
-    def __init__(self, mapper):
-        self.mapper = mapper
-        self.runs = 0
-        self.seconds: list[float] = []
+    def __init__(self, name: str):
         self._stop = threading.Event()
-        self._thread = threading.Thread(target=self._run, name="sg3d-map-discover", daemon=True)
+        self._thread = threading.Thread(target=self._guarded, name=name, daemon=True)
         self.error: Optional[BaseException] = None
 
     def start(self) -> None:
@@ -213,27 +212,43 @@ class _Discoverer:
         if self.error is not None:
             raise self.error
 
+    def _guarded(self) -> None:
+        try:
+            self._run()
+        except Exception as exc:   # noqa: BLE001 - handed to the mapping thread by stop()
+            self.error = exc
+
+    def _run(self) -> None:
+        raise NotImplementedError
+
+
+class _Discoverer(_Worker):
+    """Runs discovery from depth again every DISCOVER_EVERY_S while the evidence changes."""
+
+    def __init__(self, mapper):
+        super().__init__("sg3d-map-discover")
+        self.mapper = mapper
+        self.runs = 0
+        self.seconds: list[float] = []
+
     def _run(self) -> None:
         while not self._stop.wait(DISCOVER_EVERY_S):
             m = self.mapper
             if m.gravity is None or (m.discovered is not None and m.discovered.version == m.version):
                 continue
             t0 = time.perf_counter()
-            try:
-                m.graph(fast=False)
-            except Exception as exc:   # noqa: BLE001 - handed to the mapping thread by stop()
-                self.error = exc
-                return
+            m.graph(fast=False)
             self.runs += 1
             self.seconds.append(time.perf_counter() - t0)
 
 
-class _Publisher:
+class _Publisher(_Worker):
     """Publishes the mapper's graph at most every `publish_every` seconds on its own thread."""
 
     def __init__(self, store, mapper, req: MapRequest, embedding, on_update):
         from sg3d.core.model import ScanInfo
 
+        super().__init__("sg3d-map-publish")
         self.store, self.mapper, self.req, self.embedding = store, mapper, req, embedding
         self.on_update = on_update
         self.since = time.time()
@@ -244,28 +259,16 @@ class _Publisher:
         self.first_objects_at: Optional[float] = None
         self.publish_seconds: list[float] = []
         self.graph_seconds: list[float] = []
-        self._stop = threading.Event()
         self._lock = threading.Lock()        # one publish at a time (the last one runs after the thread)
-        self._thread = threading.Thread(target=self._run, name="sg3d-map-publish", daemon=True)
-        self.error: Optional[BaseException] = None
-
-    def start(self) -> None:
-        self._thread.start()
 
     def announce(self) -> None:
         """The room exists and says it is being mapped before the first frame is in."""
-        from sg3d.graphdb.merge import create_room
+        from sg3d.graphdb.merge import ensure_room
         from sg3d.graphdb.values import room_id
 
-        create_room(self.store, self.req.building, self.req.room)
+        ensure_room(self.store, self.req.building, self.req.room)
         self.store.write("live_status", room=room_id(self.req.building, self.req.room), state="live",
                          since=self.since, frames=0, updated=time.time(), source=str(self.req.source))
-
-    def stop(self) -> None:
-        self._stop.set()
-        self._thread.join()
-        if self.error is not None:
-            raise self.error
 
     def _run(self) -> None:
         """Publish as soon as the evidence changed and `publish_every` passed since the last
@@ -277,11 +280,7 @@ class _Publisher:
             if time.monotonic() - last < self.req.publish_every:
                 continue
             last = time.monotonic()
-            try:
-                self.publish_now(None, "live")
-            except Exception as exc:   # noqa: BLE001 - handed to the mapping thread by stop()
-                self.error = exc
-                return
+            self.publish_now(None, "live")
 
     def publish_now(self, frames: Optional[list[int]], state: str):
         from sg3d.graphdb.live import publish

@@ -25,7 +25,7 @@ from sg3d.core.embedding import LabelEmbedding, default_embedding
 from sg3d.core.model import RELATION_TYPES, LocalGraph, ScanInfo
 from sg3d.graphdb import cypher
 from sg3d.graphdb.consistency import canonical_rows, resolve_pairs
-from sg3d.graphdb.merge import create_room
+from sg3d.graphdb.merge import ensure_room
 from sg3d.graphdb.merge_plan import plan_merge
 from sg3d.graphdb.store import size_batches
 from sg3d.graphdb.tally import create_objects_and_tallies
@@ -134,10 +134,7 @@ def publish(store, graph: LocalGraph, scan: ScanInfo, status: dict,
     unchanged if anything fails, and readers see the previous publish until this one commits."""
     embedding = embedding or default_embedding()
     store.ensure_schema()
-    rid = room_id(graph.building, graph.room)
-    if rid not in store.rooms_known:
-        create_room(store, graph.building, graph.room)
-        store.rooms_known.add(rid)
+    ensure_room(store, graph.building, graph.room)
     report = store.execute_write(lambda tx: publish_in_tx(tx, graph, scan, status, embedding))
     report.committed_at = time.time()
     return report

@@ -177,10 +177,7 @@ def merge_local_graph(store, graph: LocalGraph, embedding: Optional[LabelEmbeddi
     """Merge one local graph as ONE transaction; the store is unchanged if anything fails."""
     embedding = embedding or default_embedding()
     store.ensure_schema()
-    rid = room_id(graph.building, graph.room)
-    if rid not in store.rooms_known:     # a room is created once: later merges skip the round trip
-        create_room(store, graph.building, graph.room)
-        store.rooms_known.add(rid)
+    ensure_room(store, graph.building, graph.room)
     from neo4j.exceptions import ConstraintError
 
     try:
@@ -192,6 +189,14 @@ def merge_local_graph(store, graph: LocalGraph, embedding: Optional[LabelEmbeddi
         if graph.key and store.read("merge_log_exists", key=graph.key):
             return MergeReport(key=graph.key, skipped=True)
         raise
+
+
+def ensure_room(store, building: str, room: str) -> None:
+    """The room exists (`create_room`); created once per store handle: later writes skip the round trip."""
+    rid = room_id(building, room)
+    if rid not in store.rooms_known:
+        create_room(store, building, room)
+        store.rooms_known.add(rid)
 
 
 def create_room(store, building: str, room: str, attempts: int = 4) -> None:

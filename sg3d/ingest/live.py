@@ -223,11 +223,14 @@ class LiveMapper:
         if self.gravity is None and len(self._gravity_frames) >= GRAVITY_FRAMES:
             self._estimate_gravity()
 
-    def _estimate_gravity(self) -> None:
+    def _estimate_gravity(self, wait_for_more: bool = True) -> None:
+        """Gravity from the frames kept for it (then released); when their depth gives none,
+        `wait_for_more` drops the older half to make room for newer frames."""
         try:
             self.gravity = estimate_gravity(self._gravity_frames)
         except ValueError:
-            self._gravity_frames = self._gravity_frames[GRAVITY_FRAMES // 2:]   # no depth yet: wait
+            if wait_for_more:
+                self._gravity_frames = self._gravity_frames[GRAVITY_FRAMES // 2:]   # no depth yet: wait
             return
         for f in self._gravity_frames:
             f.release()
@@ -255,7 +258,7 @@ class LiveMapper:
         waiting longer than MAX_LAG_S are skipped first. False when nothing could be detected."""
         if self.gravity is None:
             if self._gravity_frames and self.backlog() == 0 and self._queue:
-                self._estimate_gravity_now()
+                self._estimate_gravity(wait_for_more=False)   # a short source: the frames there are
             if self.gravity is None:
                 return False
         now = time.time() if now is None else now
@@ -269,16 +272,6 @@ class LiveMapper:
         if self._detect(i) and priority == 1:
             self.counts.coverage += 1
         return True
-
-    def _estimate_gravity_now(self) -> None:
-        """A short source: gravity from the frames there are (fewer than GRAVITY_FRAMES)."""
-        try:
-            self.gravity = estimate_gravity(self._gravity_frames)
-        except ValueError:
-            return
-        for f in self._gravity_frames:
-            f.release()
-        self._gravity_frames = []
 
     def _detect(self, i: int) -> bool:
         assert self.gravity is not None
@@ -371,7 +364,7 @@ class LiveMapper:
                 self.gravity = built
                 self._measure_again(final)
         if self.gravity is None and self._gravity_frames:
-            self._estimate_gravity_now()
+            self._estimate_gravity(wait_for_more=False)   # a short source: the frames there are
         if self.gravity is None:
             return []
         for i in final:
