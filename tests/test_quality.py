@@ -21,12 +21,12 @@ LIVING = SHARED / "data" / "open3d-livingroom1-micro"
 MIN_NODE_PRECISION = 0.78
 MIN_NODE_RECALL = 0.35
 MAX_DUPLICATES = 1
-# the relations issue's bar: edge precision >= 0.80 with checked edge recall >= 0.75. Recall is
-# 0.72 (8 of 11 checked edges) since 2026-12-02: cutting segments welded along a wall found 4
-# more of the kitchen's objects and freed the big tv's screen rim as an unnamed piece, which is
-# now NEXT_TO the tv in place of the small tv. Back to 0.75 is open work (issue 34's notes).
+# the relations issue's bar: edge precision >= 0.80 with checked edge recall >= 0.75. (It was 0.72,
+# 8 of 11, while the big tv's screen rim, cut free of a welded segment, was a node of its own
+# NEXT_TO the tv in place of the small tv; rule "the named object's own edge",
+# `discovery.own_edge`, joins it to the tv.)
 MIN_EDGE_PRECISION = 0.80
-MIN_EDGE_RECALL = 0.72
+MIN_EDGE_RECALL = 0.75
 MIN_VQA_RIGHT = 5
 # every object, named or not, against every located GT object (measured: docs/figures.md, Table II:
 # 0.62-0.66 at precision 0.86-0.92 over the given poses and four sub-degree pose draws)
@@ -83,6 +83,21 @@ def test_kitchen_edges_and_answers_keep_their_quality(kitchen):
     assert report["edges"]["precision"] >= MIN_EDGE_PRECISION, report["edges"].get("spurious")
     assert report["edges"]["recall"] >= MIN_EDGE_RECALL, report["edges"].get("missed")
     assert report["vqa"]["right"] >= MIN_VQA_RIGHT
+
+
+def test_kitchen_the_red_shelfs_things_are_nodes_and_its_boards_are_none(kitchen):
+    """Rule "a row of things" (`discovery.row_parts`): the things upright on the red wall shelf (its
+    top hidden by them, so no surface rule finds it) were one 1.58 m segment, one node; cut at their
+    necks, at least 6 of the 8 the annotators placed there (notes "red shelf") are matched (5 before,
+    one of them by the small tv's node). Rule "the board's own thickness"
+    (`discovery.board_of_surface`): the left counter's worktop edge under its top was a second node of
+    a small frame on it; no node repeats a GT object now (2 before)."""
+    _, report = kitchen
+    gt = json.loads(GT.read_text())
+    on_shelf = {o["id"] for o in gt["objects"] if "red shelf" in o["notes"].lower() and "below" not in o["notes"]}
+    missing = {m["gt"] for m in report["objects"]["missing"]}
+    assert len(on_shelf) == 8 and len(on_shelf - missing) >= 6, sorted(on_shelf & missing)
+    assert report["objects"]["duplicates"] == 0
 
 
 def test_kitchen_relations_are_consistent(home, kitchen):

@@ -7,11 +7,15 @@ chunk's named objects meet the room's cloud (`sg3d.ingest.discover.room_cloud`),
 - `whole_object_box`: a named object's box spans the object, not the part the detector boxed
   (rules "stands on the floor" and "owns its top");
 - `named_by`: a segment that lies inside a named object's whole box is that object (its name is
-  the detector's evidence, accumulated over views), and is not a node of its own;
+  the detector's evidence, accumulated over views), and is not a node of its own; so is a piece
+  just beyond a named box that the box stopped short of (`own_edge`: a screen's rim);
 - `separate_resting`: things lying side by side on a table, a counter or a shelf touch; a
   segment resting on a surface is cut at its necks (`segments.split_at_necks`);
 - `plane_remnant`: a thin relief left along a cut wall or front (a door edge) is not an object,
-  nor is a flat piece lying on the floor (`floor_remnant`);
+  nor is a flat piece lying on the floor (`floor_remnant`) or one under a surface's level, its
+  board's thickness (`board_of_surface`);
+- `row_parts`: a kept segment longer than one thing is a row of things standing side by side (on
+  a shelf no surface rule found, against a wall) and is cut at its necks too;
 - `separate_at_walls`: a segment welded along a wall no structure rule found (a far wall whose
   normals were too noisy to vote) is cut at that wall's plane (`segments.split_at_wall`: the bins
   before a whiteboard's wall); what lies flat on or just behind such a wall is the wall's
@@ -44,6 +48,7 @@ from sg3d.ingest.discover.room_cloud import RoomCloud
 from sg3d.ingest.discover.segments import (
     GOOD_VIEWS,
     VOXEL_M,
+    WELD_MIN_EXTENT_M,
     WELD_PLANE_SLAB_M,
     Segment,
     depth_evidence,
@@ -68,6 +73,10 @@ TOP_TOLERANCE_M = 0.15
 # box grown by NAMED_MARGIN_M.
 NAMED_SHARE = 0.5
 NAMED_MARGIN_M = 0.02
+# A detector's box may stop short of its object's edge (a screen's bezel above the box) by up to
+# EDGE_GROWTH of its side: a piece with NAMED_SHARE of its voxels inside the box grown so is
+# that object's edge (`own_edge`).
+EDGE_GROWTH = 0.25
 # A plane remnant (a relief of a cut wall or front): its median voxel lies within
 # REMNANT_DISTANCE_M of the plane and it is at most REMNANT_THICKNESS_M thick across it. Depth at
 # room range (1-3 cm noise, cut at PLANE_CUT_M) cannot tell trim, a door edge or a poster
@@ -163,6 +172,24 @@ def named_by(seg: Segment, boxes: Sequence[tuple[np.ndarray, np.ndarray]]) -> bo
     return False
 
 
+def own_edge(seg: Segment, boxes: Sequence[tuple[np.ndarray, np.ndarray]]) -> bool:
+    """Rule "the named object's own edge": a detector's box may stop short of its object's edge
+    by up to EDGE_GROWTH of the box's side on each axis (a screen's bezel, a frame's rim), and the
+    box's points are claimed before segmentation, so that edge comes out as a piece hugging the
+    box. A piece with NAMED_SHARE of its voxels inside one named object's box grown by
+    EDGE_GROWTH of its sides, that does not stand on the box's top (its bottom below the box's
+    top less RESTING_M: what stands on a thing is not its edge), is that object. The growth is
+    relative to the box: a thing beside a small object lies outside it."""
+    for lo, hi in boxes:
+        grow = EDGE_GROWTH * (hi - lo)
+        if float(seg.lo[2]) >= float(hi[2]) - RESTING_M:
+            continue
+        inside = ((seg.voxels >= lo - grow) & (seg.voxels <= hi + grow)).all(axis=1)
+        if float(inside.mean()) >= NAMED_SHARE:
+            return True
+    return False
+
+
 def plane_remnant(seg: Segment, planes: Sequence[Element]) -> bool:
     """Rule "relief of a plane": a segment whose median voxel lies within REMNANT_DISTANCE_M of
     a cut wall or front and that is at most REMNANT_THICKNESS_M thick across it (trim, door
@@ -189,6 +216,22 @@ def resting_on(seg: Segment, surfaces: Sequence[Element]) -> bool:
     centre = np.array([[*((seg.lo[:2] + seg.hi[:2]) / 2), 0.0]])
     for e in surfaces:
         if abs(float(seg.lo[2]) - e.height) <= RESTING_M:
+            centre[0, 2] = e.height
+            if bool(e.contains(centre, RESTING_M)[0]):
+                return True
+    return False
+
+
+def board_of_surface(seg: Segment, surfaces: Sequence[Element]) -> bool:
+    """Rule "the board's own thickness": a flat piece (`shape_word`) whose top lies within
+    RESTING_M of a horizontal surface's level and whose centre lies under the surface's footprint
+    is that surface's board (a worktop's thickness or front lip below the slab cut away as the
+    surface, a table's apron), not a thing: things stand on a surface, their bottoms at its level."""
+    if shape_word(seg.size) != "flat":
+        return False
+    centre = np.array([[*((seg.lo[:2] + seg.hi[:2]) / 2), 0.0]])
+    for e in surfaces:
+        if abs(float(seg.hi[2]) - e.height) <= RESTING_M:
             centre[0, 2] = e.height
             if bool(e.contains(centre, RESTING_M)[0]):
                 return True
@@ -235,6 +278,26 @@ def separate_at_walls(segments: Sequence[Segment], cloud: RoomCloud) -> tuple[li
             if exists(part):
                 out.append(part)
     return out, found
+
+
+def row_parts(seg: Segment, cloud: RoomCloud) -> list[Segment]:
+    """Rule "a row of things": a segment at least `segments.WELD_MIN_EXTENT_M` across in the top
+    view is longer than one thing standing on its own (chairs up to 1.1 m; couches and desks are
+    taken before), so it holds things standing side by side, on a board no surface rule found (a
+    wall shelf's top hidden by what stands on it) or against a wall: it is cut at its necks
+    (`segments.split_at_necks`) like a segment resting on a surface, and each part that passes the
+    depth existence test on its own is returned. The row stood out of every plane more than a
+    relief (`plane_remnant`), so its parts are the things standing against it, not relief (a
+    booklet upright against the wall beside a mouse). A shorter segment, or one without necks, is
+    returned whole."""
+    if float(np.max(seg.size[:2])) < WELD_MIN_EXTENT_M:
+        return [seg]
+    parts = split_at_necks(seg)
+    if len(parts) == 1:
+        return [seg]
+    for part in parts:
+        depth_evidence(part, cloud)
+    return [part for part in parts if exists(part)]
 
 
 def relief_of_found_wall(seg: Segment, walls: Sequence[Element]) -> bool:
@@ -567,13 +630,21 @@ def discover(named: list[ObjectObservation], cloud: RoomCloud, structure: Sequen
     screens = [b for o, b in zip(named, boxes) if colour_model.is_screen(o.label)]
     unnamed: list[ObjectObservation] = [desk for _, desk in desks] + [couch for _, _, couch in couches]
     pieces: list[tuple[Segment, ObjectObservation]] = []
-    for seg in segments:
-        if (named_by(seg, boxes) or plane_remnant(seg, planes) or floor_remnant(seg)
-                or relief_of_found_wall(seg, found_walls)
+
+    def part_of_another(seg: Segment, whole: bool = True) -> bool:
+        return (named_by(seg, boxes) or own_edge(seg, claims) or floor_remnant(seg) or board_of_surface(seg, surfaces)
+                or whole and (plane_remnant(seg, planes) or relief_of_found_wall(seg, found_walls))
                 or furniture.base_under_seat(seg.lo, seg.hi, seats)
-                or any(furniture.carrel_panel(seg.lo, seg.hi, *top) for top in worktops)):
+                or any(furniture.carrel_panel(seg.lo, seg.hi, *top) for top in worktops))
+
+    # a segment that is part of something else stays so; a kept one in a row is cut at its
+    # necks, and its parts are things, not a plane's relief (`row_parts`)
+    for seg in segments:
+        if part_of_another(seg):
             continue
-        pieces.append((seg, unnamed_object("u", seg, cloud, colour_image, screens)))
+        for part in row_parts(seg, cloud):
+            if part is seg or not part_of_another(part, whole=False):
+                pieces.append((part, unnamed_object("u", part, cloud, colour_image, screens)))
     pieces = rejoin_sheets(pieces, lambda seg: unnamed_object("u", seg, cloud, colour_image, screens))
     for _, obj in pieces:
         unnamed.append(replace(obj, local_id=f"u{len(unnamed)}"))

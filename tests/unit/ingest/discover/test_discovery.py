@@ -273,3 +273,107 @@ def test_a_found_wall_claims_reliefs_only_near_the_piece_seen():                
 
     assert relief_of_found_wall(_board(0.0, a0=1.45), [_found_wall()])
     assert not relief_of_found_wall(_board(0.0, a0=1.55), [_found_wall()])
+
+
+# --- a row of things (`row_parts`) ------------------------------------------------------------------
+
+def _row(length: float):
+    """Two 0.3 m blocks standing side by side, joined by a one-voxel neck, `length` long in all."""
+    g = 0.025
+    xs = np.arange(0.0, length, g) + g / 2
+    v = [(x, y, z) for x in xs for y in np.arange(0.0, 0.2, g) + g / 2 for z in np.arange(0.8, 1.0, g)
+         if x < 0.3 or x > length - 0.3 or abs(y - 0.1125) < 0.02]
+    return _segment(v)
+
+
+@pytest.mark.parametrize("length,cut", [(1.25, True), (1.15, False)])
+def test_only_a_segment_longer_than_one_thing_is_cut_as_a_row(monkeypatch, length, cut):   # WELD_MIN_EXTENT_M
+    from sg3d.ingest.discover import discovery
+
+    monkeypatch.setattr(discovery, "depth_evidence", lambda seg, cloud: None)
+    monkeypatch.setattr(discovery, "exists", lambda seg: True)
+    seg = _row(length)
+    parts = discovery.row_parts(seg, None)
+    assert (len(parts) == 2) is cut
+    if not cut:
+        assert parts == [seg]
+
+
+def test_a_rows_parts_that_fail_depth_are_dropped(monkeypatch):
+    from sg3d.ingest.discover import discovery
+
+    monkeypatch.setattr(discovery, "depth_evidence", lambda seg, cloud: None)
+    monkeypatch.setattr(discovery, "exists", lambda seg: float(seg.lo[0]) < 0.5)
+    parts = discovery.row_parts(_row(1.3), None)
+    assert len(parts) == 1 and float(parts[0].lo[0]) < 0.5
+
+
+# --- a named object's own edge (`own_edge`) ----------------------------------------------------------
+
+SCREEN_LO, SCREEN_HI = np.array([0.0, 0.0, 1.2]), np.array([0.8, 0.1, 1.6])   # 0.8 wide, 0.4 tall
+
+
+def _rim(width: float):
+    """A bezel seen beyond the screen's box: a strip down its right side, from a = 0.8 (the box's
+    edge) to 0.8 + `width` (the real tv's rim, kitchen, ran 0.23 m beyond its box)."""
+    g = 0.025
+    return _segment([(x, 0.05, z) for x in np.arange(0.8, 0.8 + width - 1e-9, g) for z in np.arange(1.25, 1.6, g)])
+
+
+@pytest.mark.parametrize("width,edge", [(0.35, True), (0.5, False)])
+def test_a_piece_within_a_quarter_of_a_named_box_beyond_it_is_its_edge(width, edge):   # EDGE_GROWTH
+    from sg3d.ingest.discover.discovery import own_edge
+
+    # a quarter of the 0.8 m width: the box may stop 20 cm short of the screen's edge, so half the
+    # strip's voxels lie within a = 1.0 when it is 0.35 m wide (9 of 14), not when 0.5 m (9 of 20)
+    assert own_edge(_rim(width), [(SCREEN_LO, SCREEN_HI)]) is edge
+
+
+def test_a_things_beside_a_small_named_box_is_not_its_edge():
+    from sg3d.ingest.discover.discovery import own_edge
+
+    cup = (np.array([0.0, 0.0, 0.9]), np.array([0.06, 0.1, 1.0]))
+    beside = _segment([(x, y, z) for x in np.arange(0.07, 0.15, 0.025) for y in (0.02, 0.06)
+                       for z in np.arange(0.9, 1.0, 0.025)])
+    assert not own_edge(beside, [cup])
+
+
+@pytest.mark.parametrize("bottom,edge", [(1.54, True), (1.56, False)])
+def test_what_stands_on_a_named_box_is_not_its_edge(bottom, edge):           # RESTING_M
+    from sg3d.ingest.discover.discovery import own_edge
+
+    piece = _segment([(x, 0.05, z) for x in np.arange(0.3, 0.5, 0.025) for z in np.arange(bottom, 1.64, 0.02)])
+    piece.lo[2] = bottom
+    assert own_edge(piece, [(SCREEN_LO, SCREEN_HI)]) is edge
+
+
+# --- a board's own thickness (`board_of_surface`) ----------------------------------------------------
+
+def _under_board(top: float, thickness: float = 0.12, width: float = 0.6):
+    from sg3d.ingest.discover.segments import Segment
+
+    return Segment(np.zeros((12, 3)), np.array([0.2, 0.2, top - thickness]), np.array([0.2 + width, 0.5, top]),
+                   np.array([0]))
+
+
+@pytest.mark.parametrize("top,board", [(0.71, True), (0.69, False)])
+def test_a_flat_piece_topped_within_5_cm_of_a_surface_is_its_board(top, board):   # RESTING_M
+    from sg3d.ingest.discover.discovery import board_of_surface
+
+    assert board_of_surface(_under_board(top), [_surface(height=0.75)]) is board
+
+
+@pytest.mark.parametrize("thickness,board", [(0.15, True), (0.16, False)])
+def test_only_a_flat_piece_is_a_surfaces_board(thickness, board):             # FLAT_RATIO
+    from sg3d.ingest.discover.discovery import board_of_surface
+
+    # flat: at most a quarter of its 0.6 m side tall
+    assert board_of_surface(_under_board(0.75, thickness), [_surface(height=0.75)]) is board
+
+
+def test_a_flat_piece_beside_a_surface_is_not_its_board():
+    from sg3d.ingest.discover.discovery import board_of_surface
+
+    piece = _under_board(0.75)
+    piece.lo[0], piece.hi[0] = 1.3, 1.9                      # the surface ends at a = 1.0
+    assert not board_of_surface(piece, [_surface(height=0.75)])
