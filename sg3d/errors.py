@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import os
+import sys
 
 import click
 
@@ -15,18 +16,6 @@ class UserError(Sg3dError, click.ClickException):
 
 
 def run_cli(group: click.Group) -> int:
-    from neo4j.exceptions import (
-        AuthError,
-        ClientError,
-        CypherSyntaxError,
-        DatabaseError,
-        ServiceUnavailable,
-        TransientError,
-    )
-
-    from sg3d.graphdb.embedded import EmbeddedStoreError
-    from sg3d.graphdb.store import ReadOnlyStoreError, StatementTooLarge
-
     try:
         group.main(standalone_mode=False, prog_name="sg3d")
         return 0
@@ -41,27 +30,52 @@ def run_cli(group: click.Group) -> int:
     except click.ClickException as exc:
         exc.show()
         return exc.exit_code
-    except ServiceUnavailable as exc:
-        click.echo(f"error: cannot reach the graph store ({_first_line(exc).rstrip(':')})", err=True)
-        return 2
-    except AuthError as exc:
-        click.echo(f"error: the graph store refused the credentials: {_first_line(exc)}", err=True)
-        return 2
-    except (CypherSyntaxError, ClientError, DatabaseError, TransientError) as exc:
-        full = _disk_full()
-        click.echo(f"error: {full or describe_store_error(exc)}", err=True)
-        return 2
-    except (EmbeddedStoreError, ReadOnlyStoreError, StatementTooLarge) as exc:
-        click.echo(f"error: {exc}", err=True)
-        return 2
     except KeyboardInterrupt:
         click.echo("interrupted", err=True)
         return 130
     except Exception as exc:  # noqa: BLE001 - last line of defence, the traceback on demand
+        line = _store_error_line(exc)
+        if line is not None:
+            click.echo(f"error: {line}", err=True)
+            return 2
         if os.environ.get("SG3D_DEBUG"):
             raise
         click.echo(f"error: {type(exc).__name__}: {_first_line(exc)} (SG3D_DEBUG=1 for the traceback)", err=True)
         return 1
+
+
+def _store_error_line(exc: Exception):
+    """The one line for a failure of the graph store or its driver, or None for any other.
+
+    The driver and the store modules are looked at only when this process imported them (an
+    error of a module never imported cannot have been raised): a command that never reaches the
+    store, `sg3d --help` among them, does not pay for importing the driver (0.3 s)."""
+    if "neo4j" in sys.modules:
+        from neo4j.exceptions import (
+            AuthError,
+            ClientError,
+            CypherSyntaxError,
+            DatabaseError,
+            ServiceUnavailable,
+            TransientError,
+        )
+
+        if isinstance(exc, ServiceUnavailable):
+            return f"cannot reach the graph store ({_first_line(exc).rstrip(':')})"
+        if isinstance(exc, AuthError):
+            return f"the graph store refused the credentials: {_first_line(exc)}"
+        if isinstance(exc, (CypherSyntaxError, ClientError, DatabaseError, TransientError)):
+            return _disk_full() or describe_store_error(exc)
+    known: tuple = ()
+    if "sg3d.graphdb.embedded" in sys.modules:
+        from sg3d.graphdb.embedded import EmbeddedStoreError
+
+        known += (EmbeddedStoreError,)
+    if "sg3d.graphdb.store" in sys.modules:
+        from sg3d.graphdb.store import ReadOnlyStoreError, StatementTooLarge
+
+        known += (ReadOnlyStoreError, StatementTooLarge)
+    return str(exc) if isinstance(exc, known) else None
 
 
 def _disk_full():

@@ -128,9 +128,9 @@ def _commands(cmd, path="sg3d"):
     import click
 
     yield path, cmd
-    if isinstance(cmd, click.Group):
-        for name, sub in cmd.commands.items():
-            yield from _commands(sub, f"{path} {name}")
+    if isinstance(cmd, click.Group):          # through list/get: the sg3d group loads its commands lazily
+        for name in cmd.list_commands(click.Context(cmd)):
+            yield from _commands(cmd.get_command(click.Context(cmd), name), f"{path} {name}")
 
 
 def test_every_option_of_every_command_says_what_it_does():
@@ -181,3 +181,20 @@ def test_show_sequence_shows_progress_over_the_frames(store, embedded_home, tmp_
     assert out.returncode == 0, out.stderr
     assert page.stat().st_size > 0
     assert "point cloud" in out.stderr and "6/6" in out.stderr, out.stderr
+
+
+@pytest.mark.parametrize("args", [["shell", "--help"], ["mcp", "--help"], ["db", "status", "--help"],
+                                  ["rooms", "link", "--help"], ["frames", "--help"], ["cypher", "--help"]])
+def test_commands_load_on_demand_whatever_their_module_is_named(args):
+    from click.testing import CliRunner
+
+    from sg3d.cli import cli
+
+    res = CliRunner().invoke(cli, args)
+    assert res.exit_code == 0, res.output
+    assert res.output.startswith(f"Usage: cli {' '.join(args[:-1])}")
+
+
+def test_an_unknown_command_is_one_line(tmp_path):
+    out = sg3d(tmp_path / "home", "nosuch")
+    assert "No such command 'nosuch'" in one_error_line(out)

@@ -188,12 +188,9 @@ def default_embedding() -> LabelEmbedding:
     cache lives in SG3D_CACHE, else SG3D_HOME/sg3d-cache, else the user cache directory."""
     global _default
     if _default is None:
-        from platformdirs import user_cache_dir
+        from sg3d.core.cache import cache_folder
 
-        # SG3D_HOME keeps everything of one sg3d installation together (store, history, this cache)
-        home = os.environ.get("SG3D_HOME")
-        cache = Path(os.environ.get("SG3D_CACHE") or (Path(home).expanduser() / "sg3d-cache" if home
-                                                      else user_cache_dir("sg3d", appauthor=False)))
+        cache = cache_folder()
         w2v = os.environ.get("SG3D_WORD2VEC")
         _default = Word2VecEmbedding(w2v, cache) if w2v else MiniLMEmbedding(cache)
     return _default

@@ -1,7 +1,7 @@
 """One function per operation of a logical form: its answer text, value and the rows it rests on.
 
 "How tall" is the box height along up; "how high" is the box top above the top of the room's
-floor node. No object of an asked kind in scope: "I have not found ...", never "there is no".
+floor node, and the box height is said beside it where the two differ (a tv on a shelf). No object of an asked kind in scope: "I have not found ...", never "there is no".
 """
 from __future__ import annotations
 
@@ -79,6 +79,9 @@ def _filter_text(a: Answerer, f: Filter) -> str:
     cup" when any cup was asked for, "next to the cup" when one was)."""
     if f.other.number:
         return f.describe(a.phrase(f.other, 1))
+    if f.kind == "except" and f.other.alternatives and f.other.joined == "and":
+        # "other than books and cups": every one of each kind
+        return "except " + " and ".join(a.phrase(x, 2) for x in f.other.alternatives)
     if f.kind == "except" and not f.other.alternatives and f.other.words and not f.other.filters:
         r = a.ev.resolved(f.other)
         if r.kind == "any" and r.colour:       # "that is not white": every white thing
@@ -167,7 +170,10 @@ def _what_not_found(a: "Answerer", np: NP, form: Form) -> str:
     if np.words and a.ev.resolved(np).kind != "any" or np.alternatives:
         what = a.phrase(np, 1, form.filters)
         return f"{'an' if what[:1] in 'aeiou' else 'a'} {what}"
-    return "anything " + " ".join(_filter_text(a, f) for f in list(np.filters) + list(form.filters))
+    r = a.ev.resolved(np) if np.words else None
+    said = [x for x in ((r.size, r.shape, r.colour) if r is not None else ()) if x]     # "anything purple"
+    said += [_filter_text(a, f) for f in list(np.filters) + list(form.filters)]
+    return " ".join(["anything"] + said)
 
 
 def op_at_least(a: Answerer, form: Form):
@@ -175,6 +181,8 @@ def op_at_least(a: Answerer, form: Form):
     rows = _all_rows(a.ev, form, np)
     n, k = len(rows), form.number or 0
     holds = n > k if form.compare == "more" else n == k if form.compare == "exactly" else n < k
+    if n == 0 and a.absence():      # "is there no fridge": none found, said as not found
+        return f"{'yes' if holds else 'no'}: {a.absence()}", holds, rows
     return f"{'yes' if holds else 'no'}: {n} {a.phrase(np, n, form.filters)}{a.where}", holds, rows
 
 
@@ -249,6 +257,10 @@ def op_attribute(a: Answerer, form: Form):
     return text, values[0] if len(values) == 1 else values, rows
 
 
+# "how high": an object whose top is this close to its box height stands on the floor
+HIGH_SAME_M = 0.05
+
+
 def _attribute_of(a: Answerer, o: dict, attribute: str):
     size = [float(v) for v in (o.get("size") or [0, 0, 0])]
     if attribute == "colour":
@@ -271,7 +283,10 @@ def _attribute_of(a: Answerer, o: dict, attribute: str):
         return None, (f"has a box {size[2]:.2f} m tall, but I have not found the floor of the "
                       f"{(o.get('room') or '').split('/', 1)[-1]}, so its height above it is unknown")
     h = a.scene.top(o) - floor
-    return round(h, 3), f"reaches {h:.2f} m above the floor (top of its box)"
+    if abs(h - size[2]) <= HIGH_SAME_M:         # it stands on the floor: one number says both
+        return round(h, 3), f"is {h:.2f} m high (its top above the floor; its box is {size[2]:.2f} m tall)"
+    # "how high is the tv" may ask how far up it reaches or how tall it is: both are said
+    return round(h, 3), f"reaches {h:.2f} m above the floor (top of its box); it is {size[2]:.2f} m tall itself"
 
 
 def op_extreme(a: Answerer, form: Form):
@@ -335,6 +350,8 @@ def _apart(a: Answerer, np: NP):
 
 
 def _measure(a: Answerer, o: dict, key: str) -> float:
+    if key == "height":
+        return float((o.get("size") or [0, 0, 0])[2])
     return a.scene.top(o) if key == "top" else float(o.get("volume") or 0.0)
 
 
@@ -352,14 +369,16 @@ def op_size_compare(a: Answerer, form: Form):
     (x, rx, ox), (y, ry, oy) = sets
     vx, vy = _measure(a, ox, key), _measure(a, oy, key)
     named = a.names([ox, oy])
-    unit = "m^3" if key == "volume" else "m (box top)"
-    said = [f"{the(named[o['id']])} {v:.3g} {unit}" + (f" (the {'largest' if key == 'volume' else 'highest'} of "
+    unit = {"volume": "m^3", "top": "m (box top)", "height": "m tall"}[key]
+    most = {"volume": "largest", "top": "highest", "height": "tallest"}[key]
+    said = [f"{the(named[o['id']])} {v:.3g} {unit}" + (f" (the {most} of "
                                                        f"{len(r)})" if len(r) > 1 else "")
             for o, v, r in ((ox, vx, rx), (oy, vy, ry))]
     detail = f"{said[0]}, {said[1]}"
     if form.op == "size_which":
         word = {("volume", "more"): "bigger", ("volume", "fewer"): "smaller", ("top", "more"): "higher",
-                ("top", "fewer"): "lower"}[(key, form.compare or "more")]
+                ("top", "fewer"): "lower", ("height", "more"): "taller",
+                ("height", "fewer"): "shorter"}[(key, form.compare or "more")]
         win = ox if (vx >= vy) == (form.compare != "fewer") else oy
         if vx == vy:
             return f"neither: they are the same ({detail})", None, [ox, oy]
@@ -378,6 +397,10 @@ def op_rooms_counted(a: Answerer, form: Form):
 
 
 def op_rooms(a: Answerer, form: Form):
+    if form.number is not None:
+        return _rooms_by_count(a, form)
+    if form.lacking or form.sets and form.sets[0].alternatives and form.sets[0].joined == "and":
+        return _rooms_holding_all(a, form)
     np = _head(form)
     rows = _all_rows(a.ev, form, np)
     per: dict[str, int] = {}
@@ -387,6 +410,65 @@ def op_rooms(a: Answerer, form: Form):
         return (a.absence() or f"none: no room holds {a.phrase(np, 1, form.filters)}"), [], rows
     text = ", ".join(f"{rid.split('/', 1)[-1]} ({k} {a.phrase(np, k)})" for rid, k in sorted(per.items()))
     return text, [{"room": r, "n": k} for r, k in sorted(per.items())], rows
+
+
+def _rooms_by_count(a: Answerer, form: Form):
+    """"which rooms have more than two chairs" (fewer than, exactly): every room in scope whose
+    count of the kind holds the condition; a room holding none counts 0."""
+    rooms = {r["id"]: r for r in a.run.read("vqa_rooms_all", building=a.ev.building)}
+    if a.scene.rooms is not None:
+        rooms = {k: v for k, v in rooms.items() if k in a.scene.rooms}
+    np = _head(form)
+    rows = _all_rows(a.ev, form, np)
+    per = {rid: 0 for rid in rooms}
+    for o in rows:
+        per[o["room"]] = per.get(o["room"], 0) + 1
+    k = form.number or 0
+    keep = sorted(rid for rid, n in per.items()
+                  if (n > k if form.compare == "more" else n == k if form.compare == "exactly" else n < k))
+    said = {"more": "more than", "fewer": "fewer than", "exactly": "exactly"}[form.compare or "more"]
+    if not keep:
+        return f"none: no room has {said} {k:g} {a.phrase(np, 2)}", [], []
+    text = ", ".join(f"{rid.split('/', 1)[-1]} ({per[rid]} {a.phrase(np, per[rid])})" for rid in keep)
+    return text, [{"room": rid, "n": per[rid]} for rid in keep], [o for o in rows if o["room"] in keep]
+
+
+def _an(noun: str) -> str:
+    """The noun with its indefinite article: "a tv", "an oven"."""
+    return f"{'an' if noun[:1] in 'aeiou' else 'a'} {noun}"
+
+
+def _rooms_holding_all(a: Answerer, form: Form):
+    """"which rooms have a chair and a tv" (every kind said with "and"), "which rooms have no
+    fridge", "which rooms have a chair but no fridge": the rooms in scope holding each wanted kind
+    and none of the lacking ones; only those rooms are named."""
+    rooms = {r["id"]: r for r in a.run.read("vqa_rooms_all", building=a.ev.building)}
+    if a.scene.rooms is not None:
+        rooms = {k: v for k, v in rooms.items() if k in a.scene.rooms}
+    wanted = [n for s in form.sets for n in (s.alternatives if s.joined == "and" and s.alternatives else [s])]
+    per: dict[str, dict[int, int]] = {rid: {} for rid in rooms}
+    rows: list[dict] = []
+    for i, np in enumerate(wanted):
+        found = _all_rows(a.ev, form, np)
+        rows += found
+        for o in found:
+            if o["room"] in per:
+                per[o["room"]][i] = per[o["room"]].get(i, 0) + 1
+    held = {o["room"] for np in form.lacking for o in _all_rows(a.ev, form, np)}
+    keep = sorted(rid for rid in rooms if len(per[rid]) == len(wanted) and rid not in held)
+    lacking = " or ".join(a.phrase(np, 1) for np in form.lacking)
+    if not keep:
+        have = " and ".join(_an(a.phrase(np, 1)) for np in wanted)
+        why = (f"no room has {have} without {_an(lacking)}" if wanted else f"every room has {_an(lacking)}") \
+            if form.lacking else f"no room has {have}"
+        return f"none: {why}", [], rows
+    def said(rid: str) -> str:
+        counts = ", ".join(f"{per[rid][i]} {a.phrase(np, per[rid][i])}" for i, np in enumerate(wanted))
+        return rid.split("/", 1)[-1] + (f" ({counts})" if counts else "")
+    text = ", ".join(said(rid) for rid in keep)
+    if form.lacking:
+        text += f"; no {lacking} in {'it' if len(keep) == 1 else 'them'}"
+    return text, [{"room": rid, "n": sum(per[rid].values())} for rid in keep], [o for o in rows if o["room"] in keep]
 
 
 NEIGHBOUR_WORDS = ("neighbour", "neighbor", "neighbouring room", "neighboring room", "adjacent room")

@@ -113,6 +113,9 @@ def is_simple(form: Form, ev: Evaluator) -> bool:
     extreme or negation: the per-form templates of sg3d/queries/vqa.py answer it."""
     if form.op == "extreme":
         return _simple_extreme(form, ev)
+    if form.lacking or form.number is not None or \
+            any(s.alternatives and s.joined == "and" for s in form.sets) and form.op == "rooms":
+        return False            # "rooms with a chair but no fridge", "with a chair and a tv": sets
     sets = form.sets or ([NP([])] if form.op == "list" else [])    # "what is behind the table"
     if form.op not in SIMPLE_OPS or len(sets) != 1:
         return False
@@ -162,7 +165,7 @@ def labels_read(form: Form, ev: Evaluator) -> Optional[list[str]]:
     if form.op in ("affordance", "room_count", "rooms_next_to") or not form.sets or neighbours(form):
         return None         # no set named: "what is on the table" asks about any object
     labels: set[str] = {"floor"}
-    pending = list(form.sets) + [f.other for f in form.filters]
+    pending = list(form.sets) + [f.other for f in form.filters] + list(form.lacking)
     while pending:
         np = pending.pop()
         if np.alternatives:
@@ -219,6 +222,22 @@ def typo_vocabulary() -> frozenset:
     """Every word a question may use: the grammar's, the object nouns (singular and plural),
     colours, sizes, shapes, structure, affordance verbs and common question words."""
     return _vocabulary()
+
+
+@functools.cache
+def typo_nouns() -> frozenset:
+    """The object nouns of the vocabulary (singular and plural): what a typo after "the" is read as
+    when it is as close to another word (phrasing.fix_typos)."""
+    import json
+
+    from sg3d.queries.lexicon import SYNONYMS, vocabulary
+    from sg3d.queries.taxonomy import Taxonomy
+
+    nouns = set(vocabulary()) | set(Taxonomy.load().names)
+    data = json.loads(SYNONYMS.read_text())
+    nouns |= set(data["words"]) | set(data["any"])
+    out = {n for n in nouns if n and " " not in n}
+    return frozenset(out | {plural(n) for n in out})
 
 
 @functools.cache

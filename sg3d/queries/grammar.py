@@ -20,6 +20,7 @@ from sg3d.queries.vocabulary import (
     ATTRIBUTES,
     COLOURS,
     DISTANCE_SUPERLATIVES,
+    NEVER_IGNORED,
     RELATIONS,
     SIZES,
     SUPERLATIVES,
@@ -57,6 +58,9 @@ exists: be _there np preds
       | ("have" | "has") ("you" | "we") "got" np preds
       | "got" np preds
       | be np preds
+      | be _there "no" np preds                             -> exists_none
+      | _do owned _have np preds                            -> exists_owned
+      | _do owned (_have "no" | "not" _have) np preds       -> exists_owned_none
 at_least: be _there MORELESS "than" NUMBER np preds
         | be _there EXACTLY NUMBER np preds
         | "do" ("we" | "you") "have" MORELESS "than" NUMBER np preds
@@ -92,10 +96,23 @@ distance: "how" "far" be np _tofrom np
 _gap: "distance" | "gap" | "separation"
 room_count: "how" "many" "rooms" be? _there? ("in" _det? WORD+)? (_do _det? ("you" | WORD) WORD* ("have" | "has" | "hold" | "contain" | "see")?)?
 rooms_with: WHAT _rooms _have np preds
+          | WHAT _rooms _have np "but" _none np_or preds         -> rooms_but_not
+          | WHAT _rooms _have np "without" np_or preds           -> rooms_but_not
+          | WHAT _rooms _lacking np_or preds                    -> rooms_without
+          | (WHAT be _det?)? "rooms" "without" np_or preds       -> rooms_without
+          | "how" "many" "rooms" _lacking np_or preds           -> rooms_counted_without
           | "in" WHAT _rooms be _there? np preds
+          | "in" WHAT _rooms be _there? np "but" _none np_or preds -> rooms_but_not
           | "in" "how" "many" "rooms" be _there? np preds   -> rooms_counted
-          | "how" "many" _rooms _have np preds               -> rooms_counted
+          | "how" "many" ("rooms" | "room") _have np preds   -> rooms_counted
+          | WHAT _rooms _have _quantity np preds                  -> rooms_over
+          | "in" WHAT _rooms be _there? _quantity np preds        -> rooms_over
+          | "how" "many" "rooms" _have _quantity np preds         -> rooms_counted_over
+_quantity: MORELESS "than" NUMBER | EXACTLY NUMBER
 _rooms: "rooms" | "room"
+// "have no fridge", "don't have a fridge", "lack a fridge": none of it
+_lacking: _have "no" | _do "not" _have | "lack" | "lacks" | ("have" | "has") "not" "got"
+_none: "no" | "not" | _lacking | "without"
 size_compare: be np COMPARE "than" np preds             -> bigger
             | WHAT be COMPARE np preds                  -> bigger_which
             | WHAT "of" np be COMPARE preds             -> bigger_which
@@ -103,6 +120,7 @@ room_most: WHAT NUMBER? _rooms _have _det? MOSTFEW np preds
          | WHAT _rooms _have MORELESS np np_or preds      -> room_more
          | _det? NUMBER? "rooms" "with" _det? MOSTFEW np preds
          | WHAT be _det? NUMBER? _rooms "with" _det? MOSTFEW np preds
+         | "in" WHAT NUMBER? _rooms be _there? _det? MOSTFEW np preds
          | LIST _det? NUMBER? _rooms "with" _det? MOSTFEW np preds
 rooms_next: WHAT "rooms" be (_next_to | "near" | "beside") np_one
 afford: "where" ("can" | "could" | "should" | "might" | "may") "i" verb preds
@@ -110,7 +128,7 @@ afford: "where" ("can" | "could" | "should" | "might" | "may") "i" verb preds
       | WHAT np ("can" | "could" | "should" | "might" | "may") "i" verb preds   -> afford_kind
       | "i" ("need" | "want") WORD? ("to" | "for") verb preds
 verb: WORD (WORD | _det | PARTICLE)* _dangling?
-_dangling: "from" | "on" | "in" | "with"
+_dangling: "from" | "on" | "in" | "with" | "of"
 changes: WHAT ("has" | "have")? CHANGED _since? preds
        | WHAT be "different" _since? preds
 gone: WHAT (be | _was | "has" | "have") "been"? GONE preds
@@ -122,13 +140,15 @@ seen: SEEN "from" np_one
 
 np: np_one (_conj np_one)*
 np_or: np_one ("or" np_one)*
-_conj: "or" | "and" | "as" "well" "as"
+// kept: "rooms with a chair and a tv" asks for both, "a chair or a tv" for either
+!_conj: "or" | "and" | "as" "well" "as"
 np_one: _dets? _pieces? SUPER? _words NUMBER? postmod*
       | _dets? SUPER postmod*
       | _dets? _pieces? SUPER? _words DSUPER _tofrom np_one
       | np_closest
+      | _dets? _words? ONE postmod*                            -> np_pronoun
 _pieces: PIECES "of"
-_dets: _det | "all" "the" | "all" "of" "the" | "any" "of" "the" | "each" "of" "the" | "one" "of" "the"
+_dets: _det | "all" "the" | "all" "of" "the" | "any" "of" "the" | "each" "of" "the" | ONE "of" "the"
 _words: (WORD | SIZE | ATTR)+
 strand: relation
 postmod: NOT? relation np_or                 -> rel_filter
@@ -138,7 +158,7 @@ postmod: NOT? relation np_or                 -> rel_filter
 preds: pred*
 pred: NOT? relation np_or                   -> rel_filter
     | NOT? band                             -> dist_filter
-    | EXCEPT np_or                          -> except_filter
+    | EXCEPT np                             -> except_filter
     | NOT np_or                             -> except_filter
     | "and" pred
 band: "within" length _ofrom np_one                      -> within
@@ -160,10 +180,12 @@ LIST: "list" | "show" | "name" | "find"
 NOT: "not"
 EXCEPT: "except" | "besides" | "excluding"
 EXACTLY: "exactly"
-HAVING: "with" | "having" | "featuring" | "showing"
+// "the grey one", "the ones next to the fridge": the noun said before (see _fill_ones)
+ONE: "ones" | "one"
+HAVING: /(?:with|having|featuring|showing)(?![\w-])/
 PIECES: "piece" | "pieces" | "kind" | "kinds" | "type" | "types" | "sort" | "sorts"
 MORELESS: "more" | "fewer" | "less"
-COMPARE: "bigger" | "larger" | "greater" | "higher" | "smaller" | "lower"
+COMPARE: "bigger" | "larger" | "greater" | "higher" | "smaller" | "lower" | "taller" | "shorter"
 MOSTFEW: "most" | "fewest" | "least"
 MEASURE: "height" | "width" | "length" | "depth" | "size"
 ATTR: "big" | "large" | "tall" | "high" | "wide" | "long" | "deep"
@@ -216,35 +238,63 @@ class GrammarError(Sg3dError, ValueError):
 @functools.cache
 def parser() -> Lark:
     """The LALR parser, built once per process."""
-    grammar = _grammar_text().replace("RESERVED", "|".join(RESERVED))
+    grammar = parser_grammar()
+    shipped = shipped_tables(grammar)
+    if shipped.is_file():       # the tables made for this grammar ship with sg3d: no build at all
+        with shipped.open("rb") as f:
+            return Lark.load(f)
     # the LALR tables are kept in sg3d's cache (not the temporary folder): a cold process loads
-    # them instead of building them (0.2 s)
-    return Lark(grammar, parser="lalr", maybe_placeholders=False, cache=_table_cache(grammar))
+    # them instead of building them (0.7 s)
+    return build_parser(grammar, cache=_table_cache(grammar))
+
+
+def parser_grammar() -> str:
+    """The grammar text the parser is built from."""
+    return _grammar_text().replace("RESERVED", "|".join(RESERVED))
+
+
+def build_parser(grammar: str, cache=False) -> Lark:
+    return Lark(grammar, parser="lalr", maybe_placeholders=False, cache=cache)
+
+
+def shipped_tables(grammar: str):
+    """Where the parser tables of `grammar` ship (sg3d/queries/data, made by
+    scripts/make_query_tables.py), named by a hash of the grammar and of lark's version: a
+    grammar edited since has no file there, and is built (and cached) instead."""
+    import hashlib
+    from pathlib import Path
+
+    import lark
+
+    key = hashlib.sha1(f"{grammar}\n{lark.__version__}".encode()).hexdigest()[:12]
+    return Path(__file__).parent / "data" / f"question-grammar-{key}.lark"
 
 
 def _table_cache(grammar: str):
-    """Where the parser tables of `grammar` are kept: SG3D_CACHE, else SG3D_HOME/sg3d-cache,
-    else the user cache directory (as the label vectors); False (no cache) where none can be made."""
+    """Where the parser tables of `grammar` are kept in sg3d's cache (`core.cache`); False (no
+    cache) where none can be written."""
     import hashlib
-    import os
-    from pathlib import Path
 
-    from platformdirs import user_cache_dir
+    from sg3d.core.cache import writable_cache_folder
 
-    home = os.environ.get("SG3D_HOME")
-    folder = Path(os.environ.get("SG3D_CACHE") or (Path(home).expanduser() / "sg3d-cache" if home
-                                                   else user_cache_dir("sg3d", appauthor=False)))
-    try:
-        folder.mkdir(parents=True, exist_ok=True)
-    except OSError:
-        return False
-    if not os.access(folder, os.W_OK):
+    folder = writable_cache_folder()
+    if folder is None:
         return False
     return str(folder / f"question-grammar-{hashlib.sha1(grammar.encode()).hexdigest()[:12]}.lark")
 
 
 def _words(items) -> list[str]:
     return [str(t) for t in items if isinstance(t, Token) and t.type in ("WORD", "SIZE", "ATTR")]
+
+
+def _describing(said: list[str]) -> tuple[list[str], list[str]]:
+    """The words of a "with ..." clause: (colour and size words, which describe the object; the
+    other words, said as not used). GrammarError naming a word that changes the question ("with
+    no handle"): it is never left out."""
+    kept = [w for w in said if w in NEVER_IGNORED]
+    if kept:
+        raise GrammarError(f"I could not read '{kept[0]}' in this question", kept[0])
+    return [w for w in said if w in COLOURS or w in SIZES], [w for w in said if w not in COLOURS and w not in SIZES]
 
 
 def _measured_from(nps: list[NP]) -> None:
@@ -265,6 +315,7 @@ class _ToForm(Transformer):
         seen = [i for i in items if isinstance(i, NP)]
         if seen:
             form.seen_from = seen[-1]
+        _fill_ones(form)
         if form.op != "distance":
             _measured_from(form.sets + [f.other for f in form.filters])
         return form
@@ -307,6 +358,14 @@ class _ToForm(Transformer):
 
     def verb(self, items):
         return " ".join(str(t) for t in items if isinstance(t, Token) and t.type in ("WORD", "SIZE", "ATTR", "PARTICLE"))
+
+    def np_pronoun(self, items):
+        """"the grey one", "the ones next to the fridge": a noun phrase whose noun is the one said
+        before it in the question (filled in by `_fill_ones`)."""
+        ones = [str(t) for t in items if isinstance(t, Token) and t.type == "ONE"]
+        np = NP(_words(items), filters=[i for i in items if isinstance(i, Filter)], definite=True,
+                indefinite=any(isinstance(t, Token) and t.type == "INDEF" for t in items), pronoun=ones[-1])
+        return np
 
     def having(self, items):
         """"with a white glaze", "having a red pattern": colour and size words describe the
@@ -394,8 +453,9 @@ class _ToForm(Transformer):
             if kind == "purpose":
                 np.purpose = said
             else:
-                np.words += [w for w in said if w in COLOURS or w in SIZES]
-                np.ignored += [w for w in said if w not in COLOURS and w not in SIZES]
+                used, unused = _describing(said)
+                np.words += used
+                np.ignored += unused
         np.definite = True
         # "next to a cup": any cup, never the one whose printed name is "cup"
         np.indefinite = any(isinstance(t, Token) and t.type == "INDEF" for t in items)
@@ -413,7 +473,8 @@ class _ToForm(Transformer):
         nps = [i for i in items if isinstance(i, NP)]
         if len(nps) == 1:
             return nps[0]
-        return NP([], alternatives=nps)
+        joins = {str(t) for t in items if isinstance(t, Token)}
+        return NP([], alternatives=nps, joined="or" if "or" in joins else "and")
 
     # -- operations ------------------------------------------------------------------------
     @staticmethod
@@ -437,6 +498,25 @@ class _ToForm(Transformer):
         if not np.filters:
             raise GrammarError("a noun alone is not a question")
         return Form("exists", sets=[np])
+
+    def exists_none(self, items):
+        """"is there no fridge", "are there no cups (in here)": whether there are none, asked as
+        "exactly 0" (yes when none is found, no with the count when some are)."""
+        return self._op("at_least", items, compare="exactly", number=0.0)
+
+    def exists_owned(self, items):
+        """"does the living room have a sofa": a sofa in that room (the owner is the scope, or an
+        object the others are in)."""
+        owner = next(i for i in items if isinstance(i, NP))
+        form = self._op("exists", [i for i in items if i is not owner])
+        form.filters.append(Filter("rel", owner, relation="in"))
+        return form
+
+    def exists_owned_none(self, items):
+        """"does the living room have no sofa", "does the kitchen not have a fridge": none of it there."""
+        form = self.exists_owned(items)
+        form.op, form.compare, form.number = "at_least", "exactly", 0.0
+        return form
 
     def at_least(self, items):
         word = next(str(t) for t in items if isinstance(t, Token) and t.type in ("MORELESS", "EXACTLY"))
@@ -462,9 +542,9 @@ class _ToForm(Transformer):
     def count_having(self, items):
         """"how many mugs have a red pattern": the clause's colour and size words describe them."""
         np = items[0]
-        said = _words(items[1:])
-        np.words += [w for w in said if w in COLOURS or w in SIZES]
-        np.ignored += [w for w in said if w not in COLOURS and w not in SIZES]
+        used, unused = _describing(_words(items[1:]))
+        np.words += used
+        np.ignored += unused
         return self._op("count", [np] + [i for i in items if isinstance(i, list)])
 
     def changes(self, items):
@@ -550,14 +630,56 @@ class _ToForm(Transformer):
         return self._op("rooms_counted", items)
 
     @staticmethod
+    def _quantity(items) -> tuple[str, float]:
+        word = next(str(t) for t in items if isinstance(t, Token) and t.type in ("MORELESS", "EXACTLY"))
+        n = next(float(t) for t in items if isinstance(t, Token) and t.type == "NUMBER")
+        return {"more": "more", "exactly": "exactly"}.get(word, "fewer"), n
+
+    def rooms_over(self, items):
+        """"which rooms have more than two chairs", "in which rooms are there exactly 2 cups": the
+        rooms whose count of the kind holds the condition."""
+        compare, n = self._quantity(items)
+        form = self._op("rooms", items, compare=compare, number=n)
+        for np in form.sets:        # "more than 1 chair": any chair, never the one named "chair"
+            np.indefinite = True
+        return form
+
+    def rooms_counted_over(self, items):
+        """"how many rooms have more than 2 chairs": the same rooms, counted."""
+        form = self.rooms_over(items)
+        form.op = "rooms_counted"
+        return form
+
+    def rooms_but_not(self, items):
+        """"which rooms have a chair but no fridge": the rooms holding the first, none of the second."""
+        nps = [i for i in items if isinstance(i, NP)]
+        form = self._op("rooms", [nps[0]] + [i for i in items if isinstance(i, list)])
+        form.lacking = [nps[1]]
+        return form
+
+    def rooms_without(self, items):
+        """"which rooms have no fridge", "rooms without a fridge": the rooms holding none of it."""
+        form = self._op("rooms", [i for i in items if isinstance(i, list)])
+        form.lacking = [i for i in items if isinstance(i, NP)]
+        return form
+
+    def rooms_counted_without(self, items):
+        """"how many rooms have no fridge": the same rooms, counted."""
+        form = self.rooms_without(items)
+        form.op = "rooms_counted"
+        return form
+
+    @staticmethod
     def _bigger(items) -> str:
         word = next(str(t) for t in items if isinstance(t, Token) and t.type == "COMPARE")
-        return "more" if word in ("bigger", "larger", "greater", "higher") else "fewer"
+        return "more" if word in ("bigger", "larger", "greater", "higher", "taller") else "fewer"
 
     def bigger(self, items):
-        """"is the cup bigger than the book": box volumes (heights for higher/lower)."""
-        return self._op("size_compare", items, compare=self._bigger(items),
-                        attribute="top" if "higher" in map(str, items) or "lower" in map(str, items) else "volume")
+        """"is the cup bigger than the book": box volumes; higher / lower: box tops above the
+        floor; taller / shorter: box heights."""
+        said = set(map(str, items))
+        key = "top" if said & {"higher", "lower"} else "height" if said & {"taller", "shorter"} else "volume"
+        return self._op("size_compare", items, compare=self._bigger(items), attribute=key)
 
     def bigger_which(self, items):
         """"which is bigger, the cup or the book": the same, naming the winner."""
@@ -588,6 +710,44 @@ class _ToForm(Transformer):
         verb = next(i for i in items if isinstance(i, str) and not isinstance(i, Token))
         filters = [f for i in items if isinstance(i, list) for f in i]
         return Form("affordance", verb=verb, filters=filters)
+
+
+def _noun_phrases(form: Form) -> list[NP]:
+    """Every noun phrase of a form in the order said: its sets, their filters, the form's filters."""
+    out: list[NP] = []
+
+    def visit(np: NP) -> None:
+        out.append(np)
+        for a in np.alternatives:
+            visit(a)
+        for f in np.filters:
+            visit(f.other)
+        if np.toward is not None:
+            visit(np.toward)
+
+    for np in list(form.sets) + [f.other for f in form.filters] + list(form.lacking) + list(form.among):
+        visit(np)
+    return out
+
+
+def _fill_ones(form: Form) -> None:
+    """"how many cups other than the grey one", "is the white book bigger than the purple one":
+    "one" stands for the noun of the first noun phrase before it that names one (its colour and
+    size words left out); "ones" for its plural. GrammarError naming 'one' when none is said."""
+    from sg3d.queries.lexicon import lemma
+
+    nps = _noun_phrases(form)
+    for np in nps:
+        if np.pronoun is None:
+            continue
+        noun = next(([w for w in x.words if w not in COLOURS and w not in SIZES] for x in nps
+                     if x.pronoun is None and [w for w in x.words if w not in COLOURS and w not in SIZES]), [])
+        if not noun:
+            raise GrammarError(f"'{np.pronoun}' of what? name the kind, e.g. 'the grey cup'", np.pronoun)
+        if np.pronoun == "one":
+            noun = noun[:-1] + [lemma(noun[-1])]
+        np.words = np.words + noun
+        np.pronoun = None
 
 
 def read(text: str) -> Form:

@@ -14,6 +14,7 @@ from typing import Optional
 
 from sg3d.core.model import COLOUR_NAMES
 from sg3d.queries.taxonomy import Taxonomy
+from sg3d.queries.vocabulary import NEVER_IGNORED
 
 SYNONYMS = Path(__file__).resolve().parent / "data" / "synonyms.json"
 # Household nouns (singular): a word here is a real object name, so when it maps to no stored
@@ -198,6 +199,9 @@ def head_noun(phrase: str) -> tuple[Optional[Target], str]:
         head = known(" ".join(words[i:]))
         if head is not None:
             others = [w for w in words[:i] if w not in MODIFIERS]
+            kept = [w for w in others if w in NEVER_IGNORED]
+            if kept:
+                return None, f"I could not read '{kept[0]}' in '{phrase}'"
             if any(known(w) is not None for w in others):
                 return None, f"'{phrase}' names more than one kind of object"
             if others and lemma_phrase(phrase) in vocabulary():
@@ -244,5 +248,5 @@ def resolve(phrase: str, embedding=None, use_embedding: bool = True):
     if hit is None:
         if noun:
             return unknown_real(phrase, noun), ""
-        return None, f"I don't know the word '{phrase}'"
+        return None, f"I do not know the word '{phrase}'"
     return hit, ""

@@ -65,6 +65,8 @@ class NP:
     indefinite: bool = False                # "a / any ...": every object of the kind, never one by name
     purpose: Optional[str] = None           # "furniture for sitting": the activity's words
     ignored: list[str] = field(default_factory=list)   # "with a white glaze": words no answer uses (said)
+    joined: str = "or"                      # alternatives said with "and" ("a chair and a tv") or "or"
+    pronoun: Optional[str] = None           # "the grey one(s)": the noun is the one said before
 
     def text(self) -> str:
         return " ".join(self.words + ([str(self.number)] if self.number is not None else []))
@@ -108,6 +110,7 @@ class Form:
     verb: Optional[str] = None              # affordance: "sit", "put"
     seen_from: Optional[NP] = None          # "as seen from the sink": the eye of a viewpoint relation
     among: list[NP] = field(default_factory=list)   # room_most: only these rooms ("the kitchen or the study")
+    lacking: list[NP] = field(default_factory=list)  # rooms: holding none of these ("have no fridge")
 
     def form(self) -> dict:
         out: dict = {"op": self.op, "sets": [s.form() for s in self.sets]}
@@ -120,6 +123,8 @@ class Form:
             out["seen_from"] = self.seen_from.form()
         if self.among:
             out["among"] = [a.form() for a in self.among]
+        if self.lacking:
+            out["lacking"] = [a.form() for a in self.lacking]
         return out
 
 

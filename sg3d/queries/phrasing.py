@@ -23,12 +23,22 @@ FRAMES = (
     "do you happen to know", "would you happen to know", "could you let me know", "can you let me know",
     "i was wondering", "i am wondering", "im wondering", "i was curious", "i am curious", "im curious",
     "i was hoping you could tell me", "can you tell us", "could you tell us",
+    # "could you check the telly's colour", "let me know how many ...": asking to find out
+    "could you please check", "can you please check", "could you check", "can you check", "please check",
+    "would you check", "check", "could you find out", "can you find out", "find out", "let me know",
+    "let us know", "i need to know", "i would like to know", "i wish to know", "any idea", "any ideas",
+    "do you have any idea", "have you any idea", "have you got any idea", "got any idea", "any clue",
+    "quick question", "question", "just wondering", "out of curiosity", "by the way", "btw", "um", "uh",
+    "erm", "well", "yo", "do you remember", "do you recall", "can you remind me", "could you remind me",
+    "remind me",
 )
 _FRAME_RE = re.compile(r"^(?:(?:" + "|".join(map(re.escape, sorted(FRAMES, key=len, reverse=True))) + r")\b[ ,]*)+")
-_TAIL_RE = re.compile(r"[ ,]*\b(?:please|thanks|thank you|for me|for us)$")
+_TAIL_RE = re.compile(r"[ ,]*\b(?:please|thanks|thank you|thx|cheers|for me|for us|if you can|if you could|"
+                      r"if possible|if you know|by any chance|do you know|you know|mate|buddy)$")
 # "can you show me what is on the table", "tell me whether ...": a request that frames a question
 _SHOW_FRAME = re.compile(r"^(?:(?:can|could|would|will) you )?(?:show|tell|list|give) (?:me|us) "
-                         r"(?=(?:what|which|where|how|whether|if)\b)")
+                         r"(?=(?:what|which|where|how|whether|if|the (?:number|color|height|width|length|depth|"
+                         r"size|distance) of)\b)")
 # "tell me where the sink is" -> "where is the sink": the embedded question's verb moves back
 _EMBEDDED = re.compile(r"^(what color|what size|where|what|which|how many \w+(?: \w+)?|how far|how tall|how high|how big) "
                        r"(the [\w\s-]+?|[\w\s-]+?) (is|are)$")
@@ -44,6 +54,16 @@ CONTRACTIONS = {
     "how's": "how is", "it's": "it is", "isn't": "is not", "aren't": "are not", "don't": "do not",
     "doesn't": "does not", "arent": "are not", "isnt": "is not", "whos": "who is", "r": "are",
     "u": "you", "pls": "please", "plz": "please",
+    # spoken forms: "I wanna sit", "lemme know", "how many chairs ya got"
+    "wanna": "want to", "gonna": "going to", "gotta": "have to", "hafta": "have to", "lemme": "let me",
+    "gimme": "give me", "ya": "you", "y'all": "you", "dunno": "do not know", "i'm": "i am", "i'd": "i would",
+    "i've": "i have", "we've": "we have", "we're": "we are", "you're": "you are", "they're": "they are",
+    "you've": "you have", "can't": "can not", "cannot": "can not", "won't": "will not", "didn't": "did not",
+    "haven't": "have not", "hasn't": "has not", "wasn't": "was not", "weren't": "were not",
+    "where'd": "where did", "where're": "where are", "what're": "what are", "how're": "how are",
+    "there're": "there are", "couldn't": "could not", "wouldn't": "would not", "shouldn't": "should not",
+    # the commonest slips of short words (too short for the typo fixer)
+    "teh": "the", "hte": "the", "adn": "and", "taht": "that", "thier": "their", "si": "is",
 }
 # posture verbs say nothing the graph stores beyond the relation after them: "what sits on X"
 _REL_AHEAD = (r"(?= (?:on|under|in|inside|above|below|next|near|beside|by|over|underneath|beneath|close|within|"
@@ -63,7 +83,11 @@ POSTURE = [
 # "is there somewhere i can sit" -> "where can i sit"
 _PLACE_TO = re.compile(r"^(?:is there|do you know|do you have) (?:somewhere|anywhere|a place|any place|something|"
                        r"anything)(?: where| that| which)? i (?:can|could) (.+)$")
-_TRAILING = re.compile(r"\b(?:anywhere|at all|around here|in here|here|located|situated|placed|kept|stored)$")
+_TRAILING = re.compile(r"\b(?:anywhere|at all|around here|in here|here|located|situated|placed|kept|stored|"
+                       r"(?:lying|sitting|standing|hanging|kicking|floating|knocking) (?:around|about)|"
+                       r"around the (?:place|house)|around|somewhere|or not|right now|at the moment|now|"
+                       r"by any chance|at present|at home|altogether|all together|in total|overall|in all|"
+                       r"all in all|combined|total|put together)$")
 # adverbs that change nothing the graph can answer
 # "exactly" stays before a number ("exactly 4 chairs" is a condition)
 _ADVERBS = re.compile(r"\b(?:precisely|actually|currently|roughly|approximately|really|just|"
@@ -73,7 +97,21 @@ _RELATIVE = re.compile(r"(?<=\w) (?:that|which|who) (?:are|is) ")
 # "how many of the chairs": the chairs
 _OF_THE = re.compile(r"^how many of (?:the|these|those|all the) ")
 # "the smallest chair, what colour is it": the phrase goes where "it" stands
-_DISLOCATED = re.compile(r"^(.+?) (what color|what size|how big|how tall|how high|where) (is|are) (?:it|they|that)$")
+_DISLOCATED = re.compile(r"^(.+?) (what color|what size|how big|how tall|how high|how wide|how long|how deep|where)"
+                         r"(?: (is|are) (?:it|they|that)| (?:it|they|that) (is|are)| (is|are))?(?: at)?$")
+_VERBAL = re.compile(r"\b(?:is|are|was|were|can|could|do|does|did|i|you|we|have|has|there|what|which|how|where)\b")
+
+
+def dislocated(text: str) -> str:
+    """"the smallest chair, what colour is it", "the cabinet, where it is?", "the telly - how big?":
+    a noun phrase said first, then the question about it (its verb and pronoun in any order, or
+    none): the phrase goes where the pronoun stands. Only when what comes first is a noun phrase
+    (no verb, no question word of its own)."""
+    m = _DISLOCATED.match(text)
+    if not m or _VERBAL.search(m.group(1)):
+        return text
+    verb = m.group(3) or m.group(4) or m.group(5) or "is"
+    return f"{m.group(2)} {verb} {m.group(1)}"
 # "the closest one to the cup": "one" stands for the noun already said
 _ONE = re.compile(r"\b(closest|nearest|farthest|furthest|biggest|largest|smallest|tiniest|tallest|shortest|"
                   r"highest|lowest) ones?\b")
@@ -96,6 +134,157 @@ _UNIT_RE = re.compile(r"(\d+(?:\.\d+)?)\s*(" + "|".join(sorted(map(re.escape, UN
 class Phrased:
     text: str
     dropped: list[str] = field(default_factory=list)    # asides not used ("(the big one)")
+    notes: list[str] = field(default_factory=list)      # words read as others ("read 'whre' as 'where'")
+
+
+def first_word_typo(text: str) -> tuple[str, list[str]]:
+    """The question's first word, when it is no English word and one edit from exactly one
+    question word ("whre did I leave", "waht colour"), read as that word before the frames
+    are read (the later typo fixing comes after them); the note says so."""
+    words = text.split()
+    if not words or words[0] in QUESTION_WORDS or any(c.isdigit() for c in words[0]) or words[0] in common_words():
+        return text, []
+    fixed = _question_word(words[0], words[1] if len(words) > 1 else None)
+    if fixed is None or fixed == words[0]:
+        return text, []
+    return " ".join([fixed] + words[1:]), [f"read '{words[0]}' as '{fixed}'"]
+
+
+# "I'm thirsty, what could I drink out of", "im tired": a need says what the asker wants to do
+NEEDS = {"thirsty": "drink from", "parched": "drink from", "tired": "sit", "exhausted": "sit", "sleepy": "sleep",
+         "hungry": "eat", "starving": "eat"}
+_NEED = re.compile(r"^(?:i am|im|i feel|i m) (?:so |very |really |a bit |quite |pretty |kind of |kinda |super )?(" + "|".join(NEEDS)
+                   + r")\b(?: (?:and|so|now))?\s*(.*)$")
+_NEED_ALONE = re.compile(r"^(?:|where|where to|what now|help|help me|any ideas?|suggestions?|what should i do|"
+                         r"what can i do|what do you suggest|what do you recommend|anything|somewhere|any place)$")
+
+
+def needs(text: str) -> str:
+    """"i am thirsty" alone (or with "where?", "any ideas?") asks where the asker can do what the
+    need calls for (NEEDS: thirsty -> drink from); followed by a question, the question says it."""
+    m = _NEED.match(text)
+    if not m:
+        return text
+    rest = m.group(2).strip()
+    return f"where can i {NEEDS[m.group(1)]}" if _NEED_ALONE.match(rest) else rest
+
+
+# "I wanna sit down, where?", "I need to put my cup down somewhere": where the asker can do it
+_WANT_TO = re.compile(r"^i (?:want|need|have|would like|wish|am going|would love|got) to (.+?)"
+                      r"(?: (?:where|somewhere|anywhere|where can i do that|where can i|where to))?$")
+
+
+def wanting(text: str) -> str:
+    """"i want to sit (down) (where)", "i have to put my cup down somewhere": "where can i ...",
+    when the verb is one the affordance table knows (vocabulary.AFFORDANCE_VERBS)."""
+    from sg3d.queries.vocabulary import AFFORDANCE_VERBS, EXTRA_AFFORDANCES
+
+    m = _WANT_TO.match(text)
+    if not m:
+        return text
+    verb = m.group(1).split()[0]
+    known = {k.split()[0] for k in list(AFFORDANCE_VERBS) + list(EXTRA_AFFORDANCES)}
+    return f"where can i {m.group(1)}" if verb in known else text
+
+
+# "I need to wash my hands - is there a sink in here?", "ok, I'm cooking; where's the fridge?":
+# a statement of the asker's own (first person) before the question says why it is asked
+_CONTEXT = re.compile(r"^(?:(?:ok|okay|so|hey|well|right|hmm|um|oh)[ ,]+)*(?:i|i'm|im|i've|i'd|we|we're|my|our|me)\b"
+                      r"[^?]*?(?: [-\u2013\u2014]+ ?|[-\u2013\u2014]{2} ?| ?[,;:] ?|\. )"
+                      r"((?:is|are|where|what|which|how|do|does|can|could|any|have|has|got|would|will)\b.+)$")
+_DO_THAT = re.compile(r"\b(?:do|doing) (?:that|it|so|this)\b|\bthere\s*\??$")
+
+
+def context_clause(text: str) -> str:
+    """The question of "<a statement about me>, <a question>" (split at a dash, comma, semicolon,
+    colon or full stop): the statement says why, the question what. Kept whole when the question
+    leans on the statement ("... - where can I do that?") or is a bare "where?" / "any ideas?"
+    (`needs` reads those)."""
+    m = _CONTEXT.match(text)
+    if not m:
+        return text
+    rest = m.group(1).strip()
+    plain = " ".join(re.sub(r"[^\w' ]+", " ", rest).split())
+    if len(plain.split()) < 2 or _NEED_ALONE.match(plain) or _DO_THAT.search(rest):
+        return text
+    return rest
+
+
+# "exactly two tvs in the kitchen, right?", "there's a fridge, isn't there?": a tag asks for the
+# statement's truth and adds nothing to it
+_TAG = re.compile(r"\s*[,;-]+\s*(?:right|correct|true|yes|yeah|no|ok|okay|eh|huh|am i right|is that right|"
+                  r"is that correct|is that so|is it|isn't it|isnt it|is there|isn't there|isnt there|are there|"
+                  r"aren't there|arent there|aren't they|arent they|isn't that so|don't we|dont we|do we|"
+                  r"don't you|dont you|haven't we|havent we|right or wrong)\s*[?.!]*\s*$")
+
+
+def tag_question(text: str) -> str:
+    """A statement with a tag ("..., right?", "..., isn't there?") as the question it states:
+    the tag goes, the rest is asked (a statement is read as a question, see REPHRASE)."""
+    return _TAG.sub("", text)
+
+
+def were_for_where(text: str) -> tuple[str, list[str]]:
+    """"were is the grey mug", "were are the cups", "tell me were the sink is": "were" where it
+    cannot be the verb (before "is"/"are"/"can", or an embedded question ending in "is"/"are")
+    is a slip of "where"; the note says so. "were the cups on the table" stays a question in the
+    past."""
+    if re.match(r"^were (?:is|are|can|could|do|does|did|should|would|might)\b", text) \
+            or re.match(r"^were (?!there\b).+ (?:is|are)$", text):
+        return "where" + text[len("were"):], ["read 'were' as 'where'"]
+    return text, []
+
+
+# "would you mind counting the cups", "can you count the cups", "could u list the books": a
+# request is the imperative it asks for
+_GERUNDS = {"counting": "count", "listing": "list", "showing": "show", "naming": "name", "finding": "find",
+            "checking": "check", "telling": "tell"}
+_MIND = re.compile(r"^(?:would|do|could|will) you (?:please )?mind (" + "|".join(_GERUNDS) + r")\b")
+_CAN_YOU = re.compile(r"^(?:can|could|would|will) you (?:please |kindly |just )?(count|list|show|name|find)\b")
+
+
+def requests(text: str) -> str:
+    """"would you mind counting X" / "can you count X": "count X" (and "list", "show", "name",
+    "find"); "would you mind telling me ..." is a frame (FRAMES)."""
+    text = _MIND.sub(lambda m: _GERUNDS[m.group(1)], text)
+    return _CAN_YOU.sub(r"\1", text)
+
+
+_NUMBER_OR_BOTH = r"(?:\d+|both|both of the|both the|all|all of the|all the)"
+# "where are the two books", "what colour are both chairs": all of them, the number aside
+_THE_N = re.compile(r"^((?:where|what color|what size|how (?:big|tall|high|wide|long|deep)) (?:is|are) )"
+                    r"(?:the (\d+)|(both|both of the|both the)) (?=[a-z])")
+
+
+def the_n(text: str) -> tuple[str, list[str]]:
+    """"where are the two books", "what colour are both chairs": the question is about every one
+    of them; the number is said back as read ("read 'the 2 books' as 'the books'")."""
+    m = _THE_N.match(text)
+    if not m:
+        return text, []
+    said = f"the {m.group(2)}" if m.group(2) else m.group(3)
+    rest = text[m.end():]
+    return f"{m.group(1)}the {rest}", [f"read '{said} {rest}' as 'the {rest}' (every one)"]
+
+
+# "is it true (that) there's no fridge", "is it correct that the kitchen has a sink": the
+# statement asked as a yes/no question
+_IS_IT_TRUE = re.compile(r"^(?:is it|it is|is that|its|is this) (?:true|correct|right|the case|so) (?:that )?")
+
+
+def is_it_true(text: str) -> str:
+    """"is it true (that) S": S asked ("there is X" -> "is there X", "the kitchen has X" ->
+    "does the kitchen have X", "the cup is on X" -> "is the cup on X")."""
+    m = _IS_IT_TRUE.match(text)
+    if not m:
+        return text
+    rest = text[m.end():]
+    rest = re.sub(r"^there (is|are)\b", r"\1 there", rest)
+    rest = re.sub(r"^((?:the|a|an|my|our|this|your) (?:(?!has\b|have\b|is\b|are\b)[\w-]+ ?){1,3}) (has|have)\b",
+                  r"does \1 have", rest)
+    rest = re.sub(r"^((?:the|a|an|my|our|this|your) (?:(?!has\b|have\b|is\b|are\b)[\w-]+ ?){1,3}) (is|are)\b",
+                  r"\2 \1", rest)
+    return " ".join(rest.split())
 
 
 def fold(text: str) -> str:
@@ -107,6 +296,11 @@ def fold(text: str) -> str:
 def _contractions(text: str) -> str:
     # "which one's bigger": "one's" is "one is" after a question word, a possessive elsewhere
     text = re.sub(r"\b(which|what) one's\b", r"\1 one is", text)
+    # "which room's got books", "we've got": 's and 've before "got" are has and have
+    text = re.sub(r"(?<=\w)'s got\b", " has got", text)
+    text = re.sub(r"(?<=\w)'ve got\b", " have got", text)
+    # "how tall's the fridge", "how far's the sink": 's after a question is "is"
+    text = re.sub(r"\b(how (?:big|tall|high|wide|long|deep|far|many|much))'s\b", r"\1 is", text)
     for k, v in CONTRACTIONS.items():
         text = re.sub(rf"(?<![\w']){re.escape(k)}(?![\w'])", v, text)
     return text
@@ -133,6 +327,10 @@ def reorder_embedded(text: str) -> str:
     if m:
         return f"how many {m.group(1)} are there{m.group(2)}"
     m = _EMBEDDED.match(text)
+    # "how many white things are": already in question order (an embedded count names its room:
+    # "how many chairs the kitchen is" is no English)
+    if m and m.group(1).startswith("how many") and not m.group(2).startswith("the "):
+        return text
     if m and not re.search(r"\b(is|are)\b", m.group(2)):
         return f"{m.group(1)} {m.group(3)} {m.group(2)}"
     return text
@@ -161,10 +359,30 @@ REPHRASE: list[tuple[re.Pattern[str], str | Callable[[re.Match[str]], str]]] = [
     # "what is red (in the kitchen)", "which things are white": the things of that colour
     (re.compile(r"^(what|which)(?: (?:things|objects|items))? (?:is|are) " + _COLOURS + r"\b"),
      r"\1 \2 things are there"),
+    # "which things in the study are purple", "which chairs in the kitchen are red": the place goes last
+    (re.compile(r"^(what|which) (?!one\b|ones\b)([a-z-]+) (in (?:the |this |that |my )?[\w-]+(?: room)?) (?:is|are) "
+                + _COLOURS + r"$"), r"\1 \2 are \4 \3"),
     # "which chairs are red": the red chairs
-    (re.compile(r"^(what|which) (?!one\b|ones\b)([a-z-]+) (?:is|are) " + _COLOURS + r"$"), r"\1 \3 \2 are there"),
+    (re.compile(r"^(what|which) (?!one\b|ones\b)([a-z-]+) (?:is|are) " + _COLOURS + r"((?: in [\w -]+)?)$"),
+     r"\1 \3 \2 are there\4"),
     # "the number of chairs in the kitchen" (what is left of "could you tell me ...")
-    (re.compile(r"^the number of "), "what is the number of "),
+    (re.compile(r"^(?:the )?number of "), "what is the number of "),
+    # "desks how many?": the dislocated noun phrase goes back in
+    (re.compile(r"^(?:the |all the )?(.+?) how many$"), r"how many \1"),
+    # "how much chairs" (a countable noun, said by a non-native speaker): how many
+    (re.compile(r"^how much (?=[a-z-]+[^s\W]s\b)"), "how many "),
+    # "there is a fridge here?": a statement asked as a question
+    (re.compile(r"^there (is|are) "), r"\1 there "),
+    # "what color the fridge", "where the fridge?", "how big the table": the missing verb
+    (re.compile(r"^(what color|what size|how (?:big|tall|high|wide|long|deep|far)|where) "
+                r"(?=(?:the|a|an|this|that|my|your|these|those)\b)(?!.* (?:is|are)$)"), r"\1 is "),
+    # "what is the fridge colour", "the fridges colour": the colour (size, height ...) of it
+    (re.compile(r"^(?:what|which) (is|are) the ([\w -]+?) (color|size|height|width|length|depth)$"),
+     r"what \1 the \3 of the \2"),
+    # "dimensions of the fridge", "what are the measurements of the desk": its size
+    (re.compile(r"\b(?:dimensions|measurements|measures|dimension)\b"), "size"),
+    # "the chair nearest the fridge", "which cup is closest the sink": nearest to
+    (re.compile(r"\b(closest|nearest|farthest|furthest) (?=(?:the|a|an|this|that|my)\b)"), r"\1 to "),
     # "whereabouts is the sink" = "where is the sink"
     (re.compile(r"^whereabouts\b"), "where"),
     # "any mugs around?", "any sinks about": whether there are
@@ -179,10 +397,19 @@ REPHRASE: list[tuple[re.Pattern[str], str | Callable[[re.Match[str]], str]]] = [
                 r"can you see|are in it|does it have)$"), r"how many \1 \2"),
     # "how many objects does this room hold": the room of the scope
     (re.compile(r"\b(?:does|do) (?:this|the|our|my|that) (?:room|place|space) (?:have|hold|contain)\b"), "are there"),
+    # "the total number of chairs", "how many chairs in total are there": the number (of the scope)
+    (re.compile(r"\bthe total (?=number of\b)"), "the "),
+    (re.compile(r"^(how many .+?) (?:in total|altogether|all together|in all) (?=(?:are|is|do|does|can|could) )"),
+     r"\1 "),
     # "how many chairs across all the rooms": everywhere the scope holds (a count only: "is there
     # a chair in every room" asks something else, and "in each room" asks for a count per room)
     (re.compile(r"^(how many .+?) (?:across|in|throughout|over) (?:all (?:of )?(?:the )?rooms|the whole house)\b"),
      r"\1 in the house"),
+    # "is there a fridge anywhere in the house": in the house (the whole scope)
+    (re.compile(r"\b(?:anywhere|somewhere|everywhere) (?=(?:in|inside|within|around) (?:the |this |our |my )?"
+                r"(?:whole |entire )?(?:house|building|home|flat|apartment|place)\b)"), ""),
+    (re.compile(r"\b(?:in|inside|within|around) (?:the |this |our |my )?(?:whole |entire )?(?:flat|apartment|place)$"),
+     "in the house"),
     # "in which rooms can i find cups" = "which rooms have cups"
     (re.compile(r"^in (which|what) rooms? (?:can|could|do|would|will) (?:i|you|we|one) (?:find|see|get|spot) "),
      r"\1 rooms have "),
@@ -201,6 +428,87 @@ REPHRASE: list[tuple[re.Pattern[str], str | Callable[[re.Match[str]], str]]] = [
     (re.compile(r"^how far (is|are) (?:the )?(?:closest|nearest) (.+?) (from|to) "), r"how far \1 the \2 \3 "),
     # "exactly one tv", "more than one chair": a number
     (re.compile(r"\b(exactly|than|least|most) one\b"), r"\1 1"),
+    # "which room has got books", "we have got 3 chairs": has / have ("have you got" stays)
+    (re.compile(r"\b(has|have) got\b(?! to\b)"), r"\1"),
+    # "how many chairs have you got", "how many chairs you got": how many ... do you have
+    (re.compile(r"^how many (.+?) (?:have |do )?(you|we) (?:got|have)$"), r"how many \1 do \2 have"),
+    # "which rooms have books in them": "in it/them" is the room itself
+    (re.compile(r"^((?:which|what) rooms? .+?) in (?:it|them|there)$"), r"\1"),
+    # "where did i leave the book", "where have i put my cup": where it is
+    (re.compile(r"^where (?:did|have|had) (?:i|we|you|someone|somebody|they) (?:last )?"
+                r"(?:leave|left|put|place|placed|set|keep|kept|store|stored|drop|dropped|see|seen|saw|lose|lost|"
+                r"stash|stashed|hide|hid|hidden|misplace|misplaced)(?: down)? (.+?)(?: down)?(?: last(?: time)?)?$"),
+     r"where is \1"),
+    # "(check) whether the cup is on the table", "if the sink is next to the oven": the question
+    (re.compile(r"^(?:whether|if) (?!there\b)(.+?) (is|are) (?!there\b)(.+)$"), r"\2 \1 \3"),
+    # colour asked in other word orders: "what colour do the chairs have", "which colour have
+    # the chairs", "the chairs, which colour (do) they have", "colour of the table?"
+    (re.compile(r"^(?:what|which) color (?:do|does|have|has) (.+?)(?: have| has)?$"), r"what color are \1"),
+    (re.compile(r"^(.+?) (?:what|which) colors? (?:do |does |is |are )?(?:it|they|that|those|these|this)"
+                r"(?: have| has| is| are)?$"), r"what color are \1"),
+    (re.compile(r"^(?!what\b|which\b|how\b)(.+?) (?:(?:what|which) )?colors?$"), r"what color are \1"),
+    (re.compile(r"^(color|height|width|length|depth|size) of "), r"what is the \1 of "),
+    # "where could i do some work", "where can i do my homework": the activity's own verb
+    (re.compile(r"\b(can|could|should|might|may) i do (?:some |my |a bit of )?(work|homework|reading)\b"),
+     r"\1 i \2"),
+    # "how high up is the tv": how high
+    (re.compile(r"^how high up\b"), "how high"),
+    # "the sink and the table, how far apart (are they)": the phrase goes back in
+    (re.compile(r"^(.+?) how far apart(?: (?:are|is) (?:they|them|these|those|it))?$"), r"how far apart are \1"),
+    # "distance sink to table", "distance between the sink and the table?"
+    (re.compile(r"^(?:the )?distance (?!from\b|between\b|of\b)(.+) (?:to|from) "), r"the distance from \1 to "),
+    (re.compile(r"^(?:the )?distance (?!from\b|between\b|of\b)(?=.+ and )"), "the distance between "),
+    # "red things?", "anything white?", "white stuff": the things of that colour
+    (re.compile(r"^(?:any |all |the |some )?" + _COLOURS + r" (?:things|stuff|objects|items|ones)$"),
+     r"what \1 things are there"),
+    (re.compile(r"^(?:everything|things|stuff|objects|items)(?: that is| that are| in| colored)? "
+                + _COLOURS + r"$"), r"what \1 things are there"),
+    # "anything blue?", "something red in here?": whether there is (a yes or a no first)
+    (re.compile(r"^(?:anything|something)(?: that is| colored)? " + _COLOURS + r"$"), r"are there any \1 things"),
+    # "anything on the table other than the cups?": whether there is
+    (re.compile(r"^(anything|something|anyone|anybody) (?!to\b|for\b|else\b)"), r"is there \1 "),
+    # "how many rooms got a fridge", "which room got desks": got = have
+    (re.compile(r"\b(rooms?|which one|what one) got\b"), r"\1 have"),
+    # "where could i work on my laptop", "where can i sit with my book": the asker's own thing
+    # goes with the activity, it is no place in the graph
+    (re.compile(r"^((?:where|what|which [\w-]+) (?:can|could|should|might|may) i [\w-]+(?: down)?) "
+                r"(?:on|with|using|at) (?:my|our) [\w-]+(?: [\w-]+)?$"), r"\1"),
+]
+# "desks with a chair next to them", "which desk has a chair beside it": a symmetric relation
+# said back to the head by a pronoun is the head's own relation ("desks next to a chair")
+_SYMMETRIC_WORDS = r"(next to|near|beside|by|close to|adjacent to|alongside)"
+_SELF_RELATION = [
+    (re.compile(r"^(which|what) ([\w-]+(?: [\w-]+)?) (has|have) ((?:a|an|any|some|\d+) )?((?:[\w-]+ ){0,2}[\w-]+?) "
+                + _SYMMETRIC_WORDS + r" (?:it|them)$"),
+     lambda m: f"{m.group(1)} {m.group(2)} {'is' if m.group(3) == 'has' else 'are'} {m.group(6)} "
+               f"{m.group(4) or ''}{m.group(5)}"),
+    (re.compile(r"\b([\w-]+) (?:with|having|that have|that has|which have|which has) ((?:a|an|any|some|\d+) )?"
+                r"((?:[\w-]+ ){0,2}[\w-]+?) " + _SYMMETRIC_WORDS + r" (?:it|them)\b"),
+     lambda m: f"{m.group(1)} {m.group(4)} {m.group(2) or ''}{m.group(3)}"),
+]
+
+
+def self_relation(text: str) -> str:
+    """"desks with a chair next to them", "which desk has a chair near it": for a symmetric
+    relation (next to, near, beside) the pronoun is the head, so the head stands in that relation
+    to the other ("desks next to a chair"). An asymmetric one ("a desk with a cup on it") is
+    left as said, and refused naming the pronoun."""
+    for regex, repl in _SELF_RELATION:
+        text = regex.sub(repl, text)
+    return text
+
+
+# "more than 3 chairs (in here)?", "exactly 2 cups?": whether there are
+_ELLIPTIC = re.compile(r"^(?:any |got |have you got |do you have |do we have )?((?:more|fewer|less) than|exactly) "
+                       r"(\d+(?:\.\d+)?) (?!(?:m|cm|mm|ft|inch)\b)")
+# "no more than 3", "not less than 2", "over 3 chairs", "3 or more chairs": as "fewer than" / "more than"
+_BOUNDS = [
+    (re.compile(r"\b(?:no|not) more than (\d+)\b(?!\.\d)"), lambda m: f"fewer than {int(m.group(1)) + 1}"),
+    (re.compile(r"\b(?:no|not) (?:fewer|less) than (\d+)\b(?!\.\d)"), lambda m: f"more than {int(m.group(1)) - 1}"),
+    (re.compile(r"\b(\d+) or more\b"), lambda m: f"more than {int(m.group(1)) - 1}"),
+    (re.compile(r"\b(\d+) or (?:fewer|less)\b"), lambda m: f"fewer than {int(m.group(1)) + 1}"),
+    (re.compile(r"\b(?:over|above) (\d+)\b(?!\.\d| (?:m|cm|mm|ft|inch)\b)"), lambda m: f"more than {m.group(1)}"),
+    (re.compile(r"\b(?:under|below) (\d+)\b(?!\.\d| (?:m|cm|mm|ft|inch)\b)"), lambda m: f"fewer than {m.group(1)}"),
 ]
 # "at least 2" = "more than 1", "at most 2" = "fewer than 3" (whole numbers)
 _AT_LEAST = re.compile(r"\bat (least|most) (\d+)\b(?!\.\d)")
@@ -210,13 +518,19 @@ def rephrase(text: str) -> str:
     """The phrasings of REPHRASE and "at least / at most N" as the grammar's words."""
     for regex, repl in REPHRASE:
         text = regex.sub(repl, text)
-    return _AT_LEAST.sub(lambda m: f"more than {int(m.group(2)) - 1}" if m.group(1) == "least"
+    for regex, repl in _BOUNDS:
+        text = regex.sub(repl, text)
+    text = _AT_LEAST.sub(lambda m: f"more than {int(m.group(2)) - 1}" if m.group(1) == "least"
                          else f"fewer than {int(m.group(2)) + 1}", text)
+    return _ELLIPTIC.sub(r"are there \1 \2 ", text)
 
 
 # one spelling for phrases the grammar reads under another: "other than the sink" = "except
 # the sink", "as seen from" = "seen from", "to the left of" = "left of", "A as well as B" = "A and B"
 SAME_WORDS = [
+    # "which rooms have a chair but not a fridge", "... and no fridge": none of the second kind
+    # (before "but not" is read as "except", which would take fridges out of a set of chairs)
+    (re.compile(r"^((?:which|what) rooms? .+?) (?:but|and) (?:not|no)(?: (?:a|an|any))? "), r"\1 but no "),
     (re.compile(r"\b(?:that|which|who) (?:is|are) not (a|an|the|any) "), r"except \1 "),
     # "something on the cabinet that is not white", "things that are not cups": all but those
     (re.compile(r"\b(?:that|which|who) (?:is|are) not(?! (?:on|under|in|inside|above|below|next|near|beside|by|"
@@ -229,13 +543,16 @@ SAME_WORDS = [
     # "somewhere to sit", "places to sit", "something to drink from": what affords it
     (re.compile(r"^(?:is there|are there|do you have|do you know) (?:somewhere|anywhere|a place|any place|"
                 r"places|a spot|something|anything)(?: for me)? to "), "where can i "),
+    # "anything to drink from?", "somewhere to sit": the same, said without a verb
+    (re.compile(r"^(?:anything|something|anywhere|somewhere|any place|a place|a spot|any spot|any where|"
+                r"some place)(?: for me)? to "), "where can i "),
     (re.compile(r"\b(places?|spots?|things?|somewhere|something|anything|anywhere) to (?=\w)"), r"\1 for "),
     (re.compile(r"\bas well as\b"), "and"),
 ]
 # "the kitchen's chairs" = "the chairs in the kitchen"; "the cup's colour" = "the colour of the cup"
 _POSSESSIVE_MEASURE = re.compile(r"\b(?:the )?((?:[\w-]+ )?room|[\w-]+)'s (color|size|height|width|length)\b")
 _POSSESSIVE_LIST = re.compile(r"^(what|which) (is|are) (?:the )?((?:[\w-]+ )?room|[\w-]+)'s ([\w-]+(?: [\w-]+)?)\s*[?.!]*\s*$")
-_POSSESSIVE = re.compile(r"\b(?:the )?((?:[\w-]+ )?room|[\w-]+)'s ([\w-]+(?: [\w-]+)?)"
+_POSSESSIVE = re.compile(r"\b(?:the )?((?:[\w-]+ )?room|[\w-]+)'s ([\w-]+(?: (?!(?:is|are)\b)[\w-]+)?)"
                          r"(?= (?:is|are|in|on|next|near|there)\b|\s*[?.!,]*\s*$|\s*[,:;])")
 
 
@@ -266,7 +583,7 @@ def tidy(question: str) -> Phrased:
     """Question -> normalised words (no typo fixing yet): lower case, asides dropped,
     contractions and frames undone, numbers and units read, punctuation gone."""
     dropped: list[str] = []
-    text = fold(question)
+    text = tag_question(context_clause(fold(question)))
     while True:
         found = re.findall(r"\([^()]*\)|\[[^\[\]]*\]", text)
         if not found:
@@ -285,7 +602,13 @@ def tidy(question: str) -> Phrased:
     text = re.sub(r"[^\w\u2024\u2010' ]+", " ", text).replace("_", " ")
     text = text.replace("\u2024", ".").replace("\u2010", "-").replace("'", "")
     text = " ".join(text.split())
+    text, notes = first_word_typo(text)
     text = strip_frames(text)
+    text, more = first_word_typo(text)      # "hey whre is ...": the first word after the frame
+    notes += more
+    text, more = were_for_where(text)
+    notes += more
+    text = wanting(strip_frames(needs(requests(text))))
     for regex, repl in POSTURE:
         text = regex.sub(repl, text)
     text = _PLACE_TO.sub(r"where can i \1", text)
@@ -294,13 +617,17 @@ def tidy(question: str) -> Phrased:
         text = regex.sub(repl, text)
     text = _RELATIVE.sub(" ", text)
     text = _OF_THE.sub("how many ", text)
-    text = _DISLOCATED.sub(r"\2 \3 \1", text)
+    text = dislocated(text)
     text = _ONE.sub(r"\1", text)
-    text = _TRAILING.sub("", text).strip()
+    prev = None
+    while prev != text:         # "any books lying around here at all"
+        prev, text = text, _TRAILING.sub("", text).strip()
     text = reorder_embedded(text)
-    text = HERE.sub(" ", text)
-    text = rephrase(_numbers(text))
-    return Phrased(" ".join(text.split()), dropped=dropped)
+    text = " ".join(HERE.sub(" ", text).split())
+    text, more = the_n(_numbers(text))
+    notes += more
+    text = rephrase(self_relation(is_it_true(text)))
+    return Phrased(" ".join(text.split()), dropped=dropped, notes=notes)
 
 
 def max_edits(word: str) -> int:
@@ -338,13 +665,32 @@ COMMON_WORD_MIN_COUNT = 500
 def common_words() -> frozenset[str]:
     """Common English words, from the English word-frequency list the PyPI package
     pyspellchecker ships (read where it is installed): a correctly spelled word is never a typo,
-    so "sitting" is not read as "cutting"."""
-    import gzip
-    import json
+    so "sitting" is not read as "cutting". The words are picked once per machine and kept in
+    sg3d's cache (`core.cache`; reading the list's JSON takes 0.1 s), named by a hash of the list
+    and COMMON_WORD_MIN_COUNT."""
+    import hashlib
     from importlib import resources
 
-    data = resources.files("spellchecker") / "resources" / "en.json.gz"
-    counts = json.loads(gzip.decompress(data.read_bytes()))
+    from sg3d.core.cache import writable_cache_folder, write_atomically
+
+    raw = (resources.files("spellchecker") / "resources" / "en.json.gz").read_bytes()
+    key = hashlib.sha1(raw + f"\n{COMMON_WORD_MIN_COUNT}".encode()).hexdigest()[:12]
+    folder = writable_cache_folder()
+    kept = folder / f"common-words-{key}.txt" if folder else None
+    if kept is not None and kept.is_file():
+        return frozenset(kept.read_text().split())
+    words = pick_common_words(raw)
+    if kept is not None:
+        write_atomically(kept, "".join(f"{w}\n" for w in sorted(words)).encode())
+    return words
+
+
+def pick_common_words(raw: bytes) -> frozenset[str]:
+    """The common words of pyspellchecker's gzipped JSON word-frequency list `raw`."""
+    import gzip
+    import json
+
+    counts = json.loads(gzip.decompress(raw))
     return frozenset(w for w, n in counts.items() if n >= COMMON_WORD_MIN_COUNT and w.isascii() and w.isalpha())
 
 
@@ -374,10 +720,18 @@ def _question_word(word: str, after: str | None = None) -> str | None:
     return hits[0] if len(hits) == 1 else None
 
 
-def fix_typos(text: str, vocab: frozenset, known: Iterable[str] = ()) -> tuple[str, list[str]]:
+# after these a noun is said: an unknown word there that is as close to a noun as to another word
+# is the noun ("the refrigerater": refrigerator, not refrigerate)
+DETERMINERS = frozenset({"the", "a", "an", "any", "my", "this", "that", "these", "those", "your", "our", "some",
+                         "no", "each", "every"})
+
+
+def fix_typos(text: str, vocab: frozenset, known: Iterable[str] = (),
+              nouns: frozenset = frozenset()) -> tuple[str, list[str]]:
     """Each unknown word (outside `vocab`, not a common English word, not a number) that is
     one edit from exactly one question word (QUESTION_WORDS), or else within `max_edits` of
-    exactly one vocabulary word, is read as that word; the notes say so."""
+    exactly one vocabulary word, is read as that word; the notes say so. After a determiner
+    (DETERMINERS), a tie is settled by the object nouns `nouns` (one of them closest)."""
     keep = set(known)
     out, notes = [], []
     words = text.split()
@@ -386,6 +740,8 @@ def fix_typos(text: str, vocab: frozenset, known: Iterable[str] = ()) -> tuple[s
             out.append(w)
             continue
         fixed = _question_word(w, words[i + 1] if i + 1 < len(words) else None) or _closest(w, vocab)
+        if fixed is None and nouns and i > 0 and words[i - 1] in DETERMINERS:
+            fixed = _closest(w, nouns)
         if fixed is None:
             out.append(w)
         else:

@@ -48,6 +48,12 @@ UNIT_M = {"m": 1.0, "cm": 0.01, "mm": 0.001, "ft": 0.3048, "inch": 0.0254}
 ATTRIBUTES = {"big": "size", "large": "size", "tall": "tall", "high": "high", "wide": "width", "deep": "depth",
               "long": "length", "far": "far"}
 
+# words that change what a sentence asks (negation, exclusion, "only"): never ignored beside a
+# noun, as a colour-less "plain" may be; a question holding one where no rule reads it is refused
+# naming it ("which rooms have no fridge" is never answered as "which rooms have a fridge")
+NEVER_IGNORED = frozenset({"no", "not", "none", "never", "nor", "neither", "without", "except", "only", "non",
+                           "nothing", "excluding", "but", "besides", "lacking"})
+
 STRUCTURE_LABELS = {"floor": "floor", "ground": "floor", "wall": "wall", "counter": "counter",
                     "countertop": "counter", "worktop": "counter", "shelf": "shelf", "surface": "surface"}
 GENERIC = {"object", "thing", "item", "stuff", "everything", "something", "anything", "somewhere",
@@ -74,7 +80,8 @@ GERUNDS = {"sit": "sitting", "drink": "drinking", "put things down": "putting th
 # "furniture for <verb>ing") -> the activity
 AFFORDANCE_VERBS: dict[str, str] = {
     "sit": "sit", "sit down": "sit", "sit on": "sit", "sitting": "sit", "seat": "sit", "seating": "sit", "take a seat": "sit",
-    "drink": "drink", "drink from": "drink", "drinking": "drink", "pour": "drink", "pour water into": "drink",
+    "drink": "drink", "drink from": "drink", "drinking": "drink", "drink out": "drink", "drink out of": "drink",
+    "have a drink": "drink", "get a drink": "drink", "pour": "drink", "pour water into": "drink",
     "pour water in": "drink", "pour something into": "drink", "pour into": "drink", "pouring": "drink",
     "put": "put things down", "put things down": "put things down", "put something down": "put things down",
     "put things": "put things down", "put something": "put things down", "place": "put things down",
@@ -85,6 +92,9 @@ AFFORDANCE_VERBS: dict[str, str] = {
     "store": "store things", "store things": "store things", "store something": "store things",
     "storing": "store things", "storage": "store things", "keep things": "store things", "keep": "store things",
     "work": "work", "work at": "work", "working": "work", "working at": "work", "work on": "work",
+    "do some work": "work", "do work": "work", "do my work": "work", "do homework": "work",
+    "do my homework": "work", "study": "work", "use my laptop": "work", "use a laptop": "work",
+    "use the laptop": "work", "get some work done": "work", "get work done": "work",
     "keep cold": "keep things cold", "keep things cold": "keep things cold", "chill": "keep things cold",
     "cool": "keep things cold", "refrigerate": "keep things cold", "freeze": "keep things cold",
     "keep cool": "keep things cold", "keep fresh": "keep things cold",

@@ -647,11 +647,12 @@ def _phrase(store, text: str, building: Optional[str]) -> tuple[str, list[str]]:
 
     tidied = tidy(text)
     asides = [f"ignored: {', '.join(tidied.dropped)}"] if tidied.dropped else []
+    asides += tidied.notes
     vocab = compose.typo_vocabulary()
     if all(is_word(w, vocab) for w in tidied.text.split()):
         return tidied.text, asides
     rooms = {w for n in _room_names(store, building, with_buildings=True) for w in n.lower().split()}
-    fixed, notes = fix_typos(tidied.text, vocab, rooms)
+    fixed, notes = fix_typos(tidied.text, vocab, rooms, compose.typo_nouns())
     return fixed, asides + notes
 
 
