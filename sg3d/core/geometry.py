@@ -14,6 +14,9 @@ FLOOR_STANDING_LABELS = frozenset({
     "chair", "couch", "bed", "dining table", "bench", "toilet", "refrigerator", "oven",
     "desk", "cabinet",
 })
+# Kinds that stand solid to the floor (no knee space under them): a refrigerator, an oven. A desk
+# named from its shape had the floor seen under its top, so it is none of them.
+SOLID_TO_THE_FLOOR = frozenset({"refrigerator", "oven"})
 
 
 def horizontal_basis(up: ArrayLike) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

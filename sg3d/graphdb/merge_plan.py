@@ -18,7 +18,13 @@ import numpy as np
 from scipy.optimize import linear_sum_assignment
 
 from sg3d.core.embedding import LabelEmbedding
-from sg3d.core.geometry import DESK_LABEL, FLOOR_STANDING_LABELS, carrel_panel, gravity_basis
+from sg3d.core.geometry import (
+    DESK_LABEL,
+    FLOOR_STANDING_LABELS,
+    SOLID_TO_THE_FLOOR,
+    carrel_panel,
+    gravity_basis,
+)
 from sg3d.core.model import UNNAMED_LABEL, LocalGraph, ObjectObservation, ScanInfo
 from sg3d.graphdb import rescan
 from sg3d.graphdb.consistency import canonical_rows
@@ -426,11 +432,6 @@ def claimed_by_stored_desk(obj: ObjectObservation, candidates: list[dict], basis
         return None
     centre = basis @ np.asarray(_box_centre(obj), float)
     return min(desks, key=lambda c: float(np.linalg.norm(basis @ np.asarray(_stored_centre(c), float) - centre)))["id"]
-
-
-# Kinds that stand solid to the floor (no knee space under them): a desk named from its shape had
-# the floor seen under its top (`sg3d.ingest.discover.furniture.desk_shaped`), so it is none of them.
-SOLID_TO_THE_FLOOR = frozenset({"refrigerator", "oven"})
 
 
 def _solid_over_desk(obj: ObjectObservation, cand: dict, basis: np.ndarray) -> bool:

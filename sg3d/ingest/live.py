@@ -283,7 +283,7 @@ class LiveMapper:
             return False
         up = self.gravity.up
         dets = detections_of(frame, self.detector, self.settings, self.stats)
-        found = sightings_of(frame, dets, up, horizontal_frame(up), self.stats)
+        found = sightings_of(frame, dets, up, horizontal_frame(up), self.stats, self.gravity.floor_height)
         ev = _Evidence(dets, found, existence.View.of(frame))
         frame.release()
         with self._lock:
@@ -389,7 +389,7 @@ class LiveMapper:
                 frame.load()
             except FrameError:
                 continue
-            found = sightings_of(frame, ev.dets, up, basis, self.stats)
+            found = sightings_of(frame, ev.dets, up, basis, self.stats, self.gravity.floor_height)
             frame.release()
             with self._lock:
                 self._evidence[i] = _Evidence(ev.dets, found, ev.view)

@@ -217,13 +217,15 @@ def detections_of(frame, detector: Detector, settings: Settings, stats: Pipeline
     return reject_irrelevant(dets) if settings.method.sdr else dets
 
 
-def sightings_of(frame, dets: list, up, basis, stats: PipelineStats) -> list[fusion.Sighting]:
-    """A frame's detections lifted to 3-D with their attributes (boxes without depth drop out)."""
+def sightings_of(frame, dets: list, up, basis, stats: PipelineStats,
+                 floor: Optional[float] = None) -> list[fusion.Sighting]:
+    """A frame's detections lifted to 3-D with their attributes (boxes without depth drop out),
+    measured off the floor at height `floor` when the build knows it (`measure_object`)."""
     t0 = time.perf_counter()
     screens = [det.box for det in dets if is_screen(det.label)]
     sightings = []
     for det in dets:
-        attrs = measure_object(frame, det.box, up, det.label, screens)
+        attrs = measure_object(frame, det.box, up, det.label, screens, floor)
         if attrs is not None:
             sightings.append(fusion.Sighting.of(frame.index, det, attrs, basis))
     stats.seconds["attributes"] += time.perf_counter() - t0
@@ -231,15 +233,15 @@ def sightings_of(frame, dets: list, up, basis, stats: PipelineStats) -> list[fus
 
 
 def detect_frame(frame, detector: Detector, up, basis, settings: Settings,
-                 stats: PipelineStats) -> tuple[list[fusion.Sighting], existence.View]:
+                 stats: PipelineStats, floor: Optional[float] = None) -> tuple[list[fusion.Sighting], existence.View]:
     """One decoded frame -> its sightings (`detections_of`, `sightings_of`) and its visibility
     view (`existence.View`): what fusion and existence need of a detected frame."""
-    sightings = sightings_of(frame, detections_of(frame, detector, settings, stats), up, basis, stats)
+    sightings = sightings_of(frame, detections_of(frame, detector, settings, stats), up, basis, stats, floor)
     return sightings, existence.View.of(frame)
 
 
 def _detect(seq, chosen: list[int], detector: Detector, up, basis, settings: Settings,
-            stats: PipelineStats, progress: Optional[ProgressFn]):
+            stats: PipelineStats, progress: Optional[ProgressFn], floor: Optional[float] = None):
     """Sightings and visibility views of the chosen frames."""
     sightings: list[fusion.Sighting] = []
     views: list[existence.View] = []
@@ -251,7 +253,7 @@ def _detect(seq, chosen: list[int], detector: Detector, up, basis, settings: Set
             frame.load()
         except FrameError:
             continue                      # recorded in seq.skipped
-        found, view = detect_frame(frame, detector, up, basis, settings, stats)
+        found, view = detect_frame(frame, detector, up, basis, settings, stats, floor)
         sightings.extend(found)
         views.append(view)
         frame.release()
@@ -267,7 +269,7 @@ def _existing(hyps: list[fusion.Hypothesis], views: list[existence.View], basis,
     labels (those the size prior allows); rejections are counted by reason."""
     kept = []
     for h in hyps:
-        labels, scores = existence.plausible_labels(h.labels, h.scores, h.hi - h.lo)
+        labels, scores = existence.plausible_labels(h.labels, h.scores, *existence.judged_sizes(h.sightings, h.hi - h.lo))
         if not labels:
             stats.rejected["implausible size for its label"] += 1
             continue
@@ -382,7 +384,7 @@ def chunk_graph(seq, a: int, b: int, detector: Detector, up, settings: Settings,
     loading = _prepare_in_background(detector)
     chosen = select_frames_to_detect(seq, a, b, settings, stats, progress)
     loading.join()
-    sightings, views = _detect(seq, chosen, detector, up, basis, settings, stats, progress)
+    sightings, views = _detect(seq, chosen, detector, up, basis, settings, stats, progress, floor)
     return graph_of_evidence(sightings, views, sequence_colour(seq), up, settings, room, building, key, stats,
                              known=known, scan=scan, floor=floor)
 
@@ -417,6 +419,7 @@ def graph_of_evidence(sightings: list[fusion.Sighting], views: list[existence.Vi
     if method.sdr and settings.discover and views:
         t0 = time.perf_counter()
         objects += (discover or discover_from_depth)(colour_of, views, objects, up, floor, stats)
+        by_id = {k: h for k, h in by_id.items() if k in {o.local_id for o in objects}}   # discovery may drop a misreading
         stats.seconds["discovery"] += time.perf_counter() - t0
     t0 = time.perf_counter()
     relations = _relations(by_id, objects, up, method) if method.three_d else []

@@ -597,8 +597,12 @@ def discover(named: list[ObjectObservation], cloud: RoomCloud, structure: Sequen
     a table would be claimed by the table's box). A seat level with a couch's back or arm
     (`furniture.couch_shaped`) is a couch node that takes its parts; a worktop's box and the
     carrel panels beside it (`furniture.carrel_panel`) are its desks'; a low piece under a seat
-    (`furniture.base_under_seat`) is that seat's base. None of these is a node of its own."""
+    (`furniture.base_under_seat`) is that seat's base. None of these is a node of its own. A
+    detection of a kind solid to the floor with the floor seen under it (`furniture.open_below`)
+    is no object: it leaves `named` (in place), and its points are segmented like any others."""
     surfaces = [e for e in structure if e.footprint is not None]
+    misread = [gravity_box(o, cloud) for o in named if furniture.open_below(o.label, *gravity_box(o, cloud), cloud)]
+    named[:] = [o for o in named if not furniture.open_below(o.label, *gravity_box(o, cloud), cloud)]
     tops = [whole_object_box(o, cloud, surfaces) for o in named]
     for k, (o, top) in enumerate(zip(named, tops)):
         if top is not None and furniture.low_solid_top(o, top, cloud):
@@ -607,7 +611,7 @@ def discover(named: list[ObjectObservation], cloud: RoomCloud, structure: Sequen
             named[k].size = vec3(hi - lo)
             named[k].box_centre = vec3(cloud.to_world((lo + hi) / 2))
     owned = {id(e) for e in tops if e is not None}
-    boxes = [gravity_box(o, cloud) for o in named]
+    boxes = [gravity_box(o, cloud) for o in named] + misread
     desks = _desks([e for e in surfaces if id(e) not in owned], cloud, colour_image)
     owned |= {id(e) for e, _ in desks}
     standing = [b for o, b in zip(named, boxes) if o.label in FLOOR_STANDING_LABELS]

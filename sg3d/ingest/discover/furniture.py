@@ -29,6 +29,7 @@ from sg3d.core.geometry import (  # noqa: F401  (the carrel rule is shared with 
     CARREL_PANEL_MAX_THICKNESS_M,
     CARREL_REACH_M,
     DESK_LABEL,
+    SOLID_TO_THE_FLOOR,
     boxes_touch,
     carrel_panel,
 )
@@ -79,6 +80,10 @@ COUCH_LABEL = "couch"
 # base with its casters stands 0.10-0.15 m; a seat is at 0.35 m or more) and whose footprint
 # overlaps the footprint of a seat above it.
 BASE_MAX_TOP_M = 0.16
+# ... and whose footprint overlaps, or lies within this of, the seat's: a five-star base is 0.60-0.70 m
+# across under a 0.45-0.50 m seat, so its legs reach about 0.10 m beyond the seat's edge (and a
+# seat's box measured off the floor ends at the seat and back).
+BASE_REACH_M = 0.10
 # What stands above a base as a seat: its bottom at least this high (a chair's seat, seen without
 # its legs) or a named floor-standing object's box.
 SEAT_MIN_BOTTOM_M = 0.25
@@ -108,6 +113,27 @@ def floor_seen_under(surface: Element, cloud: RoomCloud) -> float:
     seen = np.zeros(surface.footprint.shape, bool)
     seen[cells[:, 0], cells[:, 1]] = True
     return float((seen & surface.footprint).sum() / max(1, surface.footprint.sum()))
+
+
+def floor_seen_in_footprint(lo: np.ndarray, hi: np.ndarray, cloud: RoomCloud) -> float:
+    """The share of a gravity box's footprint cells (SURFACE_CELL_M) with a floor point (within
+    FLOOR_SLAB_M of the floor) in them."""
+    n = np.maximum(np.round((hi[:2] - lo[:2]) / SURFACE_CELL_M).astype(int), 1)
+    p = cloud.points[np.abs(cloud.points[:, 2]) <= FLOOR_SLAB_M]
+    cells = np.floor((p[:, :2] - lo[:2]) / SURFACE_CELL_M).astype(int)
+    cells = cells[(cells >= 0).all(axis=1) & (cells < n).all(axis=1)]
+    seen = np.zeros(tuple(n), bool)
+    seen[cells[:, 0], cells[:, 1]] = True
+    return float(seen.mean())
+
+
+def open_below(label: str, lo: np.ndarray, hi: np.ndarray, cloud: RoomCloud) -> bool:
+    """Rule "not solid to the floor": a detection of a kind that stands solid to the floor
+    (SOLID_TO_THE_FLOOR: a refrigerator, an oven) over whose box's footprint the floor was seen in
+    at least CABINET_FLOOR_SHARE of the cells (`floor_seen_in_footprint`: it does not hide the
+    floor as a solid box does) is no such thing: the detector read something open below (a
+    carrel's panel and its desk) as one."""
+    return label in SOLID_TO_THE_FLOOR and floor_seen_in_footprint(lo, hi, cloud) >= CABINET_FLOOR_SHARE
 
 
 def part_of_furniture(surface: Element, boxes: Sequence[tuple[np.ndarray, np.ndarray]]) -> bool:
@@ -302,9 +328,10 @@ def couch_node(local_id: str, lo: np.ndarray, hi: np.ndarray, cloud: RoomCloud,
 
 def base_under_seat(lo: np.ndarray, hi: np.ndarray, seats: Sequence[tuple[np.ndarray, np.ndarray]]) -> bool:
     """Rule "a seat's base": a piece (gravity box lo, hi) whose top is at most BASE_MAX_TOP_M above
-    the floor and whose footprint overlaps the footprint of a seat standing above it (`seats`: a
+    the floor and whose footprint overlaps the footprint of a seat standing above it, or lies within
+    BASE_REACH_M of it (a base's legs reach beyond the seat's edge) (`seats`: a
     named floor-standing object's box, or a part whose bottom is at least SEAT_MIN_BOTTOM_M high)
     is that seat's base or legs (a chair's five-star base), not an object of its own."""
     if float(hi[2]) > BASE_MAX_TOP_M:
         return False
-    return any(_touching(lo, hi, slo, shi, 0.0) and float(shi[2]) > BASE_MAX_TOP_M for slo, shi in seats)
+    return any(_touching(lo, hi, slo, shi, BASE_REACH_M) and float(shi[2]) > BASE_MAX_TOP_M for slo, shi in seats)

@@ -9,7 +9,8 @@ Boxes are (x1, y1, x2, y2) in colour pixels, x2/y2 exclusive, clipped to the ima
   max(10 cm, 3 robust sigmas)) are dropped first: a centre cell that looks through a handle or
   past a chair's slats should not drag the object onto the wall behind it. None without depth.
 - Size: the object's points are the box pixels connected (no depth jump) to the centre
-  region, which separates the object from background seen around it; their extent between the
+  region, which separates the object from background seen around it (the floor's pixels, within
+  FLOOR_BAND_M of the build's floor height, left out first: `floor_pixels`); their extent between the
   5th and 95th percentile along (e1, e2, up) of `sg3d.core.geometry.horizontal_basis(up)` gives
   (width, depth, height), the frame relations reason in.
 - Colour histogram (Eq. 9): HSV, HIST_BINS per axis (OpenCV ranges H 0-180, S and V 0-256),
@@ -49,6 +50,11 @@ DEPTH_JUMP_REL = 0.03
 MAX_BOX_SAMPLES = 6400
 # A box's extent is measured between these percentiles of the object's points.
 BOX_LOW_PERCENTILE, BOX_HIGH_PERCENTILE = 5.0, 95.0
+# A box's points within this height of the floor are the floor (Kinect-class depth noise of 1-2 cm
+# at 2-3 m plus a 2-3 degree tilt of the floor estimate across a room), left out of its extent...
+FLOOR_BAND_M = 0.05
+# ... unless that leaves under this share of the box's depth: a thing lying flat on the floor.
+MIN_OFF_FLOOR_SHARE = 0.2
 
 
 def clip_box(box: Box, width: int, height: int) -> tuple[int, int, int, int]:
@@ -126,12 +132,16 @@ def sample_stride(bounds: tuple[int, int, int, int], max_samples: int = MAX_BOX_
     return max(1, int(np.ceil(np.sqrt((x2 - x1) * (y2 - y1) / max_samples))))
 
 
-def object_mask(depth: np.ndarray, bounds: tuple[int, int, int, int], stride: int = 1) -> np.ndarray:
+def object_mask(depth: np.ndarray, bounds: tuple[int, int, int, int], stride: int = 1,
+                leave_out: Optional[np.ndarray] = None) -> np.ndarray:
     """Pixels of the box (bool, on the box's grid sampled every `stride` pixels) on the depth
-    surface connected to its centre 3x3."""
+    surface connected to its centre 3x3; pixels of `leave_out` (same grid: the floor) are neither
+    part of it nor a bridge to another surface."""
     x1, y1, x2, y2 = bounds
     crop = depth[y1:y2:stride, x1:x2:stride]
     valid = crop > 0
+    if leave_out is not None:
+        valid = valid & ~leave_out
     tol = np.maximum(DEPTH_JUMP_M, DEPTH_JUMP_REL * crop)
     jump = np.zeros_like(valid)
     dx = np.abs(np.diff(crop, axis=1)) > tol[:, 1:]
@@ -152,19 +162,45 @@ def object_mask(depth: np.ndarray, bounds: tuple[int, int, int, int], stride: in
     return labels == int(np.argmax(counts))
 
 
+def floor_pixels(depth_crop: np.ndarray, bounds: tuple[int, int, int, int], stride: int, K: np.ndarray,
+                 pose: np.ndarray, up: ArrayLike, floor: float, band: float = FLOOR_BAND_M) -> np.ndarray:
+    """Pixels of a box's sampled grid (`depth_crop` = depth[y1:y2:stride, x1:x2:stride]) whose
+    point lies within `band` of the floor's height (`floor` = p . up of the floor plane, the
+    build's gravity estimate): the floor seen around and under a chair's legs or through its
+    open base is no part of it, and no bridge to the wall it stands against."""
+    x1, y1 = bounds[0], bounds[1]
+    h, w = depth_crop.shape
+    v, u = np.mgrid[0:h, 0:w]
+    pts = world_points((u * stride + x1).astype(np.float64), (v * stride + y1).astype(np.float64),
+                       depth_crop.astype(np.float64), K, pose)
+    heights = (pts @ np.asarray(up, dtype=np.float64)).reshape(h, w)
+    return (depth_crop > 0) & (heights < floor + band)
+
+
 def object_box(frame: Frame, box: Box, up: Optional[ArrayLike] = None,
-               lo: float = BOX_LOW_PERCENTILE, hi: float = BOX_HIGH_PERCENTILE) -> Optional[tuple[tuple[float, float, float], tuple[float, float, float]]]:
+               lo: float = BOX_LOW_PERCENTILE, hi: float = BOX_HIGH_PERCENTILE,
+               floor: Optional[float] = None) -> Optional[tuple[tuple[float, float, float], tuple[float, float, float]]]:
     """The object's 3-D box in the gravity frame: (centre in world coordinates, (width, depth,
     height) in metres along (e1, e2, up) of horizontal_basis(up)); None without depth.
 
     Percentiles of the points on the depth surface connected to the box centre, so background
-    seen around the object and flying pixels at its border do not inflate it. `up` defaults to
-    the camera's image-up direction (-y_cam) in world coordinates.
+    seen around the object and flying pixels at its border do not inflate it. With the floor's
+    height `floor` (p . up), the floor's pixels (`floor_pixels`) are left out first, unless that
+    leaves under MIN_OFF_FLOOR_SHARE of the box's depth (a thing lying flat on the floor is its
+    own floor level). `up` defaults to the camera's image-up direction (-y_cam) in world
+    coordinates.
     """
     w, h = frame.size
     bounds = clip_box(box, w, h)
     stride = sample_stride(bounds)
-    mask = object_mask(frame.depth, bounds, stride)
+    leave_out = None
+    if floor is not None and up is not None:
+        x1, y1, x2, y2 = bounds
+        crop = frame.depth[y1:y2:stride, x1:x2:stride]
+        on_floor = floor_pixels(crop, bounds, stride, frame.K, frame.pose, up, floor)
+        if np.count_nonzero((crop > 0) & ~on_floor) >= MIN_OFF_FLOOR_SHARE * np.count_nonzero(crop > 0):
+            leave_out = on_floor
+    mask = object_mask(frame.depth, bounds, stride, leave_out)
     v, u = np.nonzero(mask)
     if u.size < 3:
         return None
@@ -266,8 +302,14 @@ def object_colour(frame: Frame, box: Box, label: Optional[str] = None,
     x1, y1, x2, y2 = bounds
     grey = frame.gray[y1:y2:stride, x1:x2:stride]
     sharpness = float(cv2.Laplacian(grey, cv2.CV_32F).var()) if min(grey.shape) >= 3 else 0.0
-    cut = x1 <= 1 or y1 <= 1 or x2 >= w - 1 or y2 >= h - 1
-    return reading, colour_model.view_weight(len(pixels) * stride * stride, sharpness, cut)
+    return reading, colour_model.view_weight(len(pixels) * stride * stride, sharpness, cut_at_border(bounds, w, h))
+
+
+def cut_at_border(bounds: tuple[int, int, int, int], width: int, height: int) -> bool:
+    """Whether a clipped box (x1, y1, x2, y2) touches the image border (within a pixel): the
+    object may go on beyond the image, so the box shows only part of it."""
+    x1, y1, x2, y2 = bounds
+    return x1 <= 1 or y1 <= 1 or x2 >= width - 1 or y2 >= height - 1
 
 
 def dominant_colour(image: np.ndarray, box: Optional[Box] = None, margin: float = INNER_MARGIN) -> str:
@@ -310,17 +352,21 @@ class ObjectAttributes:
     centre: tuple[float, float, float]   # centre of the 3-D box (mean is the centre patch's)
     colour_reading: Optional[colour_model.ColourReading] = None   # None: only `colour` is known
     view_weight: float = 1.0             # how well this view shows the object's colour
+    cut: bool = False                    # the box touches the image border (`cut_at_border`)
 
 
 def measure_object(frame: Frame, box: Box, up: Optional[Sequence[float]] = None,
-                   label: Optional[str] = None, screens: Sequence[Box] = ()) -> Optional[ObjectAttributes]:
+                   label: Optional[str] = None, screens: Sequence[Box] = (),
+                   floor: Optional[float] = None) -> Optional[ObjectAttributes]:
     """All attributes of a boxed object (detected as `label`, if given) in a frame whose
-    detected screens have boxes `screens`; None when the box has no usable depth."""
+    detected screens have boxes `screens`, its box measured off the floor at height `floor`
+    (`object_box`); None when the box has no usable depth."""
     pos = position_gaussian(frame, box)
     if pos is None:
         return None
-    centre, size = object_box(frame, box, up) or (pos.mean, (0.0, 0.0, 0.0))
+    centre, size = object_box(frame, box, up, floor=floor) or (pos.mean, (0.0, 0.0, 0.0))
     image = frame.color
     reading, weight = object_colour(frame, box, label, screens)
+    cut = cut_at_border(clip_box(box, *frame.size), *frame.size)
     return ObjectAttributes(pos.mean, pos.var, pos.n_points, size, hsv_histogram(image, box),
-                            reading.name, thumbnail(image, box), centre, reading, weight)
+                            reading.name, thumbnail(image, box), centre, reading, weight, cut)

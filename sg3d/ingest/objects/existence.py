@@ -14,7 +14,7 @@ import math
 from dataclasses import dataclass
 from functools import lru_cache
 from pathlib import Path
-from typing import Optional, Sequence
+from typing import Optional, Sequence, Union
 
 import cv2
 import numpy as np
@@ -52,6 +52,10 @@ EXISTENCE_THRESHOLD = 0.5
 MIN_DETECTIONS = 2
 
 
+# An object is never too small for its label when the image border cuts at least this share of
+# its views (the median view is a cut one).
+CUT_SHARE = 0.5
+
 # A label the size prior leaves standing replaces the best one only with at least this share of
 # its evidence (fused score).
 RELABEL_MIN_SHARE = 0.5
@@ -69,26 +73,50 @@ def class_sizes() -> dict[str, tuple[float, float]]:
     return {k: (float(v[0]), float(v[1])) for k, v in data["sizes"].items()}
 
 
-def size_plausible(label: str, size: Sequence[float]) -> bool:
+_SAME = object()
+Size = Union[Sequence[float], np.ndarray]
+
+
+def size_plausible(label: str, size: Size, small_size: object = _SAME) -> bool:
     """Size prior: the object's largest extent could be one in its class's plausible range
     (`data/class_sizes.json`, world knowledge, true sizes); classes without a range always pass.
     The measured box spans MEASURED_SHARE of the object (percentiles of its points), so the
     smallest plausible object measures MEASURED_SHARE * min: min * MEASURED_SHARE <= extent <= max
-    (trimming tails never makes a box bigger than its object)."""
+    (trimming tails never makes a box bigger than its object). Too big is judged on `size`; too
+    small on `small_size` (`size` itself unless given; `judged_sizes`), never when it is None."""
     bounds = class_sizes().get(label)
-    return bounds is None or bounds[0] * MEASURED_SHARE <= float(max(size)) <= bounds[1]
+    if bounds is None:
+        return True
+    small = size if small_size is _SAME else small_size
+    too_small = small is not None and float(np.max(np.asarray(small, dtype=np.float64))) < bounds[0] * MEASURED_SHARE
+    return float(max(size)) <= bounds[1] and not too_small
 
 
-def plausible_labels(labels: Sequence[str], scores: Sequence[float], size: Sequence[float]) -> tuple[list[str], list[float]]:
-    """The top-k labels without those the size prior rules out, order kept: a 45 cm box called
+def plausible_labels(labels: Sequence[str], scores: Sequence[float], size: Size,
+                     small_size: object = _SAME) -> tuple[list[str], list[float]]:
+    """The top-k labels without those the size prior rules out (`size_plausible`, with
+    `small_size`), order kept: a 45 cm box called
     "cell phone" (0.4) first and "book" (0.2) second becomes a book. Empty when no label fits,
     or when the best label that fits has less than RELABEL_MIN_SHARE of the best label's
     evidence: a faint third guess (a plastic box: "cell phone" 0.28, "remote" 0.10, "book" 0.09)
     is not a reading of the object, only what is left."""
-    kept = [(lbl, s) for lbl, s in zip(labels, scores) if size_plausible(lbl, size)]
+    kept = [(lbl, s) for lbl, s in zip(labels, scores) if size_plausible(lbl, size, small_size)]
     if kept and scores and kept[0][1] < RELABEL_MIN_SHARE * float(scores[0]):
         kept = []
     return [lbl for lbl, _ in kept], [s for _, s in kept]
+
+
+def judged_sizes(sightings: Sequence, box_size: Size) -> tuple[np.ndarray, Optional[np.ndarray]]:
+    """Rules "the median view" and "a cut view is a part": the sizes the size prior
+    (`size_plausible`) judges an object by. Too big: per axis the median of its views' boxes
+    (`Sighting.attrs.size`), not the union `box_size` of its views (a view whose box ran along the
+    floor or took in a neighbour is outvoted). Too small: `box_size` (a part seen in one view and
+    the rest in another add up), and never when the image border cuts at least CUT_SHARE of its
+    views (`attrs.cut`): what those show is a part of something that goes on beyond the image."""
+    sizes = np.array([s.attrs.size for s in sightings], dtype=np.float64)
+    cut = np.array([bool(getattr(s.attrs, "cut", False)) for s in sightings], dtype=bool)
+    small = None if cut.mean() >= CUT_SHARE else np.asarray(box_size, dtype=np.float64)
+    return np.median(sizes, axis=0), small
 
 
 def tile_artefact(detections: Sequence) -> bool:

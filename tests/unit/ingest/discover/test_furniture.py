@@ -208,3 +208,24 @@ def test_carrel_panel_stands_beside_the_worktop(gap, ok):
 
 def test_carrel_panel_rises_above_the_top():
     assert not furniture.carrel_panel(np.array([1.0, 0.75, 0.05]), np.array([1.15, 1.0, 0.6]), *WORKTOP)
+
+
+@pytest.mark.parametrize("gap,ok", [(0.09, True), (0.11, False)])
+def test_a_base_reaches_10_cm_beyond_its_seat(gap, ok):                 # BASE_REACH_M
+    seat = (np.array([0.0, 0.0, 0.32]), np.array([0.5, 0.5, 0.92]))
+    base = (np.array([0.5 + gap, 0.0, 0.04]), np.array([1.2, 0.5, 0.12]))
+    assert furniture.base_under_seat(*base, [seat]) is ok
+
+
+# --- a solid kind open below ---------------------------------------------------------------------
+
+@pytest.mark.parametrize("floor_share,ok", [(0.40, True), (0.30, False)])
+def test_a_refrigerator_with_the_floor_seen_under_it_is_no_refrigerator(floor_share, ok):   # CABINET_FLOOR_SHARE
+    lo, hi = np.array([0.0, 0.0, 0.05]), np.array([1.0, 1.0, 1.2])
+    # floor points under the first `floor_share` of the footprint (along a)
+    floor = grid(0.0, floor_share, 0.0, 1.0, 0.0, 0.0, step=0.025)
+    cloud = cloud_of(floor, grid(0.0, 1.0, 0.0, 1.0, 0.5, 0.5))
+    assert furniture.floor_seen_in_footprint(lo, hi, cloud) == pytest.approx(floor_share, abs=0.03)
+    assert furniture.open_below("refrigerator", lo, hi, cloud) is ok
+    assert furniture.open_below("oven", lo, hi, cloud) is ok
+    assert not furniture.open_below("chair", lo, hi, cloud)         # a chair is open below anyway

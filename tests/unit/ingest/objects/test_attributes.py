@@ -224,3 +224,61 @@ def test_an_objects_own_depths_lie_within_5_cm_of_its_centres_at_least():   # MI
     crop[0, 0], crop[0, 9] = 1.045, 1.055
     inside = within_object_depth(crop, (0, 0, 10, 10), K)
     assert inside[0, 0] and not inside[0, 9]
+
+
+# --------------------------------------------------------------------------- a box measured off the floor
+
+def _floor_scene() -> Frame:
+    """A camera 1 m above a floor (world z up, looking along +y, tilted down 45 degrees) over a
+    floor that runs across the whole image, and a 0.6 m wide, 0.6 m tall panel standing on it
+    1 m ahead, in the middle of the image."""
+    c, s = np.cos(np.radians(45)), np.sin(np.radians(45))
+    # camera axes in world: x right = +x, y down = (0, -s... ), z forward = (0, c, -s)
+    R = np.array([[1.0, 0, 0], [0, -s, c], [0, -c, -s]])
+    pose = np.eye(4)
+    pose[:3, :3] = R
+    pose[:3, 3] = (0.0, 0.0, 1.0)
+    v, u = np.mgrid[0:H, 0:W].astype(np.float64)
+    rays = np.stack([(u - K[0, 2]) / K[0, 0], (v - K[1, 2]) / K[1, 1], np.ones_like(u)], axis=-1) @ R.T
+    depth = (-1.0 / rays[..., 2]).astype(np.float32)          # where each ray meets z = 0
+    depth[depth < 0] = 0
+    # the panel: |x| <= 0.3, 0 <= z <= 0.6 on the plane y = 1
+    panel_depth = np.full((H, W), 0.0, np.float32)
+    t = 1.0 / rays[..., 1]                                      # ray meets the plane y = 1
+    hit = t * rays[..., 2] + 1.0
+    on = (np.abs(t * rays[..., 0]) <= 0.3) & (hit >= 0.0) & (hit <= 0.6) & (t > 0)
+    panel_depth[on] = (t * (rays @ R)[..., 2])[on]
+    depth = np.where(on, panel_depth, depth)
+    return Frame(index=0, color=np.full((H, W, 3), 128, np.uint8), depth=depth, pose=pose, K=K)
+
+
+def test_floor_pixels_are_those_within_5_cm_of_the_floor():           # FLOOR_BAND_M
+    from sg3d.ingest.objects.attributes import floor_pixels
+
+    frame = _floor_scene()
+    crop = frame.depth
+    up = (0.0, 0.0, 1.0)
+    assert floor_pixels(crop, (0, 0, W, H), 1, K, frame.pose, up, floor=-0.04).any()       # the floor 4 cm under
+    assert not floor_pixels(crop, (0, 0, W, H), 1, K, frame.pose, up, floor=-0.06)[crop > 0].any()
+
+
+def test_a_box_standing_on_the_floor_is_measured_without_the_floor():
+    from sg3d.ingest.objects.attributes import object_box
+
+    frame = _floor_scene()
+    box = (45, 0, 115, 100)           # the panel and the floor around and in front of it
+    with_floor = object_box(frame, box, (0.0, 0.0, 1.0))
+    off_floor = object_box(frame, box, (0.0, 0.0, 1.0), floor=0.0)
+    assert with_floor is not None and off_floor is not None
+    assert with_floor[1][1] > 0.3                       # the floor before the panel deepens it
+    assert off_floor[1][0] == pytest.approx(0.6 * 0.9, abs=0.04)   # 5th-95th percentile of 0.6 m
+    assert off_floor[1][1] < 0.05                       # a panel is thin once the floor is left out
+
+
+def test_a_thing_lying_flat_on_the_floor_keeps_its_floor_level():      # MIN_OFF_FLOOR_SHARE
+    from sg3d.ingest.objects import attributes
+
+    frame = _floor_scene()
+    box = (0, 100, W, H)              # floor only
+    whole = attributes.object_box(frame, box, (0.0, 0.0, 1.0))
+    assert attributes.object_box(frame, box, (0.0, 0.0, 1.0), floor=0.0) == whole

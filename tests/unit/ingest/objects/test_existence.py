@@ -135,3 +135,32 @@ def test_a_label_the_size_prior_leaves_must_have_half_the_best_labels_evidence()
     box = (0.45, 0.36, 0.1)                                          # too big for a cell phone
     assert existence.plausible_labels(["cell phone", "book"], [0.4, 0.22], box) == (["book"], [0.22])
     assert existence.plausible_labels(["cell phone", "book"], [0.4, 0.18], box) == ([], [])
+
+
+# --------------------------------------------------------------------------- the sizes the size prior judges
+
+def _views(sizes, cut):
+    from types import SimpleNamespace
+
+    return [SimpleNamespace(attrs=SimpleNamespace(size=s, cut=c)) for s, c in zip(sizes, cut)]
+
+
+def test_too_big_is_judged_on_the_median_view_not_the_union():
+    # a chair seen in 5 views, 2 of whose boxes ran 1.7 m along the floor through its open base
+    sizes = [(0.5, 0.5, 0.8)] * 3 + [(0.6, 1.7, 0.8)] * 2
+    big, small = existence.judged_sizes(_views(sizes, [False] * 5), (0.6, 1.7, 0.8))
+    assert existence.plausible_labels(["chair"], [0.9], big, small) == (["chair"], [0.9])
+    sizes = [(0.5, 0.5, 0.8)] * 2 + [(0.6, 1.7, 0.8)] * 3     # most views that long: too big
+    big, small = existence.judged_sizes(_views(sizes, [False] * 5), (0.6, 1.7, 0.8))
+    assert existence.plausible_labels(["chair"], [0.9], big, small) == ([], [])
+
+
+def test_an_object_cut_by_the_border_in_half_its_views_is_never_too_small():    # CUT_SHARE
+    # a couch (at least 0.6 m) seen as 0.4 m: too small unless its views are cut
+    sizes = [(0.4, 0.3, 0.3)] * 4
+    for cut, ok in (([True, True, False, False], True), ([True, False, False, False], False)):
+        big, small = existence.judged_sizes(_views(sizes, cut), (0.4, 0.3, 0.3))
+        assert bool(existence.plausible_labels(["couch"], [0.9], big, small)[0]) is ok
+    # ... while too big still counts in cut views
+    big, small = existence.judged_sizes(_views([(5.0, 0.3, 0.3)] * 4, [True] * 4), (5.0, 0.3, 0.3))
+    assert existence.plausible_labels(["couch"], [0.9], big, small) == ([], [])
