@@ -3,11 +3,13 @@
 from __future__ import annotations
 
 import base64
+import logging
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Optional
 
 from sg3d.app import bounds
 from sg3d.app.errors import AppError
+from sg3d.core.errors import Sg3dError
 from sg3d.graphdb.protocol import GraphStore
 
 if TYPE_CHECKING:              # the CLI imports queries only when it answers
@@ -84,8 +86,13 @@ def ask(store: GraphStore, question: str, room: Optional[str] = None, building: 
     from sg3d.queries.vqa import answer
 
     # the question is read once; one about re-scans is answered from the scans' history
-    result = answer(store, question, room=room, building=building, embedding=embedding, viewpoint=viewpoint,
-                    on_change=lambda cq: change_answer(store, question, cq, room=room, building=building))
+    try:
+        result = answer(store, question, room=room, building=building, embedding=embedding, viewpoint=viewpoint,
+                        on_change=lambda cq: change_answer(store, question, cq, room=room, building=building))
+    except Exception as exc:
+        if not _question_failure(exc):
+            raise
+        result = _refused(question, exc)
     path = None
     if picture and result.ok and result.thumbnail:
         try:
@@ -95,3 +102,28 @@ def ask(store: GraphStore, question: str, room: Optional[str] = None, building: 
         except OSError as exc:
             raise AppError(f"cannot write the picture to {out}: {exc.strerror or exc}") from exc
     return Asked(result, path)
+
+
+def _question_failure(exc: Exception) -> bool:
+    """An exception of the code that reads and answers a question (a bug there: a lark
+    VisitError, a StopIteration, a KeyError ...), not an AppError nor a failure of the store,
+    its driver or the disk, which keep their own handling in each front end."""
+    if isinstance(exc, (AppError, OSError, MemoryError)):
+        return False
+    module = type(exc).__module__ or ""
+    if isinstance(exc, Sg3dError):
+        return module.startswith("sg3d.queries")
+    return not module.startswith(("sg3d.graphdb", "neo4j"))
+
+
+def _refused(question: str, exc: Exception) -> "Answer":
+    """A question whose reading or answering failed: one line refusing it (the failure is logged
+    with its traceback, never shown)."""
+    from sg3d.queries.vqa import Answer
+
+    word = getattr(exc, "word", None)
+    at = f" past '{word}'" if word else ""
+    logging.getLogger("sg3d.queries").warning("answering %r failed: %s: %s", question, exc.__class__.__name__, exc,
+                                              exc_info=(type(exc), exc, exc.__traceback__))
+    return Answer(question, False, f"I could not read this question{at} ({exc.__class__.__name__}); "
+                                   "please rephrase it")

@@ -349,8 +349,12 @@ def _room_placeholders(text: str, stored: list) -> tuple[str, dict[str, str]]:
 def grammar_refusal(text: str, exc) -> Outcome:
     """The grammar stopped: refuse naming the word it could not read (a word that carries a
     condition first, then where reading stopped, else the whole text)."""
+    from sg3d.queries.grammar import ReaderFailure
+
     if "has no unit" in str(exc) or "to what?" in str(exc):
         return Outcome("refuse", str(exc))
+    if isinstance(exc, ReaderFailure):     # the reader failed (logged): where it stopped
+        return Outcome("unread", f"I stopped reading this question at '{exc.word or text[:60]}'", notes=[str(exc)])
     word = unread_word(text) or exc.word
     if word is None:
         said = text if len(text) <= 60 else text[:57] + "..."

@@ -8,9 +8,10 @@ per word, well under a millisecond for a question).
 from __future__ import annotations
 
 import functools
-from typing import Optional
+import logging
+from typing import Iterator, Optional, TypeVar
 
-from lark import Lark, Token, Transformer, v_args
+from lark import Lark, Token, Transformer, Tree, v_args
 from lark.exceptions import LarkError, UnexpectedInput, VisitError
 
 from sg3d.core.errors import Sg3dError
@@ -225,6 +226,8 @@ def _reserved() -> list[str]:
 
 
 RESERVED = _reserved()
+log = logging.getLogger("sg3d.queries")
+_T = TypeVar("_T")
 
 
 class GrammarError(Sg3dError, ValueError):
@@ -233,6 +236,11 @@ class GrammarError(Sg3dError, ValueError):
     def __init__(self, message: str, word: Optional[str] = None):
         super().__init__(message)
         self.word = word
+
+
+class ReaderFailure(GrammarError):
+    """The reader itself failed on the text (a bug in a rewrite or a rule's transformer, not a
+    question outside the grammar): refused naming `word`, where reading stopped, and logged."""
 
 
 @functools.cache
@@ -307,10 +315,19 @@ def _measured_from(nps: list[NP]) -> None:
         _measured_from(np.alternatives + [f.other for f in np.filters])
 
 
+def _one(found: Iterator[_T]) -> _T:
+    """The first of `found`, a part a rule's transformer needs; GrammarError when the rule has
+    none (a rule edited without its transformer), never a StopIteration: lark would wrap that as
+    a VisitError that no caller says as a refusal (`read` names the word where it stopped)."""
+    for item in found:
+        return item
+    raise GrammarError(_STOPPED)
+
+
 @v_args(inline=False)
 class _ToForm(Transformer):
     def start(self, items):
-        form = next(i for i in items if isinstance(i, Form))
+        form = _one(i for i in items if isinstance(i, Form))
         form.filters += [i for i in items if isinstance(i, Filter)]     # a fronted exception
         seen = [i for i in items if isinstance(i, NP)]
         if seen:
@@ -329,7 +346,7 @@ class _ToForm(Transformer):
     def stranded(self, items):
         """"what is the cup on", "what's the chair next to": the things the named object stands
         in that relation to (the relation's other end)."""
-        relation = next(i[1] for i in items if isinstance(i, tuple))
+        relation = _one(i[1] for i in items if isinstance(i, tuple))
         number = next((int(float(t)) for t in items if isinstance(t, Token) and t.type == "NUMBER"), None)
         np = NP(_words(items), number=number, definite=True,
                 indefinite=any(isinstance(t, Token) and t.type == "INDEF" for t in items))
@@ -338,7 +355,7 @@ class _ToForm(Transformer):
     def where_in(self, items):
         """"where in the house is there a tv": the place words scope the question (a room, or
         the whole house)."""
-        np = next(i for i in items if isinstance(i, NP))
+        np = _one(i for i in items if isinstance(i, NP))
         place = NP(_words(items[:items.index(np)]), definite=True)
         form = self._op("where", items)
         form.filters.append(Filter("rel", place, relation="in"))
@@ -424,7 +441,7 @@ class _ToForm(Transformer):
 
     def rel_filter(self, items):
         negated = any(isinstance(i, Token) and i.type == "NOT" for i in items)
-        word = next(i for i in items if isinstance(i, str) and not isinstance(i, Token))
+        word = _one(i for i in items if isinstance(i, str) and not isinstance(i, Token))
         return Filter("rel", items[-1], relation=word, negated=negated)
 
     def dist_filter(self, items):
@@ -507,7 +524,7 @@ class _ToForm(Transformer):
     def exists_owned(self, items):
         """"does the living room have a sofa": a sofa in that room (the owner is the scope, or an
         object the others are in)."""
-        owner = next(i for i in items if isinstance(i, NP))
+        owner = _one(i for i in items if isinstance(i, NP))
         form = self._op("exists", [i for i in items if i is not owner])
         form.filters.append(Filter("rel", owner, relation="in"))
         return form
@@ -519,15 +536,15 @@ class _ToForm(Transformer):
         return form
 
     def at_least(self, items):
-        word = next(str(t) for t in items if isinstance(t, Token) and t.type in ("MORELESS", "EXACTLY"))
-        n = next(float(t) for t in items if isinstance(t, Token) and t.type == "NUMBER")
+        word = _one(str(t) for t in items if isinstance(t, Token) and t.type in ("MORELESS", "EXACTLY"))
+        n = _one(float(t) for t in items if isinstance(t, Token) and t.type == "NUMBER")
         compare = {"more": "more", "exactly": "exactly"}.get(word, "fewer")
         return self._op("at_least", items, compare=compare, number=n)
 
     def count_owned(self, items):
         """"how many chairs does the kitchen have", "how many chairs do we have": the owner
         is a room (the scope) or the asker (no filter)."""
-        owner = next(i for i in items if isinstance(i, NP) and i is not items[0])
+        owner = _one(i for i in items if isinstance(i, NP) and i is not items[0])
         form = self._op("count", [items[0]] + [i for i in items if isinstance(i, list)])
         if owner.words and owner.words != ["we"] and owner.words != ["you"] and owner.words != ["i"]:
             form.filters.append(Filter("rel", owner, relation="in"))
@@ -536,7 +553,7 @@ class _ToForm(Transformer):
     def count_purpose(self, items):
         """"how many things can I sit on": the things that afford it."""
         np = items[0]
-        np.purpose = next(i for i in items if isinstance(i, str) and not isinstance(i, Token))
+        np.purpose = _one(i for i in items if isinstance(i, str) and not isinstance(i, Token))
         return self._op("count", [np] + [i for i in items if isinstance(i, list)])
 
     def count_having(self, items):
@@ -558,13 +575,13 @@ class _ToForm(Transformer):
 
     def extreme_after(self, items):
         """"which is the cup closest to the sink": the distance extreme on the named set."""
-        sup = next(str(t) for t in items if isinstance(t, Token) and t.type == "DSUPER")
-        other = next(i for i in items if isinstance(i, NP))
+        sup = _one(str(t) for t in items if isinstance(t, Token) and t.type == "DSUPER")
+        other = _one(i for i in items if isinstance(i, NP))
         np = NP(_words(items), superlative=sup, toward=other, definite=True)
         return Form("extreme", sets=[np])
 
     def compare(self, items):
-        word = next(str(t) for t in items if isinstance(t, Token) and t.type in ("MORELESS", "COMPARE"))
+        word = _one(str(t) for t in items if isinstance(t, Token) and t.type in ("MORELESS", "COMPARE"))
         more = word in ("more", "bigger", "larger", "greater", "higher")
         return self._op("compare", items, compare="more" if more else "fewer")
 
@@ -581,13 +598,13 @@ class _ToForm(Transformer):
         return self._op("attribute", items, attribute="size")
 
     def measure_named(self, items):
-        word = next(str(t) for t in items if isinstance(t, Token) and t.type == "MEASURE")
+        word = _one(str(t) for t in items if isinstance(t, Token) and t.type == "MEASURE")
         # "the height of the table" is its own height (the box), as "how tall"
         return self._op("attribute", items, attribute={"height": "tall", "width": "width", "length": "length",
                                                        "depth": "depth", "size": "size"}[word])
 
     def measure_of(self, items):
-        word = next(str(t) for t in items if isinstance(t, Token) and t.type == "ATTR")
+        word = _one(str(t) for t in items if isinstance(t, Token) and t.type == "ATTR")
         return self._op("attribute", items, attribute=ATTRIBUTES[word])
 
     def extreme(self, items):
@@ -631,8 +648,8 @@ class _ToForm(Transformer):
 
     @staticmethod
     def _quantity(items) -> tuple[str, float]:
-        word = next(str(t) for t in items if isinstance(t, Token) and t.type in ("MORELESS", "EXACTLY"))
-        n = next(float(t) for t in items if isinstance(t, Token) and t.type == "NUMBER")
+        word = _one(str(t) for t in items if isinstance(t, Token) and t.type in ("MORELESS", "EXACTLY"))
+        n = _one(float(t) for t in items if isinstance(t, Token) and t.type == "NUMBER")
         return {"more": "more", "exactly": "exactly"}.get(word, "fewer"), n
 
     def rooms_over(self, items):
@@ -671,7 +688,7 @@ class _ToForm(Transformer):
 
     @staticmethod
     def _bigger(items) -> str:
-        word = next(str(t) for t in items if isinstance(t, Token) and t.type == "COMPARE")
+        word = _one(str(t) for t in items if isinstance(t, Token) and t.type == "COMPARE")
         return "more" if word in ("bigger", "larger", "greater", "higher", "taller") else "fewer"
 
     def bigger(self, items):
@@ -692,7 +709,7 @@ class _ToForm(Transformer):
         return form
 
     def room_most(self, items):
-        word = next(str(t) for t in items if isinstance(t, Token) and t.type in ("MOSTFEW", "MORELESS"))
+        word = _one(str(t) for t in items if isinstance(t, Token) and t.type in ("MOSTFEW", "MORELESS"))
         n = next((float(t) for t in items if isinstance(t, Token) and t.type == "NUMBER"), None)
         return self._op("room_most", items, compare="more" if word in ("most", "more") else "fewer", number=n)
 
@@ -707,7 +724,7 @@ class _ToForm(Transformer):
         return self._op("rooms_next_to", items)
 
     def afford(self, items):
-        verb = next(i for i in items if isinstance(i, str) and not isinstance(i, Token))
+        verb = _one(i for i in items if isinstance(i, str) and not isinstance(i, Token))
         filters = [f for i in items if isinstance(i, list) for f in i]
         return Form("affordance", verb=verb, filters=filters)
 
@@ -759,12 +776,30 @@ def read(text: str) -> Form:
         raise GrammarError("the grammar cannot read this question", word) from None
     except LarkError as exc:
         raise GrammarError(f"the grammar cannot read this question ({exc.__class__.__name__})") from None
+    except Exception as exc:        # any other failure of the parser is a refusal
+        raise _stopped(text, None, exc) from None
     try:
         return _ToForm().transform(tree)
     except VisitError as exc:       # a GrammarError raised while building the form
-        if isinstance(exc.orig_exc, GrammarError):
-            raise exc.orig_exc from None
-        raise
+        err = exc.orig_exc
+        if isinstance(err, GrammarError) and (err.word is not None or str(err) != _STOPPED):
+            raise err from None
+        raise _stopped(text, exc.obj, err) from None
+    except Exception as exc:        # any other failure of the reader is a refusal
+        raise _stopped(text, tree, exc) from None
+
+
+_STOPPED = "the grammar stopped reading this question"
+
+
+def _stopped(text: str, where, exc: BaseException) -> ReaderFailure:
+    """A failure of a rule's transformer (a bug, e.g. a StopIteration or an IndexError) as a
+    refusal naming the first word of the part being read there; logged with its traceback."""
+    tokens = list(where.scan_values(lambda v: isinstance(v, Token))) if isinstance(where, Tree) else []
+    word = str(tokens[0]) if tokens else next(iter(text.split()), None)
+    log.warning("the question reader failed on %r at %r: %s: %s", text, word, exc.__class__.__name__, exc,
+                exc_info=(type(exc), exc, exc.__traceback__))
+    return ReaderFailure(f"{_STOPPED} at '{word}'", word)
 
 
 def _word_at(text: str, exc: UnexpectedInput) -> Optional[str]:

@@ -31,10 +31,23 @@ FRAMES = (
     "quick question", "question", "just wondering", "out of curiosity", "by the way", "btw", "um", "uh",
     "erm", "well", "yo", "do you remember", "do you recall", "can you remind me", "could you remind me",
     "remind me",
+    # leading interjections and forms of address: "quick, where's the sink", "robot, how many ..."
+    "quick", "quickly", "sorry", "sorry to bother you", "sorry to bother", "pardon me", "robot", "hello", "hiya",
+    "hey there", "hi there", "hello there", "hmm", "hm", "oh", "ah", "alright", "all right", "oi", "dear robot",
+    # more polite frames: "would you be so kind as to tell me ...", "would it be possible to ..."
+    "would you be so kind as to tell me", "could you be so kind as to tell me", "would you be so kind as to",
+    "could you be so kind as to", "be so kind as to", "would you kindly tell me", "could you kindly tell me",
+    "kindly tell me", "would it be possible to tell me", "would it be possible for you to tell me",
+    "is it possible to tell me", "is it possible for you to tell me", "would it be possible to know",
+    "would it be possible for you to", "would it be possible to", "i was wondering if you could tell me",
+    "i was wondering whether you could tell me", "i wondered", "may i ask", "might i ask", "can i ask",
+    "could i ask", "i would appreciate it if you could tell me", "i would be grateful if you could tell me",
+    "do you happen to remember", "would you know", "you would not happen to know",
+    "you wouldnt happen to know", "you dont happen to know", "you do not happen to know",
 )
 _FRAME_RE = re.compile(r"^(?:(?:" + "|".join(map(re.escape, sorted(FRAMES, key=len, reverse=True))) + r")\b[ ,]*)+")
 _TAIL_RE = re.compile(r"[ ,]*\b(?:please|thanks|thank you|thx|cheers|for me|for us|if you can|if you could|"
-                      r"if possible|if you know|by any chance|do you know|you know|mate|buddy)$")
+                      r"if possible|if you know|by any chance|do you know|you know|mate|buddy|quick|quickly|robot)$")
 # "can you show me what is on the table", "tell me whether ...": a request that frames a question
 _SHOW_FRAME = re.compile(r"^(?:(?:can|could|would|will) you )?(?:show|tell|list|give) (?:me|us) "
                          r"(?=(?:what|which|where|how|whether|if|the (?:number|color|height|width|length|depth|"
@@ -81,8 +94,9 @@ POSTURE = [
                 r"mounted|found|put)\b" + _REL_AHEAD), ""),
 ]
 # "is there somewhere i can sit" -> "where can i sit"
-_PLACE_TO = re.compile(r"^(?:is there|do you know|do you have) (?:somewhere|anywhere|a place|any place|something|"
-                       r"anything)(?: where| that| which)? i (?:can|could) (.+)$")
+_PLACE_TO = re.compile(r"^(?:(?:is there|are there|do you know|do you have|have you got|you got|got|know of) )?"
+                       r"(?:somewhere|anywhere|a place|any place|some place|a spot|any spot|something|anything|"
+                       r"any thing|things|stuff|places|spots)(?: where| that| which)? i (?:can|could|might|may) (.+)$")
 _TRAILING = re.compile(r"\b(?:anywhere|at all|around here|in here|here|located|situated|placed|kept|stored|"
                        r"(?:lying|sitting|standing|hanging|kicking|floating|knocking) (?:around|about)|"
                        r"around the (?:place|house)|around|somewhere|or not|right now|at the moment|now|"
@@ -191,7 +205,8 @@ def wanting(text: str) -> str:
 # a statement of the asker's own (first person) before the question says why it is asked
 _CONTEXT = re.compile(r"^(?:(?:ok|okay|so|hey|well|right|hmm|um|oh)[ ,]+)*(?:i|i'm|im|i've|i'd|we|we're|my|our|me)\b"
                       r"[^?]*?(?: [-\u2013\u2014]+ ?|[-\u2013\u2014]{2} ?| ?[,;:] ?|\. )"
-                      r"((?:is|are|where|what|which|how|do|does|can|could|any|have|has|got|would|will)\b.+)$")
+                      r"((?:is|are|where|what|which|how|do|does|can|could|any|anything|something|anywhere|somewhere|have|has|got|"
+                      r"would|will)\b.+)$")
 _DO_THAT = re.compile(r"\b(?:do|doing) (?:that|it|so|this)\b|\bthere\s*\??$")
 
 
@@ -199,15 +214,84 @@ def context_clause(text: str) -> str:
     """The question of "<a statement about me>, <a question>" (split at a dash, comma, semicolon,
     colon or full stop): the statement says why, the question what. Kept whole when the question
     leans on the statement ("... - where can I do that?") or is a bare "where?" / "any ideas?"
-    (`needs` reads those)."""
-    m = _CONTEXT.match(text)
+    (`needs` reads those). A pronoun of the question ("I can't find the purple book. Where is
+    it?") is the statement's last noun phrase (`antecedent`)."""
+    m = _CONTEXT.match(text) or (None if _TAG.search(text) else _STATED.match(text))
     if not m:
         return text
     rest = m.group(1).strip()
     plain = " ".join(re.sub(r"[^\w' ]+", " ", rest).split())
     if len(plain.split()) < 2 or _NEED_ALONE.match(plain) or _DO_THAT.search(rest):
         return text
-    return rest
+    rest = activity_pronoun(rest)
+    if _PRONOUN.search(rest) and not _TAG.search(text):
+        said = antecedent(text[:m.start(1)])
+        return _PRONOUN.sub(said, rest) if said else text
+    return rest if m.re is _CONTEXT else text
+
+
+# "there's a purple book somewhere, where is it?", "the grey mug is missing - where is it?": a
+# statement about a thing (not the asker), then a question with a pronoun for it
+_STATED = re.compile(r"^(?:(?:ok|okay|so|hey|well|right|hmm|um|oh)[ ,]+)*(?:there(?:'s| is| are| was| were)\b|"
+                     r"(?:the|my|our|a|an|some)\b[^?]*?\b(?:is|are|was|were|has|have|had|'s|went|got|seems?)\b)[^?]*?"
+                     r"(?: [-\u2013\u2014]+ ?|[-\u2013\u2014]{2} ?| ?[,;:] ?|\. )"
+                     r"((?:is|are|where|what|which|how|do|does|can|could|any|anything|something|anywhere|somewhere|have|has|got|"
+                      r"would|will)\b.+)$")
+# the pronouns a question uses for a thing said before it
+_PRONOUN = re.compile(r"\b(?:it|them|they)\b")
+_NP_AFTER = re.compile(r"\b(the|a|an|my|our|your|some|this|that|these|those)\s+([\w'-]+(?:\s+[\w'-]+){0,3})")
+# words that end a noun phrase (a preposition, an adverb, a verb): "the cup somewhere", "my keys again"
+_NP_END = frozenset({
+    "somewhere", "anywhere", "here", "there", "again", "now", "today", "yesterday", "earlier", "before", "down",
+    "away", "back", "up", "off", "out", "in", "on", "at", "to", "from", "with", "into", "onto", "under", "near",
+    "by", "next", "for", "of", "and", "but", "so", "or", "is", "are", "was", "were", "has", "have", "had", "it",
+    "them", "i", "we", "you", "last", "this", "that", "anymore", "too", "either", "please", "around", "about",
+    "lately", "recently", "just", "still", "can", "cannot", "can't", "seems", "seem", "went", "got",
+    "missing", "gone", "lost",
+})
+
+
+def antecedent(statement: str) -> str | None:
+    """The last noun phrase of `statement` ("i can't find the purple book" -> "the purple book",
+    "i lost my keys again" -> "my keys"), said definite ("a mug" -> "the mug"); None when it names
+    none."""
+    found = None
+    for m in _NP_AFTER.finditer(re.sub(r"[^\w' -]+", " ", statement)):
+        words = []
+        for w in m.group(2).split():
+            if w in _NP_END:
+                break
+            words.append(w)
+        if words:
+            det = "the" if m.group(1) in ("a", "an", "some", "this", "that") else m.group(1)
+            found = f"{det} {' '.join(words)}"
+    return found
+
+
+# "right, where is the sink", "listen - how many chairs": a word said before the comma that is no
+# part of the question (as a frame word it could start one: "right of the sink", "look for")
+_INTERJECTION = re.compile(r"^(?:right|listen|look|say|now|wait|alright|great|cool|thanks|thank you|also|and|next|"
+                           r"then|ok then|okay then|one more thing|another question|oh and|and also|yes|yeah|"
+                           r"good|fine|perfect|got it|i see)\s*(?:[,!:;]|\.\.\.|\s-+)+\s*(?=\w)")
+
+
+def interjection(text: str) -> str:
+    """"right, where is the sink", "listen - how many chairs": the word before the comma goes
+    (only with the comma: "right of the sink" is a place)."""
+    return _INTERJECTION.sub("", text)
+
+
+# "what can I drink it from", "where could I put them down": the object of an activity is the
+# asker's own thing (the tea, the keys), filler for what the activity asks of the furniture
+_ACTIVITY_PRONOUN = re.compile(r"\b((?:can|could|should|might|may) (?:i|we) (?!do\b)[\w-]+) (?:it|them|this|that|these|those)"
+                               r"(?=(?: (?:from|out|on|onto|in|into|at|with|under|down|away|up|off|inside|cold|cool|fresh|warm|dry|"
+                               r"safe|clean)\b|\s*[?.!]*\s*$))")
+
+
+def activity_pronoun(text: str) -> str:
+    """"what can I drink it from", "where can I put them down", "where can i keep it": the
+    pronoun after the activity's verb goes (the furniture is asked for, not the thing)."""
+    return _ACTIVITY_PRONOUN.sub(r"\1", text)
 
 
 # "exactly two tvs in the kitchen, right?", "there's a fridge, isn't there?": a tag asks for the
@@ -276,14 +360,35 @@ def is_it_true(text: str) -> str:
     """"is it true (that) S": S asked ("there is X" -> "is there X", "the kitchen has X" ->
     "does the kitchen have X", "the cup is on X" -> "is the cup on X")."""
     m = _IS_IT_TRUE.match(text)
-    if not m:
+    return asked(text[m.end():]) if m else text
+
+
+# "this room has no books", "the kitchen doesn't have a sink", "the cup is on the table": a
+# statement (said with "?" or a tag) asked as a question, when it holds no question word
+_STATEMENT = re.compile(r"^(?:the|this|that|these|those|my|our|your) (?:(?!has\b|have\b|is\b|are\b|does\b|do\b)[\w-]+ ?)"
+                        r"{1,6} (?:has|have|is|are|does not have|do not have)\b")
+_QUESTION_WORD = re.compile(r"\b(?:what|where|which|how|who|whose|when|why|whether)\b")
+
+
+def statement(text: str) -> str:
+    """A statement whose subject is a noun phrase ("this room has no books", "the chairs are
+    near the table", "the kitchen does not have a fridge") as its yes/no question (`asked`)."""
+    if not _STATEMENT.match(text) or _QUESTION_WORD.search(text):
         return text
-    rest = text[m.end():]
+    return asked(text)
+
+
+def asked(rest: str) -> str:
+    """A statement as its yes/no question: "there is X" -> "is there X", "the kitchen has X" ->
+    "does the kitchen have X", "the kitchen does not have X" -> "does the kitchen not have X",
+    "the cup is on X" -> "is the cup on X"."""
     rest = re.sub(r"^there (is|are)\b", r"\1 there", rest)
-    rest = re.sub(r"^((?:the|a|an|my|our|this|your) (?:(?!has\b|have\b|is\b|are\b)[\w-]+ ?){1,3}) (has|have)\b",
-                  r"does \1 have", rest)
-    rest = re.sub(r"^((?:the|a|an|my|our|this|your) (?:(?!has\b|have\b|is\b|are\b)[\w-]+ ?){1,3}) (is|are)\b",
-                  r"\2 \1", rest)
+    rest = re.sub(r"^((?:the|a|an|my|our|this|your|that|these|those) (?:(?!has\b|have\b|is\b|are\b|does\b|do\b)[\w-]+ ?)"
+                  r"{1,3}) (does|do) not have\b", r"\2 \1 not have", rest)
+    rest = re.sub(r"^((?:the|a|an|my|our|this|your|that|these|those) (?:(?!has\b|have\b|is\b|are\b)[\w-]+ ?){1,6}) "
+                  r"(has|have)\b", lambda m: f"{'does' if m.group(2) == 'has' else 'do'} {m.group(1)} have", rest)
+    rest = re.sub(r"^((?:the|a|an|my|our|this|your|that|these|those) (?:(?!has\b|have\b|is\b|are\b)[\w-]+ ?){1,6}) "
+                  r"(is|are)\b", r"\2 \1", rest)
     return " ".join(rest.split())
 
 
@@ -301,6 +406,8 @@ def _contractions(text: str) -> str:
     text = re.sub(r"(?<=\w)'ve got\b", " have got", text)
     # "how tall's the fridge", "how far's the sink": 's after a question is "is"
     text = re.sub(r"\b(how (?:big|tall|high|wide|long|deep|far|many|much))'s\b", r"\1 is", text)
+    # "what colour's the tv", "which room's the biggest": a possessive never comes before an article
+    text = re.sub(r"(?<=\w)'s (?=(?:the|a|an|this|that|these|those|my|your|our|any|some)\b)", " is ", text)
     for k, v in CONTRACTIONS.items():
         text = re.sub(rf"(?<![\w']){re.escape(k)}(?![\w'])", v, text)
     return text
@@ -397,6 +504,8 @@ REPHRASE: list[tuple[re.Pattern[str], str | Callable[[re.Match[str]], str]]] = [
                 r"can you see|are in it|does it have)$"), r"how many \1 \2"),
     # "how many objects does this room hold": the room of the scope
     (re.compile(r"\b(?:does|do) (?:this|the|our|my|that) (?:room|place|space) (?:have|hold|contain)\b"), "are there"),
+    (re.compile(r"\b(?:does|do) (?:this|the|our|my|that) (?:room|place|space) not (?:have|hold|contain)(?: (?:a|an|any))?\b"),
+     "are there no"),
     # "the total number of chairs", "how many chairs in total are there": the number (of the scope)
     (re.compile(r"\bthe total (?=number of\b)"), "the "),
     (re.compile(r"^(how many .+?) (?:in total|altogether|all together|in all) (?=(?:are|is|do|does|can|could) )"),
@@ -498,6 +607,39 @@ def self_relation(text: str) -> str:
     return text
 
 
+@functools.cache
+def _predicate_re() -> re.Pattern[str]:
+    from sg3d.queries.vocabulary import COLOURS, RELATIONS, SIZES
+
+    rel = "|".join(map(re.escape, sorted(RELATIONS, key=len, reverse=True)))
+    adj = "|".join(map(re.escape, sorted(set(COLOURS) | set(SIZES), key=len, reverse=True)))
+    return re.compile(rf"^((?:is|are) (?:the|this|that|these|those|my|our|your|a|an|any|all the) "
+                      rf"(?:(?!(?:{rel})\b)[\w-]+ ){{1,3}}?)((?:{rel}) .+?) ((?:{adj})(?: (?:{adj}))?)$")
+
+
+def predicate_adjective(text: str) -> str:
+    """"is the book on the table white", "are the chairs near the table black": the colour or
+    size word at the end of "is NP ADJ" is said of the noun phrase's head (the book), not of
+    the relation's other end (the table): it goes next to the head ("is the book white on the
+    table")."""
+    return _predicate_re().sub(r"\1\3 \2", text)
+
+
+# "do any of the rooms have mugs", "is there a room with a sofa": whether there is one anywhere
+# (the whole scope); a word that changes the question ("no", "not") is left for the grammar
+_ANY_ROOM = re.compile(r"^(?:(?:do|does) (?:any (?:of (?:the|these|those|our|my|your) )?rooms?|any of them|"
+                       r"some (?:of (?:the )?)?rooms?|either (?:of the )?rooms?|one of the rooms) "
+                       r"(?:have|has|hold|contain|got)|(?:is|are) there (?:a|any|some|one)? ?rooms? "
+                       r"(?:with|having|containing|that (?:has|have|contains?)|which (?:has|have|contains?)|"
+                       r"where there (?:is|are)|in which there (?:is|are)))\b(?! (?:no|not|none|without)\b)(.+)$")
+
+
+def any_room(text: str) -> str:
+    """"do any of the rooms have mugs", "does any room have a sofa", "is there a room with a
+    fridge": whether there are such things in the house ("are there mugs in the house")."""
+    return _ANY_ROOM.sub(r"are there\1 in the house", text)
+
+
 # "more than 3 chairs (in here)?", "exactly 2 cups?": whether there are
 _ELLIPTIC = re.compile(r"^(?:any |got |have you got |do you have |do we have )?((?:more|fewer|less) than|exactly) "
                        r"(\d+(?:\.\d+)?) (?!(?:m|cm|mm|ft|inch)\b)")
@@ -583,14 +725,14 @@ def tidy(question: str) -> Phrased:
     """Question -> normalised words (no typo fixing yet): lower case, asides dropped,
     contractions and frames undone, numbers and units read, punctuation gone."""
     dropped: list[str] = []
-    text = tag_question(context_clause(fold(question)))
+    text = tag_question(context_clause(interjection(fold(question))))
     while True:
         found = re.findall(r"\([^()]*\)|\[[^\[\]]*\]", text)
         if not found:
             break
         dropped += [f.strip() for f in found]
         text = re.sub(r"\([^()]*\)|\[[^\[\]]*\]", " ", text)
-    text = _contractions(text)
+    text = activity_pronoun(_contractions(text))
     text = text.replace("colour", "color")
     text = _possessives(text)
     # "A / B", "A + B", "A and/or B" name alternatives: read as "A or B"
@@ -609,9 +751,9 @@ def tidy(question: str) -> Phrased:
     text, more = were_for_where(text)
     notes += more
     text = wanting(strip_frames(needs(requests(text))))
+    text = _PLACE_TO.sub(r"where can i \1", text)      # before "sit on" could be read as a posture
     for regex, repl in POSTURE:
         text = regex.sub(repl, text)
-    text = _PLACE_TO.sub(r"where can i \1", text)
     text = _ADVERBS.sub("", text)
     for regex, repl in SAME_WORDS:
         text = regex.sub(repl, text)
@@ -626,7 +768,7 @@ def tidy(question: str) -> Phrased:
     text = " ".join(HERE.sub(" ", text).split())
     text, more = the_n(_numbers(text))
     notes += more
-    text = rephrase(self_relation(is_it_true(text)))
+    text = rephrase(self_relation(predicate_adjective(is_it_true(statement(any_room(text))))))
     return Phrased(" ".join(text.split()), dropped=dropped, notes=notes)
 
 

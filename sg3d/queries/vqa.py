@@ -506,7 +506,12 @@ def answer(store, question: str, room: Optional[str] = None, building: Optional[
     if len(question) > MAX_QUESTION:
         return Answer(question[:60] + "...", False,
                       f"the question is {len(question)} characters long; ask in at most {MAX_QUESTION}")
-    phrased, notes = _phrase(store, question, building)
+    from sg3d.queries.grammar import GrammarError
+
+    try:
+        phrased, notes = _phrase(store, question, building)
+    except GrammarError as exc:     # the pre-pass failed (ReaderFailure): refused naming the word
+        return Answer(question, False, refusal(compose.grammar_refusal(question, exc).text, question))
     if not phrased:
         return Answer(question, False, refusal("empty question", question))
     a = _answer(store, question, phrased, notes, room, building, embedding, use_embedding, viewpoint, on_change)
@@ -645,15 +650,34 @@ def _phrase(store, text: str, building: Optional[str]) -> tuple[str, list[str]]:
     read as typos (they are looked up only when a word is outside the vocabulary)."""
     from sg3d.queries.phrasing import fix_typos, is_word, tidy
 
-    tidied = tidy(text)
+    try:
+        tidied = tidy(text)
+    except Exception as exc:        # a rewrite that fails is a refusal, never a traceback
+        raise _reader_failed(text, "tidy", exc) from None
     asides = [f"ignored: {', '.join(tidied.dropped)}"] if tidied.dropped else []
     asides += tidied.notes
     vocab = compose.typo_vocabulary()
     if all(is_word(w, vocab) for w in tidied.text.split()):
         return tidied.text, asides
     rooms = {w for n in _room_names(store, building, with_buildings=True) for w in n.lower().split()}
-    fixed, notes = fix_typos(tidied.text, vocab, rooms, compose.typo_nouns())
+    try:
+        fixed, notes = fix_typos(tidied.text, vocab, rooms, compose.typo_nouns())
+    except Exception as exc:        # the same for the typo fixer
+        raise _reader_failed(tidied.text, "fix_typos", exc) from None
     return fixed, asides + notes
+
+
+def _reader_failed(text: str, step: str, exc: Exception):
+    """A failure of the phrasing pre-pass (`step`) on `text`, logged with its traceback, as the
+    grammar's ReaderFailure naming the first word (the pre-pass reads the whole text at once)."""
+    import logging
+
+    from sg3d.queries.grammar import ReaderFailure
+
+    word = next(iter(text.split()), None)
+    logging.getLogger("sg3d.queries").warning("the question reader (%s) failed on %r: %s: %s", step, text,
+                                              exc.__class__.__name__, exc, exc_info=(type(exc), exc, exc.__traceback__))
+    return ReaderFailure(f"the question reader stopped at '{word}' ({step})", word)
 
 
 def _room_names(store, building: Optional[str], with_buildings: bool = False) -> list[str]:

@@ -417,3 +417,151 @@ def test_a_symmetric_relation_back_to_the_head(question, op):
 def test_an_asymmetric_relation_back_to_the_head_is_refused(question, word):
     with pytest.raises(GrammarError):
         parsed(question)
+
+
+# -- fourth held-out round ------------------------------------------------------------------------
+# leading interjections and forms of address, with a comma or without
+@pytest.mark.parametrize("question", [
+    "quick, where's the sink?", "quick where is the sink", "hey, where's the sink?", "ok where is the sink",
+    "so, where is the sink?", "well where's the sink", "um, where is the sink?", "robot, where is the sink?",
+    "hey robot where's the sink", "please, where is the sink?", "excuse me, where is the sink?",
+    "sorry, where's the sink?", "where's the sink, quick?", "right, where is the sink?", "listen, where's the sink?",
+])
+def test_leading_interjections_are_no_part_of_the_question(question):
+    f = form(question)
+    assert f["op"] == "where" and f["sets"][0]["noun"] == "sink"
+
+
+# a statement naming the thing, then a question with a pronoun for it
+@pytest.mark.parametrize("question, op, noun", [
+    ("I can't find the purple book. Where is it?", "where", "purple book"),
+    ("I lost my keys again - where are they?", "where", "keys"),
+    ("I bought a mug, what colour is it?", "attribute", "mug"),
+    ("There's a grey mug somewhere, where is it?", "where", "grey mug"),
+    ("the grey mug is missing, where is it?", "where", "grey mug"),
+    ("I'm looking for the remote; is it on the couch?", "exists", "remote"),
+    ("I left my cup somewhere, where did I leave it?", "where", "cup"),
+])
+def test_a_pronoun_is_the_noun_phrase_of_the_statement_before(question, op, noun):
+    f = form(question)
+    assert f["op"] == op and f["sets"][0]["noun"] == noun
+
+
+def test_a_tag_after_a_statement_is_no_pronoun_question():
+    assert tidy("the cup is on the table, is it?").text == "is the cup on the table"
+    assert tidy("there's a fridge, isn't there?").text == "is there a fridge"
+
+
+# the object pronoun of an activity is filler: the furniture is asked for
+@pytest.mark.parametrize("question, doing", [
+    ("I want some tea, what can I drink it from?", "drink"), ("what could I drink it out of?", "drink"),
+    ("where can I put it down?", "put things down"), ("where could I put them?", "put things down"),
+    ("I have a sandwich, where can I eat it?", "eat"), ("where can I keep it cold?", "keep things cold"),
+])
+def test_the_pronoun_after_an_activity_is_filler(question, doing):
+    f = parsed(question)
+    assert f.op == "affordance" and (f.verb == doing or activity(f.verb or "") == doing)
+
+
+def test_do_that_still_leans_on_the_statement():
+    assert tidy("I need to put my keys down, where can I do that?").text == "where can i put my keys down"
+
+
+# "colour's", "where's", "how big's", "which room's": 's before an article is "is"
+@pytest.mark.parametrize("question, op", [
+    ("What colour's the TV?", "attribute"), ("what size's the tv?", "attribute"), ("how big's the tv?", "attribute"),
+    ("where's the tv?", "where"), ("what's the colour of the tv?", "attribute"),
+    ("what colour's this tv?", "attribute"),
+])
+def test_apostrophe_s_before_an_article_is_is(question, op):
+    f = form(question)
+    assert f["op"] == op and f["sets"][0]["noun"] == "tv"
+
+
+def test_a_possessive_stays_a_possessive():
+    assert tidy("the kitchen's chairs").text == "the chairs in the kitchen"
+    assert tidy("what is the cup's colour").text == "what is the color of the cup"
+
+
+# "anything / something / somewhere I can VERB (prep)": what affords it
+@pytest.mark.parametrize("question, doing", [
+    ("anything I can drink out of in here?", "drink"), ("something I could sit on?", "sit"),
+    ("somewhere I can sit?", "sit"), ("is there anything I can drink from?", "drink"),
+    ("any place I could work?", "work"), ("got anything I can put my cup on?", "put things down"),
+])
+def test_something_i_can_do_asks_for_an_affordance(question, doing):
+    f = parsed(question)
+    assert f.op == "affordance" and activity(f.verb or "") == doing
+
+
+# a statement about the room (with a tag, "so" first) asked as a question
+@pytest.mark.parametrize("question, op, noun", [
+    ("So this room has no books, correct?", "at_least", "books"), ("this room has no books?", "at_least", "books"),
+    ("this place has no books, right?", "at_least", "books"), ("this room doesn't have a fridge, right?", "at_least", "fridge"),
+    ("this room has a sink, correct?", "exists", "sink"), ("the chairs are near the table?", "exists", "chairs"),
+])
+def test_a_statement_about_the_room_is_asked(question, op, noun):
+    f = form(question)
+    assert f["op"] == op and f["sets"][0]["noun"] == noun and not f.get("filters")
+    if op == "at_least":
+        assert f["compare"] == "exactly" and f["number"] == 0
+
+
+def test_a_statement_about_a_named_room_keeps_the_room():
+    f = form("the kitchen doesn't have a fridge, right?")
+    assert f["op"] == "at_least" and f["number"] == 0 and f["filters"][0]["of"]["noun"] == "kitchen"
+
+
+def test_a_statement_with_a_question_word_is_left_alone():
+    assert tidy("the tv is how big").text == "the tv is how big"
+
+
+# more polite frames
+@pytest.mark.parametrize("question, op", [
+    ("Would you be so kind as to tell me the height of the refrigerator?", "attribute"),
+    ("could you be so kind as to tell me where the sink is?", "where"),
+    ("would it be possible to tell me how many chairs there are?", "count"),
+    ("do you happen to know where the sink is?", "where"), ("I was wondering where the sink is", "where"),
+    ("I was wondering if the cup is on the table", "exists"), ("may I ask how many chairs there are?", "count"),
+    ("you wouldn't happen to know where the sink is?", "where"),
+])
+def test_more_polite_frames(question, op):
+    assert form(question)["op"] == op
+
+
+# whether any room has a kind: whether there is one in the house
+@pytest.mark.parametrize("question", [
+    "Do any of the rooms have mugs?", "do any rooms have mugs", "does any room have a mug?",
+    "is there a room with mugs?", "is there a room that has mugs?", "are there any rooms with mugs?",
+])
+def test_any_of_the_rooms(question):
+    f = form(question)
+    assert f["op"] == "exists" and f["sets"][0]["noun"] in ("mugs", "mug")
+    assert f["sets"][0]["filters"][0]["of"]["noun"] == "house"
+
+
+def test_any_room_lacking_a_kind_is_never_read_as_having_it():
+    text = tidy("does any room have no fridge?").text
+    assert " no " in f" {text} "
+    with pytest.raises(GrammarError):
+        read(text)
+
+
+# "is NP ADJ?": a trailing colour or size word is said of the head noun, not of the relation's end
+@pytest.mark.parametrize("question, head, other", [
+    ("is the book on the table white?", "book white", "table"),
+    ("is the cup next to the sink red?", "cup red", "sink"),
+    ("are the chairs near the table black?", "chairs black", "table"),
+    ("is the small book on the table in the kitchen white?", "small book white", "table"),
+    ("is the cup on the table big?", "cup big", "table"),
+    ("is it true that the book on the table is white?", "book white", "table"),
+])
+def test_a_trailing_colour_is_said_of_the_head(question, head, other):
+    f = form(question)
+    assert f["op"] == "exists" and f["sets"][0]["noun"] == head
+    assert f["sets"][0]["filters"][0]["of"]["noun"] == other
+
+
+def test_a_colour_before_the_other_end_stays_there():
+    f = form("is the cup on the white table?")
+    assert f["sets"][0]["noun"] == "cup" and f["sets"][0]["filters"][0]["of"]["noun"] == "white table"
