@@ -352,6 +352,9 @@ def _apart(a: Answerer, np: NP):
 def _measure(a: Answerer, o: dict, key: str) -> float:
     if key == "height":
         return float((o.get("size") or [0, 0, 0])[2])
+    if key == "width":          # wider / longer: the box's larger horizontal side
+        size = o.get("size") or [0, 0, 0]
+        return max(float(size[0]), float(size[1]))
     return a.scene.top(o) if key == "top" else float(o.get("volume") or 0.0)
 
 
@@ -369,8 +372,8 @@ def op_size_compare(a: Answerer, form: Form):
     (x, rx, ox), (y, ry, oy) = sets
     vx, vy = _measure(a, ox, key), _measure(a, oy, key)
     named = a.names([ox, oy])
-    unit = {"volume": "m^3", "top": "m (box top)", "height": "m tall"}[key]
-    most = {"volume": "largest", "top": "highest", "height": "tallest"}[key]
+    unit = {"volume": "m^3", "top": "m (box top)", "height": "m tall", "width": "m wide"}[key]
+    most = {"volume": "largest", "top": "highest", "height": "tallest", "width": "widest"}[key]
     said = [f"{the(named[o['id']])} {v:.3g} {unit}" + (f" (the {most} of "
                                                        f"{len(r)})" if len(r) > 1 else "")
             for o, v, r in ((ox, vx, rx), (oy, vy, ry))]
@@ -378,7 +381,8 @@ def op_size_compare(a: Answerer, form: Form):
     if form.op == "size_which":
         word = {("volume", "more"): "bigger", ("volume", "fewer"): "smaller", ("top", "more"): "higher",
                 ("top", "fewer"): "lower", ("height", "more"): "taller",
-                ("height", "fewer"): "shorter"}[(key, form.compare or "more")]
+                ("height", "fewer"): "shorter", ("width", "more"): "wider",
+                ("width", "fewer"): "narrower"}[(key, form.compare or "more")]
         win = ox if (vx >= vy) == (form.compare != "fewer") else oy
         if vx == vy:
             return f"neither: they are the same ({detail})", None, [ox, oy]
@@ -565,11 +569,12 @@ def op_affordance(a: Answerer, form: Form):
     for f in form.filters:
         objs = a.ev.apply(f, objs)
     objs.sort(key=lambda o: o["id"])
+    asked = form.compare == "exists"       # "is there a cup I could drink from": yes or no first
     if not objs:
-        return (f"I have not found anything to {key} on or at{a.where} (looked for "
+        return (f"{'no: ' if asked else ''}I have not found anything to {key} on or at{a.where} (looked for "
                 f"{_join(labels)}; {ABSENT})"), [], []
-    text = f"to {key}: {a.listing(objs)}{a.where} (what one can {key} {PREPOSITION.get(key, 'on or at')}: " \
-           f"{', '.join(labels)})"
+    text = f"{'yes, ' if asked else ''}to {key}: {a.listing(objs)}{a.where} (what one can {key} " \
+           f"{PREPOSITION.get(key, 'on or at')}: {', '.join(labels)})"
     return text, [o["id"] for o in objs], objs
 
 

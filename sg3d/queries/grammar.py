@@ -62,6 +62,7 @@ exists: be _there np preds
       | be _there "no" np preds                             -> exists_none
       | _do owned _have np preds                            -> exists_owned
       | _do owned (_have "no" | "not" _have) np preds       -> exists_owned_none
+      | be _there np ("i" | "we") _modal verb preds        -> exists_afford
 at_least: be _there MORELESS "than" NUMBER np preds
         | be _there EXACTLY NUMBER np preds
         | "do" ("we" | "you") "have" MORELESS "than" NUMBER np preds
@@ -124,6 +125,7 @@ room_most: WHAT NUMBER? _rooms _have _det? MOSTFEW np preds
          | "in" WHAT NUMBER? _rooms be _there? _det? MOSTFEW np preds
          | LIST _det? NUMBER? _rooms "with" _det? MOSTFEW np preds
 rooms_next: WHAT "rooms" be (_next_to | "near" | "beside") np_one
+_modal: "can" | "could" | "should" | "might" | "may"
 afford: "where" ("can" | "could" | "should" | "might" | "may") "i" verb preds
       | WHAT ("can" | "could" | "should" | "might" | "may") "i" verb preds
       | WHAT np ("can" | "could" | "should" | "might" | "may") "i" verb preds   -> afford_kind
@@ -186,7 +188,8 @@ ONE: "ones" | "one"
 HAVING: /(?:with|having|featuring|showing)(?![\w-])/
 PIECES: "piece" | "pieces" | "kind" | "kinds" | "type" | "types" | "sort" | "sorts"
 MORELESS: "more" | "fewer" | "less"
-COMPARE: "bigger" | "larger" | "greater" | "higher" | "smaller" | "lower" | "taller" | "shorter"
+COMPARE: "bigger" | "larger" | "greater" | "higher" | "smaller" | "lower" | "taller" | "shorter" | "wider"
+       | "narrower" | "longer"
 MOSTFEW: "most" | "fewest" | "least"
 MEASURE: "height" | "width" | "length" | "depth" | "size"
 ATTR: "big" | "large" | "tall" | "high" | "wide" | "long" | "deep"
@@ -359,6 +362,13 @@ class _ToForm(Transformer):
         place = NP(_words(items[:items.index(np)]), definite=True)
         form = self._op("where", items)
         form.filters.append(Filter("rel", place, relation="in"))
+        return form
+
+    def exists_afford(self, items):
+        """"is there a glass or a cup I could drink out of": whether any object of those kinds
+        affords the activity (yes or no, naming them)."""
+        form = self.afford_kind(items[1:])         # after the "is" of "is there"
+        form.compare = "exists"
         return form
 
     def afford_kind(self, items):
@@ -689,20 +699,26 @@ class _ToForm(Transformer):
     @staticmethod
     def _bigger(items) -> str:
         word = _one(str(t) for t in items if isinstance(t, Token) and t.type == "COMPARE")
-        return "more" if word in ("bigger", "larger", "greater", "higher", "taller") else "fewer"
+        return "more" if word in ("bigger", "larger", "greater", "higher", "taller", "wider", "longer") else "fewer"
 
     def bigger(self, items):
         """"is the cup bigger than the book": box volumes; higher / lower: box tops above the
-        floor; taller / shorter: box heights."""
+        floor; taller / shorter: box heights; wider / narrower / longer: the box's larger
+        horizontal side."""
         said = set(map(str, items))
-        key = "top" if said & {"higher", "lower"} else "height" if said & {"taller", "shorter"} else "volume"
+        key = "top" if said & {"higher", "lower"} else "height" if said & {"taller", "shorter"} \
+            else "width" if said & {"wider", "narrower", "longer"} else "volume"
         return self._op("size_compare", items, compare=self._bigger(items), attribute=key)
 
     def bigger_which(self, items):
-        """"which is bigger, the cup or the book": the same, naming the winner."""
+        """"which is bigger, the cup or the book": the same, naming the winner. "the tv on the
+        shelf or the table" (one phrase, the "or" read inside the relation) is two things here:
+        the last alternative of the trailing relation is the second one (`_last_or`)."""
         form = self.bigger(items)
         if len(form.sets) == 1 and len(form.sets[0].alternatives) == 2:
             form.sets = list(form.sets[0].alternatives)
+        if len(form.sets) == 1:
+            form.sets = _last_or(form.sets[0])
         if len(form.sets) != 2:
             raise GrammarError("compare two things, e.g. 'which is bigger, the cup or the book'")
         form.op = "size_which"
@@ -727,6 +743,24 @@ class _ToForm(Transformer):
         verb = _one(i for i in items if isinstance(i, str) and not isinstance(i, Token))
         filters = [f for i in items if isinstance(i, list) for f in i]
         return Form("affordance", verb=verb, filters=filters)
+
+
+def _last_or(np: NP) -> list[NP]:
+    """"the tv on the shelf or the dining table" as two things: [the tv on the shelf, the dining
+    table] (the last "or" alternative of the phrase's trailing relation, at any depth); [np]
+    when its last relation names no alternatives."""
+    if np.alternatives or not np.filters or np.filters[-1].kind != "rel":
+        return [np]
+    other = np.filters[-1].other
+    if other.alternatives:          # a relation's other end is always said with "or" (np_or)
+        rest = other.alternatives[:-1]
+        np.filters[-1].other = rest[0] if len(rest) == 1 else NP([], alternatives=rest, joined="or")
+        return [np, other.alternatives[-1]]
+    inner = _last_or(other)
+    if len(inner) == 2:
+        np.filters[-1].other = inner[0]
+        return [np, inner[1]]
+    return [np]
 
 
 def _noun_phrases(form: Form) -> list[NP]:

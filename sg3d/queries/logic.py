@@ -104,7 +104,7 @@ class Form:
     op: str                                 # the operations of the module docstring; also changes | gone | before
     sets: list[NP] = field(default_factory=list)
     attribute: Optional[str] = None         # colour | size | height | tall | width | length
-    compare: Optional[str] = None           # more | fewer (compare, at_least, room_most)
+    compare: Optional[str] = None           # more | fewer (compare, at_least, room_most); exists (affordance asked yes/no)
     number: Optional[float] = None          # at_least: the N of "more than N"
     filters: list[Filter] = field(default_factory=list)     # predicates after the verb
     verb: Optional[str] = None              # affordance: "sit", "put"

@@ -82,6 +82,9 @@ CONTRACTIONS = {
 _REL_AHEAD = (r"(?= (?:on|under|in|inside|above|below|next|near|beside|by|over|underneath|beneath|close|within|"
               r"less|more|closer|nearer|farther|further|between)\b)")
 POSTURE = [
+    # "does a tv sit on a shelf", "do the cups stand near the sink": is it there
+    (re.compile(r"^does (?!(?:one|someone|anyone)\b)(.+?) (?:sit|stand|lie|rest|hang|stay)" + _REL_AHEAD), r"is \1"),
+    (re.compile(r"^do (?!(?:i|we|you|they|people)\b)(.+?) (?:sit|stand|lie|rest|hang|stay)" + _REL_AHEAD), r"are \1"),
     # "the chairs pulled up to the table": how they stand says nothing the graph stores
     (re.compile(r"\b(is|are) (?:pulled up|pulled|pushed up|pushed in|pushed|tucked in|tucked|drawn up|lined up|grouped|"
                 r"gathered|clustered|arranged)\b" + _REL_AHEAD), r"\1"),
@@ -89,7 +92,9 @@ POSTURE = [
                 r"positioned|found|situated|set|lieing)\b"), r"\1"),
     (re.compile(r"\b(?:lies|sits|stands|rests|hangs|stays)\b" + _REL_AHEAD), "is"),
     # "the cups that sit on the table", but not "what can i sit on" (an activity)
-    (re.compile(r"(?<!\bcan i )(?<!\bcould i )(?<!\bshould i )(?<!\bmight i )(?<!\bmay i )(?<!\bto )\b(?:lie|sit|stand|rest|hang)\b" + _REL_AHEAD), "are"),
+    (re.compile(r"(?<!\bcan i )(?<!\bcould i )(?<!\bshould i )(?<!\bmight i )(?<!\bmay i )(?<!\bto )"
+                r"(?<!\bi can )(?<!\bi could )(?<!\bi might )(?<!\bi may )(?<!\bi should )(?<!\bwe can )"
+                r"(?<!\bwe could )\b(?:lie|sit|stand|rest|hang)\b" + _REL_AHEAD), "are"),
     (re.compile(r" (?:lying|sitting|standing|resting|hanging|placed|located|kept|stored|positioned|situated|"
                 r"mounted|found|put)\b" + _REL_AHEAD), ""),
 ]
@@ -224,10 +229,35 @@ def context_clause(text: str) -> str:
     if len(plain.split()) < 2 or _NEED_ALONE.match(plain) or _DO_THAT.search(rest):
         return text
     rest = activity_pronoun(rest)
+    purpose = need_for_it(text[:m.start(1)], rest)
+    if purpose is not None:
+        return purpose
     if _PRONOUN.search(rest) and not _TAG.search(text):
         said = antecedent(text[:m.start(1)])
         return _PRONOUN.sub(said, rest) if said else text
     return rest if m.re is _CONTEXT else text
+
+
+# "I need to put my shopping down. Is there a counter or a table for it?": the statement's activity
+# is what "for it" asks for
+_NEED_TO = re.compile(r"^(?:(?:ok|okay|so|hey|well|right|hmm|um|oh)[ ,]+)*(?:i|we) (?:need|want|have|would like|wish|"
+                      r"am going|are going|got|d like|must|am trying|are trying) to ([\w' -]+?)[\s,.;:!?\u2013\u2014-]*$")
+_FOR_IT = re.compile(r"^((?:is|are) there .+?) (?:for|to do) (?:it|them|that|this|so)\s*[?.!]*\s*$")
+
+
+def need_for_it(statement: str, question: str) -> str | None:
+    """"I need to put my shopping down. Is there a counter or a table for it?": "is there a
+    counter or a table I could put my shopping down" (the activity asked of those kinds), when
+    the statement wants an activity the affordance table knows; None otherwise."""
+    from sg3d.queries.vocabulary import AFFORDANCE_VERBS, EXTRA_AFFORDANCES
+
+    said, asked = _NEED_TO.match(statement.strip()), _FOR_IT.match(question.strip())
+    if not said or not asked:
+        return None
+    doing = said.group(1).strip()
+    if doing.split()[0] not in {k.split()[0] for k in list(AFFORDANCE_VERBS) + list(EXTRA_AFFORDANCES)}:
+        return None
+    return f"{asked.group(1)} i could {doing}"
 
 
 # "there's a purple book somewhere, where is it?", "the grey mug is missing - where is it?": a
@@ -270,15 +300,34 @@ def antecedent(statement: str) -> str | None:
 
 # "right, where is the sink", "listen - how many chairs": a word said before the comma that is no
 # part of the question (as a frame word it could start one: "right of the sink", "look for")
-_INTERJECTION = re.compile(r"^(?:right|listen|look|say|now|wait|alright|great|cool|thanks|thank you|also|and|next|"
+# forms of address: "excuse me, dear, where is ...", "where's the sink, love?"
+VOCATIVES = ("dear", "love", "mate", "buddy", "sir", "madam", "maam", "ma'am", "honey", "darling", "sweetie",
+             "sweetheart", "pal", "friend", "my friend", "my dear", "dude", "bro", "robot", "dear robot", "guys")
+_INTERJECTION = re.compile(r"^(?:(?:right|listen|look|say|now|wait|alright|great|cool|thanks|thank you|also|and|next|"
                            r"then|ok then|okay then|one more thing|another question|oh and|and also|yes|yeah|"
-                           r"good|fine|perfect|got it|i see)\s*(?:[,!:;]|\.\.\.|\s-+)+\s*(?=\w)")
+                           r"good|fine|perfect|got it|i see|excuse me|pardon me|pardon|sorry|hey|hi|hello|oh|ok|okay|"
+                           r"um|so|well|please|" + "|".join(map(re.escape, VOCATIVES)) + r")"
+                           r"\s*(?:[,!:;]|\.\.\.|\s-+)+\s*)+(?=\w)")
+# "..., dear?", "where is the sink, love": a form of address after a comma at the end
+_VOCATIVE_TAIL = re.compile(r"\s*,\s*(?:" + "|".join(map(re.escape, VOCATIVES)) + r")\s*(?=[?.!]*\s*$)")
 
 
 def interjection(text: str) -> str:
-    """"right, where is the sink", "listen - how many chairs": the word before the comma goes
-    (only with the comma: "right of the sink" is a place)."""
-    return _INTERJECTION.sub("", text)
+    """"right, where is the sink", "excuse me, dear, where is the tv", "listen - how many
+    chairs": the words before the commas go, any number of them in a row (only with the comma:
+    "right of the sink" is a place); a form of address after a last comma ("..., love?") too."""
+    return _VOCATIVE_TAIL.sub("", _INTERJECTION.sub("", text))
+
+
+# "excuse me dear where is ...": a form of address said without a comma, before the question
+_VOCATIVE_HEAD = re.compile(r"^(?:" + "|".join(map(re.escape, VOCATIVES)) + r") (?=(?:what|where|which|how|is|are|"
+                            r"do|does|did|can|could|would|will|have|has|any|tell|show|list|count|find|locate)\b)")
+
+
+def vocative(text: str) -> str:
+    """"dear where is the tv" (what is left of "excuse me dear, ..."): the form of address
+    before a question word goes; "dear" elsewhere stays."""
+    return _VOCATIVE_HEAD.sub("", text)
 
 
 # "what can I drink it from", "where could I put them down": the object of an activity is the
@@ -324,7 +373,8 @@ def were_for_where(text: str) -> tuple[str, list[str]]:
 _GERUNDS = {"counting": "count", "listing": "list", "showing": "show", "naming": "name", "finding": "find",
             "checking": "check", "telling": "tell"}
 _MIND = re.compile(r"^(?:would|do|could|will) you (?:please )?mind (" + "|".join(_GERUNDS) + r")\b")
-_CAN_YOU = re.compile(r"^(?:can|could|would|will) you (?:please |kindly |just )?(count|list|show|name|find)\b")
+_CAN_YOU = re.compile(r"^(?:can|could|would|will) you (?:please |kindly |just )?(count|list|show|name|find|locate|"
+                     r"spot|look for|track down)\b")
 
 
 def requests(text: str) -> str:
@@ -332,6 +382,27 @@ def requests(text: str) -> str:
     "find"); "would you mind telling me ..." is a frame (FRAMES)."""
     text = _MIND.sub(lambda m: _GERUNDS[m.group(1)], text)
     return _CAN_YOU.sub(r"\1", text)
+
+
+# "(can you) find the grey mug", "locate my keys", "help me find the sink", "i am looking for the
+# purple book": where it is. "find" before a definite noun phrase only ("find all red things",
+# "find red things" list them); "locate", "look for", "track down" before any. Never before
+# "the number of", "the colour of" ...: those ask for the number, the colour
+_FIND = re.compile(r"^(?:(?:please )?help (?:me|us) (?:to )?|(?:i|we) (?:am|m|are|re|have been|was|were) |im |"
+                   r"(?:i|we) (?:want|need|would like|am trying|m trying|are trying|have) to |"
+                   r"(?:i|we) (?:can not|could not|cant|do not|dont) (?:seem to )?|(?:can|could) (?:i|we) )?"
+                   r"(?:(?:find|spot|finding|spotting)(?: me)? (?=(?:the|my|our|your|this|that|these|those)\b)|"
+                   r"(?:locate|look for|looking for|track down|search for|searching for|hunt for|hunting for|"
+                   r"locating|tracking down)(?: me)? )"
+                   r"(?!(?:the |a |an )?(?:total )?(?:number|count|colou?r|size|height|width|length|depth|"
+                   r"distance|gap) (?:of|between|from)\b)(?=\w)")
+
+
+def find_is_where(text: str) -> str:
+    """"find the grey mug", "locate my keys", "i am looking for the tv", "help me find the
+    sink": "where is ..." (where it is, not a list of the kind)."""
+    m = _FIND.match(text)
+    return f"where is {text[m.end():]}" if m else text
 
 
 _NUMBER_OR_BOTH = r"(?:\d+|both|both of the|both the|all|all of the|all the)"
@@ -451,6 +522,7 @@ def strip_frames(text: str) -> str:
         text = _FRAME_RE.sub("", text).strip(" ,")
         text = _TAIL_RE.sub("", text).strip(" ,")
         text = _SHOW_FRAME.sub("", text)
+        text = vocative(text)
     return text
 
 
@@ -472,6 +544,15 @@ REPHRASE: list[tuple[re.Pattern[str], str | Callable[[re.Match[str]], str]]] = [
     # "which chairs are red": the red chairs
     (re.compile(r"^(what|which) (?!one\b|ones\b)([a-z-]+) (?:is|are) " + _COLOURS + r"((?: in [\w -]+)?)$"),
      r"\1 \3 \2 are there\4"),
+    # "report the total number of desks", "give me a count of the chairs", "state the number of
+    # cups": an imperative asking for the number
+    (re.compile(r"^(?:(?:report|state|give|tell|provide|calculate|compute|find|get|say|work out|figure out|output|"
+                r"return|display|show|count|determine)(?: (?:me|us))? )?(?:the |a )?(?:total |overall |whole )?"
+                r"(?:number|count) of "), "what is the number of "),
+    # "find the colour of the sink", "report the height of the desk": what it is
+    (re.compile(r"^(?:report|state|give|provide|calculate|compute|find|get|say|work out|figure out|determine|measure)"
+                r"(?: (?:me|us))? (?:the )?(color|size|height|width|length|depth|distance|gap) (of|between|from)\b"),
+     r"what is the \1 \2"),
     # "the number of chairs in the kitchen" (what is left of "could you tell me ...")
     (re.compile(r"^(?:the )?number of "), "what is the number of "),
     # "desks how many?": the dislocated noun phrase goes back in
@@ -512,8 +593,13 @@ REPHRASE: list[tuple[re.Pattern[str], str | Callable[[re.Match[str]], str]]] = [
      r"\1 "),
     # "how many chairs across all the rooms": everywhere the scope holds (a count only: "is there
     # a chair in every room" asks something else, and "in each room" asks for a count per room)
-    (re.compile(r"^(how many .+?) (?:across|in|throughout|over) (?:all (?:of )?(?:the )?rooms|the whole house)\b"),
-     r"\1 in the house"),
+    (re.compile(r"^(how many .+?|what is the number of .+?|count .+?) (?:across|in|throughout|over) "
+                r"(?:all (?:of )?(?:the )?rooms|the whole house|every room)\b"), r"\1 in the house"),
+    # "is there a sofa in any of the rooms", "... in any room", "anywhere in the rooms": in the house
+    (re.compile(r"\b(?:anywhere |somewhere )?(?:in|inside|within|across) (?:any|one|either|some)(?: of)?"
+                r"(?: (?:the|these|those|our|my|your))? rooms?\b"), "in the house"),
+    (re.compile(r"\b(?:anywhere|somewhere) (?:in|inside|within|across) (?:the|these|those|our|my|your) rooms\b"),
+     "in the house"),
     # "is there a fridge anywhere in the house": in the house (the whole scope)
     (re.compile(r"\b(?:anywhere|somewhere|everywhere) (?=(?:in|inside|within|around) (?:the |this |our |my )?"
                 r"(?:whole |entire )?(?:house|building|home|flat|apartment|place)\b)"), ""),
@@ -533,6 +619,10 @@ REPHRASE: list[tuple[re.Pattern[str], str | Callable[[re.Match[str]], str]]] = [
     # "how far is the tv from the fridge in centimetres": the unit of the answer, not a room
     (re.compile(r" in (?:m|cm|mm|ft|inch|metres|meters|centimetres|centimeters|millimetres|millimeters|feet|"
                 r"inches)$"), ""),
+    # "how close is the desk to the fridge", "how near are the cup and the sink (to each other)": how far
+    (re.compile(r"^how (?:close|near) (?:together )?(is|are) (.+?) and (.+?)(?: to (?:each other|one another))?$"),
+     r"how far apart \1 \2 and \3"),
+    (re.compile(r"^how (?:close|near) (is|are) (?=.+ (?:to|from) )"), r"how far \1 "),
     # "how far is the closest chair from the fridge": the distance of the closest pair
     (re.compile(r"^how far (is|are) (?:the )?(?:closest|nearest) (.+?) (from|to) "), r"how far \1 the \2 \3 "),
     # "exactly one tv", "more than one chair": a number
@@ -582,6 +672,15 @@ REPHRASE: list[tuple[re.Pattern[str], str | Callable[[re.Match[str]], str]]] = [
     # goes with the activity, it is no place in the graph
     (re.compile(r"^((?:where|what|which [\w-]+) (?:can|could|should|might|may) i [\w-]+(?: down)?) "
                 r"(?:on|with|using|at) (?:my|our) [\w-]+(?: [\w-]+)?$"), r"\1"),
+    # "objects with colour white", "things of the colour red", "chairs coloured black", "cups in
+    # white": the colour describes them ("objects with white": the grammar's "with" clause)
+    (re.compile(r"\b(?:with|having|of|in) (?:the |a )?colors? " + _COLOURS + r"\b"), r"with \1"),
+    (re.compile(r"^(?!(?:is|are)\b)(.*?[a-z]) (?:colored|coloured|in the color|in color|painted) " + _COLOURS + r"\b"),
+     r"\1 with \2"),
+    (re.compile(r"^((?:is|are) .*?[a-z]) (?:colored|coloured|in the color|in color|painted) " + _COLOURS + r"\b"),
+     r"\1 \2"),
+    (re.compile(r"\b(?!(?:is|are|was|were|what|which|anything|something|everything|it|them|they|one|ones)\b)"
+                r"([a-z-]+) in " + _COLOURS + r"(?=$| (?:on|in|under|near|next|by|beside|above|below)\b)"), r"\1 with \2"),
 ]
 # "desks with a chair next to them", "which desk has a chair beside it": a symmetric relation
 # said back to the head by a pronoun is the head's own relation ("desks next to a chair")
@@ -690,6 +789,12 @@ SAME_WORDS = [
                 r"some place)(?: for me)? to "), "where can i "),
     (re.compile(r"\b(places?|spots?|things?|somewhere|something|anything|anywhere) to (?=\w)"), r"\1 for "),
     (re.compile(r"\bas well as\b"), "and"),
+    # "which objects are coloured white", "is the cup of the colour grey": the colour itself
+    (re.compile(r"\b(is|are) (?:colored|coloured|painted|in the color|in color|of (?:the |a )?color|with (?:the |a )?color)"
+                r" (?=(?:red|orange|yellow|green|blue|purple|pink|brown|black|white|grey|gray|silver|golden)\b)"), r"\1 "),
+    # "is there a cup that I could drink from": the relative word before the asker's activity goes
+    (re.compile(r"^((?:is|are) there .+?) (?:that|which|where|on which|in which|from which) (?=(?:i|we) "
+                r"(?:can|could|should|might|may)\b)"), r"\1 "),
 ]
 # "the kitchen's chairs" = "the chairs in the kitchen"; "the cup's colour" = "the colour of the cup"
 _POSSESSIVE_MEASURE = re.compile(r"\b(?:the )?((?:[\w-]+ )?room|[\w-]+)'s (color|size|height|width|length)\b")
@@ -750,7 +855,7 @@ def tidy(question: str) -> Phrased:
     notes += more
     text, more = were_for_where(text)
     notes += more
-    text = wanting(strip_frames(needs(requests(text))))
+    text = wanting(find_is_where(strip_frames(needs(requests(text)))))
     text = _PLACE_TO.sub(r"where can i \1", text)      # before "sit on" could be read as a posture
     for regex, repl in POSTURE:
         text = regex.sub(repl, text)
@@ -779,9 +884,9 @@ def max_edits(word: str) -> int:
 
 
 @functools.lru_cache(maxsize=4096)
-def _closest(word: str, vocab: frozenset) -> str | None:
+def _closest(word: str, vocab: frozenset, dropped_first: bool = False) -> str | None:
     from rapidfuzz import process
-    from rapidfuzz.distance import DamerauLevenshtein
+    from rapidfuzz.distance import DamerauLevenshtein, Indel
 
     limit = max_edits(word)
     if not limit:
@@ -790,12 +895,30 @@ def _closest(word: str, vocab: frozenset) -> str | None:
     if not found:
         return None
     best = min(d for _, d, _ in found)
-    winners = sorted({w for w, d, _ in found if d == best})
+    # two spellings of one word ("colur": colour or color) are one winner, the spelling read
+    winners = sorted({SPELLINGS.get(w, w) for w, d, _ in found if d == best})
     if len(winners) > 1:
         # people rarely mistype a word's first letter: among equally close words, that decides
         winners = [w for w in winners if w[0] == word[0]]
+    if len(winners) > 1 and dropped_first:
+        # a letter left out or typed twice is commoner than a wrong one ("colr": color, not cold)
+        fewest = min(Indel.distance(word, w) for w in winners)
+        winners = [w for w in winners if Indel.distance(word, w) == fewest]
     # still two words equally close: the typo is ambiguous and stays as written
     return winners[0] if len(winners) == 1 else None
+
+
+# one word spelled two ways: the spelling the grammar reads (tidy makes "colour" "color")
+SPELLINGS = {"colour": "color", "colours": "colors", "coloured": "colored", "gray": "grey", "centre": "center"}
+
+
+def dropped_letter(word: str, nouns: frozenset) -> str | None:
+    """A short unknown word (3 letters, too short for `max_edits`) that is one object noun with
+    one letter left out ("dsk": desk, "snk": sink, "ovn": oven), when exactly one noun is."""
+    if len(word) != 3 or not word.isalpha():
+        return None
+    hits = {n for n in nouns if len(n) == 4 and any(n[:i] + n[i + 1:] == word for i in range(4))}
+    return hits.pop() if len(hits) == 1 else None
 
 
 # A word counts as common English when pyspellchecker's English frequency list saw it this often
@@ -873,7 +996,10 @@ def fix_typos(text: str, vocab: frozenset, known: Iterable[str] = (),
     """Each unknown word (outside `vocab`, not a common English word, not a number) that is
     one edit from exactly one question word (QUESTION_WORDS), or else within `max_edits` of
     exactly one vocabulary word, is read as that word; the notes say so. After a determiner
-    (DETERMINERS), a tie is settled by the object nouns `nouns` (one of them closest)."""
+    (DETERMINERS), a tie is settled by the object nouns `nouns` (one of them closest), and a
+    three-letter word may be a noun with a letter left out ("every dsk": `dropped_letter`). A
+    tie left is settled by the word reached by adding or dropping letters ("colr": color, not
+    cold)."""
     keep = set(known)
     out, notes = [], []
     words = text.split()
@@ -883,7 +1009,9 @@ def fix_typos(text: str, vocab: frozenset, known: Iterable[str] = (),
             continue
         fixed = _question_word(w, words[i + 1] if i + 1 < len(words) else None) or _closest(w, vocab)
         if fixed is None and nouns and i > 0 and words[i - 1] in DETERMINERS:
-            fixed = _closest(w, nouns)
+            fixed = _closest(w, nouns) or dropped_letter(w, nouns)
+        if fixed is None:
+            fixed = _closest(w, vocab, dropped_first=True)
         if fixed is None:
             out.append(w)
         else:

@@ -565,3 +565,224 @@ def test_a_trailing_colour_is_said_of_the_head(question, head, other):
 def test_a_colour_before_the_other_end_stays_there():
     f = form("is the cup on the white table?")
     assert f["sets"][0]["noun"] == "cup" and f["sets"][0]["filters"][0]["of"]["noun"] == "white table"
+
+
+# -- fifth round: "find the X" asks where it is; "find all X" lists them ---------------------------
+@pytest.mark.parametrize("question, noun", [
+    ("Can you find the grey mug for me?", "grey mug"), ("locate the sink", "sink"), ("could you locate my cup", "cup"),
+    ("help me find the white book", "white book"), ("I'm looking for the purple book", "purple book"),
+    ("I can't find the tv", "tv"), ("look for the fridge", "fridge"), ("find me the sink", "sink"),
+    ("can you spot the fridge?", "fridge"), ("locate every desk", "desk"),
+])
+def test_find_the_thing_asks_where_it_is(question, noun):
+    f = form(question)
+    assert f["op"] == "where" and f["sets"][0]["noun"] == noun
+
+
+@pytest.mark.parametrize("question, op", [
+    ("find all red things", "list"), ("find red things", "list"), ("show me the desks", "list"),
+    ("find the number of chairs", "count"), ("can you find the colour of the sink?", "attribute"),
+    ("where can I find the grey cup?", "where"), ("report the height of the desk", "attribute"),
+    ("find the distance between the sink and the fridge", "distance"),
+])
+def test_find_all_lists_and_find_the_number_counts(question, op):
+    assert form(question)["op"] == op
+
+
+# -- "which is ADJ-er, A or B" with relations and rooms on A --------------------------------------
+@pytest.mark.parametrize("question, compare, key", [
+    ("Which is smaller, the TV on the shelf or the dining table?", "fewer", "volume"),
+    ("which is bigger, the tv in the kitchen or the desk", "more", "volume"),
+    ("which is taller, the cup on the table or the fridge", "more", "height"),
+    ("which is wider, the desk next to the chair or the sofa", "more", "width"),
+    ("which one is narrower: the sink on the floor or the table?", "fewer", "width"),
+])
+def test_which_is_bigger_of_two_with_relations(question, compare, key):
+    f = form(question)
+    assert f["op"] == "size_which" and f["compare"] == compare and f["attribute"] == key
+    first, second = f["sets"]
+    assert first["filters"][0]["filter"] == "rel" and "any_of" not in first["filters"][0]["of"]
+    assert "noun" in second and "filters" not in second
+
+
+def test_a_relation_with_two_alternatives_keeps_the_first_ones():
+    f = form("which is bigger, the cup on the table or the shelf or the fridge")
+    assert f["sets"][0]["filters"][0]["of"] == {"any_of": [{"noun": "table"}, {"noun": "shelf"}]}
+    assert f["sets"][1] == {"noun": "fridge"}
+
+
+def test_wider_than_compares_the_larger_side():
+    f = form("is the desk wider than the sofa?")
+    assert f["op"] == "size_compare" and f["attribute"] == "width" and f["compare"] == "more"
+
+
+def test_which_is_bigger_of_one_thing_is_refused():
+    with pytest.raises(GrammarError):
+        parsed("which is bigger, the cup on the table")
+
+
+# -- posture verbs as relations ---------------------------------------------------------------------
+@pytest.mark.parametrize("question, noun, relation, other", [
+    ("does a tv sit on a shelf", "tv", "on", "shelf"), ("do the cups stand on the table?", "cups", "on", "table"),
+    ("does the picture hang above the sofa", "picture", "above", "sofa"),
+    ("is the tv sitting on the shelf?", "tv", "on", "shelf"), ("does the rug lie under the table", "rug", "under", "table"),
+])
+def test_posture_verbs_are_the_relation(question, noun, relation, other):
+    f = form(question)
+    assert f["op"] == "exists" and f["sets"][0]["noun"] == noun
+    rel = f["sets"][0]["filters"][0]
+    assert rel["relation"] == relation and rel["of"]["noun"] == other
+
+
+def test_sit_on_after_the_asker_stays_an_activity():
+    assert form("is there a chair I could sit on?")["op"] == "affordance"
+    assert form("where can I sit on?")["op"] == "affordance"
+
+
+# -- "is there a X or a Y I could VERB": the activity, of those kinds, asked yes or no -------------
+@pytest.mark.parametrize("question, nouns, doing", [
+    ("Is there a glass or a cup I could drink out of?", ["glass", "cup"], "drink"),
+    ("Is there a couch or an armchair I could sit on?", ["couch", "armchair"], "sit"),
+    ("is there a chair that I can sit on", ["chair"], "sit"),
+    ("are there any tables we could work at?", ["tables"], "work"),
+])
+def test_is_there_a_kind_i_could_use(question, nouns, doing):
+    f = parsed(question)
+    assert f.op == "affordance" and f.compare == "exists" and activity(f.verb or "") == doing
+    said = f.sets[0].alternatives or [f.sets[0]]
+    assert [" ".join(np.words) for np in said] == nouns
+
+
+def test_is_there_a_kind_alone_is_plain_existence():
+    f = form("is there a glass or a cup?")
+    assert f["op"] == "exists" and "compare" not in f
+
+
+# -- a need with "for it": the need's activity, of the kinds asked -------------------------------
+@pytest.mark.parametrize("question, nouns, doing", [
+    ("I need to put my shopping down. Is there a counter or a table for it?", ["counter", "table"], "put things down"),
+    ("i want to sit down - is there a chair or a sofa for that?", ["chair", "sofa"], "sit"),
+    ("We need to store our stuff; is there a cabinet for it?", ["cabinet"], "store things"),
+])
+def test_a_need_then_is_there_a_kind_for_it(question, nouns, doing):
+    f = parsed(question)
+    assert f.op == "affordance" and f.compare == "exists" and activity(f.verb or "") == doing
+    said = f.sets[0].alternatives or [f.sets[0]]
+    assert [" ".join(np.words) for np in said] == nouns
+
+
+def test_a_need_no_object_affords_is_not_read_as_one():
+    with pytest.raises(GrammarError):
+        parsed("I need to fly. Is there a plane for it?")
+
+
+# -- interjections and forms of address, several in a row -------------------------------------------
+@pytest.mark.parametrize("question", [
+    "Excuse me, dear, where is the television?", "excuse me dear where is the television",
+    "Sorry, mate, where is the television?", "hi, love, where is the television", "where is the television, dear?",
+    "Oh, excuse me, sir, where is the television?", "Pardon me, madam - where is the television?",
+])
+def test_forms_of_address_are_left_out(question):
+    assert tidy(question).text == "where is the television"
+
+
+def test_a_form_of_address_without_a_comma_inside_the_question_stays():
+    assert tidy("where is the honey").text == "where is the honey"
+    assert tidy("is there a dear ornament").text.endswith("dear ornament")
+
+
+# -- typos: two spellings of one word, a letter dropped from a short noun ---------------------------
+def test_a_typo_of_colour_is_one_word_and_the_synonym_stays():
+    from sg3d.queries.compose import typo_nouns, typo_vocabulary
+    from sg3d.queries.phrasing import fix_typos
+
+    text, notes = fix_typos("what colur is the monitor", typo_vocabulary(), (), typo_nouns())
+    assert text == "what color is the monitor" and notes == ["read 'colur' as 'color'"]
+    f = read(text).form()
+    assert f["op"] == "attribute" and f["attribute"] == "colour" and f["sets"][0]["noun"] == "monitor"
+
+
+def test_between_equally_close_words_a_dropped_letter_wins():
+    from sg3d.queries.compose import typo_nouns, typo_vocabulary
+    from sg3d.queries.phrasing import fix_typos
+
+    assert fix_typos("what colr is the sofa", typo_vocabulary(), (), typo_nouns())[0] == "what color is the sofa"
+
+
+@pytest.mark.parametrize("text, fixed", [
+    ("where is every dsk", "where is every desk"), ("is there a snk", "is there a sink"),
+    ("where is the ovn", "where is the oven"),
+])
+def test_a_short_noun_with_a_letter_left_out_after_a_determiner(text, fixed):
+    from sg3d.queries.compose import typo_nouns, typo_vocabulary
+    from sg3d.queries.phrasing import fix_typos
+
+    assert fix_typos(text, typo_vocabulary(), (), typo_nouns())[0] == fixed
+
+
+def test_a_short_word_is_not_guessed_without_a_determiner_or_when_two_nouns_fit():
+    from sg3d.queries.compose import typo_nouns, typo_vocabulary
+    from sg3d.queries.phrasing import dropped_letter, fix_typos
+
+    assert fix_typos("dsk where is", typo_vocabulary(), (), typo_nouns())[0] == "dsk where is"
+    assert dropped_letter("dsk", frozenset({"desk", "disk"})) is None
+    assert dropped_letter("cp", typo_nouns()) is None
+
+
+# -- "how close is X to Y": the distance -------------------------------------------------------------
+@pytest.mark.parametrize("question", [
+    "How close is the nearest desk to the fridge?", "how near is the desk to the fridge",
+    "how close are the desk and the fridge?", "how close together are the desk and the fridge",
+])
+def test_how_close_is_a_distance(question):
+    f = form(question)
+    sets = f["sets"][0]["any_of"] if len(f["sets"]) == 1 else f["sets"]
+    assert f["op"] == "distance" and [s.get("noun") for s in sets] == ["desk", "fridge"]
+
+
+# -- "with colour W", "coloured W", "in W": the colour of the things ---------------------------------
+@pytest.mark.parametrize("question, noun", [
+    ("list all objects with colour white", "objects white"), ("list everything of colour brown", "everything brown"),
+    ("show me things with the colour grey", "things grey"), ("list chairs coloured brown", "chairs brown"),
+    ("list the cups in white", "cups white"),
+])
+def test_with_colour_describes_the_things(question, noun):
+    f = form(question)
+    assert f["op"] == "list" and f["sets"][0]["noun"] == noun
+
+
+@pytest.mark.parametrize("question", ["which objects are coloured white", "what things are of the colour white"])
+def test_are_coloured_w_is_the_colour(question):
+    assert form(question)["sets"][0]["noun"] == "white things"
+
+
+def test_in_a_room_is_no_colour():
+    assert tidy("list the cups in the kitchen").text == "list the cups in the kitchen"
+
+
+# -- imperatives that ask for the number ---------------------------------------------------------
+@pytest.mark.parametrize("question", [
+    "Report the total number of desks across all rooms.", "give me the number of desks in the house",
+    "state the total count of desks across every room", "tell me the number of desks across all the rooms",
+    "count the desks across all rooms",
+])
+def test_imperatives_ask_for_the_number(question):
+    f = form(question)
+    assert f["op"] == "count" and f["sets"][0]["noun"] == "desks"
+    assert f["sets"][0]["filters"][0]["of"]["noun"] == "house"
+
+
+# -- "in any of the rooms": in the house -------------------------------------------------------------
+@pytest.mark.parametrize("question", [
+    "is there a sofa in any of the rooms", "is there a sofa in any room?", "is there a sofa anywhere in the rooms",
+    "is there a sofa in one of the rooms",
+])
+def test_in_any_of_the_rooms_is_the_house(question):
+    f = form(question)
+    assert f["op"] == "exists" and f["sets"][0]["noun"] == "sofa"
+    assert f["sets"][0]["filters"][0]["of"]["noun"] == "house"
+
+
+def test_in_any_room_keeps_a_negation_and_each_room_stays():
+    assert tidy("is there no sofa in any of the rooms").text == "is there no sofa in the house"
+    assert "each room" in tidy("how many chairs are in each room").text
