@@ -924,7 +924,10 @@ def ask_all(store, world: World, qs: list[Q]) -> list[dict]:
     for q in qs:
         room = world.rooms.get(q.room) if q.room != "building" else None
         truth = q.oracle(world, room or next(iter(world.rooms.values())))
-        names = names_all if q.scope is None else {o["id"]: o["name"] for o in world.rooms[q.scope].objects}
+        # printed names are unique within a room only ("white object 3" may be in two rooms): an
+        # answer about one room (asked of it, or naming it in words) is read with that room's names
+        about = q.scope or (q.room if q.room in world.rooms else None)
+        names = names_all if about is None else {o["id"]: o["name"] for o in world.rooms[about].objects}
         try:
             a = ask(store, q.text, room=q.scope).to_json()
         except AppError as exc:

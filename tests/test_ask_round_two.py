@@ -325,6 +325,14 @@ def test_above_and_below_read_from_either_end(store, attic):
     assert [o["id"] for o in a.objects] == [attic["ar"]], a.text
     a = ask(store, "is there anything under the plant?", room="attic")
     assert a.value is True and [o["id"] for o in a.objects] == [attic["ad"]]
+    # the graph's two kinds of beneath (UNDER: covered; BELOW: air between) are both "under" and
+    # "below" to people: the desk stored UNDER the plant is below it, the bench below the clock under it
+    a = ask(store, "what is below the plant?", room="attic")
+    assert [o["id"] for o in a.objects] == [attic["ad"]], a.text
+    a = ask(store, "what is under the clock?", room="attic")
+    assert [o["id"] for o in a.objects] == [attic["ar"]], a.text
+    a = ask(store, "what is on the clock?", room="attic")
+    assert a.objects == [], a.text
 
 
 def test_width_is_the_larger_horizontal_side_and_depth_the_smaller(store, attic):

@@ -27,7 +27,10 @@ RELATIONS: dict[str, tuple[str, bool]] = {
 STORED_TYPES = ("ON", "IN", "UNDER", "ABOVE", "BELOW", "NEXT_TO", "NEAR")
 # A stored pair is either NEXT_TO or NEAR (one statement per pair): "next to" is the closer form
 # of "near", so a question about what is near (around, close to) X also means what is next to it.
-IMPLIED_BY: dict[str, tuple[str, ...]] = {"NEAR": ("NEAR", "NEXT_TO")}
+# Likewise UNDER (covered by the thing above) and BELOW (air between) are the graph's two kinds of
+# beneath, and people say "under" and "below" for either: each word asks for both.
+IMPLIED_BY: dict[str, tuple[str, ...]] = {"NEAR": ("NEAR", "NEXT_TO"), "UNDER": ("UNDER", "BELOW"),
+                                          "BELOW": ("BELOW", "UNDER")}
 # Stored edges that say the same read from the other end: "the chair is above the desk" also
 # when the graph stores desk -UNDER-> chair (or -BELOW->); "X is under Y" when Y -ABOVE-> X. An
 # answer reads a relation both ways, never reversing one (X -ON-> Y is never "Y is on X").
