@@ -10,7 +10,8 @@ chunk's named objects meet the room's cloud (`sg3d.ingest.discover.room_cloud`),
   the detector's evidence, accumulated over views), and is not a node of its own; so is a piece
   just beyond a named box that the box stopped short of (`own_edge`: a screen's rim);
 - `separate_resting`: things lying side by side on a table, a counter or a shelf touch; a
-  segment resting on a surface is cut at its necks (`segments.split_at_necks`);
+  segment resting on a surface is cut at its necks (`segments.split_at_necks`), or with no neck
+  at a colour edge (`segments.split_at_colour_edge`: a red gamepad against a white box);
 - `plane_remnant`: a thin relief left along a cut wall or front (a door edge) is not an object,
   nor is a flat piece lying on the floor (`floor_remnant`) or one under a surface's level, its
   board's thickness (`board_of_surface`);
@@ -54,6 +55,7 @@ from sg3d.ingest.discover.segments import (
     depth_evidence,
     exists,
     room_candidates,
+    split_at_colour_edge,
     split_at_necks,
     split_at_wall,
     welded_wall,
@@ -238,14 +240,41 @@ def board_of_surface(seg: Segment, surfaces: Sequence[Element]) -> bool:
     return False
 
 
-def separate_resting(segments: Sequence[Segment], surfaces: Sequence[Element], cloud: RoomCloud) -> list[Segment]:
+def voxel_chroma(seg: Segment, cloud: RoomCloud, colour_image: Callable[[int], Optional[np.ndarray]]) -> np.ndarray:
+    """The CIELAB chroma (a*, b*) of each of a segment's voxels read at its centre's pixel in the
+    segment's best good view (`segments.GOOD_VIEWS`); NaN where that view does not show it (or
+    there is no good view or image)."""
+    out = np.full((len(seg.voxels), 2), np.nan)
+    image = colour_image(cloud.views[seg.good_views[0]].index) if seg.good_views else None
+    if image is None:
+        return out
+    view = cloud.views[seg.good_views[0]]
+    w2c = np.linalg.inv(view.pose)
+    cam = cloud.to_world(seg.voxels) @ w2c[:3, :3].T + w2c[:3, 3]
+    z = np.maximum(cam[:, 2], 1e-6)
+    u = np.round(view.K[0, 0] * cam[:, 0] / z + view.K[0, 2]).astype(int)
+    v = np.round(view.K[1, 1] * cam[:, 1] / z + view.K[1, 2]).astype(int)
+    h, w = image.shape[:2]
+    seen = (cam[:, 2] > 0.1) & (u >= 0) & (u < w) & (v >= 0) & (v < h)
+    if seen.any():
+        out[seen] = colour_model.bgr_to_lab(image[v[seen], u[seen]])[:, 1:]
+    return out
+
+
+def separate_resting(segments: Sequence[Segment], surfaces: Sequence[Element], cloud: RoomCloud,
+                     colour_image: Optional[Callable[[int], Optional[np.ndarray]]] = None) -> list[Segment]:
     """Things lying side by side on a table, a counter or a shelf touch: a segment resting on a
-    surface is cut at its necks (`segments.split_at_necks`) before depth judges it, and each
-    part must pass the depth existence test on its own (a dark gamepad that depth sees through
-    does not take the white box it lies against with it); other segments are judged whole."""
+    surface is cut at its necks (`segments.split_at_necks`), or, with no neck, at a colour edge
+    between two things of two colours (`segments.split_at_colour_edge` on its voxels' colours in
+    its best view, `voxel_chroma`), before depth judges it, and each part must pass the depth
+    existence test on its own (a dark gamepad that depth sees through does not take the white
+    box it lies against with it); other segments are judged whole."""
     out: list[Segment] = []
     for seg in segments:
-        parts = split_at_necks(seg) if resting_on(seg, surfaces) else [seg]
+        resting = resting_on(seg, surfaces)
+        parts = split_at_necks(seg) if resting else [seg]
+        if resting and colour_image is not None and len(parts) == 1:
+            parts = split_at_colour_edge(seg, voxel_chroma(seg, cloud, colour_image))
         for part in parts:
             if part is not seg:
                 depth_evidence(part, cloud)
@@ -622,7 +651,7 @@ def discover(named: list[ObjectObservation], cloud: RoomCloud, structure: Sequen
     worktops = [furniture.desk_box(e) for e in {id(e): e for e, _ in desks}.values()]
     boxes += worktops
     claims = [b for o, b in zip(named, boxes) if o.label not in FLOOR_STANDING_LABELS]
-    segments = separate_resting(room_candidates(cloud, structure, claims), surfaces, cloud)
+    segments = separate_resting(room_candidates(cloud, structure, claims), surfaces, cloud, colour_image)
     couches, segments = _couches([e for e in surfaces if id(e) not in owned], segments, cloud, colour_image)
     segments, found_walls = separate_at_walls(segments, cloud)
     couch_boxes = [box for _, box, _ in couches]

@@ -8,7 +8,8 @@ segment. A segment is an object candidate when its size is plausible for a house
 look at its place, the depth camera sees a surface there (hits) rather than through it (free
 space). A shadow, a reflection or one frame's artefact is seen through from the other views.
 Segments that touch are cut apart where they meet: at necks in the top view (`split_at_necks`:
-things side by side on a table) and at a wall's plane (`split_at_wall`: things standing against a
+things side by side on a table; `split_at_colour_edge`: with no neck, where their colours
+change) and at a wall's plane (`split_at_wall`: things standing against a
 wall no structure rule found).
 """
 from __future__ import annotations
@@ -55,6 +56,12 @@ MIN_HIT_RATIO = 0.5           # share of its voxels that are solid (hit more tha
 # each remaining core of at least CORE_CELLS voxels is one thing.
 NECK_CELLS = 1
 CORE_CELLS = 6
+# Things of two colours lying against each other with no neck between them (a red gamepad against a
+# white box) meet at a colour edge: the top view's cells fall into two colour groups whose median
+# CIELAB chroma (a*, b*: light and shading move lightness far more) lie at least COLOUR_EDGE_DELTA
+# apart (red against white: ~45; one object's lit and shaded faces: a few units).
+COLOUR_EDGE_DELTA = 25.0
+COLOUR_GROUP_ITERATIONS = 10
 # Welded along a wall no structure rule found (a short wall seen far away, its normals too noisy to
 # vote): a segment at least WELD_MIN_EXTENT_M across (what stands on its own in a room is smaller,
 # chairs up to 1.1 m; couches and desks are taken before; what is bigger holds a piece of wall, a
@@ -252,6 +259,60 @@ def split_at_necks(seg: Segment) -> list[Segment]:
     if len(cores) < 2:
         return [seg]
     labels = np.where(np.isin(labels, cores), labels, 0)
+    _, (ni, nj) = ndimage.distance_transform_edt(labels == 0, return_indices=True)
+    owner = labels[ni, nj][ij[:, 0], ij[:, 1]]
+    parts = []
+    for c in cores:
+        vox = seg.voxels[owner == c]
+        if len(vox) >= MIN_VOXELS:
+            parts.append(Segment(vox, vox.min(axis=0) - VOXEL_M / 2, vox.max(axis=0) + VOXEL_M / 2, seg.frames))
+    return parts if len(parts) > 1 else [seg]
+
+
+def split_at_colour_edge(seg: Segment, chroma: np.ndarray) -> list[Segment]:
+    """Rule "touching, not one colour": each top-view cell (its voxels' (a, b) cell) takes the
+    median CIELAB chroma (a*, b*) of its voxels (`chroma`: N x 2, NaN where no view read the
+    voxel); the cells fall into two colour groups (2-means from the two cells farthest apart
+    along the chroma's main axis). When the groups' medians lie COLOUR_EDGE_DELTA apart or more
+    and each group holds a connected core of CORE_CELLS cells, every voxel goes to the core
+    nearest its cell (the largest connected core of each group) and each part of MIN_VOXELS is a
+    segment of its own (a red gamepad against a white box: no neck between them). Otherwise the segment is returned whole. The parts carry no
+    depth evidence yet (`depth_evidence`)."""
+    ij = np.floor((seg.voxels[:, :2] - seg.lo[:2]) / VOXEL_M).astype(int)
+    shape = ij.max(axis=0) + 1
+    cell = ij[:, 0] * shape[1] + ij[:, 1]
+    known = ~np.isnan(chroma).any(axis=1)
+    cells = np.unique(cell[known])
+    if len(cells) < 2 * CORE_CELLS:
+        return [seg]
+    order = np.argsort(cell[known], kind="stable")
+    sorted_cells, sorted_chroma = cell[known][order], chroma[known][order]
+    starts = np.searchsorted(sorted_cells, cells)
+    med = np.array([np.median(c, axis=0) for c in np.split(sorted_chroma, starts[1:])])
+    axis = med - med.mean(axis=0)
+    main = np.linalg.svd(axis, full_matrices=False)[2][0]
+    centres = med[[int(np.argmin(axis @ main)), int(np.argmax(axis @ main))]]
+    group = np.zeros(len(med), int)
+    for _ in range(COLOUR_GROUP_ITERATIONS):
+        group = np.argmin(np.linalg.norm(med[:, None, :] - centres[None], axis=2), axis=1)
+        if (group == 0).all() or (group == 1).all():
+            return [seg]
+        centres = np.array([np.median(med[group == g], axis=0) for g in (0, 1)])
+    if float(np.linalg.norm(centres[0] - centres[1])) < COLOUR_EDGE_DELTA:
+        return [seg]
+    eight = np.ones((3, 3), bool)
+    labels = np.zeros(shape, int)
+    cores: list[int] = []
+    for g in (0, 1):
+        grid = np.zeros(shape, bool)
+        grid[cells[group == g] // shape[1], cells[group == g] % shape[1]] = True
+        comp, n = ndimage.label(grid, structure=eight)
+        sizes = np.bincount(comp.reshape(-1), minlength=n + 1)
+        biggest = int(np.argmax(sizes[1:])) + 1 if n else 0
+        if not n or sizes[biggest] < CORE_CELLS:
+            return [seg]
+        cores.append(g + 1)
+        labels[comp == biggest] = g + 1
     _, (ni, nj) = ndimage.distance_transform_edt(labels == 0, return_indices=True)
     owner = labels[ni, nj][ij[:, 0], ij[:, 1]]
     parts = []

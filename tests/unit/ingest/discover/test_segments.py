@@ -13,6 +13,7 @@ from sg3d.ingest.discover.segments import (
     outside_boxes,
     outside_room,
     plausible_size,
+    split_at_colour_edge,
     split_at_necks,
     voxel_sample,
     voxel_segments,
@@ -161,6 +162,48 @@ def test_things_touching_at_a_neck_one_voxel_wide_come_apart():        # NECK_CE
 def test_a_thing_on_a_table_is_a_core_of_6_cells_once_eroded():         # CORE_CELLS
     assert len(split_at_necks(_two_blobs((4, 5), ((0,), (2,))))) == 2      # cores of 2 x 3
     assert len(split_at_necks(_two_blobs((4, 4), ((0,), (2,))))) == 1      # cores of 2 x 2
+
+
+# --- touching, not one colour (`split_at_colour_edge`) ------------------------------------------------
+
+def _box_and_patch(patch_cells, patch_chroma, box_chroma=(0.0, 2.0)):
+    """A white box 8 x 6 cells, two voxels tall, with a patch of `patch_cells` (i, j) cells (its
+    own colour, `patch_chroma` a*, b*) welded to its side with no neck: voxels and chroma."""
+    box = [(i, j) for i in range(8) for j in range(6)]
+    cells = box + list(patch_cells)
+    v = np.array([(0.0125 + 0.025 * i, 0.0125 + 0.025 * j, h) for i, j in cells for h in (0.5, 0.525)])
+    seg = Segment(v, v.min(axis=0) - 0.0125, v.max(axis=0) + 0.0125, np.array([0]))
+    chroma = np.array([box_chroma] * (2 * len(box)) + [patch_chroma] * (2 * len(patch_cells)), float)
+    return seg, chroma
+
+
+PATCH = [(i, j) for i in range(8, 11) for j in range(4)]        # 3 x 4 cells against the box's side
+
+
+def test_a_red_thing_against_a_white_box_comes_apart_at_its_colour_edge():      # COLOUR_EDGE_DELTA
+    parts = split_at_colour_edge(*_box_and_patch(PATCH, (45.0, 30.0)))
+    assert sorted(len(p.voxels) for p in parts) == [24, 96]
+
+
+def test_two_colours_25_apart_are_two_things():                                 # COLOUR_EDGE_DELTA
+    assert len(split_at_colour_edge(*_box_and_patch(PATCH, (27.0, 2.0)))) == 2
+    assert len(split_at_colour_edge(*_box_and_patch(PATCH, (23.0, 2.0)))) == 1
+
+
+def test_a_colour_patch_is_a_thing_from_6_cells():                              # CORE_CELLS
+    assert len(split_at_colour_edge(*_box_and_patch([(8, j) for j in range(6)], (45.0, 30.0)))) == 2
+    assert len(split_at_colour_edge(*_box_and_patch([(8, j) for j in range(5)], (45.0, 30.0)))) == 1
+
+
+def test_a_segment_no_view_read_stays_whole():
+    seg, chroma = _box_and_patch(PATCH, (45.0, 30.0))
+    assert split_at_colour_edge(seg, np.full_like(chroma, np.nan)) == [seg]
+
+
+def test_one_colour_with_noise_stays_whole():
+    seg, chroma = _box_and_patch(PATCH, (0.0, 2.0))
+    chroma += np.random.default_rng(1).normal(0, 4, chroma.shape)
+    assert split_at_colour_edge(seg, chroma) == [seg]
 
 
 def _beyond(x: float, far_behind: float = 0.005) -> bool:
