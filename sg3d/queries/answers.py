@@ -498,9 +498,12 @@ def op_room_most(a: Answerer, form: Form):
     if neighbours:
         rows: list[dict] = []
         for e in a.run.read("vqa_rooms_adjacent", rooms=sorted(rooms)) if rooms else []:
-            per[e["room"]] = per.get(e["room"], 0) + 1
+            if not form.among or e["room"] in per:
+                per[e["room"]] = per.get(e["room"], 0) + 1
     else:
         rows = _all_rows(a.ev, form, np)
+        if form.among:          # the rooms named only: another room's objects never win
+            rows = [o for o in rows if o["room"] in per]
         for o in rows:
             per[o["room"]] = per.get(o["room"], 0) + 1
     if not per:

@@ -130,6 +130,7 @@ afford: "where" ("can" | "could" | "should" | "might" | "may") "i" verb preds
       | WHAT ("can" | "could" | "should" | "might" | "may") "i" verb preds
       | WHAT np ("can" | "could" | "should" | "might" | "may") "i" verb preds   -> afford_kind
       | "i" ("need" | "want") WORD? ("to" | "for") verb preds
+      | "where" "in" _det? WORD+ _modal "i" verb preds          -> afford_in
 verb: WORD (WORD | _det | PARTICLE)* _dangling?
 _dangling: "from" | "on" | "in" | "with" | "of"
 changes: WHAT ("has" | "have")? CHANGED _since? preds
@@ -743,6 +744,13 @@ class _ToForm(Transformer):
         verb = _one(i for i in items if isinstance(i, str) and not isinstance(i, Token))
         filters = [f for i in items if isinstance(i, list) for f in i]
         return Form("affordance", verb=verb, filters=filters)
+
+    def afford_in(self, items):
+        """"where in the kitchen could I store things" (the pre-pass's order for "where could I
+        store things in this kitchen"): the place words scope the activity, as in `where_in`."""
+        form = self.afford([i for i in items if not isinstance(i, Token)])
+        form.filters.append(Filter("rel", NP(_words(items), definite=True), relation="in"))
+        return form
 
 
 def _last_or(np: NP) -> list[NP]:

@@ -44,10 +44,14 @@ FRAMES = (
     "could i ask", "i would appreciate it if you could tell me", "i would be grateful if you could tell me",
     "do you happen to remember", "would you know", "you would not happen to know",
     "you wouldnt happen to know", "you dont happen to know", "you do not happen to know",
+    # "kindly tell me ...", "ugh where's the monitor", "quick one do we have ...": said before a question
+    "kindly", "ugh", "argh", "oops", "whoops", "er", "uh oh", "oh well", "gosh", "quick one", "one more thing",
+    "one more question", "one last thing", "one last question", "another thing", "last question",
+    "hey robot", "hi robot", "ok robot", "okay robot",
 )
 _FRAME_RE = re.compile(r"^(?:(?:" + "|".join(map(re.escape, sorted(FRAMES, key=len, reverse=True))) + r")\b[ ,]*)+")
 _TAIL_RE = re.compile(r"[ ,]*\b(?:please|thanks|thank you|thx|cheers|for me|for us|if you can|if you could|"
-                      r"if possible|if you know|by any chance|do you know|you know|mate|buddy|quick|quickly|robot)$")
+                      r"if possible|if you know|by any chance|do you know|you know|mate|buddy|quick|quickly|robot|kindly)$")
 # "can you show me what is on the table", "tell me whether ...": a request that frames a question
 _SHOW_FRAME = re.compile(r"^(?:(?:can|could|would|will) you )?(?:show|tell|list|give) (?:me|us) "
                          r"(?=(?:what|which|where|how|whether|if|the (?:number|color|height|width|length|depth|"
@@ -303,10 +307,16 @@ def antecedent(statement: str) -> str | None:
 # forms of address: "excuse me, dear, where is ...", "where's the sink, love?"
 VOCATIVES = ("dear", "love", "mate", "buddy", "sir", "madam", "maam", "ma'am", "honey", "darling", "sweetie",
              "sweetheart", "pal", "friend", "my friend", "my dear", "dude", "bro", "robot", "dear robot", "guys")
-_INTERJECTION = re.compile(r"^(?:(?:right|listen|look|say|now|wait|alright|great|cool|thanks|thank you|also|and|next|"
+_INTERJECTION = re.compile(r"^(?:(?:(?:hey|hi|hello|oh|ok|okay|yo|ah|so|and|sorry) )?"
+                           r"(?:right|listen|look|say|now|wait|alright|great|cool|thanks|thank you|also|and|next|"
                            r"then|ok then|okay then|one more thing|another question|oh and|and also|yes|yeah|"
                            r"good|fine|perfect|got it|i see|excuse me|pardon me|pardon|sorry|hey|hi|hello|oh|ok|okay|"
-                           r"um|so|well|please|" + "|".join(map(re.escape, VOCATIVES)) + r")"
+                           r"um|so|well|please|"
+                           # fragments and noises: "quick one -", "question:", "ugh,", "oh well,", "ok so,"
+                           r"quick one|quick question|question|a question|one more|one more question|one last thing|"
+                           r"one last question|last one|last question|another one|another thing|real quick|quickly|"
+                           r"quick|ugh|argh|oops|whoops|uh|uh oh|er|erm|hmm|hm|ah|aha|gosh|jeez|huh|meh|kindly|"
+                           + "|".join(map(re.escape, VOCATIVES)) + r")"
                            r"\s*(?:[,!:;]|\.\.\.|\s-+)+\s*)+(?=\w)")
 # "..., dear?", "where is the sink, love": a form of address after a comma at the end
 _VOCATIVE_TAIL = re.compile(r"\s*,\s*(?:" + "|".join(map(re.escape, VOCATIVES)) + r")\s*(?=[?.!]*\s*$)")
@@ -533,6 +543,28 @@ REPHRASE: list[tuple[re.Pattern[str], str | Callable[[re.Match[str]], str]]] = [
     (re.compile(r"^(where|what) (can|could) (?:someone|somebody|anyone|anybody|one|people|we|a person) "),
      r"\1 \2 i "),
     (re.compile(r"\b(?:take|have) a seat\b"), "sit"),
+    # "where could i take a nap", "somewhere to have a rest": to nap, to rest (vocabulary.EXTRA_AFFORDANCES)
+    (re.compile(r"\b(?:take|have|grab|get) a (nap|rest|snooze|lie down|lie-down)\b"),
+     lambda m: "lie down" if m.group(1) in ("lie down", "lie-down") else m.group(1)),
+    # "how far are the two mugs from each other", "how close are the cups to one another": how far apart
+    (re.compile(r"^how (?:far(?: away| apart)?|close|near)(?: together)? (is|are) (?:(?:the )?(?:2|both|both of the|both the) "
+                r"(?=\w))?(?:the )?(.+?) (?:away |apart )?(?:from|to) (?:each other|one another)\b(.*)$"), r"how far apart \1 the \2\3"),
+    (re.compile(r"^how (?:far(?: away| apart)?|close|near) (?:from|to) (?:each other|one another) (is|are) "
+                r"(?:(?:the )?(?:2|both|both of the|both the) (?=\w))?(?:the )?(.+)$"), r"how far apart \1 the \2"),
+    # "what all is there on the table", "which all rooms have chairs" (Indian English): what, which
+    (re.compile(r"^(what|which|where|who) all\b"), r"\1"),
+    # "no sofa (in here), right?", "no cups?": whether there are none (a yes or a no)
+    (re.compile(r"^no (?!(?:more|fewer|less) than\b)(?!.*\b(?:is|are|was|were|can|could|do|does|did|have|has|there|"
+                r"what|which|how|where|who|why|when|not|no)\b)(?=[a-z])"), "are there no "),
+    # "which room is the fridge in", "what room are the chairs in": the rooms holding it
+    (re.compile(r"^(which|what) (rooms?) (?:is|are) (.+?) (?:in|inside|kept in|found in)$"), r"\1 \2 have \3"),
+    # "where in the house can I find a mug": the rooms holding one
+    (re.compile(r"^where (?:in|inside|within|around) (?:the |our |my )?(?:whole |entire )?(?:house|building|home|flat|"
+                r"apartment) (?:can|could|do|would|will|might|should|may) (?:i|you|we|one) (?:find|get|see|spot|locate) "),
+     "which rooms have "),
+    # "which has more chairs, the kitchen or the study": the rooms named
+    (re.compile(r"^(?:which|what)(?: one)? (has|have) (more|fewer|less) (.+?) (the [\w -]+?) or (the [\w -]+)$"),
+     r"which room \1 \2 \3 \4 or \5"),
     # "how far apart are the 2 cups": the cups, two of them
     (re.compile(r"^how far apart (is|are) (?:the )?(?:2|both|both of the|both the) "), r"how far apart \1 the "),
     # "what is red (in the kitchen)", "which things are white": the things of that colour
@@ -629,6 +661,9 @@ REPHRASE: list[tuple[re.Pattern[str], str | Callable[[re.Match[str]], str]]] = [
     (re.compile(r"\b(exactly|than|least|most) one\b"), r"\1 1"),
     # "which room has got books", "we have got 3 chairs": has / have ("have you got" stays)
     (re.compile(r"\b(has|have) got\b(?! to\b)"), r"\1"),
+    # "how many shelves has the study" (British, without "does"): how many ... does the study have
+    (re.compile(r"^how many (?!rooms?\b)([\w -]+?) (has|have) ((?:the|this|that|our|my|your) [\w-]+(?: room)?)(?: got)?$"),
+     lambda m: f"how many {m.group(1)} {'does' if m.group(2) == 'has' else 'do'} {m.group(3)} have"),
     # "how many chairs have you got", "how many chairs you got": how many ... do you have
     (re.compile(r"^how many (.+?) (?:have |do )?(you|we) (?:got|have)$"), r"how many \1 do \2 have"),
     # "which rooms have books in them": "in it/them" is the room itself
@@ -643,8 +678,8 @@ REPHRASE: list[tuple[re.Pattern[str], str | Callable[[re.Match[str]], str]]] = [
     # colour asked in other word orders: "what colour do the chairs have", "which colour have
     # the chairs", "the chairs, which colour (do) they have", "colour of the table?"
     (re.compile(r"^(?:what|which) color (?:do|does|have|has) (.+?)(?: have| has)?$"), r"what color are \1"),
-    (re.compile(r"^(.+?) (?:what|which) colors? (?:do |does |is |are )?(?:it|they|that|those|these|this)"
-                r"(?: have| has| is| are)?$"), r"what color are \1"),
+    (re.compile(r"^(.+?) (?:what|which) colors? (?:do |does |is |are |has |have )?(?:it|they|that|those|these|this)"
+                r"(?: have| has| is| are| got)?$"), r"what color are \1"),
     (re.compile(r"^(?!what\b|which\b|how\b)(.+?) (?:(?:what|which) )?colors?$"), r"what color are \1"),
     (re.compile(r"^(color|height|width|length|depth|size) of "), r"what is the \1 of "),
     # "where could i do some work", "where can i do my homework": the activity's own verb
@@ -777,7 +812,8 @@ SAME_WORDS = [
     (re.compile(r"\b(?:that|which|who) (?:is|are) not(?! (?:on|under|in|inside|above|below|next|near|beside|by|"
                 r"over|underneath|beneath|close|within|less|more|fewer|closer|nearer|farther|further|between|"
                 r"behind|left|right|adjacent|alongside|around|onto|far)\b) "), "except "),
-    (re.compile(r"\b(?:other than|apart from|aside from|but not|save for)\b"), "except"),
+    # ("apart from each other" is a distance: `REPHRASE`)
+    (re.compile(r"\b(?:other than|apart from|aside from|but not|save for)\b(?! (?:each other|one another)\b)"), "except"),
     (re.compile(r"\bas (seen|viewed|looking) from\b"), r"\1 from"),
     (re.compile(r"\bto the (left|right) of\b"), r"\1 of"),
     (re.compile(r"^(which|what) one (is|are)\b"), r"\1 \2"),
@@ -826,11 +862,55 @@ def asked_unit(text: str) -> str | None:
     return None
 
 
+# "..., the living room's chair please": a thanks or "please" at the very end, with or without a comma
+_POLITE_TAIL = re.compile(r"[\s,]*\b(?:please|pls|plz|thanks|thank you|thx|cheers|kindly)\s*[?.!]*\s*$")
+
+
+def polite_tail(text: str) -> str:
+    """"tell me the colour of the living room's chair please": the trailing "please" (thanks,
+    kindly) goes before possessives are read, so it is never taken for part of a noun; the
+    question's own "?" stays."""
+    m = _POLITE_TAIL.search(text)
+    if not m or not text[:m.start()].strip():
+        return text
+    return text[:m.start()] + ("?" if "?" in m.group(0) else "")
+
+
+# "is there a bin somewhere in this kitchen", "a cup anywhere on the table": "somewhere" before a
+# place says nothing the place does not; "in this kitchen" is "in the kitchen" (the room named).
+# Not after "there" or "is": "is there somewhere in the kitchen i can sit" asks for a place
+_SOMEWHERE_IN = re.compile(r"(?<!\bthere)(?<!\bis)(?<!\bare)(?<!\bany)(?<!\ba)(?<=\w) (?:somewhere|anywhere) "
+                           r"(?=(?:in|inside|within|on|around) (?:the|this|my|our|here)\b(?! rooms\b))")
+_IN_THIS = re.compile(r"\b(in|inside|within|around) this (?=[a-z])")
+
+
+def this_place(text: str) -> str:
+    """"a bin somewhere in this kitchen" -> "a bin in the kitchen": "somewhere/anywhere" before a
+    place goes, and "in this X" is "in the X" ("in this room" stays the scope, `HERE`)."""
+    return _IN_THIS.sub(r"\1 the ", _SOMEWHERE_IN.sub(" ", text))
+
+
+@functools.cache
+def _afford_place_re() -> re.Pattern[str]:
+    from sg3d.queries.vocabulary import ROOM_WORDS
+
+    rooms = "|".join(map(re.escape, sorted(ROOM_WORDS, key=len, reverse=True)))
+    return re.compile(r"^where (can|could|should|might|may) i (.+?) (?:in|inside|within) (?:the|my|our) (" + rooms + r")$")
+
+
+def afford_place(text: str) -> str:
+    """"where could I store things in the kitchen", "where can I sit in the living room": the
+    room goes after "where" ("where in the kitchen could I store things", the grammar's
+    `afford_in`), where the activity's words cannot swallow it. Only a room word
+    (vocabulary.ROOM_WORDS): "put things in the cabinet" names the furniture itself."""
+    return _afford_place_re().sub(r"where in the \3 \1 i \2", text)
+
+
 def tidy(question: str) -> Phrased:
     """Question -> normalised words (no typo fixing yet): lower case, asides dropped,
     contractions and frames undone, numbers and units read, punctuation gone."""
     dropped: list[str] = []
-    text = tag_question(context_clause(interjection(fold(question))))
+    text = polite_tail(tag_question(context_clause(interjection(fold(question)))))
     while True:
         found = re.findall(r"\([^()]*\)|\[[^\[\]]*\]", text)
         if not found:
@@ -869,11 +949,11 @@ def tidy(question: str) -> Phrased:
     prev = None
     while prev != text:         # "any books lying around here at all"
         prev, text = text, _TRAILING.sub("", text).strip()
-    text = reorder_embedded(text)
+    text = this_place(reorder_embedded(text))
     text = " ".join(HERE.sub(" ", text).split())
     text, more = the_n(_numbers(text))
     notes += more
-    text = rephrase(self_relation(predicate_adjective(is_it_true(statement(any_room(text))))))
+    text = rephrase(self_relation(predicate_adjective(is_it_true(statement(any_room(afford_place(text)))))))
     return Phrased(" ".join(text.split()), dropped=dropped, notes=notes)
 
 

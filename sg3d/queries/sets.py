@@ -95,7 +95,7 @@ def activity(words: str) -> str:
         if not how:
             return known(" ".join(head)) or ""
         raise Unanswerable(f"I could not read '{how[-1]}' in '{words}' (things afford: {', '.join(ACTIVITIES)})")
-    raise Unanswerable(f"I don't know what things afford '{words}' (I know: {', '.join(ACTIVITIES)})")
+    raise Unanswerable(f"I do not know what things afford '{words}' (I know: {', '.join(ACTIVITIES)})")
 
 
 def split_modifiers(words: list[str]) -> tuple[list[str], dict]:

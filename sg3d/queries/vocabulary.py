@@ -65,6 +65,11 @@ GENERIC = {"object", "thing", "item", "stuff", "everything", "something", "anyth
 EVERYWHERE = {"house", "home", "building", "environment", "scene", "world", "map", "whole house",
               "whole building", "whole home", "total", "everywhere"}
 
+# words that name a room or the home (never furniture): "where can I sit in this kitchen" scopes
+# the activity to that place (sg3d/queries/phrasing.py)
+ROOM_WORDS = ("kitchen", "study", "living room", "livingroom", "lounge", "sitting room", "dining room", "bedroom",
+              "bathroom", "office", "hall", "hallway", "den", "house", "home", "flat", "apartment", "building")
+
 # What a person may do -> the kinds of object that afford it: ONE curated table. Each activity
 # lists the stored labels (detector classes and the furniture sg3d names from its shape: desk,
 # cabinet, couch, counter, shelf, whichever layer holds them) and the words that ask for it.
@@ -112,7 +117,10 @@ AFFORDANCE_FILLER = {"my", "the", "a", "an", "some", "any", "this", "that", "the
                      "them", "things", "something", "stuff", "anything"}
 # verbs that name no activity of the table but were in the older table (kept: asked and answered)
 EXTRA_AFFORDANCES: dict[str, list[str]] = {
-    "lie down": ["bed", "couch"], "sleep": ["bed", "couch"], "eat": ["dining table"],
+    "lie down": ["bed", "couch", "sofa"], "sleep": ["bed", "couch", "sofa"], "eat": ["dining table"],
+    # "a couch I could lie on", "where can I rest / have a nap": what one lies on (never a chair)
+    "lie": ["bed", "couch", "sofa"], "lay down": ["bed", "couch", "sofa"], "rest": ["bed", "couch", "sofa"],
+    "nap": ["bed", "couch", "sofa"], "snooze": ["bed", "couch", "sofa"], "stretch out": ["bed", "couch", "sofa"],
     "wash": ["sink"], "watch": ["tv"], "read": ["book"], "cook": ["oven", "microwave"],
 }
 

@@ -786,3 +786,127 @@ def test_in_any_of_the_rooms_is_the_house(question):
 def test_in_any_room_keeps_a_negation_and_each_room_stays():
     assert tidy("is there no sofa in any of the rooms").text == "is there no sofa in the house"
     assert "each room" in tidy("how many chairs are in each room").text
+
+
+# -- sixth held-out round: fragments, places, ellipses ---------------------------------------------
+@pytest.mark.parametrize("question, read_as", [
+    ("quick one - do we have a sink in here?", "do we have a sink"),
+    ("question: how many cups", "how many cups"), ("hey robot - where is the tv", "where is the tv"),
+    ("one more thing: where is the tv", "where is the tv"), ("ugh, where's the monitor", "where is the monitor"),
+    ("oh well, where is the sink", "where is the sink"), ("ok so, how many chairs", "how many chairs"),
+    ("oops where is the tv", "where is the tv"),
+])
+def test_a_leading_fragment_or_noise_goes(question, read_as):
+    assert tidy(question).text == read_as
+
+
+def test_a_place_before_the_comma_is_no_fragment():
+    assert tidy("right of the sink, what is there").text.startswith("right of the sink")
+
+
+@pytest.mark.parametrize("question, read_as", [
+    ("Is there a bin somewhere in this kitchen?", "is there a bin in the kitchen"),
+    ("is there a cup anywhere on the table", "is there a cup on the table"),
+])
+def test_somewhere_in_this_room_is_in_the_room(question, read_as):
+    assert tidy(question).text == read_as
+
+
+def test_somewhere_asked_for_stays():
+    assert "somewhere" in tidy("is there somewhere in the kitchen i can sit").text
+
+
+@pytest.mark.parametrize("question", ["The cup on the shelf, which colour has it?",
+                                      "the cup on the shelf, what colour does it have"])
+def test_topic_first_colour_with_has(question):
+    f = form(question)
+    assert f["op"] == "attribute" and f["attribute"] == "colour" and f["sets"][0]["noun"] == "cup"
+
+
+@pytest.mark.parametrize("question", ["how far are the two white mugs from each other",
+                                      "how far apart are the white mugs from each other",
+                                      "how close are the two white mugs to one another",
+                                      "how far apart from each other are the white mugs"])
+def test_from_each_other_is_how_far_apart(question):
+    f = form(question)
+    assert f["op"] == "distance" and f["sets"] == [{"noun": "white mugs"}]
+
+
+def test_apart_from_elsewhere_still_excepts():
+    assert "except" in tidy("is there a cup apart from the grey one").text
+
+
+@pytest.mark.parametrize("question", ["kindly tell me what all is there on the dining table",
+                                      "what all is on the dining table"])
+def test_what_all_is_what(question):
+    f = form(question)
+    assert f["op"] == "list" and f["filters"][0]["of"]["noun"] == "dining table"
+
+
+@pytest.mark.parametrize("question, place", [
+    ("where could I store things in this kitchen?", "kitchen"), ("where can i sit in the study", "study"),
+])
+def test_an_activity_in_a_named_room_is_scoped_to_it(question, place):
+    f = form(question)
+    assert f["op"] == "affordance" and f["filters"][0]["of"]["noun"] == place
+
+
+def test_an_activity_in_furniture_keeps_the_furniture_in_the_verb():
+    assert tidy("where can i put things in the cabinet").text == "where can i put things in the cabinet"
+
+
+@pytest.mark.parametrize("question, verb", [("is there a couch I could lie on", "lie"),
+                                            ("where could I take a nap", "nap"), ("where can i have a rest", "rest")])
+def test_lying_down_is_an_activity_of_beds_and_couches(question, verb):
+    from sg3d.queries.vocabulary import EXTRA_AFFORDANCES
+    f = form(question)
+    assert f["op"] == "affordance" and f["verb"] == verb
+    assert EXTRA_AFFORDANCES[verb] == ["bed", "couch", "sofa"]
+
+
+def test_an_unknown_activity_is_quoted_first():
+    with pytest.raises(Exception) as e:
+        activity("juggle")
+    assert str(e.value).split("'")[1] == "juggle"
+
+
+@pytest.mark.parametrize("question, noun", [("no sofa in this room, right?", "sofa"), ("no cups in here, right?", "cups"),
+                                            ("no fridge?", "fridge")])
+def test_no_x_right_asks_whether_there_are_none(question, noun):
+    f = form(question)
+    assert f["sets"][0]["noun"] == noun and f.get("number") == 0
+
+
+@pytest.mark.parametrize("question", ["no, where is the sink", "no more than 3 chairs?"])
+def test_no_before_a_question_or_a_bound_is_not_none(question):
+    assert not tidy(question).text.startswith("are there no")
+
+
+def test_a_trailing_please_is_no_part_of_a_possessive():
+    assert tidy("tell me the colour of the living room's chair please").text == \
+        "the color of the chair in the living room"
+
+
+@pytest.mark.parametrize("question", ["How many shelves has the study?", "how many shelves has the study got"])
+def test_how_many_x_has_the_room(question):
+    f = form(question)
+    assert f["op"] == "count" and f["filters"][0]["of"]["noun"] == "study"
+
+
+def test_how_many_rooms_have_is_left_as_it_is():
+    assert tidy("how many rooms have the chairs").text == "how many rooms have the chairs"
+
+
+@pytest.mark.parametrize("question, noun", [("which room is the fridge in", "fridge"),
+                                            ("what room are the chairs in", "chairs"),
+                                            ("where in the house can I find a mug?", "mug")])
+def test_which_room_is_x_in(question, noun):
+    f = form(question)
+    assert f["op"] == "rooms" and f["sets"][0]["noun"] == noun
+
+
+@pytest.mark.parametrize("question, compare", [("which has more chairs, the kitchen or the study?", "more"),
+                                               ("which one has fewer cups, the kitchen or the study", "fewer")])
+def test_which_has_more_among_rooms(question, compare):
+    f = form(question)
+    assert f["op"] == "room_most" and f["compare"] == compare and [a["noun"] for a in f["among"]] == ["kitchen", "study"]
