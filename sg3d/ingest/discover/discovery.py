@@ -4,6 +4,9 @@ The detector names what it can; depth sees everything. After fusion (`sg3d.inges
 chunk's named objects meet the room's cloud (`sg3d.ingest.discover.room_cloud`), its structure
 (`sg3d.ingest.discover.structure`) and its class-agnostic segments (`sg3d.ingest.discover.segments`):
 
+- `outside.seen_through_wall`: a segment depth saw through a wall's glass or gap (all of it beyond
+  a wall that bounds the room, seen through the wall's face: `outside.bounding_walls`) is outside
+  the room, not an object;
 - `whole_object_box`: a named object's box spans the object, not the part the detector boxed
   (rules "stands on the floor" and "owns its top");
 - `named_by`: a segment that lies inside a named object's whole box is that object (its name is
@@ -44,7 +47,7 @@ import numpy as np
 
 from sg3d.core.geometry import FLOOR_STANDING_LABELS
 from sg3d.core.model import HIST_SIZE, UNNAMED_LABEL, ObjectObservation, vec3
-from sg3d.ingest.discover import furniture
+from sg3d.ingest.discover import furniture, outside
 from sg3d.ingest.discover.room_cloud import RoomCloud
 from sg3d.ingest.discover.segments import (
     GOOD_VIEWS,
@@ -651,7 +654,9 @@ def discover(named: list[ObjectObservation], cloud: RoomCloud, structure: Sequen
     worktops = [furniture.desk_box(e) for e in {id(e): e for e, _ in desks}.values()]
     boxes += worktops
     claims = [b for o, b in zip(named, boxes) if o.label not in FLOOR_STANDING_LABELS]
-    segments = separate_resting(room_candidates(cloud, structure, claims), surfaces, cloud, colour_image)
+    bounding = outside.bounding_walls(structure, cloud)
+    inside = [s for s in room_candidates(cloud, structure, claims) if not outside.seen_through_wall(s, bounding, cloud)]
+    segments = separate_resting(inside, surfaces, cloud, colour_image)
     couches, segments = _couches([e for e in surfaces if id(e) not in owned], segments, cloud, colour_image)
     segments, found_walls = separate_at_walls(segments, cloud)
     couch_boxes = [box for _, box, _ in couches]
