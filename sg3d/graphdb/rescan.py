@@ -40,6 +40,12 @@ MIN_EMPTY_FRAMES = 2
 # at least MOVE_LABEL_MIN and its colour histograms intersect (Eq. 14) at least MOVE_COLOUR_MIN.
 MOVE_LABEL_MIN = 0.7
 MOVE_COLOUR_MIN = 0.5
+# ... and it keeps its size: each of its extents, largest to smallest, within this factor of the
+# stored node's (a box measured from other views, partly hidden, grows or shrinks by up to about
+# half; a 20 cm thing is never a 2 m sheet). Extents under MOVE_MIN_EXTENT_M count as that much (a
+# flat thing's thickness is depth noise).
+MOVE_SIZE_RATIO = 2.0
+MOVE_MIN_EXTENT_M = 0.05
 
 
 def scan_of(graph: LocalGraph, now: float) -> ScanInfo:
@@ -74,6 +80,16 @@ def is_move(s_label: np.ndarray, s_colour: np.ndarray) -> np.ndarray:
     return (s_label >= MOVE_LABEL_MIN) & (s_colour >= MOVE_COLOUR_MIN)
 
 
+def same_size(new_sizes: np.ndarray, old_sizes: np.ndarray) -> np.ndarray:
+    """Rule "a move keeps its size": (n, 3) new extents against (m, 3) stored ones -> (n, m) bool,
+    true where every extent, sorted largest first and floored at MOVE_MIN_EXTENT_M, is within
+    MOVE_SIZE_RATIO of the other's. A stored node without a size passes (nothing to compare)."""
+    a = np.sort(np.maximum(np.asarray(new_sizes, float).reshape(-1, 3), MOVE_MIN_EXTENT_M), axis=1)
+    b = np.sort(np.maximum(np.asarray(old_sizes, float).reshape(-1, 3), MOVE_MIN_EXTENT_M), axis=1)
+    ratio = np.maximum(a[:, None, :] / b[None, :, :], b[None, :, :] / a[:, None, :])
+    return (ratio <= MOVE_SIZE_RATIO).all(axis=2)
+
+
 def move_candidates(tx, rid: str, graph: LocalGraph) -> list[dict]:
     """The stored nodes whose place this graph's frames saw empty, with their histograms: what
     an unmatched observation may have moved from (`pair_moves`)."""
@@ -93,7 +109,7 @@ def move_candidates(tx, rid: str, graph: LocalGraph) -> list[dict]:
 def pair_moves(objects: list[ObjectObservation], old: list[dict], embedding) -> dict[int, dict]:
     """Index into `objects` (the unmatched new observations) -> the stored node it moved from:
     one-to-one among `old`, the nodes whose place was seen empty and that nothing re-observed
-    (`is_move`, best label + colour score first)."""
+    (`is_move` and `same_size`, best label + colour score first)."""
     if not old or not objects:
         return {}
     s_label = label_similarity_matrix([o.labels for o in objects], [[1.0] * len(o.labels) for o in objects],
@@ -102,6 +118,10 @@ def pair_moves(objects: list[ObjectObservation], old: list[dict], embedding) -> 
     h_old = np.array([unpack_hist(c["hist"]) for c in old], float)
     s_colour = histogram_intersection(h_new[:, None, :], h_old[None, :, :])
     ok = is_move(s_label, s_colour)
+    sized = [j for j, c in enumerate(old) if c.get("size") is not None]
+    if sized:
+        fits = same_size(np.array([o.size for o in objects], float), np.array([old[j]["size"] for j in sized], float))
+        ok[:, sized] &= fits
     if not ok.any():
         return {}
     score = np.where(ok, s_label + s_colour, -1.0)
