@@ -259,6 +259,12 @@ def split_at_necks(seg: Segment) -> list[Segment]:
     if len(cores) < 2:
         return [seg]
     labels = np.where(np.isin(labels, cores), labels, 0)
+    return _parts_by_core(seg, labels, ij, cores)
+
+
+def _parts_by_core(seg: Segment, labels: np.ndarray, ij: np.ndarray, cores: Sequence[int]) -> list[Segment]:
+    """Every voxel of `seg` (top-view cell `ij`) goes to the core of `labels` nearest its cell; each
+    core's part of MIN_VOXELS is a segment (no depth evidence yet); `seg` whole unless two parts."""
     _, (ni, nj) = ndimage.distance_transform_edt(labels == 0, return_indices=True)
     owner = labels[ni, nj][ij[:, 0], ij[:, 1]]
     parts = []
@@ -313,14 +319,7 @@ def split_at_colour_edge(seg: Segment, chroma: np.ndarray) -> list[Segment]:
             return [seg]
         cores.append(g + 1)
         labels[comp == biggest] = g + 1
-    _, (ni, nj) = ndimage.distance_transform_edt(labels == 0, return_indices=True)
-    owner = labels[ni, nj][ij[:, 0], ij[:, 1]]
-    parts = []
-    for c in cores:
-        vox = seg.voxels[owner == c]
-        if len(vox) >= MIN_VOXELS:
-            parts.append(Segment(vox, vox.min(axis=0) - VOXEL_M / 2, vox.max(axis=0) + VOXEL_M / 2, seg.frames))
-    return parts if len(parts) > 1 else [seg]
+    return _parts_by_core(seg, labels, ij, cores)
 
 
 def outside_boxes(points: np.ndarray, boxes: Sequence[tuple[np.ndarray, np.ndarray]],
