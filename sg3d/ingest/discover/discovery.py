@@ -252,8 +252,7 @@ def voxel_chroma(seg: Segment, cloud: RoomCloud, colour_image: Callable[[int], O
     if image is None:
         return out
     view = cloud.views[seg.good_views[0]]
-    w2c = np.linalg.inv(view.pose)
-    cam = cloud.to_world(seg.voxels) @ w2c[:3, :3].T + w2c[:3, 3]
+    cam = _to_camera(cloud.to_world(seg.voxels), view)
     z = np.maximum(cam[:, 2], 1e-6)
     u = np.round(view.K[0, 0] * cam[:, 0] / z + view.K[0, 2]).astype(int)
     v = np.round(view.K[1, 1] * cam[:, 1] / z + view.K[1, 2]).astype(int)
@@ -367,10 +366,15 @@ def shape_word(size: Iterable[float]) -> Optional[str]:
     return None
 
 
+def _to_camera(world: np.ndarray, view) -> np.ndarray:
+    """World points in a view's camera frame (z forward)."""
+    w2c = np.linalg.inv(view.pose)
+    return world @ w2c[:3, :3].T + w2c[:3, 3]
+
+
 def _project(world: np.ndarray, view) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Pixel coordinates (u, v) and camera depth z of the world points in front of a view."""
-    w2c = np.linalg.inv(view.pose)
-    cam = world @ w2c[:3, :3].T + w2c[:3, 3]
+    cam = _to_camera(world, view)
     cam = cam[cam[:, 2] > 0.1]
     K = view.K
     return K[0, 0] * cam[:, 0] / cam[:, 2] + K[0, 2], K[1, 1] * cam[:, 1] / cam[:, 2] + K[1, 2], cam[:, 2]

@@ -108,13 +108,13 @@ def seen_through_wall(seg: Segment, walls: Sequence[BoundingWall], cloud: RoomCl
     its face: a glass door, a window), is outside the room, not an object of it. A thing standing
     in a recess or a cabinet behind a plane found as a wall lies less far behind it, or the plane
     does not bound the room (the room's points are seen past it)."""
-    if not len(seg.frames) or not len(seg.voxels):
+    if not walls or not len(seg.frames) or not len(seg.voxels):
         return False
-    cams = _cameras(cloud)
     for face in walls:
         normal, _, rho = _axes(face.wall)
         if not bool(np.all(face.wall.side * (seg.voxels[:, :2] @ normal - rho) < -WALL_FAR_M)):
             continue
+        cams = _cameras(cloud)      # only for a segment wholly beyond a bounding wall (rare)
         frames = np.asarray(seg.frames, int)
         pts = np.repeat(seg.voxels, len(frames), axis=0)
         rays = np.tile(cams[frames], (len(seg.voxels), 1))
