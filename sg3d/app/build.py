@@ -16,6 +16,8 @@ from sg3d.core.errors import Sg3dError
 from sg3d.graphdb.protocol import GraphStore
 
 ProgressFn = Callable[[str, int, int], None]
+# None when the store's disk has room, else the line saying it is full (`sg3d.app.stores.disk_check`).
+DiskCheck = Callable[[], Optional[str]]
 
 
 class BuildError(Sg3dError, ValueError):
@@ -36,6 +38,7 @@ class BuildRequest:
     bag_options: Optional[dict] = None  # ROS bags: `sg3d.ingest.readers.bag.BagOptions` fields
     estimate_poses: bool = False        # ignore the recording's poses and estimate them
     trajectory_out: Optional[Path] = None  # write the estimated trajectory here (TUM format)
+    wait: bool = False                  # wait for another writer of the room instead of refusing
 
 
 def check_names(room: str, building: str, error: type[Exception] = BuildError) -> None:
@@ -147,37 +150,69 @@ def build_room(store: GraphStore, req: BuildRequest, settings, detector=None, em
     return run_build(store, prepare(req, settings, detector), embedding, progress)
 
 
-def run_build(store: GraphStore, prepared: PreparedBuild, embedding=None, progress: Optional[ProgressFn] = None) -> BuildSummary:
+def run_build(store: GraphStore, prepared: PreparedBuild, embedding=None, progress: Optional[ProgressFn] = None,
+              disk_check: Optional[DiskCheck] = None) -> BuildSummary:
     """A prepared build: the sequence read, its camera poses and gravity, each chunk's local
-    graph merged into `store`, the room placed. KeyboardInterrupt between chunks keeps what was
-    merged and returns a summary with `interrupted` set."""
+    graph merged into `store`, the room placed. The room is held for the whole build (one writer
+    per room: `sg3d.app.writers.writing`). KeyboardInterrupt between chunks keeps what was merged
+    and returns a summary with `interrupted` set. `disk_check` (`sg3d.app.stores.disk_check`) is
+    asked before every merge transaction: a disk below the store's minimum is refused, not written."""
+    from sg3d.app.writers import writing
+
+    req = prepared.req
+    seq, stop = _open(req)
+    store.ensure_schema()
+    with writing(store, req.building, req.room, "build", f"sg3d build {req.sequence}", wait=req.wait,
+                 error=BuildError) as lease:
+        return _run_held(store, prepared, seq, stop, lease, embedding, progress, disk_check)
+
+
+def _run_held(store: GraphStore, prepared: PreparedBuild, seq, stop: int, lease, embedding,
+              progress: Optional[ProgressFn], disk_check: Optional[DiskCheck]) -> BuildSummary:
     from sg3d.core.embedding import default_embedding
-    from sg3d.graphdb.merge import merged_keys
     from sg3d.graphdb.similarity import SimilarityParams
     from sg3d.graphdb.values import room_id
     from sg3d.ingest.pipeline import PipelineStats, run_key
 
     req, settings = prepared.req, prepared.settings
     t_start = time.perf_counter()
-    seq, stop = _open(req)
     poses = place_cameras(seq, req, stop, progress)
-    store.ensure_schema()
     # a build on estimated poses is another build than one on the recording's own poses
     identity = str(Path(req.sequence).resolve()) + (" (estimated poses)" if poses["source"] == "estimated" else "")
     run = run_key(identity, len(seq), settings, req.room, req.building)
-    done = merged_keys(store, run + ":")
+    scan = scan_key(run, req.start, stop)
+    done, forgotten = merged_chunks(store, room_id(req.building, req.room), run, scan)
     t0 = time.perf_counter()
     gravity = _gravity(seq, req, stop)
     t_gravity = time.perf_counter() - t0
     chunks = _Chunks(store, seq, req, settings, prepared.detector, gravity, embedding or default_embedding(),
                      SimilarityParams() if settings.method.three_d else SimilarityParams(threshold=float("inf")),
-                     run, done, scan_key(run, req.start, stop), PipelineStats(), progress)
+                     run, done, scan, PipelineStats(), progress, lease.fence, disk_check)
+    chunks.totals["remerged_chunks"] = forgotten
     chunks.merge_all(req.start, stop)
     placed = None if chunks.interrupted else place_room(store, req, prepared.placement)
     wall = time.perf_counter() - t_start
     return _summary(store, room_id(req.building, req.room), seq, req, settings, stop, gravity.up, chunks,
                     {**({"poses": poses["seconds"]} if "seconds" in poses else {}), "gravity": t_gravity},
                     wall, placed, poses)
+
+
+def merged_chunks(store: GraphStore, rid: str, run: str, scan: str) -> tuple[set, int]:
+    """The keys of this build's chunks already merged (not read again), and how many logged chunks
+    were forgotten: rule "a merge log without its objects is no merge". When the build's logs say
+    it created objects and the room holds none this build's scan saw (someone deleted them), its
+    logs are removed and every chunk merges again, and the summary and stderr say so."""
+    import logging
+
+    rows = store.read("merge_log_run", prefix=run + ":")
+    created = sum(int(r["created"] or 0) for r in rows)
+    if not rows or created == 0 or store.read("scan_object_count", room=rid, scan=scan)[0]["n"]:
+        return {r["key"] for r in rows}, 0
+    store.write("merge_log_forget", prefix=run + ":")
+    logging.getLogger("sg3d.build").warning(
+        "room %s holds none of the %d objects this build merged before (its %d chunks are logged as merged): "
+        "merging every chunk again", rid, created, len(rows))
+    return set(), len(rows)
 
 
 def _open(req: BuildRequest):
@@ -223,6 +258,8 @@ class _Chunks:
     scan_id: str
     stats: Any
     progress: Optional[ProgressFn]
+    fence: Any = None                       # the room lease's check, first in each merge transaction
+    disk_check: Optional[DiskCheck] = None
     totals: dict = field(default_factory=lambda: {
         "chunks": 0, "merged_chunks": 0, "skipped_chunks": 0, "objects_created": 0, "objects_updated": 0,
         "objects_moved": 0, "objects_removed": 0, "objects_folded": 0, "relations": 0})
@@ -240,6 +277,14 @@ class _Chunks:
         except KeyboardInterrupt:
             self.interrupted = True
 
+    def check_disk(self) -> None:
+        """BuildError when the store's disk is below its minimum (checked before every merge
+        transaction, not only when the store starts: a build must not write past it)."""
+        full = self.disk_check() if self.disk_check is not None else None
+        if full:
+            raise BuildError(f"{full}; {self.totals['merged_chunks']} chunks were merged and are kept, nothing "
+                             f"more was written: free space and run the same command again")
+
     def merge_one(self, a: int, b: int, scan_at: float, closes: bool) -> None:
         from sg3d.core.model import ScanInfo
         from sg3d.graphdb.merge import merge_local_graph
@@ -253,13 +298,15 @@ class _Chunks:
         if key in self.done:
             totals["skipped_chunks"] += 1
             return
+        self.check_disk()
         # the room as it stands before this chunk: what a re-scan may find moved or gone
         known = known_objects(self.store, room_id(req.building, req.room))
         graph = chunk_graph(self.seq, a, b, self.detector, self.gravity.up, self.settings, req.room, req.building,
                             key, self.stats, self.progress, known=known, scan=ScanInfo(self.scan_id, scan_at, closes=closes),
                             floor=self.gravity.floor_height)
+        self.check_disk()
         t0 = time.perf_counter()
-        report = merge_local_graph(self.store, graph, self.embedding, self.params)
+        report = merge_local_graph(self.store, graph, self.embedding, self.params, fence=self.fence)
         self.merge_seconds += time.perf_counter() - t0
         totals["merged_chunks"] += 0 if report.skipped else 1
         totals["skipped_chunks"] += 1 if report.skipped else 0

@@ -19,3 +19,7 @@ class Refused(AppError):
 
 class MapError(AppError):
     """Bad input to a live map (`sg3d map`): a source that cannot be followed, a room it may not write."""
+
+
+class RoomBusy(AppError):
+    """Another writer (a build, a live map, an ingest) holds the room (HTTP 409)."""

@@ -241,21 +241,22 @@ def to_local_graph(req: IngestRequest):
 
 
 def ingest_graph(store: GraphStore, req: IngestRequest, embedding=None) -> dict:
-    """Merge the observation as one transaction; what was created, updated and linked. When the
-    merge fails (a full disk, a store that went away, a statement refused), a room (and building)
-    this call created is removed again if nothing else filled it: a failed ingest leaves nothing."""
+    """Merge the observation as one transaction; what was created, updated and linked. The room is
+    written by one writer at a time (`sg3d.app.writers.writing`): an ingest waits briefly for
+    another ingest of the room and is refused (RoomBusy, HTTP 409) while a build or a live map
+    writes it. A new room is created by the merge transaction itself, so a merge that fails (a full
+    disk, a store that went away, a statement refused) leaves no room and no building behind."""
+    from sg3d.app.writers import INGEST_WAIT_S, writing
     from sg3d.graphdb.merge import merge_local_graph
     from sg3d.graphdb.similarity import SimilarityParams
     from sg3d.graphdb.values import room_id
 
     rid = room_id(req.building, req.room)
-    existed = rid in store.rooms_known or bool(store.read("building_room_get", room=rid))
-    try:
-        report = merge_local_graph(store, to_local_graph(req), embedding, SimilarityParams())
-    except Exception:
-        if not existed:
-            drop_room_if_empty(store, req.building, rid)
-        raise
+    store.ensure_schema()
+    with writing(store, req.building, req.room, "ingest", f"POST /ingest {req.observation_id}",
+                 wait=lambda holder: holder.kind == "ingest", wait_s=INGEST_WAIT_S) as lease:
+        report = merge_local_graph(store, to_local_graph(req), embedding, SimilarityParams(),
+                                   fence=lease.fence, room_in_tx=True)
     return {"key": report.key, "room": rid, "skipped": report.skipped, "created": report.created,
             "updated": report.updated, "absorbed": report.absorbed, "moved": report.moved, "removed": report.removed, "relations": report.relations,
             "node_ids": report.node_ids, "room_objects": store.read("object_count", room=rid)[0]["n"]}

@@ -46,6 +46,7 @@ class MapRequest:
     publish_every: float = 1.0
     stop_when_idle: Optional[float] = None    # seconds without a new frame; None: until stopped
     resume: bool = False
+    wait: bool = False                        # wait for another writer of the room instead of refusing
 
 
 @dataclass
@@ -110,16 +111,25 @@ def map_room(store: GraphStore, req: MapRequest, settings, detector=None, embedd
     `should_stop` is polled (a test's or a service's stop signal; Ctrl-C stops it too)."""
     from sg3d.app.build import check_detector
     from sg3d.app.live_sources import open_live_source
+    from sg3d.app.writers import writing
     from sg3d.core.embedding import default_embedding
     from sg3d.ingest.live import LiveMapper
 
     check_request(req)
     detector = detector if detector is not None else check_detector(settings)
     store.ensure_schema()
-    check_room(store, req)
-    follower = open_live_source(req.source, req.layout)   # a folder, a RealSense, an MCAP being recorded
-    mapper = LiveMapper(follower, detector, settings, req.room, req.building)
-    publisher = _Publisher(store, mapper, req, embedding or default_embedding(), on_update)
+    with writing(store, req.building, req.room, "map", f"sg3d map {req.source}", wait=req.wait,
+                 error=MapError) as lease:
+        check_room(store, req)
+        follower = open_live_source(req.source, req.layout)   # a folder, a RealSense, an MCAP being recorded
+        mapper = LiveMapper(follower, detector, settings, req.room, req.building)
+        publisher = _Publisher(store, mapper, req, embedding or default_embedding(), on_update, lease.fence)
+        return _map_held(req, detector, follower, mapper, publisher, should_stop)
+
+
+def _map_held(req: MapRequest, detector, follower, mapper, publisher: "_Publisher",
+              should_stop: Optional[Callable[[], bool]]) -> MapSummary:
+    """The map itself, while it holds the room: follow, publish, finish (`map_room`)."""
     discoverer = _Discoverer(mapper)
     started = time.time()
     getattr(detector, "prepare", lambda: None)()
@@ -137,6 +147,7 @@ def map_room(store: GraphStore, req: MapRequest, settings, detector=None, embedd
     if state == "done" and follower.seq is not None:
         frames = mapper.finish(follower.seq)
         final = {"frames": len(frames), "as_build": True}
+        publisher.unseen = frozenset()    # a build's frames saw all there is: what they miss is gone
     else:
         frames = mapper.detected_frames()
         final = {"frames": len(frames), "as_build": False}
@@ -245,12 +256,16 @@ class _Discoverer(_Worker):
 class _Publisher(_Worker):
     """Publishes the mapper's graph at most every `publish_every` seconds on its own thread."""
 
-    def __init__(self, store, mapper, req: MapRequest, embedding, on_update):
+    def __init__(self, store, mapper, req: MapRequest, embedding, on_update, fence=None):
         from sg3d.core.model import ScanInfo
+        from sg3d.graphdb.live import map_object_ids
 
         super().__init__("sg3d-map-publish")
         self.store, self.mapper, self.req, self.embedding = store, mapper, req, embedding
-        self.on_update = on_update
+        self.on_update, self.fence = on_update, fence
+        # a resumed map has not yet seen again what the killed one published: those nodes stay (and
+        # keep their ids when it finds them again) until the end shows whether they are there
+        self.unseen = map_object_ids(store, req.building, req.room) if req.resume else frozenset()
         self.since = time.time()
         self.scan = ScanInfo(f"map:{req.building}/{req.room}@{self.since:.0f}", self.since, closes=False)
         self.publishes = 0
@@ -295,7 +310,7 @@ class _Publisher(_Worker):
             self.graph_seconds.append(time.perf_counter() - t0)
             status = {"state": state, "since": self.since, "frames": self.mapper.counts.received,
                       "source": str(self.req.source)}
-            report = publish(self.store, graph, self.scan, status, self.embedding)
+            report = publish(self.store, graph, self.scan, status, self.embedding, self.fence, self.unseen)
             self.publish_seconds.append(time.perf_counter() - t0)
             self.published_version = version
             self.publishes += 1

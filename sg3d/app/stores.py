@@ -118,3 +118,15 @@ class StoreHandle:
     def close(self) -> None:
         with self._lock:
             self._drop()
+
+
+def disk_check(settings) -> Optional[Callable[[], Optional[str]]]:
+    """For the embedded store: a check that says 'the disk holding ... is full' when its disk has
+    less free space than SG3D_MIN_FREE_MB (read at every call), else None; None for a --uri store
+    (its disk is the server's)."""
+    if not getattr(settings, "embedded", False):
+        return None
+    from sg3d.graphdb.embedded import disk_full_message, store_dir
+
+    folder = store_dir(Path(settings.embedded_home()).expanduser().resolve())
+    return lambda: disk_full_message(folder)

@@ -137,6 +137,8 @@ def _placement_text(placement: dict) -> str:
                    "even when the recording has its own; recordings without poses get this anyway.")
 @click.option("--trajectory-out", type=click.Path(dir_okay=False, path_type=Path), default=None,
               help="Write the estimated camera trajectory to this file (TUM format: t tx ty tz qx qy qz qw).")
+@click.option("--wait", is_flag=True,
+              help="When another build, map or ingest is writing ROOM, wait for it instead of refusing.")
 @click.option("--json", "as_json", is_flag=True, help="Print the summary as JSON (no progress bar).")
 @bag_options
 @click.pass_obj
@@ -145,7 +147,7 @@ def build(settings, sequence: Path, room: str, building: str, method: str, quali
           score_threshold: float,
           detect_fraction: Optional[float], chunk_frames: Optional[int], abir_gain: Optional[float],
           t_key: Optional[float], t_anchor: Optional[float], transform_file: Optional[Path], align_to: Optional[str],
-          shared_frame: bool, estimate_poses: bool, trajectory_out: Optional[Path], as_json: bool,
+          shared_frame: bool, estimate_poses: bool, trajectory_out: Optional[Path], wait: bool, as_json: bool,
           bag: dict) -> None:
     """Build (or extend) the 3-D scene graph of ROOM from the RGB-D SEQUENCE folder or ROS bag
     (ROS1 .bag, ROS2 bag folder, .mcap; topics are picked when unambiguous, see the --*-topic options).
@@ -174,12 +176,14 @@ def build(settings, sequence: Path, room: str, building: str, method: str, quali
     )
 
     from sg3d.app.build import BuildError, BuildRequest, prepare, run_build
+    from sg3d.app.stores import disk_check
     from sg3d.ingest.detect.choice import with_recognizer
     from sg3d.ingest.pipeline import DEFAULT_CHUNK_FRAMES, METHODS, Settings
     from sg3d.ingest.select import coverage
 
     request = BuildRequest(sequence, room, building, layout, start, stop, transform_file, align_to, shared_frame,
-                           bag_options=bag, estimate_poses=estimate_poses, trajectory_out=trajectory_out)
+                           bag_options=bag, estimate_poses=estimate_poses, trajectory_out=trajectory_out,
+                           wait=wait)
     selection = {"--abir-gain": abir_gain, "--t-key": t_key, "--t-anchor": t_anchor}
     given = [flag for flag, value in selection.items() if value is not None]
     tuned: dict[str, Any] = {k: v for k, v in (("t_key", t_key), ("t_anchor", t_anchor)) if v is not None}
@@ -200,7 +204,8 @@ def build(settings, sequence: Path, room: str, building: str, method: str, quali
     try:
         # bad input is refused before the store is started
         prepared = prepare(request, options, selection_given=tuple(given))
-        summary = run_build(settings.store(), prepared, progress=on_progress).as_dict()
+        summary = run_build(settings.store(), prepared, progress=on_progress,
+                            disk_check=disk_check(settings)).as_dict()
     except BuildError as exc:
         raise UserError(str(exc))
     finally:

@@ -24,12 +24,14 @@ from sg3d.errors import UserError
               help="End when no new frame came for this long (default: run until Ctrl-C).")
 @click.option("--resume", is_flag=True,
               help="Map into a room an earlier `sg3d map` left (killed or stopped); its objects keep their ids.")
+@click.option("--wait", is_flag=True,
+              help="When another build, map or ingest is writing ROOM, wait for it instead of refusing.")
 @click.option("--detector", default=None, metavar="NAME|MODEL.onnx",
               help="Detector: ssd-mobilenet-v2-coco (default) or your own ONNX model (labels file beside it).")
 @click.option("--json", "as_json", is_flag=True, help="Print the summary as JSON at the end (no live line).")
 @click.pass_obj
 def map_cmd(settings, source: Path, room: str, building: str, layout: Optional[str], publish_every: float,
-            stop_when_idle: Optional[float], resume: bool, detector: Optional[str], as_json: bool) -> None:
+            stop_when_idle: Optional[float], resume: bool, wait: bool, detector: Optional[str], as_json: bool) -> None:
     """Follow SOURCE and keep ROOM's scene graph in the store current while frames arrive. SOURCE
     is a folder that frames are being written into (any layout `sg3d build` reads), `realsense`,
     `realsense:SERIAL` or `realsense:FILE.bag|.db3` (a RealSense camera or recording; pip install
@@ -59,7 +61,7 @@ def map_cmd(settings, source: Path, room: str, building: str, layout: Optional[s
                           f"(+{u['created']} -{u['removed']})" + (f", latency p50 {p50:.2f} s" if p50 is not None else ""),
                           highlight=False)
 
-    req = MapRequest(source, room, building, layout, publish_every, stop_when_idle, resume)
+    req = MapRequest(source, room, building, layout, publish_every, stop_when_idle, resume, wait)
     try:
         summary = map_room(settings.store(), req, options, on_update=on_update).as_dict()
     except (MapError, BuildError) as exc:

@@ -25,7 +25,7 @@ from sg3d.core.embedding import LabelEmbedding, default_embedding
 from sg3d.core.model import RELATION_TYPES, LocalGraph, ScanInfo
 from sg3d.graphdb import cypher
 from sg3d.graphdb.consistency import canonical_rows, resolve_pairs
-from sg3d.graphdb.merge import ensure_room
+from sg3d.graphdb.merge import Fence, ensure_room
 from sg3d.graphdb.merge_plan import plan_merge
 from sg3d.graphdb.store import size_batches
 from sg3d.graphdb.tally import create_objects_and_tallies
@@ -72,54 +72,60 @@ def stable_ids(new: list[dict], old: list[dict], radius: float = STABLE_ID_RADIU
     return out
 
 
+# Objects a live map created carry a first scan named so (`sg3d.app.mapping`: map:<room>@<start>).
+MAP_SCAN_PREFIX = "map:"
+
+
+def made_by_map(row: dict) -> bool:
+    """Rule "a publish removes only what a map made": an object is the map's when a map's scan
+    created it; a build's or an ingest's object in the room is never the map's to remove."""
+    return str(row.get("first_scan") or "").startswith(MAP_SCAN_PREFIX)
+
+
 def publish_in_tx(tx: ManagedTransaction, graph: LocalGraph, scan: ScanInfo, status: dict,
-                  embedding: LabelEmbedding) -> PublishReport:
-    """The body of one publish (`publish` runs it as one write transaction): lock the room, read
-    what was published, plan the graph's nodes as a build would create them, keep the ids of the
-    nodes that continue (`stable_ids`), then write: updates, creates, removals, the room's tallies
-    recounted, its relations rewritten, its mapping status."""
+                  embedding: LabelEmbedding, fence: Optional[Fence] = None,
+                  unseen: frozenset = frozenset()) -> PublishReport:
+    """The body of one publish (`publish` runs it as one write transaction): check the writer
+    still holds the room (`fence`), lock the room, read what maps published there, plan the
+    graph's nodes as a build would create them, keep the ids of the nodes that continue
+    (`stable_ids`), then write: updates, creates, removals of the map's own nodes no longer
+    supported (never of a build's or ingest's, nor of `unseen`: nodes a resumed map has not had the
+    chance to see again), the room's tallies recounted, its relations rewritten, its status."""
     t0 = time.perf_counter()
+    if fence is not None:
+        fence(tx)
     rid = room_id(graph.building, graph.room)
     now = time.time()
     tx.run(cypher.load("room_ensure"), building=graph.building, room=rid, name=graph.room,
            up=[float(v) for v in graph.up] if graph.up is not None else None).consume()
     tx.run(cypher.load("scan_ensure"), id=scan.id, room=rid, at=scan.at, kind="map").consume()
-    old = [dict(r) for r in tx.run(cypher.load("live_objects"), room=rid)]
+    rows = [dict(r) for r in tx.run(cypher.load("live_objects"), room=rid)]
+    old = [o for o in rows if made_by_map(o)]
     plan = plan_merge(graph, [], None, [], embedding, scan, now, rid)
     keep = stable_ids([row["props"] for row in plan.creates], old)
-    first_seen = {o["id"]: o.get("first_seen") for o in old}
-    local_of = {gid: lid for lid, gid in plan.node_ids.items()}
-    updates, creates = [], []
-    for k, row in enumerate(plan.creates):
-        if k in keep:
-            gid = keep[k]
-            props = {key: v for key, v in row["props"].items()
-                     if key not in ("id", "first_seen", "first_scan", "room")}
-            if first_seen.get(gid) is None:
-                props["first_seen"] = row["props"]["first_seen"]
-            plan.node_ids[local_of[row["props"]["id"]]] = gid
-            updates.append({"id": gid, "props": props, "hist": row["hist"], "thumbnail": row["thumbnail"]})
-        else:
-            creates.append(row)
+    updates, creates = _split_plan(plan, keep, {o["id"]: o.get("first_seen") for o in old})
     kept_ids = set(keep.values())
-    gone = [o["id"] for o in old if o["id"] not in kept_ids]
+    gone = [o["id"] for o in old if o["id"] not in kept_ids and o["id"] not in unseen]
+    # what stays without being in this graph still counts: a build's objects, the unseen ones
+    staying = [(o["label"], o["colour"]) for o in rows if not o["removed"] and o["id"] not in kept_ids
+               and (not made_by_map(o) or o["id"] in unseen)]
     for rel_type in RELATION_TYPES:
-        tx.run(cypher.render("live_relations_clear", rel_type), room=rid).consume()
+        tx.run(cypher.render("live_relations_clear", rel_type), room=rid, ids=[o["id"] for o in old]).consume()
     for gid in gone:
         tx.run(cypher.load("node_delete"), id=gid).consume()
-    for rows in size_batches(updates):
-        tx.run(cypher.load("object_update"), rows=rows).consume()
-    # the tallies are recounted from the graph: every label and colour of the room as published
+    for batch in size_batches(updates):
+        tx.run(cypher.load("object_update"), rows=batch).consume()
+    # the tallies are recounted: every label and colour of the room as published, and what stays
     tx.run(cypher.load("room_delete_tallies"), room=rid).consume()
     groups = size_batches(creates) or [[]]
     for group in groups[:-1]:
         create_objects_and_tallies(tx, rid, group, ())
-    create_objects_and_tallies(tx, rid, groups[-1], plan.counted)   # every node, kept ones too
+    create_objects_and_tallies(tx, rid, groups[-1], list(plan.counted) + staying)   # every node, kept ones too
     n_rel = 0
-    for rel_type, rows in sorted(canonical_rows(graph.relations, plan.node_ids).items()):
-        for batch in size_batches([{**r, "at": now} for r in rows]):
+    for rel_type, rel_rows in sorted(canonical_rows(graph.relations, plan.node_ids).items()):
+        for batch in size_batches([{**r, "at": now} for r in rel_rows]):
             tx.run(cypher.render("relation_merge", rel_type), rows=batch).consume()
-        n_rel += len(rows)
+        n_rel += len(rel_rows)
     if graph.relations:
         resolve_pairs(tx, plan.node_ids.values())
     tx.run(cypher.load("live_status"), room=rid, state=status.get("state", "live"), since=status.get("since"),
@@ -128,16 +134,41 @@ def publish_in_tx(tx: ManagedTransaction, graph: LocalGraph, scan: ScanInfo, sta
                          objects=len(plan.creates), seconds=time.perf_counter() - t0)
 
 
+def _split_plan(plan, keep: dict[int, str], first_seen: dict) -> tuple[list[dict], list[dict]]:
+    """The plan's node rows as updates of the published nodes they continue (`keep`: row index ->
+    id; the plan's node ids follow) and creates of the rest."""
+    local_of = {gid: lid for lid, gid in plan.node_ids.items()}
+    updates, creates = [], []
+    for k, row in enumerate(plan.creates):
+        if k not in keep:
+            creates.append(row)
+            continue
+        gid = keep[k]
+        props = {key: v for key, v in row["props"].items() if key not in ("id", "first_seen", "first_scan", "room")}
+        if first_seen.get(gid) is None:
+            props["first_seen"] = row["props"]["first_seen"]
+        plan.node_ids[local_of[row["props"]["id"]]] = gid
+        updates.append({"id": gid, "props": props, "hist": row["hist"], "thumbnail": row["thumbnail"]})
+    return updates, creates
+
+
 def publish(store, graph: LocalGraph, scan: ScanInfo, status: dict,
-            embedding: Optional[LabelEmbedding] = None) -> PublishReport:
-    """Replace the room's graph by `graph` as ONE transaction (`publish_in_tx`); the store is
-    unchanged if anything fails, and readers see the previous publish until this one commits."""
+            embedding: Optional[LabelEmbedding] = None, fence: Optional[Fence] = None,
+            unseen: frozenset = frozenset()) -> PublishReport:
+    """Replace the map's part of the room's graph by `graph` as ONE transaction (`publish_in_tx`);
+    the store is unchanged if anything fails, and readers see the previous publish until this one
+    commits."""
     embedding = embedding or default_embedding()
     store.ensure_schema()
     ensure_room(store, graph.building, graph.room)
-    report = store.execute_write(lambda tx: publish_in_tx(tx, graph, scan, status, embedding))
+    report = store.execute_write(lambda tx: publish_in_tx(tx, graph, scan, status, embedding, fence, unseen))
     report.committed_at = time.time()
     return report
+
+
+def map_object_ids(store, building: str, room: str) -> frozenset:
+    """The ids of the objects maps made in the room (what a resumed map has yet to see again)."""
+    return frozenset(o["id"] for o in store.read("live_objects", room=room_id(building, room)) if made_by_map(o))
 
 
 def mapping_status(store, building: str, room: str) -> Optional[dict]:

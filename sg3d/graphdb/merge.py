@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass, field
-from typing import Optional
+from typing import Callable, Optional
 
 import numpy as np
 from neo4j import ManagedTransaction
@@ -38,6 +38,9 @@ from sg3d.graphdb.similarity import MAX_EXTENT_M, SimilarityParams
 from sg3d.graphdb.store import size_batches
 from sg3d.graphdb.tally import create_objects_and_tallies
 from sg3d.graphdb.values import room_id
+
+# A writer's check, run first in each of its transactions (`sg3d.graphdb.lease.RoomLease.fence`).
+Fence = Callable[[ManagedTransaction], None]
 
 
 @dataclass
@@ -109,10 +112,13 @@ def _fold_node(tx: ManagedTransaction, old: str, into: str) -> None:
 
 
 def merge_in_tx(tx: ManagedTransaction, graph: LocalGraph, embedding: Optional[LabelEmbedding] = None,
-                params: SimilarityParams = SimilarityParams()) -> MergeReport:
-    """The body of the merge transaction (`merge_local_graph` runs it with execute_write): lock
-    the room, read what the plan needs, plan the merge (`plan_merge`), write it (`apply`)."""
+                params: SimilarityParams = SimilarityParams(), fence: Optional[Fence] = None) -> MergeReport:
+    """The body of the merge transaction (`merge_local_graph` runs it with execute_write): check
+    the writer still holds the room (`fence`, `sg3d.graphdb.lease.RoomLease.fence`), lock the
+    room, read what the plan needs, plan the merge (`plan_merge`), write it (`apply`)."""
     t0 = time.perf_counter()
+    if fence is not None:
+        fence(tx)
     if graph.key and tx.run(cypher.load("merge_log_exists"), key=graph.key).single():
         return MergeReport(key=graph.key, skipped=True)
     embedding = embedding or default_embedding()
@@ -173,22 +179,31 @@ def apply(tx: ManagedTransaction, plan: MergePlan) -> MergeReport:
 
 
 def merge_local_graph(store, graph: LocalGraph, embedding: Optional[LabelEmbedding] = None,
-                      params: SimilarityParams = SimilarityParams()) -> MergeReport:
-    """Merge one local graph as ONE transaction; the store is unchanged if anything fails."""
+                      params: SimilarityParams = SimilarityParams(), fence: Optional[Fence] = None,
+                      room_in_tx: bool = False) -> MergeReport:
+    """Merge one local graph as ONE transaction; the store is unchanged if anything fails.
+    `room_in_tx`: a new room is created by the merge transaction itself (room_ensure), not in a
+    transaction of its own before it, so a merge that fails leaves no room behind (an ingest)."""
     embedding = embedding or default_embedding()
     store.ensure_schema()
-    ensure_room(store, graph.building, graph.room)
+    if not room_in_tx:
+        ensure_room(store, graph.building, graph.room)
     from neo4j.exceptions import ConstraintError
 
-    try:
-        return store.execute_write(lambda tx: merge_in_tx(tx, graph, embedding, params))
-    except ConstraintError:
-        # Two merges of one key raced (two runs of one build): the store may report the loser
-        # as a duplicate MergeLog key rather than a retryable conflict. The same key means the
-        # same local graph, so the winner's commit is this merge.
-        if graph.key and store.read("merge_log_exists", key=graph.key):
-            return MergeReport(key=graph.key, skipped=True)
-        raise
+    for attempt in range(3):
+        try:
+            return store.execute_write(lambda tx: merge_in_tx(tx, graph, embedding, params, fence))
+        except ConstraintError:
+            # Two merges of one key raced (two runs of one build): the store may report the loser
+            # as a duplicate MergeLog key rather than a retryable conflict. The same key means the
+            # same local graph, so the winner's commit is this merge.
+            if graph.key and store.read("merge_log_exists", key=graph.key):
+                return MergeReport(key=graph.key, skipped=True)
+            # two merges creating one new room in their own transactions: the winner's room is
+            # there now, so the loser's next try finds it
+            if not room_in_tx or attempt == 2:
+                raise
+    raise AssertionError("unreachable")
 
 
 def ensure_room(store, building: str, room: str) -> None:

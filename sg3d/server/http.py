@@ -32,7 +32,7 @@ from sg3d.app import ingest as app_ingest
 from sg3d.app import mapping as app_mapping
 from sg3d.app import plan as app_plan
 from sg3d.app import rooms as app_rooms
-from sg3d.app.errors import AppError, NotFound, Refused
+from sg3d.app.errors import AppError, NotFound, Refused, RoomBusy
 from sg3d.app.stores import StoreHandle
 from sg3d.server import schemas
 from sg3d.server.auth import token_matches
@@ -76,6 +76,8 @@ class PlanBody(BaseModel):
 
 
 def _status(exc: AppError) -> int:
+    if isinstance(exc, RoomBusy):
+        return 409
     return 404 if isinstance(exc, NotFound) else 403 if isinstance(exc, Refused) else 400
 
 
