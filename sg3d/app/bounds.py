@@ -41,7 +41,8 @@ _SEPARATORS = ("/", "\\")
 def name_problem(name: object, what: str = "name") -> Optional[str]:
     """Why `name` cannot name a room or building, or None. Rule: 1..MAX_NAME_CHARS printable
     characters (any script: "küche", "my room"), no path separator, no "..", no leading or
-    trailing space. The value itself is never repeated in the reason."""
+    trailing space, not only dots and spaces ("." names the current folder wherever a name becomes
+    a path or a listing). The value itself is never repeated in the reason."""
     problem = _text_problem(name, what, MAX_NAME_CHARS)
     if problem or not isinstance(name, str):     # no problem: it is a text
         return problem
@@ -49,6 +50,8 @@ def name_problem(name: object, what: str = "name") -> Optional[str]:
         return f"{what} must not contain '/', '\\' or '..'"
     if name != name.strip():
         return f"{what} must not start or end with a space"
+    if not name.replace(".", "").strip():
+        return f"{what} must hold more than dots"
     return None
 
 

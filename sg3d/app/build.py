@@ -42,9 +42,13 @@ class BuildRequest:
 
 
 def check_names(room: str, building: str, error: type[Exception] = BuildError) -> None:
-    """`error` unless both names are non-empty and hold no '/' (a room's id is building/room)."""
-    if not room.strip() or "/" in room or not building.strip() or "/" in building:
-        raise error("room and building names must be non-empty and contain no '/'")
+    """`error` unless both can name a room and a building (`sg3d.app.bounds.name_problem`: the rule
+    the CLI and `POST /ingest` apply; a room's id is building/room)."""
+    from sg3d.app.bounds import name_problem
+
+    problem = name_problem(room, "room") or name_problem(building, "building")
+    if problem:
+        raise error(problem)
 
 
 def validate(req: BuildRequest) -> None:
