@@ -208,5 +208,5 @@ class RoomLease:
         self.release()
 
 
-class _NoLeaseNode(Exception):
+class _NoLeaseNode(Sg3dError):
     """The lease node went between ensuring it and taking it (a holder released it)."""
