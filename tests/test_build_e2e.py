@@ -140,9 +140,10 @@ def test_a_second_room_takes_the_given_transform(home, kitchen_dir, tmp_path):
 
 
 def test_two_concurrent_builds_of_one_new_room_equal_one_build(home, kitchen_dir):
-    """Two `sg3d build` processes racing on the same new room: both succeed, and the room holds
-    what one build gives (the second finds the chunk merged inside its own transaction)."""
-    args = [str(kitchen_dir), "--building", "race", "--start", "0", "--stop", "60", "--json"]
+    """Two `sg3d build --wait` processes racing on the same new room: one holds the room, the other
+    waits for it; both succeed, and the room holds what one build gives (the second finds the chunk
+    merged)."""
+    args = [str(kitchen_dir), "--building", "race", "--start", "0", "--stop", "60", "--wait", "--json"]
     env = sg3d_env(home)
     procs = [subprocess.Popen([sys.executable, "-m", "sg3d", "build", *args[:1], "--room", "twice", *args[1:]],
                               stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env)

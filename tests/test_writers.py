@@ -172,24 +172,26 @@ def test_a_resumed_maps_publish_keeps_what_it_has_not_seen_again_and_its_ids(sto
 
 # -- a failed ingest leaves no room; a build refuses a full disk ---------------------------------
 class StoreOnAFullDisk:
-    """The real store on a disk that filled up: small transactions of their own may still pass,
-    but the ingest's merge transaction (its room lock: room_ensure) and every later clean-up
-    (room_drop_if_empty) meet a real store error and roll back."""
+    """The real store on a disk that fills up: small transactions before the ingest's merge pass,
+    the merge transaction (its room lock, room_ensure) meets a real store error, and from then on
+    every write does (a clean-up after the failure cannot run either)."""
 
     def __init__(self, store):
-        self._store = store
+        self._store, self.full = store, False
 
     def execute_write(self, fn):
         from sg3d.graphdb import cypher
 
-        failing = {cypher.load("room_ensure"), cypher.load("room_drop_if_empty")}
+        lock = cypher.load("room_ensure")
+        outer = self
 
         class Tx:
             def __init__(self, tx):
                 self._tx = tx
 
             def run(self, text, *args, **kwargs):
-                if text in failing:
+                if outer.full or text == lock:
+                    outer.full = True
                     return self._tx.run("RETURN 1 / 0 AS boom")
                 return self._tx.run(text, *args, **kwargs)
 
@@ -197,6 +199,11 @@ class StoreOnAFullDisk:
                 return getattr(self._tx, name)
 
         return self._store.execute_write(lambda tx: fn(Tx(tx)))
+
+    def write(self, name, **params):
+        if self.full:
+            return self.execute_write(lambda tx: tx.run("RETURN 1").consume())
+        return self._store.write(name, **params)
 
     def __getattr__(self, name):
         return getattr(self._store, name)

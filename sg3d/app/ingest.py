@@ -260,23 +260,3 @@ def ingest_graph(store: GraphStore, req: IngestRequest, embedding=None) -> dict:
     return {"key": report.key, "room": rid, "skipped": report.skipped, "created": report.created,
             "updated": report.updated, "absorbed": report.absorbed, "moved": report.moved, "removed": report.removed, "relations": report.relations,
             "node_ids": report.node_ids, "room_objects": store.read("object_count", room=rid)[0]["n"]}
-
-
-def drop_room_if_empty(store: GraphStore, building: str, rid: str) -> bool:
-    """Remove room `rid` (and its building, when it has no other room) if no merge committed to it
-    and it holds no object, in one transaction; best effort (False when the store refuses too:
-    `sg3d db check` and the next ingest of the room see it). True when the room was removed."""
-    from sg3d.graphdb import cypher
-
-    def work(tx) -> int:
-        n = tx.run(cypher.load("room_drop_if_empty"), room=rid).single()["n"]
-        if n:
-            tx.run(cypher.load("building_drop_if_empty"), building=building).consume()
-        return n
-
-    try:
-        removed = bool(store.execute_write(work))
-    except Exception:  # noqa: BLE001 - the merge's own error is what the caller must see
-        return False
-    store.rooms_known.discard(rid)
-    return removed

@@ -39,6 +39,9 @@ LEASE_TTL_S = 60.0
 WAIT_POLL_S = 0.5
 
 _schema_done: "weakref.WeakSet" = weakref.WeakSet()
+# Tokens of the leases this process holds now: one of its own it no longer holds (a release the
+# store refused, on a full disk) is free at once, not at its expiry.
+_held_here: set[str] = set()
 
 
 class LeaseHeld(Sg3dError, RuntimeError):
@@ -95,8 +98,15 @@ def pid_alive(pid: int) -> bool:
 
 
 def holder_gone(h: Holder, now: float, host: str) -> bool:
-    """Rule "a dead holder's lease is free": it expired, or its process is gone from this host."""
-    return h.expires < now or (h.host == host and not pid_alive(h.pid))
+    """Rule "a dead holder's lease is free": it expired, or its process is gone from this host, or
+    it is this process's and this process let it go."""
+    if h.expires < now:
+        return True
+    if h.host != host:
+        return False
+    if h.pid == os.getpid():
+        return h.token not in _held_here
+    return not pid_alive(h.pid)
 
 
 class RoomLease:
@@ -168,6 +178,7 @@ class RoomLease:
                 log.warning("room %s is being written by %s; waiting for it", self.rid, holder.describe())
                 said = True
             time.sleep(poll)
+        _held_here.add(self.token)
         self._thread = threading.Thread(target=self._renew_loop, name="sg3d-lease", daemon=True)
         self._thread.start()
 
@@ -194,6 +205,7 @@ class RoomLease:
     def release(self) -> None:
         """Stop renewing and give the lease back (best effort: an expired lease frees itself)."""
         self._stop.set()
+        _held_here.discard(self.token)
         if self._thread is not None:
             self._thread.join(timeout=5)
         try:
