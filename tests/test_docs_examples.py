@@ -102,6 +102,7 @@ def matches(expected: str, actual: str) -> bool:
 ALL = [ex for path in CHECKED for ex in examples(path)]
 RUN = [ex for ex in ALL if ex.argv[:1] == ("sg3d",) and ex.argv[1:2] and ex.argv[1] in RERUN]
 BUILDS = [ex for ex in ALL if list(ex.argv) == KITCHEN_BUILD]
+FOLDERS = sorted({ex.argv[2] for ex in ALL if ex.argv[:2] == ("mkdir", "-p") and len(ex.argv) == 3})  # made first
 
 
 # -- no store, no data ----------------------------------------------------------------------
@@ -166,7 +167,8 @@ def _run_once(home: str, cwd: str, argv: tuple[str, ...]) -> tuple[int, str]:
 def test_each_example_prints_what_the_docs_show(ex, built_kitchen, tmp_path_factory):
     home, _ = built_kitchen
     cwd = tmp_path_factory.getbasetemp() / "docs-examples-cwd"
-    cwd.mkdir(exist_ok=True)
+    for folder in FOLDERS:                          # the pages' own `$ mkdir -p out`
+        (cwd / folder).mkdir(parents=True, exist_ok=True)
     code, printed = _run_once(str(home), str(cwd), ex.argv[1:])
     assert code == 0, f"{ex}: `{shlex.join(ex.argv)}` failed:\n{printed}"
     assert matches(ex.expected, printed), (
