@@ -114,6 +114,7 @@ def main(argv=None) -> int:
     ap.add_argument("--rooms", default=",".join(r.name for r in ROOMS), help="comma-separated room names")
     ap.add_argument("--json", action="store_true", help="one JSON object per room instead of the table")
     ap.add_argument("--keep-home", type=Path, default=None, help="build into this SG3D_HOME (kept) instead of a scratch one")
+    ap.add_argument("--no-figures", action="store_true", help="do not update docs/figures.json (rooms.<room>)")
     args = ap.parse_args(argv)
     wanted = args.rooms.split(",")
     unknown = set(wanted) - {r.name for r in ROOMS}
@@ -133,6 +134,10 @@ def main(argv=None) -> int:
             finally:
                 subprocess.run([sys.executable, "-m", "sg3d", "db", "stop"], env={**os.environ, "SG3D_HOME": str(home)},
                                capture_output=True)
+        if not args.no_figures:
+            from benchmarks.figures import update
+
+            update(f"rooms.{room.name}", {k: v for k, v in rows[-1].items() if k not in ("room", "seconds")})
         if args.json:
             print(json.dumps(rows[-1]), flush=True)
     if not args.json:

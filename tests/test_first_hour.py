@@ -47,7 +47,7 @@ def mirror(kitchen_dir):
 
 def test_the_readme_first_command_downloads_and_builds_the_kitchen(tmp_path, mirror):
     command = first_command_after_install()
-    assert "sg3d sample kitchen" in command and "sg3d build" in command, command
+    assert "--sample kitchen" in command and "sg3d build" in command, command
     cwd = tmp_path / "nowhere" / "cwd"          # no ../shared/data beside it
     cwd.mkdir(parents=True)
     home = tmp_path / "home"
@@ -62,3 +62,18 @@ def test_the_readme_first_command_downloads_and_builds_the_kitchen(tmp_path, mir
         assert answer.returncode == 0 and re.match(r"\d+ chairs?", answer.stdout.strip()), answer.stdout
     finally:
         sg3d(home, "db", "stop")
+
+
+def test_offline_the_readme_first_command_ends_with_one_line_naming_the_way_out(tmp_path):
+    command = first_command_after_install()
+    cwd = tmp_path / "nowhere" / "cwd"          # no ../shared/data beside it
+    cwd.mkdir(parents=True)
+    env = sg3d_env(tmp_path / "home", SG3D_SAMPLE_URL="http://127.0.0.1:9", SG3D_CACHE=str(tmp_path / "cache"),
+                   PATH=os.path.dirname(sys.executable) + os.pathsep + os.environ.get("PATH", ""))
+    out = subprocess.run(["bash", "-c", command], cwd=cwd, env=env, capture_output=True, text=True, timeout=300)
+    assert out.returncode == 2, (out.returncode, out.stderr[-2000:])
+    errors = [line for line in out.stderr.splitlines() if line.lower().startswith("error")]
+    assert len(errors) == 1 and out.stderr.strip().splitlines()[-1] == errors[0], out.stderr
+    assert "SG3D_SAMPLE_URL" in errors[0] and "SG3D_SAMPLES" in errors[0] and "../shared/data" in errors[0]
+    assert not (tmp_path / "home").exists() or not (tmp_path / "home" / "databases").exists()   # no store started
+    assert not list((tmp_path / "cache").rglob("*.partial"))

@@ -254,3 +254,16 @@ def test_map_refuses_bad_input_in_one_line(store, embedded_home, tmp_path):
     merge_local_graph(store, graph([obj("a", "chair", (0, 0, 0))], room="built", building="default"))
     out = sg3d(embedded_home, "map", tmp_path, "--room", "built", "--stop-when-idle", "1")
     assert "already holds 1 objects" in one_error_line(out)
+
+
+def test_each_publish_line_starts_with_its_state():
+    import io
+
+    from rich.console import Console
+
+    from sg3d.commands.map import print_update
+
+    buf = io.StringIO()
+    print_update(Console(file=buf, width=200), {"state": "live", "frames": 412, "detected": 51, "objects": 19,
+                                                "created": 2, "removed": 1, "latency_p50": 0.84})
+    assert buf.getvalue() == "[live] frames 412, detected 51, objects 19 (+2 -1), latency p50 0.84 s\n"

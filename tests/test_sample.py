@@ -41,13 +41,14 @@ class _Server:
         self.requests: list[str] = []
         self.holds: dict[str, threading.Event] = {}
         self.fail_once: set[str] = set()
+        self.fail_always: set[str] = set()
         server = self
 
         class Handler(SimpleHTTPRequestHandler):
             def do_GET(self):
                 name = self.path.rsplit("/", 1)[-1]
                 server.requests.append(name)
-                if name in server.fail_once:
+                if name in server.fail_once or name in server.fail_always:
                     server.fail_once.discard(name)
                     self.send_error(503, "try again")
                     return
@@ -100,8 +101,18 @@ def mini(tmp_path):
 
 
 def _env(mini, **extra) -> dict:
-    return sg3d_env(mini["tmp"] / "home", SG3D_SAMPLE_MANIFEST=str(mini["manifest"]),
-                    SG3D_SAMPLE_URL=mini["server"].url, SG3D_CACHE=str(mini["cache"]), **extra)
+    given = {"SG3D_SAMPLE_MANIFEST": str(mini["manifest"]), "SG3D_SAMPLE_URL": mini["server"].url,
+             "SG3D_CACHE": str(mini["cache"])}
+    return sg3d_env(mini["tmp"] / "home", **{**given, **extra})
+
+
+def _last_error_line(out) -> str:
+    """The one error line a failed download ends with (after its notes and its bar, on stderr)."""
+    assert out.returncode == 2, (out.returncode, out.stdout, out.stderr)
+    errors = [line for line in out.stderr.splitlines() if line.lower().startswith("error")]
+    assert len(errors) == 1 and out.stderr.strip().splitlines()[-1] == errors[0], out.stderr
+    assert "Traceback" not in out.stderr
+    return errors[0]
 
 
 def _sample(mini, *args, **extra) -> subprocess.CompletedProcess:
@@ -142,7 +153,7 @@ def test_a_corrupted_file_is_refused_in_one_line_and_not_kept(mini):
     assert "frame-000000.pose.txt" in line and "SHA-256" in line and "deleted" in line
     assert not mini["final"].exists()
     partial = mini["cache"] / "samples" / f"{FOLDER}.partial"
-    assert not any(p.name.startswith("frame-000000.pose.txt") for p in partial.iterdir())
+    assert not partial.exists() or not any(p.name.startswith("frame-000000.pose.txt") for p in partial.iterdir())
 
 
 def test_a_killed_download_leaves_no_complete_looking_folder_and_resumes(mini):
@@ -238,3 +249,39 @@ def test_a_manifest_naming_a_path_instead_of_a_file_is_refused(tmp_path):
     bad.write_text(manifest_text(meta, {"../outside.txt": (1, "0" * 64)}))
     with pytest.raises(SampleError, match="plain names"):
         load_manifest(bad)
+
+
+def test_offline_it_is_one_line_naming_the_ways_out_and_leaves_no_folder(mini):
+    out = _sample(mini, "mini", SG3D_SAMPLE_URL="http://127.0.0.1:9")      # nothing listens there
+    line = _last_error_line(out)
+    assert out.stdout == ""                  # `sg3d build "$(sg3d sample mini)"` gets nothing
+    assert "SG3D_SAMPLE_URL" in line and "SG3D_SAMPLES" in line and "../shared/data" in line, line
+    assert "kept" not in line and "run again" not in line, line        # nothing was verified
+    assert not (mini["cache"] / "samples").exists() or os.listdir(mini["cache"] / "samples") == []
+
+
+def test_a_download_cut_short_says_how_many_verified_files_are_kept(mini):
+    mini["server"].fail_always.add("frame-000001.pose.txt")               # 503, every time
+    line = _last_error_line(_sample(mini, "mini"))
+    assert "4 files verified so far are kept" in line and "run again" in line, line
+    partial = mini["cache"] / "samples" / f"{FOLDER}.partial"
+    assert sorted(os.listdir(partial)) == sorted(set(FILES) - {"frame-000001.pose.txt"})
+
+
+def test_a_mirror_serving_a_bad_file_is_named_not_retried_in_vain(mini):
+    bad = mini["mirror"] / "frame-000000.pose.txt"
+    bad.write_bytes(bad.read_bytes().replace(b"9", b"8", 1))
+    line = _last_error_line(_sample(mini, "mini"))
+    assert "run again" not in line and mini["server"].url in line and "SG3D_SAMPLE_URL" in line, line
+
+
+def test_a_repair_says_so_before_it_starts_and_counts_the_bytes_it_fetches(mini):
+    assert _sample(mini, "mini").returncode == 0
+    broken = mini["final"] / "frame-000000.depth.png"
+    broken.write_bytes(b"not a png")
+    out = _sample(mini, "mini")
+    assert out.returncode == 0, out.stderr
+    assert "repairing the cached copy" in out.stderr and "is repaired" not in out.stderr, out.stderr
+    size = (mini["mirror"] / "frame-000000.depth.png").stat().st_size
+    assert f"downloading 1 file ({size / 1e3:.1f} kB)" in out.stderr, out.stderr
+    assert _same_files(mini["final"], mini["mirror"])

@@ -458,3 +458,12 @@ def test_real_kitchen_png_has_scale_bar_legend_and_labels_that_never_overlap(sto
                 for (i, a), (j, b) in itertools.combinations(enumerate(boxes), 2) if a.overlaps(b)]
     assert {t.get_gid()[6:] for t in on_map if (t.get_gid() or "").startswith("label-")} == \
         {n["id"] for n in scene["nodes"]}
+
+
+def test_what_show_wrote_is_its_result_on_stdout(store, embedded_home, tmp_path):
+    build(store)
+    out = tmp_path / "room.svg"
+    r = show(embedded_home, "--out", str(out))
+    assert r.exit_code == 0, r.output
+    assert r.stdout.startswith(f"wrote {out} (") and out.is_file(), (r.stdout, r.stderr)
+    assert "wrote" not in r.stderr

@@ -142,7 +142,14 @@ def test_cli_answers_explains_writes_thumbnail_and_refuses(store, house, tmp_pat
     r = runner.invoke(ask_cmd, ["how many red chairs", "--room", "kitchen", "--explain"], obj=StoreSettings(store))
     assert r.exit_code == 0, r.output
     assert r.output.splitlines()[0].startswith("2 red chairs")
-    assert "cypher/vqa_objects_in_rooms.cypher" in r.output and '"colour": "red"' in r.output
+    assert "cypher/vqa_objects_in_rooms.cypher" in r.stdout and '"colour": "red"' in r.stdout   # asked for: a result
+    assert r.stderr == ""
+    no_picture = tmp_path / "chairs.png"
+    r = runner.invoke(ask_cmd, ["how many red chairs", "--room", "kitchen", "--out", str(no_picture)],
+                      obj=StoreSettings(store))
+    assert r.exit_code == 2 and not no_picture.exists(), r.output      # --out that writes nothing is refused
+    assert r.stdout.startswith("2 red chairs") and len(r.stderr.strip().splitlines()) == 1, r.stderr
+    assert "no picture" in r.stderr and str(no_picture) in r.stderr
     import cv2
 
     for name, magic in (("bowl.png", b"\x89PNG"), ("bowl.jpg", b"\xff\xd8"), ("bowl.JPEG", b"\xff\xd8")):

@@ -18,6 +18,18 @@ def rooms_json(rows: list[dict]) -> list[dict]:
              "adjacent": r["adjacent"]} for r in rows]
 
 
+def frame_words(to_building) -> str:
+    """Which frame a room is in, for `sg3d rooms`: the building's reference (the identity: the first
+    room placed), placed in it (by --shared-frame, --transform, --align-to or `rooms link`), or its own."""
+    if to_building is None:
+        return "own frame (not placed in the building)"
+    import numpy as np
+
+    if np.allclose(np.asarray(to_building, float).reshape(4, 4), np.eye(4), atol=1e-9):
+        return "the building's reference frame"
+    return "placed in the building's frame"
+
+
 def building_rooms(store: GraphStore, building: str) -> list[dict]:
     """The rooms of one building (graphdb rows, transforms as arrays)."""
     from sg3d.graphdb.building import list_rooms

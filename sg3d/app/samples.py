@@ -54,6 +54,10 @@ class SampleError(AppError):
     """An unknown sample, a file that does not verify, or a download that failed."""
 
 
+class _Mismatch(SampleError):
+    """A downloaded file differs from the manifest: asking the same source again gets the same file."""
+
+
 @dataclass(frozen=True)
 class Sample:
     """One sample recording as its manifest defines it."""
@@ -236,7 +240,7 @@ def locate_sample(name: str, *, manifests: Optional[Sequence[Path]] = None, cach
         bad = unverified(final, sample)
         if not bad:
             return Found(sample, final, "cache")
-        notice(f"the cached copy {final} is repaired: {_bad_summary(bad, sample)}")
+        notice(f"repairing the cached copy {final}: {_bad_summary(bad, sample)}")
         partial = _partial(final)
         if partial.exists():
             shutil.rmtree(partial)
@@ -270,21 +274,37 @@ def download_sample(sample: Sample, final: Path, *, url: str, progress: Optional
         (partial / name).unlink()
     kept = set(present) - set(bad)
     todo = sorted(n for n in sample.files if n not in kept)
-    done_bytes = sample.size - sum(sample.files[n][0] for n in todo)
+    todo_bytes = sum(sample.files[n][0] for n in todo)
     if todo:
         notice(sample.licence_note)
-        notice(f"downloading {len(todo)} files ({_mb(sample.size - done_bytes)}) of sample {sample.name!r} "
-               f"from {url} into {final}")
-    progress.start(sample.size, done_bytes)
+        notice(f"downloading {len(todo)} file{'' if len(todo) == 1 else 's'} ({_size(todo_bytes)}) of sample "
+               f"{sample.name!r} from {url} into {final}")
+    progress.start(todo_bytes, 0)          # the bar counts what this run fetches, as the line above says
     try:
         _fetch_all(todo, sample, partial, url, progress, workers)
     except SampleError as exc:
-        raise SampleError(f"{exc}; the files verified so far are kept: run again to resume") from None
+        raise SampleError(_failed(exc, sample, partial, url)) from None
     missing = [n for n in sample.files if not (partial / n).is_file()]
     if missing:                                # not expected: every fetched file was verified
         raise SampleError(f"the download of {sample.name!r} is incomplete ({len(missing)} files missing)")
     partial.rename(final)
-    return sample.size - done_bytes
+    return todo_bytes
+
+
+def _failed(exc: SampleError, sample: Sample, partial: Path, url: str) -> str:
+    """The one line a failed download ends with: what failed, what is kept (the `.partial` folder
+    goes when nothing verified is in it) and the way out."""
+    kept = [n for n in sample.files if (partial / n).is_file()]
+    if not kept:
+        shutil.rmtree(partial, ignore_errors=True)
+    if isinstance(exc, _Mismatch):
+        return (f"{exc}; {url} serves files that differ from the sample's manifest: fix that mirror, "
+                f"or unset {URL_ENV} (or point it at another mirror)")
+    way_out = (f"without network, point ${URL_ENV} at a mirror of ../shared/data, or put a copy in "
+               f"${LOCAL_ENV}/{sample.folder} or ../shared/data/{sample.folder}")
+    if kept:
+        return f"{exc}; the {len(kept)} files verified so far are kept: run again to resume ({way_out})"
+    return f"{exc}; {way_out}"
 
 
 def _fetch_all(names: list[str], sample: Sample, folder: Path, url: str, progress: Progress, workers: int) -> None:
@@ -331,7 +351,7 @@ def _fetch_file(url: str, dest: Path, expected: tuple[int, str], progress: Progr
     if (got, digest) != expected:
         part.unlink(missing_ok=True)
         what = "size" if got != expected[0] else "SHA-256"
-        raise SampleError(f"{dest.name} from {url} does not match the sample's {what} (expected "
+        raise _Mismatch(f"{dest.name} from {url} does not match the sample's {what} (expected "
                           f"{expected[0]} bytes, sha256 {expected[1][:16]}..., got {got} bytes, sha256 "
                           f"{digest[:16]}...); the file was deleted")
     os.replace(part, dest)
@@ -371,5 +391,8 @@ def _stream(url: str, part: Path, progress: Progress, stop: threading.Event) -> 
     return got, digest.hexdigest()
 
 
-def _mb(nbytes: int) -> str:
-    return f"{nbytes / 1e6:.1f} MB"
+def _size(nbytes: int) -> str:
+    """Bytes as the progress bar shows them (decimal units)."""
+    if nbytes < 1000:
+        return f"{nbytes} bytes"
+    return f"{nbytes / 1e3:.1f} kB" if nbytes < 1_000_000 else f"{nbytes / 1e6:.1f} MB"

@@ -51,13 +51,16 @@ def ask(settings, question: str, room, building, explain: bool, as_json: bool, v
         click.echo(result.text if result.ok else f"cannot answer: {result.text}", err=not result.ok)
         if path:
             click.echo(f"picture: {path}")
-        elif result.ok and result.thumbnail:
+        elif result.ok and result.thumbnail and out is None:
             click.echo("(this answer has a picture: add --out FILE.png to write it)", err=True)
     if explain and not as_json:
-        for line in result.explain_lines():
-            click.echo(line, err=True)
+        for line in result.explain_lines():     # the explanation asked for is a result: stdout
+            click.echo(line)
     if not result.ok:
         raise SystemExit(2)   # a refusal is not an answer: scripts see a non-zero status
+    if out is not None and not path:
+        raise UserError(f"--out {out}: this answer has no picture, nothing was written (pictures come with "
+                        f"'which cup is the biggest?' or 'show me the cup closest to the sink')")
 
 
 commands = [ask]

@@ -59,6 +59,22 @@ def _summary_table(summary: dict):
     return t
 
 
+def _sequence(sequence: Optional[Path], sample_name: Optional[str]) -> Path:
+    """The folder to build: SEQUENCE, or the verified copy of sample NAME (one error line when it
+    cannot be had, so `sg3d build --sample kitchen` stops there)."""
+    if (sequence is None) == (sample_name is None):
+        raise click.UsageError("give a SEQUENCE folder or bag, or --sample NAME (one of them)")
+    if sequence is not None:
+        return sequence
+    from sg3d.app.errors import AppError
+    from sg3d.commands.sample import locate_with_progress
+
+    try:
+        return locate_with_progress(str(sample_name)).path
+    except AppError as exc:
+        raise UserError(str(exc)) from None
+
+
 def _poses_text(poses: dict) -> str:
     """The estimated trajectory in words: length, loop closures, frames that could not be placed."""
     text = (f"estimated: {poses['trajectory_m']:.2f} m travelled, {poses['loop_closures']} loop closures, "
@@ -89,7 +105,9 @@ def _placement_text(placement: dict) -> str:
 
 
 @click.command()
-@click.argument("sequence", type=click.Path(path_type=Path))
+@click.argument("sequence", type=click.Path(path_type=Path), required=False)
+@click.option("--sample", "sample_name", default=None, metavar="NAME",
+              help="Build sample recording NAME instead of a SEQUENCE (found or downloaded as `sg3d sample NAME` does).")
 @click.option("--room", required=True, callback=checked_name,
               help="Room name (printable, any script; no '/', '\\' or '..'); the graph of this room is "
                    "created or extended.")
@@ -148,7 +166,7 @@ def build(settings, sequence: Path, room: str, building: str, method: str, quali
           detect_fraction: Optional[float], chunk_frames: Optional[int], abir_gain: Optional[float],
           t_key: Optional[float], t_anchor: Optional[float], transform_file: Optional[Path], align_to: Optional[str],
           shared_frame: bool, estimate_poses: bool, trajectory_out: Optional[Path], wait: bool, as_json: bool,
-          bag: dict) -> None:
+          bag: dict, sample_name: Optional[str]) -> None:
     """Build (or extend) the 3-D scene graph of ROOM from the RGB-D SEQUENCE folder or ROS bag
     (ROS1 .bag, ROS2 bag folder, .mcap; topics are picked when unambiguous, see the --*-topic options).
 
@@ -181,6 +199,7 @@ def build(settings, sequence: Path, room: str, building: str, method: str, quali
     from sg3d.ingest.pipeline import DEFAULT_CHUNK_FRAMES, METHODS, Settings
     from sg3d.ingest.select import coverage
 
+    sequence = _sequence(sequence, sample_name)
     request = BuildRequest(sequence, room, building, layout, start, stop, transform_file, align_to, shared_frame,
                            bag_options=bag, estimate_poses=estimate_poses, trajectory_out=trajectory_out,
                            wait=wait)

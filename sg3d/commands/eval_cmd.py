@@ -111,7 +111,7 @@ def eval_command(settings, gt_path: Path, room: str, building: str, tolerance: O
         from sg3d.render.report import write_report
 
         written = write_report(report_dir, report, fetch_scene(store, building, room), gt, room)
-        click.echo("wrote " + ", ".join(str(p) for p in written), err=True)
+        click.echo("wrote " + ", ".join(str(p) for p in written), err=as_json)   # stdout holds only the JSON
     if as_json:
         click.echo(json.dumps(report))
     else:

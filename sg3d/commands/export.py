@@ -47,15 +47,14 @@ def export(settings, room: Optional[str], building: str, fmt: str, out: Optional
             n_obj, n_rel = write_3dssg(graph, out)
         except AppError as exc:
             raise UserError(str(exc)) from exc
-        click.echo(f"wrote {n_obj} objects and {n_rel} relationships to {out}/objects.json, relationships.json",
-                   err=True)
+        click.echo(f"wrote {n_obj} objects and {n_rel} relationships to {out}/objects.json, relationships.json")
         return
     if out and out.is_dir():
         raise UserError(f"--out {out} is a folder; give a file name")
     text = render_graph(graph, fmt)
     if out:
         out.write_text(text)
-        click.echo(f"wrote {len(graph['nodes'])} nodes and {len(graph['edges'])} edges to {out}", err=True)
+        click.echo(f"wrote {len(graph['nodes'])} nodes and {len(graph['edges'])} edges to {out}")
     elif to_stdout or not sys.stdout.isatty():
         click.echo(text)
     else:   # a terminal would get one line of many kilobytes

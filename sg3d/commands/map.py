@@ -56,10 +56,7 @@ def map_cmd(settings, source: Path, room: str, building: str, layout: Optional[s
 
     def on_update(u: dict) -> None:
         if not as_json:
-            p50 = u.get("latency_p50")
-            console.print(f"[{u['state']}] frames {u['frames']}, detected {u['detected']}, objects {u['objects']} "
-                          f"(+{u['created']} -{u['removed']})" + (f", latency p50 {p50:.2f} s" if p50 is not None else ""),
-                          highlight=False)
+            print_update(console, u)
 
     req = MapRequest(source, room, building, layout, publish_every, stop_when_idle, resume, wait)
     try:
@@ -79,3 +76,12 @@ def map_cmd(settings, source: Path, room: str, building: str, layout: Optional[s
 
 
 commands = [map_cmd]
+
+
+def print_update(console, u: dict) -> None:
+    """One line per publish, its state first ('[live] frames 412, ...'); not read as rich markup,
+    which took '[live]' for a style and printed nothing of it."""
+    p50 = u.get("latency_p50")
+    console.print(f"[{u['state']}] frames {u['frames']}, detected {u['detected']}, objects {u['objects']} "
+                  f"(+{u['created']} -{u['removed']})" + (f", latency p50 {p50:.2f} s" if p50 is not None else ""),
+                  highlight=False, markup=False)

@@ -67,8 +67,7 @@ def plan(settings, command, goal, room, building, start, out_dir, planner, as_js
     click.echo(f"{len(outcome.steps)} steps, validated by simulation; {p.planner} planned in "
                f"{p.seconds * 1000:.0f} ms (search {p.search_seconds * 1000:.0f} ms)")
     if outcome.problem.left_out:
-        click.echo("not in the problem: " + outcome.left_out_line(),
-                   err=True)
+        click.echo(outcome.problem.left_out_summary(), err=True)
 
 
 commands = [plan]

@@ -17,13 +17,13 @@ from sg3d.errors import UserError
 @click.option("--json", "as_json", is_flag=True, help="Print the rooms as JSON.")
 @click.pass_context
 def rooms(ctx: click.Context, building: str, as_json: bool) -> None:
-    """List the building's rooms: object counts, whether each has a transform, adjacent rooms.
+    """List the building's rooms: object counts, the frame each is in, adjacent rooms.
 
     With a subcommand (`link`, `unlink`, `delete`), that subcommand runs instead.
     """
     if ctx.invoked_subcommand is not None:
         return
-    from sg3d.app.rooms import building_rooms, rooms_json
+    from sg3d.app.rooms import building_rooms, frame_words, rooms_json
     from sg3d.app.stores import reader
 
     rows = building_rooms(reader(ctx.obj), building)
@@ -34,9 +34,8 @@ def rooms(ctx: click.Context, building: str, as_json: bool) -> None:
         raise UserError(f"building {building!r} has no rooms (build one with `sg3d build`)")
     width = max(len(r["name"]) for r in rows)
     for r in rows:
-        placed = "transform" if r["to_building"] is not None else "no transform"
-        adj = f"  adjacent: {', '.join(r['adjacent'])}" if r["adjacent"] else ""
-        click.echo(f"{r['name']:<{width}}  {r['objects']:>6} objects  {placed}{adj}")
+        adj = f"; adjacent: {', '.join(r['adjacent'])}" if r["adjacent"] else ""
+        click.echo(f"{r['name']:<{width}}  {r['objects']:>6} objects  {frame_words(r['to_building'])}{adj}")
 
 
 @rooms.command("link")

@@ -44,7 +44,7 @@ def sample(name: Optional[str], list_only: bool, as_json: bool) -> None:
             return
         if not name:
             raise click.UsageError("give a sample NAME (or --list)")
-        found = _locate(name)
+        found = locate_with_progress(name)
     except AppError as exc:
         raise UserError(str(exc)) from None
     if as_json:
@@ -55,7 +55,8 @@ def sample(name: Optional[str], list_only: bool, as_json: bool) -> None:
         click.echo(str(found.path))
 
 
-def _locate(name: str):
+def locate_with_progress(name: str):
+    """`sg3d.app.samples.locate_sample` with its notes and download bar on stderr."""
     from rich.console import Console
     from rich.progress import (
         BarColumn,

@@ -355,11 +355,22 @@ def grammar_refusal(text: str, exc) -> Outcome:
         return Outcome("refuse", str(exc))
     if isinstance(exc, ReaderFailure):     # the reader failed (logged): where it stopped
         return Outcome("unread", f"I stopped reading this question at '{exc.word or text[:60]}'", notes=[str(exc)])
-    word = unread_word(text) or exc.word
+    word = unread_word(text) or _unknown_before(text, exc.word) or exc.word
     if word is None:
         said = text if len(text) <= 60 else text[:57] + "..."
         return Outcome("unread", f"I could not read '{said}' as a question", notes=[str(exc)])
     return Outcome("unread", f"I could not read '{word}' in this question", notes=[str(exc)])
+
+
+def _unknown_before(text: str, stopped: Optional[str]) -> Optional[str]:
+    """Where the reader stopped at a word it knows ('the' in "blorp the frobnicator", 'of' in
+    "what is the meaning of life"), the word to name is the first one before it that no word
+    list holds ('blorp', 'meaning'); None when the stop word is itself unknown or none is."""
+    if stopped is None or stopped not in _vocabulary():
+        return None
+    words = [w.strip(".,;:!?'\"") for w in text.split()]
+    before = words[:words.index(stopped)] if stopped in words else words
+    return next((w for w in before if w and w not in _vocabulary() and not any(c.isdigit() for c in w)), None)
 
 
 def compile_question(run, form: Form, room: Optional[str], room_rows, scope: Callable, embedding=None,

@@ -5,7 +5,7 @@ from __future__ import annotations
 def plural(label: str, n: int = 2) -> str:
     if n == 1:
         return label
-    irregular = {"knife": "knives", "person": "people", "mouse": "mice", "skis": "skis",
+    irregular = {"knife": "knives", "shelf": "shelves", "person": "people", "mouse": "mice", "skis": "skis",
                  "scissors": "scissors", "sheep": "sheep", "cutlery": "cutlery", "furniture": "pieces of furniture",
                  "electronics": "electronics", "food": "food items", "tableware": "tableware items"}
     if label in irregular:

@@ -1,6 +1,7 @@
-"""The API token: generated once into `api-token` inside the store's private directory (the
-one that holds its passwords, mode 0700, see `sg3d.graphdb.embedded.store_dir`), sent by callers as
-`Authorization: Bearer <token>`.
+"""The API token: generated once into `$SG3D_HOME/api-token`, sent by callers as
+`Authorization: Bearer <token>`. A home others may write into (such as /tmp) keeps it in the
+store's private directory instead (mode 0700, see `sg3d.graphdb.embedded.store_dir`): there no one
+else can plant or swap it.
 
 The file is opened without following a symlink and refused unless this user owns it and no one
 else may read or write it: in a shared SG3D_HOME another user cannot plant a token."""
@@ -21,13 +22,23 @@ class TokenError(Sg3dError, RuntimeError):
 
 
 def token_path(home: Path) -> Path:
-    """Where the token of SG3D_HOME=`home` lives: in the store's private directory."""
+    """Where the token of SG3D_HOME=`home` lives: `home/api-token` when this user owns the home
+    and no one else may write into it, whatever its read bits (a home made with `mkdir`, mode 755,
+    included: the file itself is 0600); else in the store's private directory."""
     from sg3d.graphdb.embedded import store_dir
 
-    return store_dir(Path(home).expanduser().resolve()) / TOKEN_FILE
+    home = Path(home).expanduser().resolve()
+    try:
+        st = os.stat(home)
+    except OSError:
+        return home / TOKEN_FILE          # sg3d will create the home, private
+    if stat.S_ISDIR(st.st_mode) and st.st_uid == os.getuid() and not st.st_mode & 0o022:
+        return home / TOKEN_FILE
+    return store_dir(home) / TOKEN_FILE
 
 
-def _private_dir(home: Path) -> Path:
+def _token_file(home: Path) -> Path:
+    """`token_path`, once the store's directory is there (made private if sg3d makes it)."""
     from sg3d.graphdb.embedded import EmbeddedServer, EmbeddedStoreError
 
     server = EmbeddedServer(home)
@@ -35,7 +46,7 @@ def _private_dir(home: Path) -> Path:
         server.ensure_home()
     except EmbeddedStoreError as exc:
         raise TokenError(str(exc)) from None
-    return server.home
+    return token_path(home)
 
 
 def read_trusted(path: Path) -> str:
@@ -59,9 +70,9 @@ def read_trusted(path: Path) -> str:
 
 
 def ensure_token(home: Path) -> str:
-    """The token of this home, created (0600, 256 random bits) on first use in the store's
-    private directory; an existing token file is used only when it can be trusted (`read_trusted`)."""
-    path = _private_dir(home) / TOKEN_FILE
+    """The token of this home, created (0600, 256 random bits) on first use at `token_path`; an
+    existing token file is used only when it can be trusted (`read_trusted`)."""
+    path = _token_file(home)
     try:
         fd = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_EXCL | os.O_NOFOLLOW, 0o600)
     except FileExistsError:

@@ -14,7 +14,7 @@ from sg3d.server.auth import token_matches
 
 OPEN_PATHS = frozenset({"/health", "/openapi.json", "/docs", "/docs/oauth2-redirect", "/redoc"})
 TOKEN_HINT = ("missing or wrong token: send Authorization: Bearer <token> "
-              "(the token is in the store directory's api-token file)")
+              "(the token is in $SG3D_HOME/api-token; `sg3d serve` prints where)")
 
 
 def _reject_constant(name: str):

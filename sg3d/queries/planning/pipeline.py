@@ -42,11 +42,6 @@ class PlanOutcome:
         return [f"{readable(item)} -> {readable(dest) if dest else 'stays'}: {rule}"
                 for item, (dest, rule) in sorted(self.problem.placement.items())]
 
-    def left_out_line(self) -> str:
-        """The objects the problem leaves out, by readable name, each with why ('' if none)."""
-        left = self.problem.left_out
-        return ", ".join(f"{readable(k)} ({v})" for k, v in left.items())
-
     def to_json(self) -> dict:
         return {
             "room": self.room, "planner": self.planner.planner, "valid": True,

@@ -34,6 +34,7 @@ class Problem:
     init: list[Atom]
     goal: list[Atom] = field(default_factory=list)
     left_out: dict[str, str] = field(default_factory=dict)   # name -> why it is not in the problem
+    left_out_labels: dict[str, str] = field(default_factory=dict)   # name -> its label, for the summary
     # clean-up: item name -> (destination name or None = stays, the rule that decided it)
     placement: dict[str, tuple[Optional[str], str]] = field(default_factory=dict)
     robot: str = "robot"
@@ -41,6 +42,25 @@ class Problem:
 
     def __post_init__(self):
         self._by_name = {o.name: o for o in self.objects}
+
+    def left_out_summary(self, shown: int = 5) -> str:
+        """What the problem leaves out in one short line: the count, the labels with no planning
+        rule counted ('6 walls, the floor'), the items out of reach named ('' when none)."""
+        if not self.left_out:
+            return ""
+        from collections import Counter
+
+        from sg3d.queries.wording import plural
+
+        unreachable = [n for n, why in self.left_out.items() if not why.startswith("no planning rule")]
+        labels = Counter(self.left_out_labels.get(n, "object") for n in self.left_out if n not in unreachable)
+        groups = [_counted(label, n, plural) for label, n in sorted(labels.items(), key=lambda kv: (-kv[1], kv[0]))]
+        parts = [", ".join(groups[:shown]) + (f" and {len(groups) - shown} {plural('other label', len(groups) - shown)}" if len(groups) > shown else "")
+                 + " (no planning rule)"] if groups else []
+        if unreachable:
+            named = ", ".join(readable(n) for n in unreachable[:3])
+            parts.append(f"out of reach: {named}" + (f" and {len(unreachable) - 3} more" if len(unreachable) > 3 else ""))
+        return f"{len(self.left_out)} things left out: " + "; ".join(parts)
 
     def get(self, name: str) -> Optional[PlanObject]:
         return self._by_name.get(name)
@@ -115,10 +135,12 @@ def problem_from_rows(room: str, rows: list[dict], edges: list[dict], rules: Rul
     names = name_objects(rows, edges)
     typed: dict[str, PlanObject] = {}
     left_out: dict[str, str] = {}
+    labels: dict[str, str] = {}
     for row in rows:
         t = rules.pddl_type(row["label"])
         if t is None:
             left_out[names[row["id"]]] = f"no planning rule for label {row['label']!r}"
+            labels[names[row["id"]]] = row["label"]
         else:
             typed[row["id"]] = PlanObject(names[row["id"]], t, row["label"], row["id"])
 
@@ -131,6 +153,7 @@ def problem_from_rows(room: str, rows: list[dict], edges: list[dict], rules: Rul
         fact = supports.get(node_id)
         if fact is None:
             left_out[obj.name] = "not on or in anything the robot can reach in the graph"
+            labels[obj.name] = obj.label
             continue
         items.append(obj)
         init.append(fact)
@@ -153,7 +176,16 @@ def problem_from_rows(room: str, rows: list[dict], edges: list[dict], rules: Rul
     init[:0] = [("at", robot, start_name), ("handempty", robot)]
     objects = [PlanObject(robot, rules.robot_type, "", None)]
     objects += sorted(places + items, key=lambda o: (o.type, o.name))
-    return Problem(room=room, objects=objects, init=init, left_out=left_out, robot=robot)
+    return Problem(room=room, objects=objects, init=init, left_out=left_out, left_out_labels=labels, robot=robot)
+
+
+def _counted(label: str, n: int, plural) -> str:
+    """'6 walls', 'the floor' (one of a room's structure), '1 tv', '31 unnamed objects'."""
+    if label == "object":
+        return f"{n} unnamed {plural('object', n)}"
+    if n == 1 and label in ("floor", "ceiling"):
+        return f"the {label}"
+    return f"{n} {plural(label, n)}"
 
 
 def _start_location(places: list[PlanObject], start: Optional[str], room: str) -> str:

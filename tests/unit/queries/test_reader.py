@@ -83,7 +83,7 @@ def test_simple_questions_are_planned_for_the_per_form_templates():
 @pytest.mark.parametrize("question, word", [
     ("how many chairs are within 1.5 of the table?", "1.5"),
     ("how many chairs are closer than the table?", "closer"),
-    ("what is the weather like?", "like"),
+    ("what is the weather like?", "weather"),      # it stops at "like", a word it knows
 ])
 def test_a_question_the_grammar_cannot_read_names_the_word(question, word):
     with pytest.raises(GrammarError) as exc:
@@ -112,3 +112,16 @@ def test_one_affordance_table_covers_the_activities_and_the_shape_named_furnitur
 def test_correctly_spelled_words_are_never_fixed(question):
     text, notes = fix_typos(tidy(question).text, typo_vocabulary())
     assert notes == [] and text == tidy(question).text
+
+
+@pytest.mark.parametrize("question, word", [
+    ("blorp the frobnicator", "blorp"),          # the reader stops at 'the', a word it knows
+    ("what is the meaning of life", "meaning"),  # ... at 'of'
+    ("how many chairs are there frobbed", "frobbed"),
+])
+def test_a_refusal_names_the_word_it_could_not_read_not_a_word_it_knows(question, word):
+    from sg3d.queries.compose import grammar_refusal
+
+    with pytest.raises(GrammarError) as stopped:
+        read(tidy(question).text)
+    assert f"'{word}'" in grammar_refusal(tidy(question).text, stopped.value).text

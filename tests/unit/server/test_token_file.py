@@ -1,5 +1,6 @@
-"""The API token lives only in the store's private directory and is never taken from a file
-another user could have planted (real files, real modes, no mocks)."""
+"""The API token lives in a folder only this user may write into (the home, or in a home others
+may write into the store's private directory) and is never taken from a file another user could
+have planted (real files, real modes, no mocks)."""
 from __future__ import annotations
 
 import os
