@@ -1,0 +1,124 @@
+"""An honest account of what has no name: when no object of an asked kind is named in scope, the
+unnamed objects (label "object") that could be one, said with what is known of them.
+
+"is there a keyboard?" with no keyboard named but a flat black 45 x 14 cm slab on the desk:
+"I have not named a keyboard; unnamed things of its size and shape: a flat black object 45x14 cm
+on the desk". Never "no", and never a label stored or said as fact: the object stays unnamed.
+
+Rule "could be one" (`could_be`): an unnamed object could be an object of a class when
+
+- each of its box sides, sorted largest first, is within SIZE_FACTOR of the class's typical
+  side (`sg3d/ingest/data/class_sizes.json`, "typical"): the same kind varies about that much
+  (a compact keyboard is 30 cm, a full one 46; a mug 8 cm or 12 with its handle), and a box
+  measured from depth takes in a centimetre or two of what the object lies on;
+- its shape class (`sg3d.core.shape`) is one the class's objects take (a keyboard is flat; a
+  bottle tall, round or box-shaped when it lies);
+- it rests on the class's usual support: on a surface (a table, desk, counter, shelf, cabinet
+  or sideboard top: `SURFACES`), on the floor, or either ('any'). An object resting on nothing
+  named is not listed: where it is is part of what makes it a candidate.
+
+Classes without a typical entry are never guessed (the plain "I have not found" answer stays).
+"""
+from __future__ import annotations
+
+import math
+from typing import Optional, Sequence
+
+from sg3d.core.model import UNNAMED_LABEL
+from sg3d.core.shape import SAID
+from sg3d.queries.vocabulary import ACTIVITIES, LIST_SHOWN
+
+SIZE_FACTOR = 2.0
+# what a thing is put down on; the structure's "surface" is any horizontal one found from depth
+SURFACES = frozenset(ACTIVITIES["put things down"]) | {"surface"}
+SUPPORT_TYPES = ("ON", "IN")
+READ_LIMIT = 5_000     # unnamed objects read per answer
+
+
+def typical(label: str) -> Optional[dict]:
+    """The class's typical object (size, shapes, support), None when the data has none."""
+    from sg3d.ingest.objects.existence import class_typical
+
+    return class_typical().get(label)
+
+
+def could_be(size: Optional[Sequence[float]], shape: Optional[str], support: Optional[str],
+             prior: dict) -> bool:
+    """Rule "could be one" (module docstring): size within SIZE_FACTOR on each sorted side,
+    shape class among the prior's, resting on its usual support (`support`: the label of what
+    the object is ON or IN, None when nothing named)."""
+    if not size or len(size) != 3 or support is None:
+        return False
+    sides = sorted((float(v) for v in size), reverse=True)
+    if any(s <= 0 or not 1 / SIZE_FACTOR <= s / t <= SIZE_FACTOR for s, t in zip(sides, prior["size"])):
+        return False
+    if shape not in prior["shapes"]:
+        return False
+    on_floor, on_surface = support == "floor", support in SURFACES
+    return {"floor": on_floor, "surface": on_surface, "any": on_floor or on_surface}.get(prior["support"], False)
+
+
+def misfit(size: Sequence[float], prior: dict) -> float:
+    """How far a candidate's sides lie from the typical ones (sum of |log ratio|): best first."""
+    sides = sorted((float(v) for v in size), reverse=True)
+    return sum(abs(math.log(s / t)) for s, t in zip(sides, prior["size"]))
+
+
+def candidates(run, label: str, rooms: Optional[list[str]], colour: Optional[str] = None) -> list[dict]:
+    """The unnamed objects in `rooms` (None: all) that could be a `label` (`could_be`), of the
+    asked colour when one is asked, best fit first; each row carries `support` ("on the desk")."""
+    prior = typical(label)
+    if prior is None:
+        return []
+    rows = run.read("vqa_unnamed", unnamed=UNNAMED_LABEL, rooms=rooms, support_types=list(SUPPORT_TYPES),
+                    limit=READ_LIMIT)
+    best: dict[str, dict] = {}
+    for r in rows:      # one row per support edge: the best-scored named support of each object
+        here = best.setdefault(r["id"], {**r, "support_label": None, "support_type": None, "support_score": None})
+        if r.get("support_label") and r["support_label"] != UNNAMED_LABEL and \
+                float(r.get("support_score") or 0) >= float(here.get("support_score") or -1):
+            here.update(support_label=r["support_label"], support_type=r["support_type"],
+                        support_score=r.get("support_score"))
+    out = [o for o in best.values() if (colour is None or o.get("colour") == colour)
+           and could_be(o.get("size"), o.get("shape"), o.get("support_label"), prior)]
+    for o in out:
+        o["support"] = f"{'in' if o['support_type'] == 'IN' else 'on'} the {o['support_label']}"
+        o["could_be"] = label
+    run.rows_by_id.update((o["id"], o) for o in out)       # their provenance, read with them
+    return sorted(out, key=lambda o: (misfit(o["size"], prior), o["id"]))
+
+
+def describe(o: dict, with_room: bool = False) -> str:
+    """"a flat black object 45x14 cm on the desk": shape, colour, its two largest sides, support."""
+    words = [SAID.get(o.get("shape") or "", o.get("shape") or ""), o.get("colour") or "", "object"]
+    noun = " ".join(w for w in words if w)
+    sides = sorted((float(v) for v in o["size"]), reverse=True)[:2]
+    text = f"{'an' if noun[:1] in 'aeiou' else 'a'} {noun} " + "x".join(f"{v * 100:.0f}" for v in sides) + " cm"
+    if o.get("support"):
+        text += f" {o['support']}"
+    if with_room and o.get("room"):
+        text += f" in the {o['room'].split('/', 1)[-1]}"
+    return text
+
+
+def _listing(found: list[dict]) -> str:
+    rooms = {o.get("room") for o in found}
+    said = [describe(o, len(rooms) > 1) for o in found[:LIST_SHOWN]]
+    more = [f"{len(found) - LIST_SHOWN} more"] if len(found) > LIST_SHOWN else []
+    items = said + more
+    return items[0] if len(items) == 1 else ", ".join(items[:-1]) + " and " + items[-1]
+
+
+def not_named(what: str, where: str, found: list[dict]) -> str:
+    """"I have not named a keyboard; unnamed things of its size and shape: ...": the answer to
+    "is there / where is a <what>" when none is named and `found` could be one."""
+    article = "an" if what[:1] in "aeiou" else "a"
+    head = "an unnamed thing" if len(found) == 1 else "unnamed things"
+    return f"I have not named {article} {what}{where}; {head} of its size and shape: {_listing(found)}"
+
+
+def none_named(plural_what: str, where: str, found: list[dict]) -> str:
+    """"0 named keyboards; 1 unnamed thing could be one: ...": "how many" with none named."""
+    n = len(found)
+    return (f"0 named {plural_what}{where}; {n} unnamed {'thing' if n == 1 else 'things'} could be one: "
+            f"{_listing(found)}")
