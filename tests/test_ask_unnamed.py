@@ -74,3 +74,12 @@ def test_no_candidate_keeps_the_plain_answer(desk_room, store):
                                         colour="white", hist=hist_of({11: 100}))], room=ROOM, building="home"))
     a = answer(store, "is there a keyboard?", room=ROOM)
     assert a.text.startswith("yes, 1 keyboard"), a.text
+
+
+
+def test_other_phrasings_say_the_same(desk_room, store):
+    said = f"I have not named a keyboard; an unnamed thing of its size and shape: {SLAB}"
+    for q in ("where is every keyboard?", "is there any keyboard around here?", "do we have a keyboard?"):
+        assert answer(store, q, room=ROOM).text == said, q
+    # a kind with no typical size is never guessed
+    assert answer(store, "is there a sink?", room=ROOM).text.startswith("I have not found a sink")

@@ -9,7 +9,6 @@ from typing import Optional, Sequence
 
 from sg3d.core.model import UNNAMED_LABEL
 from sg3d.core.relation_rules import SYMMETRIC
-from sg3d.queries import unnamed
 from sg3d.queries.lexicon import lemma
 from sg3d.queries.logic import NP, Filter, Form
 from sg3d.queries.sets import Evaluator, Unanswerable, activity, same_as_roots
@@ -101,8 +100,8 @@ def _sizes(o: dict) -> str:
 
 
 def row_value(o: dict, name: str) -> dict:
-    out = {k: o.get(k) for k in ("id", "label", "colour", "colour2", "layer", "shape", "volume", "size", "room",
-                                 "support", "could_be") if o.get(k) is not None}
+    out = {k: o.get(k) for k in ("id", "label", "colour", "colour2", "layer", "shape", "volume", "size", "room")
+           if o.get(k) is not None}
     out["name"] = name
     return out
 
@@ -134,10 +133,6 @@ def op_count(a: Answerer, form: Form):
         text += f" [{extra} seen from two rooms counted once]"
     if n == 0 and a.absence():
         text = f"0: {a.absence()}"
-        found = _could_be(a, form, np)
-        if found:
-            r = a.ev.resolved(np)
-            return unnamed.none_named(plural(r.noun(1)), a.where, found), n, found
     return text, n, rows
 
 
@@ -167,22 +162,7 @@ def op_exists(a: Answerer, form: Form):
         text = f"yes, {n} {a.phrase(np, n, form.filters)}{a.where}: " + _join(sorted(named[o['id']] for o in rows[:LIST_SHOWN]))
     else:
         text = a.absence() or f"no: I have not found {_what_not_found(a, np, form)}{a.where} ({ABSENT})"
-        found = _could_be(a, form, np)
-        if found:
-            return unnamed.not_named(a.ev.resolved(np).noun(1), a.where, found), None, found
     return text, n > 0, rows
-
-
-def _could_be(a: "Answerer", form: Form, np: NP) -> list[dict]:
-    """None of one plainly asked kind is named in scope (no relation, number, size or shape
-    said): the unnamed objects that could be one (sg3d/queries/unnamed.py); [] otherwise."""
-    if form.filters or np.filters or np.alternatives or np.number is not None or np.superlative or np.purpose:
-        return []
-    r = a.ev.resolved(np)
-    if r.kind != "named" or r.size or r.shape or len(r.labels or []) != 1 or len(r.names) != 1 \
-            or not a.ev.absent or a.ev.absent[0] is not r:
-        return []
-    return unnamed.candidates(a.run, (r.labels or [""])[0], a.scene.rooms, r.colour)
 
 
 def _what_not_found(a: "Answerer", np: NP, form: Form) -> str:
@@ -233,9 +213,6 @@ def op_where(a: Answerer, form: Form):
     np = _head(form)
     rows = _all_rows(a.ev, form, np)
     if not rows:
-        found = _could_be(a, form, np) if a.absence() else []
-        if found:
-            return unnamed.not_named(a.ev.resolved(np).noun(1), a.where, found), [], found
         return (a.absence() or f"I have not found {a.phrase(np, 1, form.filters)}{a.where} ({ABSENT})"), [], rows
     shown = rows[:LIST_SHOWN]
     ids = {o["id"] for o in shown}
