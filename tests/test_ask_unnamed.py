@@ -60,7 +60,7 @@ def test_how_many_and_where_say_none_named(desk_room, store):
     assert w.text == f"I have not named a keyboard; an unnamed thing of its size and shape: {SLAB}", w.text
     assert [o["id"] for o in w.objects] == [desk_room["slab"]] and w.objects[0]["could_be"] == "keyboard"
     e = answer(store, "is there a keyboard?", room=ROOM)
-    assert e.value is None and e.absent_evidence and e.provenance[0]["id"] == desk_room["slab"]
+    assert e.value is False and e.absent_evidence and e.provenance[0]["id"] == desk_room["slab"]
 
 
 def test_no_candidate_keeps_the_plain_answer(desk_room, store):

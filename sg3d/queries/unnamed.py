@@ -8,14 +8,17 @@ on the desk". Never "no", and never a label stored or said as fact: the object s
 Rule "could be one" (`could_be`): an unnamed object could be an object of a class when
 
 - each of its box sides, sorted largest first, is within SIZE_FACTOR of the class's typical
-  side (`sg3d/ingest/data/class_sizes.json`, "typical"): the same kind varies about that much
-  (a compact keyboard is 30 cm, a full one 46; a mug 8 cm or 12 with its handle), and a box
-  measured from depth takes in a centimetre or two of what the object lies on;
+  side (`sg3d/ingest/data/class_sizes.json`, "typical"), or within SIZE_SLACK_M of it: the same
+  kind varies about that much (a compact keyboard is 30 cm, a full one 46; a mug 8 cm or 12 with
+  its handle), and a thin side measured from depth is a centimetre or two off whatever its size
+  (noise, and what the object lies on). A factor of 2 let a 28 cm box be a 50 cm microwave and a
+  1.2 m cube a 0.7 m wide fridge in the benchmark rooms;
 - its shape class (`sg3d.core.shape`) is one the class's objects take (a keyboard is flat; a
   bottle tall, round or box-shaped when it lies);
 - it rests on the class's usual support: on a surface (a table, desk, counter, shelf, cabinet
-  or sideboard top: `SURFACES`), on the floor, or either ('any'). An object resting on nothing
-  named is not listed: where it is is part of what makes it a candidate.
+  or sideboard top: `SURFACES`), on something one works at ('work': a desk or a table, where a
+  laptop stands open), on the floor, or on the floor or a surface ('any'). An object resting on
+  nothing named is not listed: where it is is part of what makes it a candidate.
 
 Classes without a typical entry are never guessed (the plain "I have not found" answer stays).
 """
@@ -28,9 +31,11 @@ from sg3d.core.model import UNNAMED_LABEL
 from sg3d.core.shape import SAID
 from sg3d.queries.vocabulary import ACTIVITIES, LIST_SHOWN
 
-SIZE_FACTOR = 2.0
+SIZE_FACTOR = 1.5
+SIZE_SLACK_M = 0.02
 # what a thing is put down on; the structure's "surface" is any horizontal one found from depth
 SURFACES = frozenset(ACTIVITIES["put things down"]) | {"surface"}
+WORKTOPS = frozenset(ACTIVITIES["work"])
 SUPPORT_TYPES = ("ON", "IN")
 READ_LIMIT = 5_000     # unnamed objects read per answer
 
@@ -44,18 +49,20 @@ def typical(label: str) -> Optional[dict]:
 
 def could_be(size: Optional[Sequence[float]], shape: Optional[str], support: Optional[str],
              prior: dict) -> bool:
-    """Rule "could be one" (module docstring): size within SIZE_FACTOR on each sorted side,
+    """Rule "could be one" (module docstring): size within SIZE_FACTOR (or SIZE_SLACK_M) on each sorted side,
     shape class among the prior's, resting on its usual support (`support`: the label of what
     the object is ON or IN, None when nothing named)."""
     if not size or len(size) != 3 or support is None:
         return False
     sides = sorted((float(v) for v in size), reverse=True)
-    if any(s <= 0 or not 1 / SIZE_FACTOR <= s / t <= SIZE_FACTOR for s, t in zip(sides, prior["size"])):
+    if any(s <= 0 or not (1 / SIZE_FACTOR <= s / t <= SIZE_FACTOR or abs(s - t) <= SIZE_SLACK_M)
+           for s, t in zip(sides, prior["size"])):
         return False
     if shape not in prior["shapes"]:
         return False
     on_floor, on_surface = support == "floor", support in SURFACES
-    return {"floor": on_floor, "surface": on_surface, "any": on_floor or on_surface}.get(prior["support"], False)
+    return {"floor": on_floor, "surface": on_surface, "any": on_floor or on_surface,
+            "work": support in WORKTOPS}.get(prior["support"], False)
 
 
 def misfit(size: Sequence[float], prior: dict) -> float:

@@ -745,7 +745,8 @@ def _honest_absence(run: _Run, a: Answer, q: Query, rooms) -> None:
 
 def _could_be(run: _Run, a: Answer, q: Query, rooms, place: str) -> None:
     """None of the asked kind is named: "is there", "how many" and "where is" list the unnamed
-    objects that could be one (sg3d/queries/unnamed.py), said as unnamed; the objects stay so."""
+    objects that could be one (sg3d/queries/unnamed.py), said as unnamed; the objects stay so.
+    The value stays what was named (False, 0, []), with absent_evidence, as for any absence."""
     from sg3d.queries import unnamed
 
     t = q.target
@@ -761,7 +762,6 @@ def _could_be(run: _Run, a: Answer, q: Query, rooms, place: str) -> None:
         a.text = unnamed.none_named(plural(what), place, found)
     else:
         a.text = unnamed.not_named(what, place, found)
-        a.value = None if a.form == "exists" else a.value
     a.objects = [cast(AnswerObject, {**_brief(o), "shape": o.get("shape"), "size": o.get("size"),
                                      "support": o["support"], "could_be": o["could_be"]}) for o in found[:LIST_SHOWN]]
 

@@ -15,10 +15,12 @@ KEYBOARD = {"size": (0.45, 0.15, 0.03), "shapes": ("flat",), "support": "surface
 
 @pytest.mark.parametrize("size, fits", [
     ((0.45, 0.14, 0.02), True),
-    ((0.899, 0.15, 0.03), True), ((0.901, 0.15, 0.03), False),        # SIZE_FACTOR on the longest side
-    ((0.2251, 0.15, 0.03), True), ((0.2249, 0.15, 0.03), False),
-    ((0.45, 0.0751, 0.03), True), ((0.45, 0.0749, 0.03), False),      # ... on the middle one
-    ((0.45, 0.15, 0.0599), True), ((0.45, 0.15, 0.0601), False),      # ... and the smallest
+    ((0.674, 0.15, 0.03), True), ((0.676, 0.15, 0.03), False),        # SIZE_FACTOR on the longest side
+    ((0.3001, 0.15, 0.03), True), ((0.2999, 0.15, 0.03), False),
+    ((0.45, 0.1001, 0.03), True), ((0.45, 0.0999, 0.03), False),      # ... on the middle one
+    ((0.45, 0.2249, 0.03), True), ((0.45, 0.2251, 0.03), False),
+    ((0.45, 0.15, 0.0499), True), ((0.45, 0.15, 0.0501), False),      # SIZE_SLACK_M past the factor
+    ((0.45, 0.15, 0.0101), True), ((0.45, 0.15, 0.0099), False),      # on a thin side
     ((0.02, 0.14, 0.45), True),                                       # sides are compared sorted
 ])
 def test_size_within_a_factor_on_each_sorted_side(size, fits):
@@ -42,6 +44,10 @@ def test_it_rests_on_the_kinds_usual_support():
     chair = {"size": (0.9, 0.5, 0.5), "shapes": ("tall", "box-shaped", None), "support": "floor"}
     assert could_be((0.5, 0.5, 0.9), "box-shaped", "floor", chair)
     assert not could_be((0.5, 0.5, 0.9), "box-shaped", "desk", chair)
+    laptop = class_typical()["laptop"]          # open where one works at it
+    assert could_be((0.34, 0.25, 0.22), "box-shaped", "desk", laptop)
+    assert could_be((0.34, 0.25, 0.22), "box-shaped", "dining table", laptop)
+    assert not could_be((0.34, 0.25, 0.22), "box-shaped", "shelf", laptop)
     either = {**chair, "support": "any"}
     assert could_be((0.5, 0.5, 0.9), "box-shaped", "floor", either)
     assert could_be((0.5, 0.5, 0.9), "box-shaped", "desk", either)
@@ -59,7 +65,7 @@ def test_the_typical_sizes_are_sound():
     for label, t in class_typical().items():
         assert list(t["size"]) == sorted(t["size"], reverse=True), label
         assert set(t["shapes"]) <= set(SHAPE_WORDS) | {None}, label
-        assert t["support"] in ("surface", "floor", "any"), label
+        assert t["support"] in ("surface", "work", "floor", "any"), label
         lo, hi = plausible[label]
         assert lo <= t["size"][0] <= hi, label           # within the class's plausible largest extent
 
