@@ -83,3 +83,17 @@ def test_other_phrasings_say_the_same(desk_room, store):
         assert answer(store, q, room=ROOM).text == said, q
     # a kind with no typical size is never guessed
     assert answer(store, "is there a sink?", room=ROOM).text.startswith("I have not found a sink")
+
+
+def test_a_desk_top_no_one_named_is_a_surface(store):
+    """A desk scan that never saw the floor keeps its desk top as an unnamed object: what lies on
+    it, wider and deeper than it, rests on a surface."""
+    g = graph([
+        obj("top", "object", (0, 0, 0.37), size=(1.3, 0.7, 0.74), colour="brown", hist=hist_of({30: 100})),
+        obj("slab", "object", (0.1, 0.0, 0.75), size=(0.45, 0.14, 0.02), colour="black", hist=hist_of({0: 100})),
+    ], relations=[("slab", "ON", "top", 0.9)], room="scan", building="home")
+    g.up = (0.0, 0.0, 1.0)
+    merge_local_graph(store, g)
+    a = answer(store, "is there a keyboard?", room="scan")
+    assert a.text == ("I have not named a keyboard; an unnamed thing of its size and shape: a flat black object "
+                      "45x14 cm on a brown object 130x70 cm"), a.text

@@ -14,12 +14,15 @@ of its shape, in one word stored on the node (`shape`) and said in answers ("a f
   a picture, a door leaf).
 - round: a near-square footprint (the longer side at most ROUND_SQUARE times the shorter) of at
   least ROUND_MIN_M, and at least ROUND_MIN_POINTS surface points of which at least
-  ROUND_RIM_SHARE show the outline (normalised radius >= ROUND_RIM) and none lies in the box's
-  corners (|u| + |v| > ROUND_CORNER, with u, v the horizontal offsets from the box centre over the
-  half sides): a disc's points never reach its box's corners (|u| + |v| <= 1.41), a box's rim does
-  (up to 2). The surface sample is of 2.5 cm voxel centres, each up to 1.25 cm off per axis: at
-  a 0.2 m footprint that moves |u| + |v| by at most 0.25, still below 1.7; below it a cup and its
-  box cannot be told apart at that grain, so small things are never called round.
+  ROUND_RIM_SHARE show the outline (normalised radius >= ROUND_RIM) and none lies in the corners
+  of their own smallest rectangle (|u| + |v| > ROUND_CORNER, with u, v the horizontal offsets
+  from its centre over its half sides; the rectangle turned in ROUND_TURN_DEG steps, so a box
+  standing at 45 degrees to the room's axes, whose points never reach the corners of the room-
+  aligned box, still shows its own): a disc's points never reach a rectangle's corners (|u| + |v|
+  <= 1.41), a box's rim does (up to 2). The surface sample is of 2.5 cm voxel centres, each up to
+  1.25 cm off per axis: at a 0.2 m footprint that moves |u| + |v| by at most 0.25, still below
+  1.7; below it a cup and its box cannot be told apart at that grain, so small things are never
+  called round.
 - tall: the height at least TALL_RATIO times the longer horizontal side (a bottle, a lamp, a
   standing roll).
 - box-shaped: the three sides within BOX_RATIO of each other.
@@ -40,6 +43,7 @@ ROUND_MIN_POINTS = 16
 ROUND_RIM = 0.8
 ROUND_RIM_SHARE = 0.25
 ROUND_CORNER = 1.7
+ROUND_TURN_DEG = 5
 TALL_RATIO = 2.0
 BOX_RATIO = 2.5
 
@@ -68,15 +72,31 @@ def shape_class(size: Sequence[float], points: Optional[Sequence[float]] = None,
 
 
 def _round_footprint(w: float, d: float, points, basis, centre) -> bool:
-    """The round test of `shape_class`: the points' horizontal offsets over the half sides show
-    an outline and never reach the box's corners."""
+    """The round test of `shape_class`: the points' horizontal offsets over the half sides of
+    their own smallest rectangle show an outline and never reach its corners."""
     if points is None or basis is None or centre is None or min(w, d) < ROUND_MIN_M \
             or max(w, d) > ROUND_SQUARE * min(w, d):
         return False
     pts = np.asarray(points, float).reshape(-1, 3)
     if len(pts) < ROUND_MIN_POINTS:
         return False
-    rel = (pts - np.asarray(centre, float)) @ np.asarray(basis, float)[:2].T / (np.array([w, d]) / 2)
+    rel = _in_own_rectangle((pts - np.asarray(centre, float)) @ np.asarray(basis, float)[:2].T)
     rim = np.hypot(rel[:, 0], rel[:, 1]) >= ROUND_RIM
     corner = np.abs(rel).sum(axis=1) > ROUND_CORNER
     return bool(rim.mean() >= ROUND_RIM_SHARE and not corner.any())
+
+
+def _in_own_rectangle(xy: np.ndarray) -> np.ndarray:
+    """Horizontal points as offsets from the centre of their smallest-area rectangle (turned in
+    ROUND_TURN_DEG steps) over its half sides: each coordinate within [-1, 1]."""
+    def turned(deg: int) -> np.ndarray:
+        a = np.radians(deg)
+        return xy @ np.array([[np.cos(a), -np.sin(a)], [np.sin(a), np.cos(a)]])
+
+    def area(deg: int) -> float:
+        t = turned(deg)
+        return float(np.prod(t.max(axis=0) - t.min(axis=0)))
+
+    best = turned(min(range(0, 90, ROUND_TURN_DEG), key=area))
+    lo, hi = best.min(axis=0), best.max(axis=0)
+    return (best - (lo + hi) / 2) / np.maximum((hi - lo) / 2, 1e-6)

@@ -15,10 +15,12 @@ Rule "could be one" (`could_be`): an unnamed object could be an object of a clas
   1.2 m cube a 0.7 m wide fridge in the benchmark rooms;
 - its shape class (`sg3d.core.shape`) is one the class's objects take (a keyboard is flat; a
   bottle tall, round or box-shaped when it lies);
-- it rests on the class's usual support: on a surface (a table, desk, counter, shelf, cabinet
-  or sideboard top: `SURFACES`), on something one works at ('work': a desk or a table, where a
-  laptop stands open), on the floor, or on the floor or a surface ('any'). An object resting on
-  nothing named is not listed: where it is is part of what makes it a candidate.
+- it rests on the class's usual support (`rests_on`): on a surface (a table, desk, counter,
+  shelf, cabinet or sideboard top: `SURFACES`; or an unnamed object at least as wide and as deep
+  as it is, such as a desk top no detector named in a scan that never saw the floor), on
+  something one works at ('work': a desk or a table, where a laptop stands open), on the floor,
+  or on the floor or a surface ('any'). An object resting on nothing is not listed: where it is
+  is part of what makes it a candidate.
 
 Classes without a typical entry are never guessed (the plain "I have not found" answer stays).
 """
@@ -47,11 +49,28 @@ def typical(label: str) -> Optional[dict]:
     return class_typical().get(label)
 
 
+def rests_on(support: Optional[str], support_size: Optional[Sequence[float]] = None,
+             size: Optional[Sequence[float]] = None) -> set[str]:
+    """What kind of support the thing an object is ON or IN is (`support`: its label, None for
+    nothing): {"floor"}, {"surface"}, {"surface", "work"} (a desk or a table) or none. An unnamed
+    support is a surface when its horizontal sides, sorted, are each at least the object's."""
+    if support == "floor":
+        return {"floor"}
+    if support in SURFACES:
+        return {"surface", "work"} if support in WORKTOPS else {"surface"}
+    if support == UNNAMED_LABEL and support_size and size and len(support_size) == 3 and len(size) == 3:
+        top = sorted((float(v) for v in support_size[:2]), reverse=True)
+        own = sorted((float(v) for v in size[:2]), reverse=True)
+        return {"surface"} if top[0] >= own[0] and top[1] >= own[1] else set()
+    return set()
+
+
 def could_be(size: Optional[Sequence[float]], shape: Optional[str], support: Optional[str],
-             prior: dict) -> bool:
-    """Rule "could be one" (module docstring): size within SIZE_FACTOR (or SIZE_SLACK_M) on each sorted side,
-    shape class among the prior's, resting on its usual support (`support`: the label of what
-    the object is ON or IN, None when nothing named)."""
+             prior: dict, support_size: Optional[Sequence[float]] = None) -> bool:
+    """Rule "could be one" (module docstring): size within SIZE_FACTOR (or SIZE_SLACK_M) on each
+    sorted side, shape class among the prior's, resting on its usual support (`support`: the
+    label of what the object is ON or IN, None for nothing; `support_size` its box, for an
+    unnamed one: `rests_on`)."""
     if not size or len(size) != 3 or support is None:
         return False
     sides = sorted((float(v) for v in size), reverse=True)
@@ -60,9 +79,9 @@ def could_be(size: Optional[Sequence[float]], shape: Optional[str], support: Opt
         return False
     if shape not in prior["shapes"]:
         return False
-    on_floor, on_surface = support == "floor", support in SURFACES
-    return {"floor": on_floor, "surface": on_surface, "any": on_floor or on_surface,
-            "work": support in WORKTOPS}.get(prior["support"], False)
+    kinds = rests_on(support, support_size, size)
+    want = {"any": {"floor", "surface"}}.get(prior["support"], {prior["support"]})
+    return bool(kinds & want)
 
 
 def misfit(size: Sequence[float], prior: dict) -> float:
@@ -80,19 +99,35 @@ def candidates(run, label: str, rooms: Optional[list[str]], colour: Optional[str
     rows = run.read("vqa_unnamed", unnamed=UNNAMED_LABEL, rooms=rooms, support_types=list(SUPPORT_TYPES),
                     limit=READ_LIMIT)
     best: dict[str, dict] = {}
-    for r in rows:      # one row per support edge: the best-scored named support of each object
-        here = best.setdefault(r["id"], {**r, "support_label": None, "support_type": None, "support_score": None})
-        if r.get("support_label") and r["support_label"] != UNNAMED_LABEL and \
-                float(r.get("support_score") or 0) >= float(here.get("support_score") or -1):
-            here.update(support_label=r["support_label"], support_type=r["support_type"],
-                        support_score=r.get("support_score"))
-    out = [o for o in best.values() if (colour is None or o.get("colour") == colour)
-           and could_be(o.get("size"), o.get("shape"), o.get("support_label"), prior)]
+    for r in rows:      # one row per support edge: of each object, the best-scored one it fits
+        here = best.setdefault(r["id"], {**r, "support_label": None})
+        fits = colour in (None, r.get("colour")) and \
+            could_be(r.get("size"), r.get("shape"), r.get("support_label"), prior, r.get("support_size"))
+        if fits and (here["support_label"] is None or _rank(r) > _rank(here)):
+            best[r["id"]] = {**r}
+    out = [o for o in best.values() if o["support_label"] is not None]
     for o in out:
-        o["support"] = f"{'in' if o['support_type'] == 'IN' else 'on'} the {o['support_label']}"
+        o["support"] = support_phrase(o)
         o["could_be"] = label
     run.rows_by_id.update((o["id"], o) for o in out)       # their provenance, read with them
     return sorted(out, key=lambda o: (misfit(o["size"], prior), o["id"]))
+
+
+def _rank(row: dict) -> tuple:
+    """A named support before an unnamed one, then the better-scored edge."""
+    return (row.get("support_label") != UNNAMED_LABEL, float(row.get("support_score") or 0.0))
+
+
+def support_phrase(o: dict) -> str:
+    """"on the desk", or for an unnamed support what it looks like, with its top's two sides:
+    "on a grey object 215x85 cm"."""
+    word = "in" if o.get("support_type") == "IN" else "on"
+    if o.get("support_label") != UNNAMED_LABEL:
+        return f"{word} the {o['support_label']}"
+    noun = " ".join(x for x in (o.get("support_colour"), "object") if x)
+    sides = sorted((float(v) for v in (o.get("support_size") or [])[:2]), reverse=True)    # its top
+    size = (" " + "x".join(f"{v * 100:.0f}" for v in sides) + " cm") if len(sides) == 2 else ""
+    return f"{word} {'an' if noun[:1] in 'aeiou' else 'a'} {noun}{size}"
 
 
 def describe(o: dict, with_room: bool = False) -> str:

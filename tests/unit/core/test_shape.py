@@ -111,3 +111,18 @@ def test_the_merge_stores_a_shape_for_unnamed_objects_only():
     assert stored_shape("object", "object", slab, None, BASIS, CENTRE, "box-shaped") == "flat"
     assert stored_shape("keyboard", "object", slab, None, BASIS, CENTRE, None) is None
     assert stored_shape("object", "structure", slab, None, BASIS, CENTRE, None) is None
+
+
+def test_a_box_turned_against_the_rooms_axes_is_no_disc():
+    """Its points never reach the corners of the room-aligned box around it, but do reach those
+    of their own smallest rectangle."""
+    c, s = math.cos(math.pi / 4), math.sin(math.pi / 4)
+    pts = square(32, 0.15)
+    turned = []
+    for k in range(0, len(pts), 3):
+        x, y = pts[k], pts[k + 1]
+        turned += [c * x - s * y, s * x + c * y, 0.2]
+    side = 0.3 * math.sqrt(2)
+    assert shape_class((side, side, 0.40), turned, BASIS, CENTRE) == "box-shaped"
+    # a disc turned anyhow stays one
+    assert shape_class((0.30, 0.30, 0.40), ring(32)[3:] + ring(32)[:3], BASIS, CENTRE) == "round"

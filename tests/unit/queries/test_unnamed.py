@@ -87,3 +87,26 @@ def test_said_with_what_is_known():
         "I have not named a keyboard; an unnamed thing of its size and shape: a flat black object 45x14 cm on the desk"
     assert unnamed.none_named("keyboards", " in the office", [slab, slab]).startswith(
         "0 named keyboards in the office; 2 unnamed things could be one: a flat black object")
+
+
+def test_an_unnamed_support_is_a_surface_when_it_is_wider_and_deeper():
+    slab = (0.45, 0.14, 0.02)
+    assert unnamed.rests_on("object", (1.30, 0.70, 0.74), slab) == {"surface"}       # a desk top no one named
+    assert unnamed.rests_on("object", (0.45, 0.14, 0.30), slab) == {"surface"}       # just as wide and deep
+    assert unnamed.rests_on("object", (0.44, 0.70, 0.30), slab) == {"surface"}       # sides compared sorted
+    assert unnamed.rests_on("object", (0.449, 0.30, 0.30), slab) == set()            # narrower: it is no top
+    assert unnamed.rests_on("object", (0.60, 0.139, 0.30), slab) == set()
+    assert unnamed.rests_on("object", None, slab) == set()
+    assert unnamed.rests_on("desk") == {"surface", "work"} and unnamed.rests_on("shelf") == {"surface"}
+    assert unnamed.rests_on("floor") == {"floor"} and unnamed.rests_on("wall") == set()
+    assert could_be(slab, "flat", "object", KEYBOARD, (1.30, 0.70, 0.74))
+    assert not could_be(slab, "flat", "object", KEYBOARD, (0.30, 0.20, 0.20))
+    laptop = class_typical()["laptop"]                 # an unnamed top is no place one is known to work at
+    assert not could_be((0.34, 0.25, 0.22), "box-shaped", "object", laptop, (1.30, 0.70, 0.74))
+
+
+def test_an_unnamed_support_is_said_by_its_looks():
+    row = {"support_label": "object", "support_type": "ON", "support_colour": "grey", "support_size": [2.15, 0.85, 0.85]}
+    assert unnamed.support_phrase(row) == "on a grey object 215x85 cm"
+    assert unnamed.support_phrase({**row, "support_colour": "orange"}) == "on an orange object 215x85 cm"
+    assert unnamed.support_phrase({"support_label": "sink", "support_type": "IN"}) == "in the sink"
