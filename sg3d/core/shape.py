@@ -35,6 +35,9 @@ from typing import Optional, Sequence
 import numpy as np
 
 FLAT_MAX_M = 0.05
+# Boxes are built from 2.5 cm voxels, so a height of 5 cm comes out as 0.05000000000000002:
+# heights are compared with FLAT_MAX_M give or take this much.
+ROUNDING_M = 1e-6
 FLAT_RATIO = 0.25
 PANEL_RATIO = 0.25
 ROUND_MIN_M = 0.20
@@ -58,7 +61,7 @@ def shape_class(size: Sequence[float], points: Optional[Sequence[float]] = None,
     z, ...) around the box `centre` (world frame): flat, panel, round, tall, box-shaped or None."""
     w, d, h = (float(v) for v in size)
     long_side, short_side = max(w, d), min(w, d)
-    if h <= FLAT_MAX_M and h < FLAT_RATIO * short_side:
+    if h <= FLAT_MAX_M + ROUNDING_M and h < FLAT_RATIO * short_side:
         return "flat"
     if short_side < PANEL_RATIO * long_side and h > short_side:
         return "panel"

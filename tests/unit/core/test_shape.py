@@ -38,6 +38,8 @@ def square(n: int, half: float = 0.15) -> list[float]:
 @pytest.mark.parametrize("size, word", [
     ((0.45, 0.14, 0.02), "flat"),             # a keyboard
     ((0.45, 0.30, 0.05), "flat"),             # at FLAT_MAX_M
+    ((0.45, 0.30, 0.050000000000000024), "flat"),  # two 2.5 cm voxels as a build measures them
+    ((0.45, 0.30, 0.050002), None),
     ((0.45, 0.30, 0.051), None),              # above it: too tall to lie flat, too low for a box
     ((0.10, 0.10, 0.0249), "flat"),           # below FLAT_RATIO of the smaller side
     ((0.10, 0.10, 0.025), None),              # at it: a small cube is no slab
