@@ -30,7 +30,7 @@ import math
 from typing import Optional, Sequence
 
 from sg3d.core.model import UNNAMED_LABEL
-from sg3d.core.shape import SAID
+from sg3d.core.shape import ROUNDING_M, SAID
 from sg3d.queries.vocabulary import ACTIVITIES, LIST_SHOWN
 
 SIZE_FACTOR = 1.5
@@ -74,7 +74,7 @@ def could_be(size: Optional[Sequence[float]], shape: Optional[str], support: Opt
     if not size or len(size) != 3 or support is None:
         return False
     sides = sorted((float(v) for v in size), reverse=True)
-    if any(s <= 0 or not (1 / SIZE_FACTOR <= s / t <= SIZE_FACTOR or abs(s - t) <= SIZE_SLACK_M)
+    if any(s <= 0 or not (1 / SIZE_FACTOR <= s / t <= SIZE_FACTOR or abs(s - t) <= SIZE_SLACK_M + ROUNDING_M)
            for s, t in zip(sides, prior["size"])):
         return False
     if shape not in prior["shapes"]:

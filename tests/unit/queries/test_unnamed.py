@@ -20,6 +20,7 @@ KEYBOARD = {"size": (0.45, 0.15, 0.03), "shapes": ("flat",), "support": "surface
     ((0.45, 0.1001, 0.03), True), ((0.45, 0.0999, 0.03), False),      # ... on the middle one
     ((0.45, 0.2249, 0.03), True), ((0.45, 0.2251, 0.03), False),
     ((0.45, 0.15, 0.0499), True), ((0.45, 0.15, 0.0501), False),      # SIZE_SLACK_M past the factor
+    ((0.45, 0.15, 0.050000000000000024), True),                       # two 2.5 cm voxels, as built
     ((0.45, 0.15, 0.0101), True), ((0.45, 0.15, 0.0099), False),      # on a thin side
     ((0.02, 0.14, 0.45), True),                                       # sides are compared sorted
 ])
