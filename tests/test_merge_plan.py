@@ -133,3 +133,19 @@ def test_a_vanished_mug_that_nothing_resembles_keeps_its_place_seen_empty(embedd
 def test_a_relation_to_an_object_the_graph_lacks_is_refused(embedding):
     with pytest.raises(KeyError):
         plan(graph([obj("a", "cup", (0.0, 0.0, 1.0))], relations=[("a", "ON", "missing", 0.9)]), embedding=embedding)
+
+
+def test_an_unnamed_nodes_shape_follows_its_merged_box(embedding):
+    """The stored shape class is the merged box's (sg3d.core.shape), not the first view's word:
+    a slab seen flat, then with what stands on it, is no longer said to be flat."""
+    first = obj("s", "object", (0.0, 0.0, 0.76), size=(0.45, 0.14, 0.02), colour="black", hist=hist_of({0: 100}))
+    node = stored(first)
+    assert node["shape"] == "flat"
+    again = obj("s", "object", (0.0, 0.0, 0.90), size=(0.45, 0.14, 0.30), colour="black", hist=hist_of({0: 100}))
+    p = plan(graph([again]), [node], embedding=embedding)
+    [row] = p.updates
+    assert row["props"]["size"][2] == pytest.approx(0.30)
+    assert row["props"]["shape"] is None
+    # a named node keeps no shape class
+    cup = stored(obj("c", "cup", (2.0, 0.0, 0.8)))
+    assert cup["shape"] is None

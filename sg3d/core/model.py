@@ -41,8 +41,8 @@ UNNAMED_LABEL = "object"
 # Layers of the graph (spark_dsg's objects and structure): "object" for things in the room,
 # "structure" for the room's floor, walls and large horizontal surfaces (counters, shelves).
 LAYERS = ("object", "structure")
-# Plain shape words for unnamed objects, where the geometry says one.
-SHAPE_WORDS = ("flat", "box-shaped", "tall", "round")
+# Plain shape words for unnamed objects, where the geometry says one (`sg3d.core.shape`).
+SHAPE_WORDS = ("flat", "box-shaped", "tall", "round", "panel")
 
 
 @dataclass

@@ -26,6 +26,7 @@ from sg3d.core.geometry import (
     gravity_basis,
 )
 from sg3d.core.model import UNNAMED_LABEL, LocalGraph, ObjectObservation, ScanInfo
+from sg3d.core.shape import shape_class
 from sg3d.graphdb import rescan
 from sg3d.graphdb.consistency import canonical_rows
 from sg3d.graphdb.similarity import (
@@ -247,9 +248,20 @@ def _as_observation(cand: dict) -> ObjectObservation:
         n_frames=int(cand["n_frames"]), box_centre=cand["box_centre"])
 
 
-def _new_props(obj: ObjectObservation, rid: str, now: float, scan: ScanInfo) -> dict:
+def stored_shape(label: str, layer: str, size, surface, basis: np.ndarray, centre, said: Optional[str]):
+    """The `shape` a node stores: for an unnamed object, the shape class of its (merged) box and
+    the surface points at hand (`sg3d.core.shape.shape_class`); for any other node the word it
+    came with (None: no shape is said of what has a name)."""
+    if label != UNNAMED_LABEL or layer != "object":
+        return said
+    return shape_class(size, surface, basis, centre)
+
+
+def _new_props(obj: ObjectObservation, rid: str, now: float, scan: ScanInfo,
+               basis: Optional[np.ndarray] = None) -> dict:
     mean = [float(v) for v in obj.mean]
     size = [float(v) for v in obj.size]
+    basis = gravity_basis(None) if basis is None else basis
     return {
         "id": f"o-{uuid.uuid4().hex[:16]}", "room": rid,
         "label": obj.label, "labels": list(obj.labels), "scores": [float(s) for s in obj.scores],
@@ -258,7 +270,8 @@ def _new_props(obj: ObjectObservation, rid: str, now: float, scan: ScanInfo) -> 
         "n_points": int(obj.n_points), "size": size, "volume": float(np.prod(size)),
         "box_centre": [float(v) for v in _box_centre(obj)],
         "hist": pack_hist(obj.hist), "colour": obj.colour, "colour2": obj.colour2,
-        "layer": obj.layer, "shape": obj.shape, "named_by": obj.named_by,
+        "layer": obj.layer, "named_by": obj.named_by,
+        "shape": stored_shape(obj.label, obj.layer, size, obj.surface, basis, _box_centre(obj), obj.shape),
         "surface": None if obj.surface is None else [float(v) for v in obj.surface],
         "thumbnail": obj.thumbnail or b"",
         "first_frame": int(obj.first_frame), "last_frame": int(obj.last_frame),
@@ -275,6 +288,8 @@ def _updated_props(cand: dict, obj: ObjectObservation, now: float, basis: np.nda
     hist = combine_histograms(unpack_hist(cand["hist"]), obj.hist)
     centre, size = combine_boxes(_stored_centre(cand), cand["size"],
                              _box_centre(obj), obj.size, basis)
+    # a structure node stays structure
+    layer = "structure" if "structure" in (cand.get("layer"), obj.layer) else "object"
     props = {
         "label": labels[0], "labels": labels, "scores": scores, "score": float(max(scores)),
         "x": float(mean[0]), "y": float(mean[1]), "z": float(mean[2]), "var": [float(v) for v in var],
@@ -283,9 +298,9 @@ def _updated_props(cand: dict, obj: ObjectObservation, now: float, basis: np.nda
         # the dominant colour follows the larger share of the combined histogram's pixels
         "colour": obj.colour if float(np.sum(obj.hist)) > float(np.sum(hist)) / 2 else cand["colour"],
         "colour2": obj.colour2 if float(np.sum(obj.hist)) > float(np.sum(hist)) / 2 else cand.get("colour2"),
-        # a structure node stays structure; a shape word is kept until a view says another
-        "layer": "structure" if "structure" in (cand.get("layer"), obj.layer) else "object",
-        "shape": obj.shape or cand.get("shape"),
+        # an unnamed object's shape follows its merged box (with this view's points)
+        "layer": layer,
+        "shape": stored_shape(labels[0], layer, size, obj.surface, basis, centre, obj.shape or cand.get("shape")),
         # who named it follows the label the node keeps: the shape, while the shape's name leads
         "named_by": obj.named_by if labels[0] == obj.label else cand.get("named_by"),
         # (null would remove the property: a view without surface points keeps the stored ones)
@@ -335,7 +350,7 @@ def plan_merge(graph: LocalGraph, candidates: list[dict], s_pos: Optional[np.nda
             plan.node_ids[obj.local_id] = owner      # a piece of a stored chair is that chair
             plan.claimed += 1
         else:
-            props = _new_props(obj, room, now, scan)
+            props = _new_props(obj, room, now, scan, basis)
             plan.node_ids[obj.local_id] = props["id"]
             plan.creates.append(_appearance_split(props))
             plan.counted.append((props["label"], props["colour"]))

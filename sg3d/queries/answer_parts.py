@@ -24,6 +24,12 @@ class AnswerObject(TypedDict, total=False):
     anchor_label: str
     distance: float
     relations: list[dict[str, Any]]
+    # an unnamed object listed because it could be the asked kind (none of it is named):
+    # that kind, its shape class, box sides and what it rests on ("on the desk")
+    could_be: str
+    shape: Optional[str]
+    size: list[float]
+    support: str
 
 
 class Provenance(TypedDict):

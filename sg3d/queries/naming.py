@@ -24,6 +24,8 @@ from __future__ import annotations
 
 from typing import Iterable, Optional
 
+from sg3d.core.shape import SAID
+
 SUPPORT_TYPES = ("ON", "IN")
 
 
@@ -63,7 +65,7 @@ def looks(o: dict) -> str:
 def describe_unnamed(o: dict) -> str:
     """"flat, about 30x22 cm": an unnamed object's shape word and its two largest box sides."""
     size = sorted((float(v) for v in (o.get("size") or [])), reverse=True)[:2]
-    bits = [o["shape"]] if o.get("shape") else []
+    bits = [SAID.get(o["shape"], o["shape"])] if o.get("shape") else []
     if len(size) == 2:
         bits.append("about " + "x".join(f"{v * 100:.0f}" for v in size) + " cm")
     return ", ".join(bits)

@@ -599,8 +599,8 @@ def _planned(question: str, q: Query, outcome, run: _Run, room, building, seen, 
         return Answer(question, False, "the store holds no scene graph yet: build one first (sg3d build ...)",
                       query=q, steps=run.steps)
     result.question, result.query, result.logical, result.plan = question, q, outcome.form, "templates"
-    result.provenance = _provenance(run, result, q, rooms)
     _honest_absence(run, result, q, rooms)
+    result.provenance = _provenance(run, result, q, rooms)
     result.steps = run.steps
     result.text += _understood(q, notes + run.notes + _which(q, result))
     return result
@@ -608,7 +608,7 @@ def _planned(question: str, q: Query, outcome, run: _Run, room, building, seen, 
 
 def _which(q: Query, a: Answer) -> list[str]:
     """"where is the cup" when three cups match: the answer gives each and asks which was meant."""
-    many = [o for o in a.objects if isinstance(o, dict) and o.get("id")]
+    many = [o for o in a.objects if isinstance(o, dict) and o.get("id") and not o.get("could_be")]
     if not q.one or q.form not in ("where", "attribute") or len(many) < 2:
         return []
     noun = q.target.names[0] if len(q.target.names) == 1 else "object"
@@ -738,7 +738,32 @@ def _honest_absence(run: _Run, a: Answer, q: Query, rooms) -> None:
         place = f" in the {q.room}" if q.room else ""
         a.text = f"I have not found {article} {what}{place} ({ABSENT})"
         a.absent_evidence = True
+        if t is q.target:
+            _could_be(run, a, q, rooms, place)
         return
+
+
+def _could_be(run: _Run, a: Answer, q: Query, rooms, place: str) -> None:
+    """None of the asked kind is named: "is there", "how many" and "where is" list the unnamed
+    objects that could be one (sg3d/queries/unnamed.py), said as unnamed; the objects stay so.
+    The value stays what was named (False, 0, []), with absent_evidence, as for any absence."""
+    from sg3d.queries import unnamed
+
+    t = q.target
+    labels = t.labels or []
+    if a.form not in ("exists", "count", "where") or q.anchor is not None or q.size or len(labels) != 1 \
+            or len(t.names) != 1:
+        return
+    found = unnamed.candidates(run, labels[0], rooms, q.colour)
+    if not found:
+        return
+    what = " ".join(x for x in (q.colour, t.names[0]) if x)
+    if a.form == "count":
+        a.text = unnamed.none_named(plural(what), place, found)
+    else:
+        a.text = unnamed.not_named(what, place, found)
+    a.objects = [cast(AnswerObject, {**_brief(o), "shape": o.get("shape"), "size": o.get("size"),
+                                     "support": o["support"], "could_be": o["could_be"]}) for o in found[:LIST_SHOWN]]
 
 
 def _nothing(a: Answer) -> bool:

@@ -73,6 +73,16 @@ def class_sizes() -> dict[str, tuple[float, float]]:
     return {k: (float(v[0]), float(v[1])) for k, v in data["sizes"].items()}
 
 
+@lru_cache(maxsize=1)
+def class_typical() -> dict[str, dict]:
+    """Per class, a typical object as it lies in a room (`data/class_sizes.json`, "typical"):
+    {size: box sides sorted largest first, shapes: shape classes its box may take (None: none
+    fits), support: surface | work | floor | any}. Classes not listed have none."""
+    data = json.loads(CLASS_SIZES_FILE.read_text(encoding="utf-8"))
+    return {k: {"size": tuple(float(x) for x in v["size"]), "shapes": tuple(v["shapes"]), "support": v["support"]}
+            for k, v in data.get("typical", {}).items()}
+
+
 _SAME = object()
 Size = Union[Sequence[float], np.ndarray]
 
