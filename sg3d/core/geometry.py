@@ -3,6 +3,7 @@ furniture that stand on the floor, and the part-of-furniture rules both a build
 (`sg3d.ingest.discover`) and the merge of a later scan (`sg3d.graphdb.merge_plan`) apply."""
 from __future__ import annotations
 
+import math
 from typing import Optional
 
 import numpy as np
@@ -19,19 +20,34 @@ FLOOR_STANDING_LABELS = frozenset({
 SOLID_TO_THE_FLOOR = frozenset({"refrigerator", "oven"})
 
 
+# Decimals a value keeps where one stage of a build hands it to the next (`fixed_precision`):
+# positions and sizes in metres (1 um), directions (unit vectors).
+METRES_DECIMALS = 6
+DIRECTION_DECIMALS = 12
+
+
+def fixed_precision(values: ArrayLike, decimals: int = METRES_DECIMALS) -> np.ndarray:
+    """Rule "a fixed precision between stages": `values` rounded to `decimals` decimals. Another
+    CPU's kernels (BLAS, SIMD) or another thread split change a float's last bits; rounded where a
+    stage hands it on, the next stage gets the same number on every machine (unless it lies within
+    those bits of a rounding boundary: about one value in 1e8)."""
+    return np.round(np.asarray(values, dtype=np.float64), decimals) + 0.0   # + 0.0: no -0.0
+
+
 def horizontal_basis(up: ArrayLike) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """A right-handed orthonormal frame (e1, e2, up) with e1, e2 horizontal.
 
     e1 is the world x axis made horizontal (world y if x is nearly vertical), so the same
-    `up` always gives the same frame: sizes computed by other modules in this frame agree.
+    `up` always gives the same frame: sizes computed by other modules in this frame agree. The
+    vectors are kept to DIRECTION_DECIMALS (`fixed_precision`), so they are the same on any CPU.
     """
     u = np.asarray(up, dtype=np.float64)
-    u = u / np.linalg.norm(u)
+    u = u / math.hypot(*(float(v) for v in u))
     seed = np.array([1.0, 0.0, 0.0]) if abs(u[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
-    e1 = seed - seed.dot(u) * u
-    e1 /= np.linalg.norm(e1)
+    e1 = seed - float(seed[0] * u[0] + seed[1] * u[1] + seed[2] * u[2]) * u
+    e1 /= math.hypot(*(float(v) for v in e1))
     e2 = np.cross(u, e1)
-    return e1, e2, u
+    return tuple(fixed_precision(v, DIRECTION_DECIMALS) for v in (e1, e2, u))  # type: ignore[return-value]
 
 
 def horizontal_frame(up: ArrayLike) -> np.ndarray:

@@ -31,7 +31,7 @@ from typing import Callable, Optional, Sequence
 
 import numpy as np
 
-from sg3d.core.geometry import horizontal_frame
+from sg3d.core.geometry import METRES_DECIMALS, fixed_precision, horizontal_frame
 from sg3d.core.model import (
     KnownObject,
     LocalGraph,
@@ -343,6 +343,20 @@ def discover_from_depth(colour_of: Callable[[int], Optional[np.ndarray]], views,
     return unnamed + nodes
 
 
+def at_fixed_precision(o: ObjectObservation) -> ObjectObservation:
+    """An object's geometry (mean, variance, size, box centre, surface sample) as the graph
+    keeps it, to a fixed precision (`sg3d.core.geometry.fixed_precision`): what relations,
+    the merge and the store see is the same on any CPU. Changed in place, returned."""
+    o.mean = vec3(fixed_precision(o.mean))
+    o.var = vec3(fixed_precision(o.var, 2 * METRES_DECIMALS))
+    o.size = vec3(fixed_precision(o.size))
+    if o.box_centre is not None:
+        o.box_centre = vec3(fixed_precision(o.box_centre))
+    if o.surface is not None:
+        o.surface = tuple(float(v) for v in fixed_precision(o.surface))
+    return o
+
+
 def _centre(o: ObjectObservation) -> tuple[float, float, float]:
     """The centre of an object's box (its Gaussian mean where no box was measured)."""
     return o.box_centre if o.box_centre is not None else o.mean
@@ -421,6 +435,7 @@ def graph_of_evidence(sightings: list[fusion.Sighting], views: list[existence.Vi
         objects += (discover or discover_from_depth)(colour_of, views, objects, up, floor, stats)
         by_id = {k: h for k, h in by_id.items() if k in {o.local_id for o in objects}}   # discovery may drop a misreading
         stats.seconds["discovery"] += time.perf_counter() - t0
+    objects = [at_fixed_precision(o) for o in objects]
     t0 = time.perf_counter()
     relations = _relations(by_id, objects, up, method) if method.three_d else []
     stats.seconds["relations"] += time.perf_counter() - t0

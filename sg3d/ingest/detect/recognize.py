@@ -124,7 +124,8 @@ def fuse_with_classifier(detection: Detection, imagenet: list[tuple[str, float]]
     from_detector = dict(zip(detection.labels, detection.scores))
     fused = {label: 1.0 - (1.0 - from_detector.get(label, 0.0)) * (1.0 - weight * min(1.0, from_classifier.get(label, 0.0)))
              for label in set(from_detector) | set(from_classifier)}
-    ranked = sorted(fused.items(), key=lambda kv: -kv[1])[:top_k]
+    # ties by label: the set's order changes with the process's hash seed
+    ranked = sorted(fused.items(), key=lambda kv: (-kv[1], kv[0]))[:top_k]
     return Detection(detection.box, [k for k, _ in ranked], [v for _, v in ranked], detection.full_frame)
 
 

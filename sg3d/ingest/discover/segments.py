@@ -170,12 +170,19 @@ def voxel_segments(cloud: RoomCloud, mask: np.ndarray, too_big: Optional[list] =
     return out
 
 
+# The voxel coordinates a sample's seed is made of are rounded to this (metres): far above the
+# last-bit differences another CPU's kernels or thread split leave in them, far below a voxel.
+SEED_GRID_M = 1e-4
+
+
 def voxel_sample(voxels: np.ndarray, n: int = SAMPLE_VOXELS) -> np.ndarray:
-    """Up to `n` of a segment's voxels, drawn by a generator seeded from the voxels themselves:
-    the same segment gets the same sample whatever else the room holds."""
+    """Up to `n` of a segment's voxels, drawn by a generator seeded from the voxels themselves
+    (their coordinates rounded to SEED_GRID_M): the same segment gets the same sample whatever
+    else the room holds, and on any machine."""
     if len(voxels) <= n:
         return voxels
-    rng = np.random.default_rng(zlib.crc32(np.ascontiguousarray(voxels).tobytes()))
+    cells = np.rint(np.asarray(voxels, np.float64) / SEED_GRID_M).astype("<i8")
+    rng = np.random.default_rng(zlib.crc32(np.ascontiguousarray(cells).tobytes()))
     return voxels[rng.choice(len(voxels), n, replace=False)]
 
 

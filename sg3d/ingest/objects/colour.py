@@ -102,6 +102,8 @@ CAST_SAMPLES = 1200
 # (a quarter: a clear part, not the noise at its edges) and it is not merely a shade of the
 # first: light and shadow move a surface between neighbouring achromatic terms.
 SECOND_MIN_SHARE = 0.25
+# Mean shares are compared to this many decimals (`vote`).
+SHARE_DECIMALS = 9
 SHADES = {frozenset(("white", "grey")), frozenset(("grey", "black"))}
 LUT_LEVELS = 32
 # Camera pixels of surfaces are duller than the survey's colours, which people named on
@@ -559,7 +561,8 @@ def vote(readings: Sequence[ColourReading], weights: Optional[Sequence[float]] =
 
     Each view's term shares are averaged with its weight (how well it sees the object); the
     largest mean share names the object, the next one is its second colour when it covers at
-    least SECOND_MIN_SHARE and is not a shade of the first (SHADES). Confidence: the weighted share of views whose own colour is the
+    least SECOND_MIN_SHARE and is not a shade of the first (SHADES). Shares equal to SHARE_DECIMALS
+    are a tie, won by the name earlier in COLOUR_NAMES. Confidence: the weighted share of views whose own colour is the
     winner (1.0 when every good view agrees)."""
     if not readings:
         return "grey", None, 0.0
@@ -567,7 +570,9 @@ def vote(readings: Sequence[ColourReading], weights: Optional[Sequence[float]] =
     if w.sum() <= 0:
         w = np.ones(len(readings))
     shares = np.array([r.shares for r in readings], np.float64)
-    mean = (w[:, None] * shares).sum(axis=0) / w.sum()
+    # to a fixed precision: shares equal but for their last bits (a white and a grey view of equal
+    # weight) are a tie, and a tie goes to the name earlier in COLOUR_NAMES, not to rounding noise
+    mean = np.round((w[:, None] * shares).sum(axis=0) / w.sum(), SHARE_DECIMALS)
     first, second = np.argsort(-mean, kind="stable")[:2]
     name, other = COLOUR_NAMES[first], COLOUR_NAMES[second]
     confidence = float(sum(wi for wi, r in zip(w, readings) if r.name == name) / w.sum())

@@ -24,6 +24,7 @@ from typing import Iterable, Optional
 
 import numpy as np
 
+from sg3d.core.geometry import DIRECTION_DECIMALS, fixed_precision
 from sg3d.core.model import vec3
 from sg3d.ingest.readers.frames import Frame, FrameError
 
@@ -121,8 +122,11 @@ def estimate_gravity(frames: Iterable[Frame], stride: int = GRID_STRIDE) -> Grav
             if converged:
                 break
         used = int(np.count_nonzero(cand @ up > cos_refine))
+    # kept to a fixed precision (`fixed_precision`): every later stage measures in this frame,
+    # and another CPU's BLAS leaves other last bits in `up`
+    up = fixed_precision(up, DIRECTION_DECIMALS)
     floor = _floor_height(P, N, up, frames)
-    return Gravity(vec3(up), floor, vec3(prior), used)
+    return Gravity(vec3(up), None if floor is None else float(fixed_precision(floor)), vec3(prior), used)
 
 
 def _floor_height(P: np.ndarray, N: np.ndarray, up: np.ndarray, frames: list[Frame]) -> Optional[float]:

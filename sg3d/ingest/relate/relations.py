@@ -54,7 +54,7 @@ from typing import Optional, Sequence
 
 import numpy as np
 
-from sg3d.core.geometry import FLOOR_STANDING_LABELS, horizontal_frame
+from sg3d.core.geometry import FLOOR_STANDING_LABELS, fixed_precision, horizontal_frame
 from sg3d.core.model import UNNAMED_LABEL, ObjectObservation, RelationObservation, vec3
 from sg3d.core.relation_rules import edges_of, statement_of
 
@@ -149,8 +149,10 @@ class _Box:
     def __init__(self, geom: ObjectGeometry, R: np.ndarray):
         self.id = geom.local_id
         self.label = geom.label
-        self.c = R @ np.asarray(geom.center, dtype=np.float64)
-        self.s = np.maximum(np.asarray(geom.size, dtype=np.float64), MIN_EXTENT)
+        # to a fixed precision: boxes found from depth are whole voxels, so their gaps land exactly
+        # on limits such as BASE_TOLERANCE, and which side they fall must not be the CPU's choice
+        self.c = fixed_precision(R @ np.asarray(geom.center, dtype=np.float64))
+        self.s = fixed_precision(np.maximum(np.asarray(geom.size, dtype=np.float64), MIN_EXTENT))
         self.lo = self.c - self.s / 2
         self.hi = self.c + self.s / 2
 

@@ -45,6 +45,13 @@ def test_a_segments_voxel_sample_depends_on_its_voxels_only():
     assert not np.array_equal(first, voxel_sample(voxels[1:]))
     assert np.array_equal(voxel_sample(voxels[:10]), voxels[:10])
 
+
+def test_a_segments_voxel_sample_does_not_change_with_the_last_bit_of_its_coordinates():
+    # another CPU's BLAS kernel or thread split moves a voxel centre by an ulp: the same sample
+    voxels = np.random.default_rng(4).uniform(0, 2, (500, 3))
+    assert np.array_equal(voxel_sample(np.nextafter(voxels, 9.0)), np.nextafter(voxel_sample(voxels), 9.0))
+    assert not np.array_equal(voxel_sample(voxels), voxel_sample(voxels + 0.001))
+
 # --------------------------------------------------------------------------- each threshold, on both sides
 
 def test_an_object_is_5_cm_to_2_5_m_large():                          # MIN_EXTENT_M, MAX_EXTENT_M

@@ -310,3 +310,10 @@ def test_shading_darkens_a_surface_four_times_at_most():                  # SHAD
 def test_an_object_has_three_achromatic_surfaces_at_most():               # MAX_SHADING_GROUPS
     four = np.array([0.8 / 4.5 ** k for k in (3, 2, 1, 0) for _ in range(25)])
     assert C.shading_groups(four) == [(75, 100), (50, 75), (0, 50)]
+
+
+def test_a_vote_tied_but_for_the_last_bits_goes_to_the_earlier_colour_name():   # SHARE_DECIMALS
+    white, grey = C.ColourReading.single("white"), C.ColourReading.single("grey")
+    # weights 0.1 + 0.2 and 0.3 are equal views; their float sum differs in the last bit
+    assert C.vote([grey, white], [0.1 + 0.2, 0.3])[0] == C.vote([white, grey], [0.1 + 0.2, 0.3])[0] == "white"
+    assert C.vote([grey, white], [0.3 + 1e-8, 0.3])[0] == "grey"

@@ -529,3 +529,26 @@ def test_boxes_thinner_than_2_cm_are_padded_to_2_cm():           # MIN_EXTENT
                 box("p2", "paper", (3.0, 0.0, 0.0), (3.3, 0.2, t2))]
     assert not any(k[1] == "BIGGER_THAN" for k in rels(sheets(0.015, 0.001)))   # both read 2 cm
     assert ("p1", "BIGGER_THAN", "p2") in rels(sheets(0.031, 0.019))            # 3.1 cm vs 2 cm
+
+
+def test_a_gap_exactly_at_a_limit_falls_on_one_side_whatever_its_last_bits():   # fixed_precision
+    # boxes found from depth are whole 2.5 cm voxels: bottoms 0.15 m apart sit on BASE_TOLERANCE,
+    # and another CPU's kernels leave other last bits in their centres
+    def pair(nudge):
+        a = ObjectGeometry("a", "object", (0.0, 0.0, np.nextafter(0.275, nudge)), (0.2, 0.2, 0.55))
+        b = ObjectGeometry("b", "object", (0.3, 0.0, 0.25), (0.2, 0.2, 0.2))
+        return rels([a, b], up=np.nextafter(np.array(UP), nudge))
+    assert pair(-1.0) == pair(2.0)
+
+
+def test_the_horizontal_frame_does_not_change_with_the_last_bits_of_up():
+    up = np.array([0.0057479404968467694, -0.9051718177927078, -0.42500698988827196])
+    for a, b in zip(horizontal_basis(up), horizontal_basis(np.nextafter(up, 1.0))):
+        assert np.array_equal(a, b)
+
+
+def test_a_stage_hands_on_metres_to_the_micrometre():            # METRES_DECIMALS
+    from sg3d.core.geometry import fixed_precision
+
+    assert fixed_precision(np.nextafter(0.15, 1.0)) == fixed_precision(np.nextafter(0.15, 0.0)) == 0.15
+    assert fixed_precision(0.1500004) == 0.15 and fixed_precision(0.1500006) == 0.150001
