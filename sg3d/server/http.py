@@ -36,7 +36,15 @@ from sg3d.app.errors import AppError, NotFound, Refused
 from sg3d.app.stores import StoreHandle
 from sg3d.server import schemas
 from sg3d.server.auth import token_matches
-from sg3d.server.dispatch import LONG_TIMEOUT_S, QUICK_TIMEOUT_S, RETRY_AFTER_S, Dispatcher, StoreUnavailable
+from sg3d.server.dispatch import (
+    LONG_TIMEOUT_S,
+    MAX_WORKERS,
+    QUICK_TIMEOUT_S,
+    RETRY_AFTER_S,
+    Dispatcher,
+    StoreUnavailable,
+    Workers,
+)
 from sg3d.server.guard import TOKEN_HINT, Guard
 from sg3d.server.schemas import ROUTE_ERRORS
 from sg3d.server.watch import STOPPED, UP, StoreWatch
@@ -165,10 +173,11 @@ def validation_details(errors) -> list[dict]:
 
 def create_app(settings, token: str, handle: Optional[StoreHandle] = None,
                max_body: int = bounds.DEFAULT_MAX_BODY, quick_timeout_s: float = QUICK_TIMEOUT_S,
-               long_timeout_s: float = LONG_TIMEOUT_S) -> FastAPI:
+               long_timeout_s: float = LONG_TIMEOUT_S, max_workers: int = MAX_WORKERS) -> FastAPI:
     """The FastAPI application for `settings`' store; `token` is the bearer token callers send;
     request bodies above `max_body` bytes are refused (413) before they are read; a read that has
-    not answered within `quick_timeout_s` (a plan, export or ingest: `long_timeout_s`) is a 503."""
+    not answered within `quick_timeout_s` (a plan, export or ingest: `long_timeout_s`) is a 503;
+    at most `max_workers` calls run at once (more wait their turn, within their deadline)."""
     stores = handle or StoreHandle(settings)
     api = FastAPI(title="sg3d", version=__version__,
                   description="3-D scene graphs of rooms: ask, plan, list rooms and objects, export, ingest.")
@@ -182,7 +191,7 @@ def create_app(settings, token: str, handle: Optional[StoreHandle] = None,
 
     _add_error_handlers(api, settings)
     watch = StoreWatch(settings, restart=lambda: _reconnect(stores))
-    calls = Dispatcher(watch, quick_timeout_s=quick_timeout_s, long_timeout_s=long_timeout_s)
+    calls = Dispatcher(watch, Workers(max_workers), quick_timeout_s=quick_timeout_s, long_timeout_s=long_timeout_s)
     _add_health_route(api, stores, settings, calls, watch)
     auth = [Depends(authorised)]
     _add_read_routes(api, stores, calls, auth)
