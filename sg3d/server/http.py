@@ -22,6 +22,7 @@ from fastapi import Depends, FastAPI, HTTPException, Query, Request
 from fastapi import Path as PathParam
 from fastapi.exceptions import RequestValidationError
 from fastapi.responses import Response
+from fastapi.routing import APIRoute
 from pydantic import BaseModel, ConfigDict, Field
 
 from sg3d import __version__
@@ -45,7 +46,7 @@ from sg3d.server.dispatch import (
     StoreUnavailable,
     Workers,
 )
-from sg3d.server.guard import TOKEN_HINT, Guard
+from sg3d.server.guard import PARSED, TOKEN_HINT, Guard
 from sg3d.server.schemas import ROUTE_ERRORS
 from sg3d.server.watch import STOPPED, UP, StoreWatch
 
@@ -81,6 +82,27 @@ class PlanBody(BaseModel):
     building: Optional[str] = Field(None, max_length=NAME_CHARS)
     start: Optional[str] = Field(None, max_length=bounds.MAX_ID_CHARS,
                                  description="where the robot starts (a surface or receptacle name)")
+
+
+class _ParsedRequest(Request):
+    """A request whose JSON body the door (`Guard`) parsed already, in a worker thread: FastAPI
+    would parse it a second time, on the event loop."""
+
+    async def json(self) -> Any:
+        if PARSED in self.scope:
+            return self.scope[PARSED]
+        return await super().json()
+
+
+class _Route(APIRoute):
+    """FastAPI's route, handing the endpoint a `_ParsedRequest`."""
+
+    def get_route_handler(self):
+        handler = super().get_route_handler()
+
+        async def handle(request: Request) -> Response:
+            return await handler(_ParsedRequest(request.scope, request.receive))
+        return handle
 
 
 def _status(exc: AppError) -> int:
@@ -181,7 +203,7 @@ def create_app(settings, token: str, handle: Optional[StoreHandle] = None,
     stores = handle or StoreHandle(settings)
     api = FastAPI(title="sg3d", version=__version__,
                   description="3-D scene graphs of rooms: ask, plan, list rooms and objects, export, ingest.")
-    api.add_middleware(Guard, token=token, max_body=max_body)
+    api.router.route_class = _Route
 
     async def authorised(request: Request) -> None:
         # the Guard has checked already; this keeps the requirement visible in the OpenAPI document
@@ -196,6 +218,9 @@ def create_app(settings, token: str, handle: Optional[StoreHandle] = None,
     auth = [Depends(authorised)]
     _add_read_routes(api, stores, calls, auth)
     _add_write_routes(api, stores, calls, auth)
+    # only the routes that take a body are sent one (the rest refuse it before it is read)
+    body_paths = frozenset(r.path for r in api.routes if isinstance(r, APIRoute) and r.methods & {"POST", "PUT", "PATCH"})
+    api.add_middleware(Guard, token=token, max_body=max_body, body_paths=body_paths)
     api.state.stores = stores
     api.state.watch = watch
     return api
