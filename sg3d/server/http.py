@@ -15,6 +15,7 @@ JSON encoded once (`json_response`, where the call ran), which FastAPI sends as 
 """
 from __future__ import annotations
 
+import logging
 from pathlib import Path
 from typing import Any, Literal, Optional
 
@@ -49,6 +50,8 @@ from sg3d.server.dispatch import (
 from sg3d.server.guard import PARSED, TOKEN_HINT, Guard
 from sg3d.server.schemas import ROUTE_ERRORS
 from sg3d.server.watch import STOPPED, UP, StoreWatch
+
+_log = logging.getLogger("sg3d.server")
 
 # names a request may carry: a room or building name, or a building/room id
 NAME_CHARS = app_ask.MAX_SCOPE_CHARS
@@ -220,6 +223,7 @@ def create_app(settings, token: str, handle: Optional[StoreHandle] = None,
     _add_write_routes(api, stores, calls, auth)
     # only the routes that take a body are sent one (the rest refuse it before it is read)
     body_paths = frozenset(r.path for r in api.routes if isinstance(r, APIRoute) and r.methods & {"POST", "PUT", "PATCH"})
+    api.add_middleware(Failures, settings=settings)
     api.add_middleware(Guard, token=token, max_body=max_body, body_paths=body_paths)
     api.state.stores = stores
     api.state.watch = watch
@@ -253,10 +257,42 @@ def _add_error_handlers(api: FastAPI, settings) -> None:
     from sg3d.graphdb.embedded import EmbeddedStoreError
     from sg3d.graphdb.store import StatementTooLarge
 
-    # the failures sg3d names itself are answered as they are; any other exception also reaches
-    # the server's log (Starlette re-raises what the catch-all handler answered)
-    for known in (StoreUnavailable, EmbeddedStoreError, StatementTooLarge, Exception):
+    # the failures sg3d names itself are answered as they are; any other one by `Failures`
+    for known in (StoreUnavailable, EmbeddedStoreError, StatementTooLarge):
         api.add_exception_handler(known, _store_error)
+
+
+class Failures:
+    """ASGI middleware for a failure no handler names: it is logged with its traceback and
+    answered by `store_failure` (503, 507, 500, ...), and the exchange then ends normally, so the
+    kept-alive connection serves the client's next request. (Starlette's catch-all handler answers
+    and then re-raises, and uvicorn closes the connection of an exception raised after its answer:
+    the client's next request on it met a reset.)"""
+
+    def __init__(self, app, settings):
+        self.app = app
+        self.settings = settings
+
+    async def __call__(self, scope, receive, send):
+        if scope["type"] != "http":
+            return await self.app(scope, receive, send)
+        started = False
+
+        async def sending(message):
+            nonlocal started
+            started = started or message["type"] == "http.response.start"
+            await send(message)
+
+        try:
+            await self.app(scope, receive, sending)
+        except Exception as exc:
+            _log.error("%s %s failed", scope.get("method"), str(scope.get("path"))[:200], exc_info=exc)
+            if started:         # half an answer went: the connection cannot carry another
+                raise
+            status, detail, headers = store_failure(exc, self.settings)
+            response = json_response({"detail": detail}, status_code=status)
+            response.headers.update(headers)
+            await response(scope, receive, send)
 
 
 DISK_FULL = "disk full"
