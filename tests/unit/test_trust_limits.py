@@ -254,3 +254,17 @@ def test_a_stuck_call_is_replaced_and_its_thread_ends_when_it_returns():
         time.sleep(0.02)
     assert workers._threads == 1 and workers._stuck == 0
     assert workers.submit(lambda: 9).future.result(5) == 9
+
+
+def test_listing_filters_are_bounded_on_both_sides():
+    from sg3d.app.ask import MAX_SCOPE_CHARS
+    from sg3d.app.bounds import MAX_LABEL_CHARS
+    from sg3d.app.rooms import filter_problem
+
+    for what, limit in (("label", MAX_LABEL_CHARS), ("colour", MAX_LABEL_CHARS), ("building", MAX_SCOPE_CHARS),
+                        ("room", MAX_SCOPE_CHARS)):
+        assert filter_problem(**{what: "x" * limit}) is None
+        assert filter_problem(**{what: "x" * (limit + 1)}) == f"{what} is {limit + 1} characters; at most {limit}"
+        assert filter_problem(**{what: 5}) == f"{what} must be a text"
+    assert MAX_LABEL_CHARS == 64 and MAX_SCOPE_CHARS == 201
+    assert filter_problem() is None
