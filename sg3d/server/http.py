@@ -222,7 +222,8 @@ def create_app(settings, token: str, handle: Optional[StoreHandle] = None,
     _add_read_routes(api, stores, calls, auth)
     _add_write_routes(api, stores, calls, auth)
     # only the routes that take a body are sent one (the rest refuse it before it is read)
-    body_paths = frozenset(r.path for r in api.routes if isinstance(r, APIRoute) and r.methods & {"POST", "PUT", "PATCH"})
+    body_paths = frozenset(r.path for r in api.routes
+                           if isinstance(r, APIRoute) and (r.methods or set()) & {"POST", "PUT", "PATCH"})
     api.add_middleware(Failures, settings=settings)
     api.add_middleware(Guard, token=token, max_body=max_body, body_paths=body_paths)
     api.state.stores = stores
