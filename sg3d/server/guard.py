@@ -13,6 +13,7 @@ without parsing it again (`sg3d.server.http`'s request class).
 from __future__ import annotations
 
 import json
+from typing import Optional
 
 import anyio
 
@@ -29,7 +30,7 @@ def _reject_constant(name: str):
     raise ValueError(f"{name} is not a JSON number")
 
 
-def parse_json(body: bytes) -> tuple[object, "str | None"]:
+def parse_json(body: bytes) -> tuple[object, Optional[str]]:
     """(the parsed value, None) for acceptable JSON, else (None, why not): strict JSON nested at
     most `bounds.MAX_JSON_DEPTH` deep."""
     try:
@@ -43,7 +44,7 @@ def parse_json(body: bytes) -> tuple[object, "str | None"]:
     return value, None
 
 
-def _joined_and_parsed(chunks: list[bytes]) -> tuple[bytes, object, "str | None"]:
+def _joined_and_parsed(chunks: list[bytes]) -> tuple[bytes, object, Optional[str]]:
     body = b"".join(chunks)
     return (body, *parse_json(body))
 
