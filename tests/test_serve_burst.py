@@ -57,3 +57,21 @@ def test_every_call_runs_after_a_burst_past_the_pool_and_a_quiet_spell(small_poo
     assert statuses == [200] * AFTER, f"{AFTER - statuses.count(200)} of {AFTER} calls unanswered after the quiet"
     assert max(t for _, t in after) < QUICK_S
     assert _pool_threads() >= kept           # the pool's threads are kept through the quiet
+
+
+async def _health_all(url: str, n: int) -> list[int]:
+    """`n` concurrent GET /health, each on its own connection: the statuses."""
+    async with httpx.AsyncClient(base_url=url, timeout=60,
+                                 limits=httpx.Limits(max_connections=None, max_keepalive_connections=0)) as c:
+        replies = await asyncio.gather(*(c.get("/health") for _ in range(n)))
+    return [r.status_code for r in replies]
+
+
+def test_a_burst_of_health_checks_finds_the_store_up(served, store):
+    """Each /health looks at the store's Bolt port (the default pool: 64 at a time); 200 at once
+    had the port's accept queue overflow, read the store as down and reconnect under the other
+    calls."""
+    url, _ = served
+    for _ in range(2):
+        statuses = asyncio.run(_health_all(url, 200))
+        assert statuses == [200] * 200, f"{200 - statuses.count(200)} of 200 not 200: {sorted(set(statuses))}"
