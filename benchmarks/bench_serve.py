@@ -6,6 +6,11 @@ ratio, measured in the same run), then C concurrent clients x Q questions each (
     python -m benchmarks.bench_serve                       # scratch store, builds the real kitchen
     python -m benchmarks.bench_serve --home DIR --room kitchen   # a store you built already
     python -m benchmarks.bench_serve --tiny                # scratch store, a 10-object kitchen via /ingest
+    python -m benchmarks.bench_serve --tiny --trust        # only the service's trust figures (below)
+
+--trust: a burst of 200 concurrent POST /ask (`--call health`: GET /health), 65 s of quiet
+(`--quiet-s`), then 100 concurrent calls: answered and p95 of each; then GET /health from one client, alone and while another
+client POSTs a 15 MB body to /health without a token in a loop: p50/p95/max of each.
 
 The server is the real command (`python -m sg3d serve`) in its own process; clients are httpx
 (an asyncio client per simulated robot, each with its own connection) in this process.
@@ -17,10 +22,12 @@ import asyncio
 import http.client
 import json
 import os
+import socket
 import statistics
 import subprocess
 import sys
 import tempfile
+import threading
 import time
 from pathlib import Path
 
@@ -135,8 +142,103 @@ async def crowd(url: str, token: str, room: str, clients: int, per_client: int) 
     return done, errors, time.perf_counter() - t0, ms
 
 
+async def calls_at_once(url: str, token: str, room: str, n: int, call: str = "ask") -> tuple[int, list[float]]:
+    """`n` concurrent calls, each on its own connection: POST /ask (`call` "ask") or GET /health
+    (each runs its store call in the service's worker pool): (how many were answered 200, ms each)."""
+    async def one(c: httpx.AsyncClient, i: int) -> tuple[bool, float]:
+        t0 = time.perf_counter()
+        try:
+            if call == "ask":
+                r = await c.post("/ask", json={"question": QUESTIONS[i % len(QUESTIONS)], "room": room})
+            else:
+                r = await c.get("/health")
+            ok = r.status_code == 200
+        except httpx.HTTPError:
+            ok = False
+        return ok, (time.perf_counter() - t0) * 1000
+
+    # one client, one connection per call (no pool limit): the client's own cost stays small
+    async with httpx.AsyncClient(base_url=url, headers={"Authorization": f"Bearer {token}"}, timeout=400,
+                                 limits=httpx.Limits(max_connections=None, max_keepalive_connections=0)) as c:
+        done = await asyncio.gather(*(one(c, i) for i in range(n)))
+    return sum(ok for ok, _ in done), [ms for _, ms in done]
+
+
+def burst_then_quiet(url: str, token: str, room: str, burst: int, quiet_s: float, after: int,
+                     call: str = "ask") -> bool:
+    """A burst of `burst` concurrent calls, `quiet_s` of nothing, then `after` concurrent calls;
+    prints answered and p95 of each; True when every call was answered."""
+    what = "POST /ask" if call == "ask" else "GET /health"
+    asyncio.run(calls_at_once(url, token, room, 1, call))     # warm-up: the label model, taxonomy, connections
+    answered, ms = asyncio.run(calls_at_once(url, token, room, burst, call))
+    print(f"burst: {burst} concurrent {what}: {answered} answered, p95 {pct(ms, 95):.0f} ms", flush=True)
+    time.sleep(quiet_s)
+    answered_after, ms = asyncio.run(calls_at_once(url, token, room, after, call))
+    print(f"after {quiet_s:g} s of quiet: {after} concurrent {what}: {answered_after} answered, "
+          f"p95 {pct(ms, 95):.0f} ms, max {max(ms):.0f} ms", flush=True)
+    return answered == burst and answered_after == after
+
+
+def post_raw(url: str, path: str, body: bytes) -> int:
+    """POST `body` to `path` without a token on a fresh connection: the reply's status (0: none)."""
+    host, _, port = url.removeprefix("http://").partition(":")
+    head = (f"POST {path} HTTP/1.1\r\nHost: {host}\r\nContent-Type: application/json\r\n"
+            f"Content-Length: {len(body)}\r\n\r\n").encode()
+    with socket.create_connection((host, int(port)), timeout=120) as sock:
+        try:
+            sock.sendall(head + body)
+        except OSError:
+            pass                      # answered and closed before the whole body went
+        try:
+            reply = sock.recv(4096)
+        except OSError:
+            return 0
+    return int(reply.split()[1]) if reply.startswith(b"HTTP/") else 0
+
+
+def health_under_flood(url: str, seconds: float, mb: int) -> None:
+    """GET /health every 50 ms from one client for `seconds`, alone and then while another client
+    POSTs `mb` MB of JSON to /health without a token in a loop: p50/p95/max of each."""
+    body = b"[" + b"1," * (mb * 500_000 - 1) + b"1]"
+    failed = [0]
+
+    def sample() -> list[float]:
+        ms = []
+        with httpx.Client(base_url=url, timeout=120) as c:
+            c.get("/health")
+            end = time.monotonic() + seconds
+            while time.monotonic() < end:
+                t0 = time.perf_counter()
+                failed[0] += c.get("/health").status_code != 200
+                ms.append((time.perf_counter() - t0) * 1000)
+                time.sleep(0.05)
+        return ms
+
+    alone = sample()
+    stop, statuses = threading.Event(), []
+
+    def poster() -> None:
+        while not stop.is_set():
+            statuses.append(post_raw(url, "/health", body))
+
+    flood = threading.Thread(target=poster, daemon=True)
+    flood.start()
+    try:
+        flooded = sample()
+    finally:
+        stop.set()
+        flood.join(300)
+    print(f"GET /health, one client alone: {len(alone)} calls, p50 {pct(alone, 50):.1f} ms, "
+          f"p95 {pct(alone, 95):.1f} ms, max {max(alone):.1f} ms")
+    if failed[0]:
+        print(f"  {failed[0]} of the GET /health calls were not 200")
+    print(f"GET /health while another client POSTs {len(body) / 1e6:.0f} MB to /health without a token in a loop "
+          f"({len(statuses)} posts, answered {sorted(set(statuses))}): {len(flooded)} calls, "
+          f"p50 {pct(flooded, 50):.1f} ms, p95 {pct(flooded, 95):.1f} ms, max {max(flooded):.1f} ms", flush=True)
+
+
 def pct(values: list[float], p: float) -> float:
-    return statistics.quantiles(values, n=100)[int(p) - 1] if len(values) > 1 else values[0]
+    return statistics.quantiles(values, n=100, method="inclusive")[int(p) - 1] if len(values) > 1 else values[0]
 
 
 def spread(ms: list[float]) -> str:
@@ -152,6 +254,14 @@ def main() -> None:
     ap.add_argument("--repeat", type=int, default=20, help="rounds of the questions for the latency figures")
     ap.add_argument("--clients", type=int, default=100)
     ap.add_argument("--per-client", type=int, default=20)
+    ap.add_argument("--trust", action="store_true", help="only the burst/quiet and /health-under-flood figures")
+    ap.add_argument("--burst", type=int, default=200, help="--trust: concurrent calls in the burst (0: none, only the /health figures)")
+    ap.add_argument("--quiet-s", type=float, default=65.0, help="--trust: seconds of quiet after the burst")
+    ap.add_argument("--after", type=int, default=100, help="--trust: concurrent calls after the quiet")
+    ap.add_argument("--call", choices=["ask", "health"], default="ask",
+                    help="--trust: the burst's calls, POST /ask or GET /health (both run in the worker pool)")
+    ap.add_argument("--flood-mb", type=int, default=15, help="--trust: MB per unauthenticated POST /health")
+    ap.add_argument("--flood-s", type=float, default=20.0, help="--trust: seconds of /health sampling, each way")
     args = ap.parse_args()
     if args.tiny and args.home:
         ap.error("--tiny ingests a hand-made kitchen into the store: use it without --home (a scratch store)")
@@ -177,6 +287,15 @@ def main() -> None:
 
             httpx.post(url + "/ingest", json=kitchen_body(building="default", room=args.room),
                        headers={"Authorization": f"Bearer {token}"}, timeout=120).raise_for_status()
+        if args.trust:
+            print(f"load average (1 min) {os.getloadavg()[0]:.2f} at the start", flush=True)
+            ok = args.burst == 0 or burst_then_quiet(url, token, args.room, args.burst, args.quiet_s, args.after,
+                                                     args.call)
+            health_under_flood(url, args.flood_s, args.flood_mb)
+            print(f"load average (1 min) {os.getloadavg()[0]:.2f} at the end")
+            if not ok:
+                raise SystemExit(1)
+            return
         load_before = os.getloadavg()[0]
         ms = latencies(url, token, home, args.room, args.repeat)
         print(f"load average (1 min) {load_before:.2f} before the latency rounds, {os.getloadavg()[0]:.2f} after")

@@ -12,12 +12,23 @@ from sg3d.testing import kitchen_body  # noqa: F401 - the tests take the body fr
 def running_server(settings, token: str, **app_options):
     """Serve `create_app(settings, token, **app_options)` with uvicorn on a free loopback port;
     yields the base URL."""
-    import uvicorn
-
-    from sg3d.graphdb.embedded import free_port
     from sg3d.server.http import create_app
 
     api = create_app(settings, token, **app_options)
+    try:
+        with serving(api) as url:
+            yield url
+    finally:
+        api.state.stores.close()
+
+
+@contextmanager
+def serving(api):
+    """Serve the ASGI application `api` with uvicorn on a free loopback port; yields the base URL."""
+    import uvicorn
+
+    from sg3d.graphdb.embedded import free_port
+
     port = free_port()
     server = uvicorn.Server(uvicorn.Config(api, host="127.0.0.1", port=port, log_level="warning"))
     thread = threading.Thread(target=server.run, daemon=True)
@@ -32,4 +43,3 @@ def running_server(settings, token: str, **app_options):
     finally:
         server.should_exit = True
         thread.join(10)
-        api.state.stores.close()

@@ -5,10 +5,35 @@ from __future__ import annotations
 import math
 from typing import Optional, Sequence
 
+from sg3d.app import bounds
+from sg3d.app.ask import MAX_SCOPE_CHARS
 from sg3d.app.errors import AppError, NotFound
 from sg3d.graphdb.protocol import GraphStore
 
 OBJECT_LIMIT = 10_000   # objects one listing returns at most
+
+
+def filter_problem(label: object = None, colour: object = None, building: object = None,
+                   room: object = None) -> Optional[str]:
+    """Why a listing cannot be asked for with these, or None. Rule: a label or colour is a text of
+    at most `bounds.MAX_LABEL_CHARS` characters, a building or room (a name or an id) at most
+    `MAX_SCOPE_CHARS`: the bounds of `GET /rooms...` too, here so that every front end (HTTP, MCP,
+    CLI) keeps them. The reason names the length and the limit, never the value."""
+    for what, value, limit in (("label", label, bounds.MAX_LABEL_CHARS), ("colour", colour, bounds.MAX_LABEL_CHARS),
+                               ("building", building, MAX_SCOPE_CHARS), ("room", room, MAX_SCOPE_CHARS)):
+        if value is None:
+            continue
+        if not isinstance(value, str):
+            return f"{what} must be a text"
+        if len(value) > limit:
+            return f"{what} is {len(value)} characters; at most {limit}"
+    return None
+
+
+def _check_filters(**values) -> None:
+    problem = filter_problem(**values)
+    if problem:
+        raise AppError(problem)
 
 
 def rooms_json(rows: list[dict]) -> list[dict]:
@@ -39,6 +64,7 @@ def building_rooms(store: GraphStore, building: str) -> list[dict]:
 
 def list_rooms(store: GraphStore, building: Optional[str] = None) -> list[dict]:
     """Rooms as JSON (`rooms_json`) with their building: one building's, or every building's."""
+    _check_filters(building=building)
     buildings = [building] if building else sorted({r["building"] for r in store.read("plan_rooms")})
     return [{"building": b, **r} for b in buildings for r in rooms_json(building_rooms(store, b))]
 
@@ -64,6 +90,7 @@ def room_objects(store: GraphStore, building: str, room: str, label: Optional[st
     from sg3d.graphdb.values import room_id
     from sg3d.queries.naming import names_in_store
 
+    _check_filters(label=label, colour=colour, building=building, room=room)
     point = _near(near, radius)
     rid = room_id(building, room)
     if not store.read("building_room_get", room=rid):

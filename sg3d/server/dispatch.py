@@ -8,17 +8,26 @@ second: a store that is down, or a call past its deadline, is answered at once w
 `StoreUnavailable` (503 with Retry-After), and the worker is left to finish on its own. The
 event loop is never held, so /health answers and SIGTERM stops the server whatever the store does.
 
-The workers are daemon threads (anyio's and concurrent.futures' are not: the interpreter joins
-them at exit, so one stuck in a store call would keep a stopped server's process alive).
+`Workers` is a kept pool: a fixed number of threads (`MAX_WORKERS`, `sg3d serve --workers`) on one
+standard queue, started as calls need them and never ended while the process runs, so no idle
+timeout can leave a queued call without a thread. Two promises shape it, and neither the standard
+library's pools nor anyio's keep both, which is why it is not `concurrent.futures.ThreadPoolExecutor`
+or `anyio.to_thread`:
+- its threads are daemon threads: the interpreter joins ThreadPoolExecutor's and anyio's at exit,
+  so one stuck in a store call would keep a stopped server's process alive;
+- a call given up on (its deadline passed, or the store went down) stops counting against the pool:
+  while it still runs, a replacement thread takes its place, and its own thread ends when it
+  returns, so stuck calls never starve new ones (a fixed executor would lose a thread to each).
 """
 from __future__ import annotations
 
 import asyncio
 import concurrent.futures
 import threading
-from queue import Empty, SimpleQueue
+from queue import SimpleQueue
 from typing import Callable, Optional, TypeVar
 
+from sg3d.app.bounds import DEFAULT_WORKERS
 from sg3d.core.errors import Sg3dError
 
 T = TypeVar("T")
@@ -27,8 +36,7 @@ QUICK_TIMEOUT_S = 30.0     # a read (/ask, /rooms, objects): the embedded store 
 LONG_TIMEOUT_S = 300.0     # a plan, an export, an ingest
 POLL_S = 0.25              # how often a waiting call looks at the store's state
 RETRY_AFTER_S = 2
-MAX_WORKERS = 64           # threads running calls at once (stuck ones not counted)
-IDLE_S = 60.0              # an idle worker thread ends after this long
+MAX_WORKERS = DEFAULT_WORKERS   # threads running calls at once (stuck ones not counted)
 
 
 class StoreUnavailable(Sg3dError, RuntimeError):
@@ -50,52 +58,59 @@ class _Job:
 
 
 class Workers:
-    """A pool of daemon threads: one per call in flight up to MAX_WORKERS (idle ones are reused,
-    and end after `idle_s`; further calls queue). A call the caller gave up on (`abandon`) no
-    longer counts against the limit, so stuck calls cannot starve new ones. `_idle` holds one
-    token per idle worker that no submitted call has claimed yet."""
+    """A kept pool of `size` daemon threads on one queue (see the module's docstring). Threads start
+    as calls need them, up to `size` not counting stuck ones, and are never ended for being idle; a
+    thread whose call was abandoned while it ran (`abandon`) is replaced at once and ends when
+    that call returns. The counts are exact, under one lock: `_queued` calls not yet taken by a
+    thread, `_waiting` threads blocked on the queue; a call starts a thread when the queued calls
+    outnumber the waiting threads."""
 
-    def __init__(self, limit: int = MAX_WORKERS, idle_s: float = IDLE_S):
-        self.limit = limit
-        self.idle_s = idle_s
+    def __init__(self, size: int = MAX_WORKERS):
+        if size < 1:
+            raise ValueError("a worker pool needs at least one thread")
+        self.size = size
         self._jobs: SimpleQueue[_Job] = SimpleQueue()
-        self._idle = threading.Semaphore(0)
         self._lock = threading.Lock()
         self._threads = 0
         self._stuck = 0
+        self._queued = 0
+        self._waiting = 0
 
     def submit(self, fn: Callable[[], T]) -> _Job:
         job = _Job(fn)
-        self._jobs.put(job)
-        if not self._idle.acquire(blocking=False):
-            with self._lock:
-                if self._threads - self._stuck < self.limit:
-                    self._threads += 1
-                    threading.Thread(target=self._work, name="sg3d-call", daemon=True).start()
+        with self._lock:
+            self._queued += 1
+            self._jobs.put(job)
+            self._grow()
         return job
 
     def abandon(self, job: _Job) -> None:
         """The caller stopped waiting for `job`: one not started never runs; one running has its
-        thread counted stuck until it returns."""
+        thread counted stuck (and replaced, when calls are queued) until it returns."""
         if job.future.cancel():
             return
         with self._lock:
             if not job.finished and not job.abandoned:
                 job.abandoned = True
                 self._stuck += 1
+                self._grow()
+
+    def _grow(self) -> None:
+        """Under the lock: one more thread when a queued call has no waiting thread and the pool
+        has fewer than `size` threads that are not stuck."""
+        if self._queued > self._waiting and self._threads - self._stuck < self.size:
+            self._threads += 1
+            threading.Thread(target=self._work, name="sg3d-call", daemon=True).start()
 
     def _work(self) -> None:
         while True:
-            try:
-                job = self._jobs.get(timeout=self.idle_s)
-            except Empty:
-                if self._idle.acquire(blocking=False):      # no call has claimed this worker: end
-                    with self._lock:
-                        self._threads -= 1
-                    return
-                continue                                    # one is coming
+            with self._lock:
+                self._waiting += 1
+            job = self._jobs.get()
+            with self._lock:
+                self._waiting -= 1
+                self._queued -= 1
             if not job.future.set_running_or_notify_cancel():
-                self._idle.release()
                 continue
             result, error = None, None
             try:
@@ -104,13 +119,17 @@ class Workers:
                 error = exc
             with self._lock:
                 job.finished = True
+                surplus = job.abandoned and self._threads - (self._stuck - 1) > self.size
                 if job.abandoned:
                     self._stuck -= 1
-            self._idle.release()          # free before the caller hears: its next call reuses this thread
+                if surplus:               # a replacement took this thread's place while it was stuck
+                    self._threads -= 1
             if error is not None:
                 job.future.set_exception(error)
             else:
                 job.future.set_result(result)
+            if surplus:
+                return
 
 
 class Dispatcher:

@@ -15,6 +15,7 @@ JSON encoded once (`json_response`, where the call ran), which FastAPI sends as 
 """
 from __future__ import annotations
 
+import logging
 from pathlib import Path
 from typing import Any, Literal, Optional
 
@@ -22,6 +23,7 @@ from fastapi import Depends, FastAPI, HTTPException, Query, Request
 from fastapi import Path as PathParam
 from fastapi.exceptions import RequestValidationError
 from fastapi.responses import Response
+from fastapi.routing import APIRoute
 from pydantic import BaseModel, ConfigDict, Field
 
 from sg3d import __version__
@@ -36,10 +38,20 @@ from sg3d.app.errors import AppError, NotFound, Refused, RoomBusy
 from sg3d.app.stores import StoreHandle
 from sg3d.server import schemas
 from sg3d.server.auth import token_matches
-from sg3d.server.dispatch import LONG_TIMEOUT_S, QUICK_TIMEOUT_S, RETRY_AFTER_S, Dispatcher, StoreUnavailable
-from sg3d.server.guard import TOKEN_HINT, Guard
+from sg3d.server.dispatch import (
+    LONG_TIMEOUT_S,
+    MAX_WORKERS,
+    QUICK_TIMEOUT_S,
+    RETRY_AFTER_S,
+    Dispatcher,
+    StoreUnavailable,
+    Workers,
+)
+from sg3d.server.guard import PARSED, TOKEN_HINT, Guard
 from sg3d.server.schemas import ROUTE_ERRORS
 from sg3d.server.watch import STOPPED, UP, StoreWatch
+
+_log = logging.getLogger("sg3d.server")
 
 # names a request may carry: a room or building name, or a building/room id
 NAME_CHARS = app_ask.MAX_SCOPE_CHARS
@@ -73,6 +85,27 @@ class PlanBody(BaseModel):
     building: Optional[str] = Field(None, max_length=NAME_CHARS)
     start: Optional[str] = Field(None, max_length=bounds.MAX_ID_CHARS,
                                  description="where the robot starts (a surface or receptacle name)")
+
+
+class _ParsedRequest(Request):
+    """A request whose JSON body the door (`Guard`) parsed already, in a worker thread: FastAPI
+    would parse it a second time, on the event loop."""
+
+    async def json(self) -> Any:
+        if PARSED in self.scope:
+            return self.scope[PARSED]
+        return await super().json()
+
+
+class _Route(APIRoute):
+    """FastAPI's route, handing the endpoint a `_ParsedRequest`."""
+
+    def get_route_handler(self):
+        handler = super().get_route_handler()
+
+        async def handle(request: Request) -> Response:
+            return await handler(_ParsedRequest(request.scope, request.receive))
+        return handle
 
 
 def _status(exc: AppError) -> int:
@@ -167,14 +200,15 @@ def validation_details(errors) -> list[dict]:
 
 def create_app(settings, token: str, handle: Optional[StoreHandle] = None,
                max_body: int = bounds.DEFAULT_MAX_BODY, quick_timeout_s: float = QUICK_TIMEOUT_S,
-               long_timeout_s: float = LONG_TIMEOUT_S) -> FastAPI:
+               long_timeout_s: float = LONG_TIMEOUT_S, max_workers: int = MAX_WORKERS) -> FastAPI:
     """The FastAPI application for `settings`' store; `token` is the bearer token callers send;
     request bodies above `max_body` bytes are refused (413) before they are read; a read that has
-    not answered within `quick_timeout_s` (a plan, export or ingest: `long_timeout_s`) is a 503."""
+    not answered within `quick_timeout_s` (a plan, export or ingest: `long_timeout_s`) is a 503;
+    at most `max_workers` calls run at once (more wait their turn, within their deadline)."""
     stores = handle or StoreHandle(settings)
     api = FastAPI(title="sg3d", version=__version__,
                   description="3-D scene graphs of rooms: ask, plan, list rooms and objects, export, ingest.")
-    api.add_middleware(Guard, token=token, max_body=max_body)
+    api.router.route_class = _Route
 
     async def authorised(request: Request) -> None:
         # the Guard has checked already; this keeps the requirement visible in the OpenAPI document
@@ -184,11 +218,16 @@ def create_app(settings, token: str, handle: Optional[StoreHandle] = None,
 
     _add_error_handlers(api, settings)
     watch = StoreWatch(settings, restart=lambda: _reconnect(stores))
-    calls = Dispatcher(watch, quick_timeout_s=quick_timeout_s, long_timeout_s=long_timeout_s)
+    calls = Dispatcher(watch, Workers(max_workers), quick_timeout_s=quick_timeout_s, long_timeout_s=long_timeout_s)
     _add_health_route(api, stores, settings, calls, watch)
     auth = [Depends(authorised)]
     _add_read_routes(api, stores, calls, auth)
     _add_write_routes(api, stores, calls, auth)
+    # only the routes that take a body are sent one (the rest refuse it before it is read)
+    body_paths = frozenset(r.path for r in api.routes
+                           if isinstance(r, APIRoute) and (r.methods or set()) & {"POST", "PUT", "PATCH"})
+    api.add_middleware(Failures, settings=settings)
+    api.add_middleware(Guard, token=token, max_body=max_body, body_paths=body_paths)
     api.state.stores = stores
     api.state.watch = watch
     return api
@@ -221,10 +260,42 @@ def _add_error_handlers(api: FastAPI, settings) -> None:
     from sg3d.graphdb.embedded import EmbeddedStoreError
     from sg3d.graphdb.store import StatementTooLarge
 
-    # the failures sg3d names itself are answered as they are; any other exception also reaches
-    # the server's log (Starlette re-raises what the catch-all handler answered)
-    for known in (StoreUnavailable, EmbeddedStoreError, StatementTooLarge, Exception):
+    # the failures sg3d names itself are answered as they are; any other one by `Failures`
+    for known in (StoreUnavailable, EmbeddedStoreError, StatementTooLarge):
         api.add_exception_handler(known, _store_error)
+
+
+class Failures:
+    """ASGI middleware for a failure no handler names: it is logged with its traceback and
+    answered by `store_failure` (503, 507, 500, ...), and the exchange then ends normally, so the
+    kept-alive connection serves the client's next request. (Starlette's catch-all handler answers
+    and then re-raises, and uvicorn closes the connection of an exception raised after its answer:
+    the client's next request on it met a reset.)"""
+
+    def __init__(self, app, settings):
+        self.app = app
+        self.settings = settings
+
+    async def __call__(self, scope, receive, send):
+        if scope["type"] != "http":
+            return await self.app(scope, receive, send)
+        started = False
+
+        async def sending(message):
+            nonlocal started
+            started = started or message["type"] == "http.response.start"
+            await send(message)
+
+        try:
+            await self.app(scope, receive, sending)
+        except Exception as exc:
+            _log.error("%s %s failed", scope.get("method"), str(scope.get("path"))[:200], exc_info=exc)
+            if started:         # half an answer went: the connection cannot carry another
+                raise
+            status, detail, headers = store_failure(exc, self.settings)
+            response = json_response({"detail": detail}, status_code=status)
+            response.headers.update(headers)
+            await response(scope, receive, send)
 
 
 DISK_FULL = "disk full"

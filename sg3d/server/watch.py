@@ -24,7 +24,9 @@ log = logging.getLogger("sg3d.serve")
 
 UP, DOWN, STOPPED, UNKNOWN = "up", "down", "stopped", "unknown"
 STATE_TTL_S = 0.2          # a state read is reused this long (two small file reads otherwise)
-PROBE_TIMEOUT_S = 0.5
+# longer than TCP's first SYN retransmission (1 s): a connection attempt the store's full accept queue
+# dropped once is retried by the kernel, not read as a store that is down
+PROBE_TIMEOUT_S = 1.5
 DOWN_DETAIL = "the graph store is unreachable or restarting; retry shortly"
 STOPPED_DETAIL = "the store was stopped; `sg3d db start`"
 
@@ -38,6 +40,8 @@ class StoreWatch:
         self._restart_fn = restart
         self._restarting = threading.Lock()
         self._cached: tuple[float, str] = (0.0, UNKNOWN)
+        self._probing = threading.Lock()
+        self._probed: tuple[float, str] = (0.0, UNKNOWN)   # when the last probe ended, and what it found
         self.last_restart_error: Optional[str] = None
         if self.embedded:
             from sg3d.graphdb.embedded import STOPPED_FILE, store_dir
@@ -54,10 +58,20 @@ class StoreWatch:
         """The store's state. `probe`: also connect to its Bolt port (else an embedded daemon
         counts as up while its process lives, and a --uri store is "unknown")."""
         now = time.monotonic()
-        if not probe and now - self._cached[0] < STATE_TTL_S:
-            return self._cached[1]
-        state = self._embedded_state(probe) if self.embedded else self._remote_state(probe)
-        self._cached = (now, state)
+        if not probe:
+            if now - self._cached[0] < STATE_TTL_S:
+                return self._cached[1]
+            state = self._embedded_state(False) if self.embedded else self._remote_state(False)
+            self._cached = (now, state)
+            return state
+        # One probe at a time, and a caller that waited for another's takes its answer (it ended
+        # after this caller asked): a burst of /health probing at once overflowed the store's
+        # accept queue, read it as down, and restarted the connections under every other call.
+        with self._probing:
+            if self._probed[0] >= now:
+                return self._probed[1]
+            state = self._embedded_state(True) if self.embedded else self._remote_state(True)
+            self._probed = self._cached = (time.monotonic(), state)
         return state
 
     def _embedded_state(self, probe: bool) -> str:

@@ -219,15 +219,52 @@ def test_store_failures_map_to_their_statuses():
     assert store_failure(StatementTooLarge("too big"), settings)[:2] == (413, "too big")
 
 
-def test_workers_are_reused_and_idle_ones_end():
+def test_workers_are_reused_and_kept_through_a_quiet_spell():
     from sg3d.server.dispatch import Workers
 
-    workers = Workers(idle_s=0.2)
+    workers = Workers(size=3)
     for _ in range(5):
         assert workers.submit(lambda: 7).future.result(5) == 7
     assert workers._threads == 1                       # one call at a time: one thread, reused
+    gate = threading.Event()
+    jobs = [workers.submit(gate.wait) for _ in range(10)]
+    time.sleep(0.2)
+    assert workers._threads == 3                       # a burst past the pool: it grows to its size, no more
+    gate.set()
+    assert all(j.future.result(5) for j in jobs)
+    time.sleep(0.5)
+    assert workers._threads == 3                       # kept: no thread ends for being idle
+    assert [workers.submit(lambda i=i: i).future.result(5) for i in range(6)] == list(range(6))
+
+
+def test_a_stuck_call_is_replaced_and_its_thread_ends_when_it_returns():
+    from sg3d.server.dispatch import Workers
+
+    workers = Workers(size=1)
+    stuck = threading.Event()
+    job = workers.submit(stuck.wait)
+    time.sleep(0.1)
+    waiting = workers.submit(lambda: "ran")            # queued behind the stuck call
+    workers.abandon(job)
+    assert waiting.future.result(5) == "ran"           # a replacement thread ran it
+    assert workers._threads == 2 and workers._stuck == 1
+    stuck.set()
     deadline = time.monotonic() + 5
-    while workers._threads and time.monotonic() < deadline:
-        time.sleep(0.05)
-    assert workers._threads == 0
-    assert workers.submit(lambda: 8).future.result(5) == 8
+    while workers._threads != 1 and time.monotonic() < deadline:
+        time.sleep(0.02)
+    assert workers._threads == 1 and workers._stuck == 0
+    assert workers.submit(lambda: 9).future.result(5) == 9
+
+
+def test_listing_filters_are_bounded_on_both_sides():
+    from sg3d.app.ask import MAX_SCOPE_CHARS
+    from sg3d.app.bounds import MAX_LABEL_CHARS
+    from sg3d.app.rooms import filter_problem
+
+    for what, limit in (("label", MAX_LABEL_CHARS), ("colour", MAX_LABEL_CHARS), ("building", MAX_SCOPE_CHARS),
+                        ("room", MAX_SCOPE_CHARS)):
+        assert filter_problem(**{what: "x" * limit}) is None
+        assert filter_problem(**{what: "x" * (limit + 1)}) == f"{what} is {limit + 1} characters; at most {limit}"
+        assert filter_problem(**{what: 5}) == f"{what} must be a text"
+    assert MAX_LABEL_CHARS == 64 and MAX_SCOPE_CHARS == 201
+    assert filter_problem() is None
