@@ -15,7 +15,9 @@ roughly upright, so:
    the sphere). Every horizontal plane votes, not only the biggest one, so it works whether the
    view is dominated by floor, table or counter, and it is deterministic (no RANSAC draws);
 4. floor: heights (p . up) of points on horizontal surfaces; the lowest height bin holding a
-   real share of them, at least `MIN_FLOOR_DROP` below the cameras, is the floor.
+   real share of them, at least `MIN_FLOOR_DROP` below the cameras, is the floor candidate: nothing
+   was seen below it. It is the floor when it is what the room stands on, not a top the cameras
+   were held over (`floor_not_a_top`); otherwise the recording never saw the floor (None).
 """
 from __future__ import annotations
 
@@ -31,7 +33,16 @@ PRIOR_CONE_DEG = 35.0
 REFINE_CONE_DEG = 10.0
 GRID_STRIDE = 4
 MAX_RANGE_M = 5.0
-MIN_FLOOR_DROP = 0.5        # the floor lies at least this far below the average camera
+# The floor lies at least this far below the average camera: a robot's camera rides 0.2-0.5 m up.
+MIN_FLOOR_DROP = 0.15
+# Rule "a floor, not a top": nobody holds a camera this far over a desk or table top without the
+# floor in view, while a tabletop scan holds it 0.3-0.7 m over the top, looking down onto it. A
+# level nearer the cameras is the floor when the cameras look along it (a robot's camera looks
+# ahead, its axis within LEVEL_GAZE_DEG of the horizon on the median frame) or when it runs on
+# further than any top one scans (desks 1.2-1.8 m, most tables under 2 m).
+HANDHELD_DROP_M = 0.9
+LEVEL_GAZE_DEG = 25.0
+FLOOR_MIN_SPAN_M = 2.0
 FLOOR_BIN_M = 0.02
 FLOOR_MIN_SHARE = 0.01      # of all points on horizontal surfaces
 
@@ -145,7 +156,30 @@ def _floor_height(P: np.ndarray, N: np.ndarray, up: np.ndarray, frames: list[Fra
     k = int(strong[0])
     k = k + int(np.argmax(counts[k:k + 5]))  # the densest bin of that level
     lo, hi = edges[max(0, k - 2)], edges[min(len(edges) - 1, k + 3)]
-    return float(np.median(below[(below >= lo) & (below <= hi)]))
+    level = (heights >= lo) & (heights <= hi) & (heights < cameras - MIN_FLOOR_DROP)
+    floor = float(np.median(heights[level]))
+    gaze = float(np.median([np.degrees(np.arcsin(np.clip(-f.pose[:3, 2] @ up, -1, 1))) for f in frames]))
+    return floor if floor_not_a_top(P[flat][level], up, cameras - floor, gaze) else None
+
+
+def horizontal_span(points: np.ndarray, up: np.ndarray) -> float:
+    """The longer of a level's 2-98 percentile extents along two horizontal axes."""
+    e1 = np.cross(up, (1.0, 0.0, 0.0) if abs(up[0]) < 0.9 else (0.0, 1.0, 0.0))
+    e1 /= np.linalg.norm(e1)
+    e2 = np.cross(up, e1)
+    along = points @ np.stack([e1, e2], axis=1)
+    lo, hi = np.percentile(along, [2, 98], axis=0)
+    return float(np.max(hi - lo))
+
+
+def floor_not_a_top(level_points: np.ndarray, up: np.ndarray, drop: float, gaze_deg: float) -> bool:
+    """Rule "a floor, not a top": the lowest level seen is the floor when it lies at least
+    HANDHELD_DROP_M below the average camera, when the cameras look along it (`gaze_deg`, the
+    median camera axis's angle below the horizon, under LEVEL_GAZE_DEG) or when it spans at least
+    FLOOR_MIN_SPAN_M (`horizontal_span`); a nearer, smaller level the cameras looked down onto
+    is a top they were held over (a desk scan), and the floor was not seen."""
+    return (drop >= HANDHELD_DROP_M or gaze_deg < LEVEL_GAZE_DEG
+            or horizontal_span(level_points, up) >= FLOOR_MIN_SPAN_M)
 
 
 def estimate_up(frames: Iterable[Frame], stride: int = GRID_STRIDE) -> np.ndarray:

@@ -4,7 +4,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from sg3d.ingest.poses.gravity import depth_normals, estimate_gravity
+from sg3d.ingest.poses.gravity import depth_normals, estimate_gravity, floor_not_a_top, horizontal_span
 from sg3d.ingest.readers.frames import Frame
 
 FLOOR = ((0.0, 0.0, 1.0), 0.0, None)
@@ -67,9 +67,42 @@ def test_normals_are_taken_within_5_m():                               # MAX_RAN
     assert len(depth_normals(wall(5.1))[1]) == 0
 
 
-def test_the_floor_lies_half_a_metre_below_the_cameras_at_least():     # MIN_FLOOR_DROP
-    assert estimate_gravity([frame(camera(30, 0.55), [FLOOR])]).floor_height == pytest.approx(0.0, abs=1e-6)
-    assert estimate_gravity([frame(camera(30, 0.45), [FLOOR])]).floor_height is None
+def test_the_floor_lies_15_cm_below_the_cameras_at_least():           # MIN_FLOOR_DROP
+    assert estimate_gravity([frame(camera(20, 0.16), [FLOOR])]).floor_height == pytest.approx(0.0, abs=1e-6)
+    assert estimate_gravity([frame(camera(20, 0.14), [FLOOR])]).floor_height is None
+
+
+def level(span: float) -> np.ndarray:
+    """Points of a horizontal level `span` long (x) and 0.6 m deep (y), 1 cm apart."""
+    x, y = np.meshgrid(np.linspace(0, span / 0.96, 200), np.linspace(0, 0.6, 60))
+    return np.stack([x.ravel(), y.ravel(), np.zeros(x.size)], axis=1)
+
+
+def test_a_level_0_9_m_below_the_cameras_is_the_floor_however_small():   # HANDHELD_DROP_M
+    up = np.array([0.0, 0.0, 1.0])
+    assert floor_not_a_top(level(1.0), up, 0.91, 45.0)
+    assert not floor_not_a_top(level(1.0), up, 0.89, 45.0)
+
+
+def test_a_nearer_level_is_the_floor_when_it_spans_2_m():               # FLOOR_MIN_SPAN_M
+    up = np.array([0.0, 0.0, 1.0])
+    assert horizontal_span(level(2.05), up) == pytest.approx(2.05, abs=0.02)
+    assert floor_not_a_top(level(2.05), up, 0.5, 45.0)
+    assert not floor_not_a_top(level(1.95), up, 0.5, 45.0)
+
+
+def test_a_nearer_level_is_the_floor_when_the_cameras_look_along_it():   # LEVEL_GAZE_DEG
+    top = ((0, 0, 1.0), 0.0, lambda u, v: v >= 70)        # a level 0.5 m under the camera, its near part
+    assert estimate_gravity([frame(camera(24, 0.5), [top])]).floor_height == pytest.approx(0.0, abs=1e-6)
+    assert estimate_gravity([frame(camera(26, 0.5), [top])]).floor_height is None
+
+
+def test_a_camera_held_half_a_metre_over_a_top_sees_no_floor():
+    """A tabletop scan: the top fills the near half of the view, 0.5 m under the camera; a robot's
+    camera 0.3 m over the floor sees the floor run on to the walls."""
+    top = ((0, 0, 1.0), 0.0, lambda u, v: v >= 70)        # the top's far edge 0.9 m ahead
+    assert estimate_gravity([frame(camera(30, 0.5), [top])]).floor_height is None
+    assert estimate_gravity([frame(camera(20, 0.3), [FLOOR])]).floor_height == pytest.approx(0.0, abs=1e-6)
 
 
 def test_a_level_below_the_floor_is_the_floor_when_it_holds_1_percent_of_the_flat_points():   # FLOOR_MIN_SHARE
