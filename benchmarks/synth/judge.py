@@ -63,9 +63,10 @@ def match_objects(objects, gt, info: dict):
 
 
 def top_is_an_object(gt: dict, furniture: dict, objects) -> bool:
-    """Some object node holds the furniture's top: the top's height lies within its box
-    (TOP_HEIGHT_TOL_M), the top's centre within half its larger horizontal extent, and it is at
-    least half as long as the top."""
+    """Some object node is the furniture with its top: the node's upper face lies at the top's
+    height (within TOP_HEIGHT_TOL_M: a segment of the desk and the wall behind it is not its
+    top), the top's centre within half its larger horizontal extent, and it is at least half as
+    long as the top."""
     lo, hi = (np.asarray(furniture["box_gravity"][k]) for k in ("min", "max"))
     T = np.asarray(gt["room_to_world"])
     centre = np.r_[(lo[:2] + hi[:2]) / 2, hi[2]]
@@ -74,7 +75,7 @@ def top_is_an_object(gt: dict, furniture: dict, objects) -> bool:
             continue
         c = T[:3, :3].T @ (np.asarray(n.position, float) - T[:3, 3])
         half_h, reach = n.size[2] / 2, max(n.size[:2]) / 2
-        if (c[2] - half_h - TOP_HEIGHT_TOL_M <= centre[2] <= c[2] + half_h + TOP_HEIGHT_TOL_M
+        if (abs(c[2] + half_h - centre[2]) <= TOP_HEIGHT_TOL_M
                 and np.linalg.norm(c[:2] - centre[:2]) <= reach and max(n.size[:2]) >= 0.5 * max(hi[:2] - lo[:2])):
             return True
     return False
