@@ -2,6 +2,7 @@
 the same way, in one table.
 
     python -m benchmarks.bench_rooms [--rooms kitchen,study,living] [--json] [--keep-home DIR]
+    python -m benchmarks.bench_rooms --generated N [--first-seed S] [--kinds desk,room,...]
 
 Rooms (read from ../shared beside the checkout):
 - kitchen: 7-Scenes red kitchen, ground truth ../shared/eval/kitchen_gt.json;
@@ -17,6 +18,11 @@ precision (nodes a label names against the ground truth's nameable objects: a CO
 furniture named (object nodes whose label is a piece of furniture, with how many were named from
 their shape), and the build's seconds per stage. Each room is built into its own scratch store,
 so the figures of one room never depend on another's.
+
+`--generated N` judges N seeded layouts of `benchmarks.synth` (dealt round its kinds: a walk
+around a room, a desk scan that never sees the floor, a robot camera 0.3 m up, a shelf sweep, a
+corner) against their exact ground truth (`benchmarks.synth.judge`), one table line per kind,
+instead of the real rooms. Each layout is built with default settings into one scratch store.
 """
 from __future__ import annotations
 
@@ -28,6 +34,7 @@ import sys
 import tempfile
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Optional
 
 REPO = Path(__file__).resolve().parents[1]
 SHARED = REPO.parent / "shared"
@@ -109,13 +116,61 @@ def table(rows: list[dict]) -> str:
     return "\n".join(lines)
 
 
+def build_generated(store, kind: str, seed: int, workdir: Path, frames: int = 80) -> dict:
+    """Render layout `seed` of `kind` into `workdir`, build it into `store` with default settings
+    and judge it (`benchmarks.synth.judge.judge`); the row carries the build's seconds."""
+    from benchmarks.synth import generate
+    from benchmarks.synth.judge import judge
+    from sg3d.app.build import BuildRequest, build_room
+    from sg3d.core.model import RELATION_TYPES
+    from sg3d.evaluation.evaluate import read_nodes
+    from sg3d.graphdb.values import room_id
+    from sg3d.ingest.pipeline import Settings
+
+    out = workdir / f"{kind}-{seed}"
+    gt = generate(kind, seed, out, frames)
+    room = f"{kind}-{seed}"
+    summary = build_room(store, BuildRequest(sequence=out, room=room, building="generated"), Settings())
+    rid = room_id("generated", room)
+    edges = store.read("relation_all", room=rid, types=list(RELATION_TYPES))
+    row = judge(gt, read_nodes(store, rid), edges)
+    row["seconds"] = round(float(summary.seconds.get("total", 0.0)), 1)
+    return row
+
+
+def measure_generated(n: int, first_seed: int = 0, kinds: Optional[tuple[str, ...]] = None,
+                      as_json: bool = False) -> list[dict]:
+    from benchmarks.common import scratch_store
+    from benchmarks.synth import layouts_for
+
+    rows = []
+    with scratch_store() as store, tempfile.TemporaryDirectory(prefix="sg3d-generated-") as tmp:
+        for kind, seed in layouts_for(n, first_seed, kinds):
+            rows.append(build_generated(store, kind, seed, Path(tmp)))
+            print(json.dumps(rows[-1]) if as_json else f"{kind} {seed}: {rows[-1]['floor_said']}, "
+                  f"{rows[-1]['matched']}/{rows[-1]['nodes']} nodes matched, missing {rows[-1]['missing']}",
+                  file=sys.stdout if as_json else sys.stderr, flush=True)
+    return rows
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--generated", type=int, default=0, metavar="N", help="judge N generated layouts instead")
+    ap.add_argument("--first-seed", type=int, default=0)
+    ap.add_argument("--kinds", default=None, help="comma-separated generated kinds (default: all)")
     ap.add_argument("--rooms", default=",".join(r.name for r in ROOMS), help="comma-separated room names")
     ap.add_argument("--json", action="store_true", help="one JSON object per room instead of the table")
     ap.add_argument("--keep-home", type=Path, default=None, help="build into this SG3D_HOME (kept) instead of a scratch one")
     ap.add_argument("--no-figures", action="store_true", help="do not update docs/figures.json (rooms.<room>)")
     args = ap.parse_args(argv)
+    if args.generated:
+        from benchmarks.synth.judge import table as generated_table
+
+        kinds = tuple(args.kinds.split(",")) if args.kinds else None
+        rows = measure_generated(args.generated, args.first_seed, kinds, args.json)
+        if not args.json:
+            print(generated_table(rows))
+        return 0
     wanted = args.rooms.split(",")
     unknown = set(wanted) - {r.name for r in ROOMS}
     if unknown:

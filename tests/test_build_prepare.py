@@ -34,7 +34,8 @@ def test_the_summary_reads_like_its_json():
     fields = dict(sequence="s", layout="7scenes", room="kitchen", building="default", method="3d-full",
                   quality="default", detector="ssd", interrupted=False, up=[0.0, 0.0, 1.0],
                   frames={"read": 3}, hypotheses={}, from_depth={}, graph={"chunks": 1}, seconds={"total": 1.0},
-                  input_frames_per_second=3.0, key="k", scan="k@0-3", placement=None, poses={"source": "given"})
+                  input_frames_per_second=3.0, key="k", scan="k@0-3", placement=None, poses={"source": "given"},
+                  floor="not seen")
     summary = BuildSummary(**fields)
     assert summary.as_dict() == fields and list(summary.as_dict()) == list(fields)
     assert summary["graph"]["chunks"] == 1 and summary.get("placement") is None

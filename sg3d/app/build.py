@@ -136,6 +136,8 @@ class BuildSummary:
     scan: str
     placement: Optional[dict]
     poses: dict
+    # "seen", or "not seen": the recording never saw the floor (a desk scan), so its tops are objects
+    floor: str = "seen"
 
     def as_dict(self) -> dict:
         return {f.name: getattr(self, f.name) for f in fields(self)}
@@ -198,7 +200,7 @@ def _run_held(store: GraphStore, prepared: PreparedBuild, seq, stop: int, lease,
     wall = time.perf_counter() - t_start
     return _summary(store, room_id(req.building, req.room), seq, req, settings, stop, gravity.up, chunks,
                     {**({"poses": poses["seconds"]} if "seconds" in poses else {}), "gravity": t_gravity},
-                    wall, placed, poses)
+                    wall, placed, poses, gravity.floor_height is not None)
 
 
 def merged_chunks(store: GraphStore, rid: str, run: str, scan: str) -> tuple[set, int]:
@@ -323,7 +325,7 @@ class _Chunks:
 
 
 def _summary(store, rid: str, seq, req: BuildRequest, settings, stop: int, up, chunks: _Chunks,
-             seconds_before: dict, wall: float, placed, poses: dict) -> BuildSummary:
+             seconds_before: dict, wall: float, placed, poses: dict, floor_seen: bool = True) -> BuildSummary:
     from sg3d.core.model import RELATION_TYPES
 
     room_objects = store.read("object_count", room=rid)[0]["n"]
@@ -344,7 +346,7 @@ def _summary(store, rid: str, seq, req: BuildRequest, settings, stop: int, up, c
         seconds={k: round(v, 3) for k, v in {**seconds_before, **chunks.stats.seconds,
                                              "merge": chunks.merge_seconds, "total": wall}.items()},
         input_frames_per_second=round(counts["frames"] / wall, 2) if wall > 0 and counts["frames"] else 0.0,
-        key=chunks.run, scan=chunks.scan_id, placement=placed, poses=poses)
+        key=chunks.run, scan=chunks.scan_id, placement=placed, poses=poses, floor="seen" if floor_seen else "not seen")
 
 
 def place_cameras(seq, req: BuildRequest, stop: int, progress: Optional[ProgressFn] = None) -> dict:

@@ -36,6 +36,8 @@ def _summary_table(summary: dict):
     if d.get("unnamed") or d.get("structure"):
         t.add_row("from depth", f"{d.get('unnamed', 0)} objects no detector named, {d.get('structure', 0)} of the "
                                 "room's structure (floor, walls, surfaces)")
+    if summary.get("floor") == "not seen":
+        t.add_row("floor", "not seen (no floor in view: the tops seen are objects, with what lies on them)")
     g = summary["graph"]
     t.add_row("merged", f"{g['merged_chunks']} of {g['chunks']} chunks ({g['skipped_chunks']} already merged)")
     folded = f", {g['objects_folded']} folded into the object they were part of" if g.get("objects_folded") else ""

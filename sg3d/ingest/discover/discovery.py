@@ -63,7 +63,7 @@ from sg3d.ingest.discover.segments import (
     split_at_wall,
     welded_wall,
 )
-from sg3d.ingest.discover.structure import Element
+from sg3d.ingest.discover.structure import SURFACE_SLAB_M, Element
 from sg3d.ingest.objects import colour as colour_model
 from sg3d.ingest.objects.attributes import hsv_histogram, thumbnail
 
@@ -608,6 +608,16 @@ def _couches(seats: Sequence[Element], segments: Sequence[Segment], cloud: RoomC
     return out, left
 
 
+def top_object(local_id: str, el: Element, cloud: RoomCloud,
+               colour_image: Callable[[int], Optional[np.ndarray]]) -> ObjectObservation:
+    """Rule "a top without a floor": where the recording never saw the floor (a desk scanned from
+    above), a horizontal surface no object owns is the top of furniture whose legs stand out of
+    view, so an object node (the top's box, its points' colour), not the room's structure: what
+    lies on it is ON it."""
+    idx = np.flatnonzero(el.contains(cloud.points, SURFACE_SLAB_M))
+    return points_object(local_id, el.lo, el.hi, idx, cloud, colour_image)
+
+
 def structure_node(local_id: str, el: Element, cloud: RoomCloud) -> ObjectObservation:
     """A structure-layer node for a floor, wall or surface: its box, no colour evidence."""
     centre = cloud.to_world((el.lo + el.hi) / 2)
@@ -674,7 +684,8 @@ def discover(named: list[ObjectObservation], cloud: RoomCloud, structure: Sequen
     pieces: list[tuple[Segment, ObjectObservation]] = []
 
     def part_of_another(seg: Segment, whole: bool = True) -> bool:
-        return (named_by(seg, boxes) or own_edge(seg, claims) or floor_remnant(seg) or board_of_surface(seg, surfaces)
+        return (named_by(seg, boxes) or own_edge(seg, claims) or cloud.floor_seen and floor_remnant(seg)
+                or board_of_surface(seg, surfaces)
                 or whole and (plane_remnant(seg, planes) or relief_of_found_wall(seg, found_walls))
                 or furniture.base_under_seat(seg.lo, seg.hi, seats)
                 or any(furniture.carrel_panel(seg.lo, seg.hi, *top) for top in worktops))
@@ -690,6 +701,9 @@ def discover(named: list[ObjectObservation], cloud: RoomCloud, structure: Sequen
     pieces = rejoin_sheets(pieces, lambda seg: unnamed_object("u", seg, cloud, colour_image, screens))
     for _, obj in pieces:
         unnamed.append(replace(obj, local_id=f"u{len(unnamed)}"))
-    nodes = [structure_node(f"s{k}", e, cloud) for k, e in enumerate(
-        e for e in structure if e.label != "front" and id(e) not in owned)]
+    left = [e for e in structure if e.label != "front" and id(e) not in owned]
+    if not cloud.floor_seen:
+        unnamed += [top_object(f"t{k}", e, cloud, colour_image) for k, e in enumerate(left) if e.footprint is not None]
+        left = [e for e in left if e.footprint is None]
+    nodes = [structure_node(f"s{k}", e, cloud) for k, e in enumerate(left)]
     return unnamed, nodes

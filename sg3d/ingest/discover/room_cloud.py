@@ -32,6 +32,7 @@ class RoomCloud:
     basis: np.ndarray         # 3 x 3 rows e1, e2, up (world -> gravity frame)
     floor: float              # p . up of the floor plane
     views: Sequence           # the existence.View of every frame, same order
+    floor_seen: bool = True   # False: `floor` is the lowest point seen, and the floor was never in view
 
     @property
     def world_to_camera(self) -> list[np.ndarray]:
@@ -82,8 +83,8 @@ def view_points(view, basis: np.ndarray, floor: float) -> tuple[np.ndarray, np.n
 
 
 def room_cloud(views: Sequence, up: Sequence[float], floor: Optional[float]) -> RoomCloud:
-    """Fuse the views' depth into one gravity-frame cloud. Without a floor estimate, the lowest
-    percentile of heights stands in for it."""
+    """Fuse the views' depth into one gravity-frame cloud. Without a floor (the recording never
+    saw it), the lowest percentile of heights stands in for it as the origin of h only."""
     basis = horizontal_frame(up)
     base = 0.0 if floor is None else float(floor)
     pts, nrm, idx = [], [], []
@@ -99,4 +100,4 @@ def room_cloud(views: Sequence, up: Sequence[float], floor: Optional[float]) -> 
         shift = float(np.percentile(points[:, 2], 1.0))
         points[:, 2] -= shift
         base += shift
-    return RoomCloud(points, normals, frame, basis, base, list(views))
+    return RoomCloud(points, normals, frame, basis, base, list(views), floor is not None)

@@ -104,9 +104,10 @@ class Segment:
 
 def object_points(cloud: RoomCloud, structure: Sequence[Element], fronts: bool = False) -> np.ndarray:
     """Mask of the cloud's points that belong to no structure element (and lie below
-    MAX_HEIGHT_M); with `fronts`, long vertical fronts are cut away too."""
+    MAX_HEIGHT_M; above the floor's slab where the floor was seen); with `fronts`, long vertical
+    fronts are cut away too."""
     p = cloud.points
-    keep = (p[:, 2] > FLOOR_SLAB_M) & (p[:, 2] < MAX_HEIGHT_M)
+    keep = ((p[:, 2] > FLOOR_SLAB_M) if cloud.floor_seen else np.ones(len(p), bool)) & (p[:, 2] < MAX_HEIGHT_M)
     masks = cloud.__dict__.setdefault("_structure_masks", {})
     for el in structure:
         if el.label == "floor" or (el.label == "front" and not fronts):

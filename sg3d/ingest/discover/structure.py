@@ -4,10 +4,11 @@ Objects stand on structure, and what is left of the cloud once structure is take
 room's objects (`sg3d.ingest.discover.segments`). Each element is found by a named rule:
 
 - floor (`floor_element`): the points of the gravity estimate's floor plane (h within
-  FLOOR_SLAB_M of 0, normal up);
+  FLOOR_SLAB_M of 0, normal up); none when the recording never saw the floor (`RoomCloud.floor_seen`);
 - horizontal surfaces (`horizontal_surfaces`): levels where many upward-facing points lie
-  above SURFACE_MIN_HEIGHT (peaks of the height histogram), each level's points cut into
-  connected footprints of at least SURFACE_MIN_AREA, seen from several frames;
+  above SURFACE_MIN_HEIGHT (peaks of the height histogram; at any height where the floor was not
+  seen: a desk scan's top is its lowest level), each level's points cut into connected footprints
+  of at least SURFACE_MIN_AREA, seen from several frames;
 - walls (`walls`): vertical planes (a Hough vote over horizontal normal direction and offset)
   that are tall (WALL_MIN_HEIGHT), long (WALL_MIN_LENGTH) and bound the room: almost no point
   lies behind them; the other planes are fronts when their points fill them (`plane_fill`);
@@ -109,7 +110,10 @@ def _frames(cloud: RoomCloud, mask: np.ndarray) -> int:
 
 def floor_element(cloud: RoomCloud) -> Optional[Element]:
     """Rule "floor": the points within FLOOR_SLAB_M of the floor level whose normal faces up;
-    its box spans their 1-99 percentile footprint. None when fewer than 200 points."""
+    its box spans their 1-99 percentile footprint. None when fewer than 200 points, or when the
+    recording never saw the floor (h = 0 is then only its lowest point)."""
+    if not cloud.floor_seen:
+        return None
     p, n = cloud.points, cloud.normals
     mask = (np.abs(p[:, 2]) <= FLOOR_SLAB_M) & (n[:, 2] >= UP_NORMAL_COS)
     if np.count_nonzero(mask) < 200:
@@ -137,13 +141,15 @@ def horizontal_surfaces(cloud: RoomCloud) -> list[Element]:
     """Rule "horizontal surface": peaks of the height histogram of up-facing points above
     SURFACE_MIN_HEIGHT; each level's points (within SURFACE_SLAB_M) rasterised into
     SURFACE_CELL_M cells seen by SURFACE_MIN_FRAMES frames, closed, cut into connected
-    footprints of at least SURFACE_MIN_AREA."""
+    footprints of at least SURFACE_MIN_AREA. Where the floor was not seen, at any height, and
+    each is a "surface": its height above the floor is unknown."""
     p, n = cloud.points, cloud.normals
-    up = (n[:, 2] >= UP_NORMAL_COS) & (p[:, 2] >= SURFACE_MIN_HEIGHT)
+    lowest = SURFACE_MIN_HEIGHT if cloud.floor_seen else float(p[:, 2].min(initial=0.0)) - 0.02
+    up = (n[:, 2] >= UP_NORMAL_COS) & (p[:, 2] >= lowest)
     if np.count_nonzero(up) < SURFACE_PEAK_MIN_POINTS:
         return []
     h = p[up, 2]
-    edges = np.arange(SURFACE_MIN_HEIGHT, float(h.max()) + 0.02, 0.01)
+    edges = np.arange(lowest, float(h.max()) + 0.02, 0.01)
     counts, _ = np.histogram(h, edges)
     smooth = np.convolve(counts, np.ones(3), mode="same")
     peaks = [k for k in range(len(smooth))
@@ -175,7 +181,7 @@ def horizontal_surfaces(cloud: RoomCloud) -> list[Element]:
             hi2 = origin + (ij.max(axis=0) + 1) * SURFACE_CELL_M
             lo = np.array([lo2[0], lo2[1], level - SURFACE_SLAB_M])
             hi = np.array([hi2[0], hi2[1], level])
-            el = Element(surface_name(level, lo, hi), lo, hi, 0, 0, level, fp, origin)
+            el = Element(surface_name(level, lo, hi) if cloud.floor_seen else "surface", lo, hi, 0, 0, level, fp, origin)
             cand = np.flatnonzero(sel)
             member = cand[el.contains(p[cand], SURFACE_SLAB_M)]
             el.n_points, el.frames = int(member.size), int(np.unique(cloud.frame[member]).size)

@@ -6,7 +6,7 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from sg3d.ingest.discover.discovery import screens_in_view
+from sg3d.ingest.discover.discovery import discover, screens_in_view
 from sg3d.ingest.discover.room_cloud import RoomCloud
 
 
@@ -377,3 +377,27 @@ def test_a_flat_piece_beside_a_surface_is_not_its_board():
     piece = _under_board(0.75)
     piece.lo[0], piece.hi[0] = 1.3, 1.9                      # the surface ends at a = 1.0
     assert not board_of_surface(piece, [_surface(height=0.75)])
+
+
+def test_where_the_floor_was_not_seen_a_free_surface_is_an_object_and_the_floor_keeps_no_node():
+    """A desk scan: the top no object owns is an object node (flat, the top's size); with the floor
+    seen the same level is the room's structure."""
+    from sg3d.core.model import UNNAMED_LABEL
+    from sg3d.ingest.discover.structure import horizontal_surfaces
+
+    a, b = np.meshgrid(np.arange(0.0, 1.2, 0.01), np.arange(0.0, 0.6, 0.01))
+    top = np.stack([a.ravel(), b.ravel(), np.zeros(a.size)], axis=1)
+    pose = np.eye(4)
+    pose[:3, 3] = (0.6, 0.3, 0.5)
+    view = SimpleNamespace(pose=pose, K=np.array([[100.0, 0, 80], [0, 100.0, 60], [0, 0, 1]]), depth=np.zeros((120, 160)),
+                           index=0)
+    p = np.vstack([top] * 3)
+    cloud = RoomCloud(p, np.tile([0.0, 0.0, 1.0], (len(p), 1)), np.repeat(np.arange(3), len(top)), np.eye(3), 0.0,
+                      [view] * 3, False)
+    structure = horizontal_surfaces(cloud)
+    unnamed, nodes = discover([], cloud, structure, lambda k: None)
+    assert nodes == []
+    [desk] = unnamed
+    assert desk.label == UNNAMED_LABEL and desk.layer == "object" and desk.shape == "flat"
+    # the surface rule's closing takes 2 cells (10 cm) off every side
+    assert desk.size[0] == pytest.approx(1.0, abs=0.06) and desk.size[1] == pytest.approx(0.4, abs=0.06)

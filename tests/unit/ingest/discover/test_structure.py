@@ -204,3 +204,24 @@ def test_a_rough_wall_gathers_its_votes_in_3_cm_offset_bins():          # WALL_O
         return pts, np.tile(X_WALL, (len(pts), 1))
     assert _labels(_room(rough(26))) == ["wall"]         # 676 points: 3 bins x 3 cm hold 500 votes
     assert _labels(_room(rough(20))) == []               # 400 points
+
+
+# --------------------------------------------------------------------------- a recording that never saw the floor
+
+def _top_scan(floor_seen: bool) -> RoomCloud:
+    """A desk top 1.2 x 0.6 m seen from above, 3 frames, its level the lowest point (h = 0)."""
+    a, b = np.meshgrid(np.arange(0.0, 1.2, 0.01), np.arange(0.0, 0.6, 0.01))
+    top = np.stack([a.ravel(), b.ravel(), np.zeros(a.size)], axis=1)
+    p = np.vstack([top] * 3)
+    frames = np.repeat(np.arange(3), len(top))
+    views = [SimpleNamespace(pose=np.eye(4))] * 3
+    return RoomCloud(p, np.tile([0.0, 0.0, 1.0], (len(p), 1)), frames, np.eye(3), 0.0, views, floor_seen)
+
+
+def test_where_the_floor_was_not_seen_the_lowest_level_is_a_surface_not_the_floor():
+    seen, unseen = _top_scan(True), _top_scan(False)
+    assert floor_element(seen) is not None and horizontal_surfaces(seen) == []     # below SURFACE_MIN_HEIGHT
+    assert floor_element(unseen) is None
+    [top] = horizontal_surfaces(unseen)
+    assert top.label == "surface" and top.height == pytest.approx(0.0, abs=0.01)
+    assert top.hi[0] - top.lo[0] == pytest.approx(1.0, abs=0.06)     # less the closing's 2 cells a side

@@ -1,0 +1,28 @@
+"""Generated rooms with exact ground truth (benchmarks.synth), built with default settings into
+the real store and judged like `bench_rooms --generated`: the floor is found where the frames saw
+it and only there, and a tabletop scan keeps its desk, top included, as an object."""
+from __future__ import annotations
+
+import pytest
+
+pytest.importorskip("open3d", reason="the generated rooms need the optional extra `synth` (open3d-cpu)")
+
+from benchmarks.bench_rooms import build_generated  # noqa: E402
+
+
+def test_a_desk_scan_never_sees_the_floor_and_keeps_the_desk(store, tmp_path):
+    row = build_generated(store, "desk", 1, tmp_path, frames=60)
+    assert not row["floor_seen"]
+    assert row["floor_said"] == "not seen"
+    assert row["focus_object"] is True, row["missing"]
+    assert row["flat_found"] >= 1, row["missing"]         # a keyboard, a phone or papers on the desk
+
+
+def test_a_walk_around_a_room_finds_its_floor(store, tmp_path):
+    row = build_generated(store, "room", 0, tmp_path, frames=60)
+    assert row["floor_seen"] and row["floor_right"], row["floor_said"]
+
+
+def test_a_robot_camera_a_foot_above_the_floor_finds_the_floor(store, tmp_path):
+    row = build_generated(store, "robot", 2, tmp_path, frames=60)
+    assert row["floor_seen"] and row["floor_right"], row["floor_said"]
