@@ -512,11 +512,11 @@ class EmbeddedServer:
             self.lost_path.unlink(missing_ok=True)
         return why
 
-    def check_database(self, timeout_s: float = 600.0) -> dict:
-        """ArcadeDB's own integrity check (SQL `CHECK DATABASE`: pages, records, edges, indexes)
-        of the running daemon's database: its result row. The Bolt plugin speaks only Cypher, so
-        this goes through the daemon's HTTP API (loopback, its random port) as the store's root
-        user, whose password only this user can read. EmbeddedStoreError when it cannot run."""
+    def sql(self, command: str, timeout_s: float = 600.0, limit: int = -1) -> list[dict]:
+        """The result rows of one SQL `command` of sg3d's own (never user text: the store's checks)
+        on the running daemon's database, at most `limit` rows (-1: all). The Bolt plugin speaks only
+        Cypher, so this goes through the daemon's HTTP API (loopback, its random port) as the store's
+        root user, whose password only this user can read. EmbeddedStoreError when it cannot run."""
         import base64
         import urllib.error
         import urllib.request
@@ -527,23 +527,29 @@ class EmbeddedServer:
         auth = base64.b64encode(f"{ROOT_USER}:{self.password()}".encode()).decode()
         request = urllib.request.Request(
             f"http://127.0.0.1:{st.info.http_port}/api/v1/command/{DATABASE}",
-            data=json.dumps({"language": "sql", "command": "CHECK DATABASE"}).encode(),
+            data=json.dumps({"language": "sql", "command": command, "limit": limit}).encode(),
             headers={"Authorization": f"Basic {auth}", "Content-Type": "application/json"})
+        what = command.split(" FROM ")[0][:40]
         try:
             with urllib.request.urlopen(request, timeout=timeout_s) as response:   # noqa: S310 - loopback
                 body = json.loads(response.read())
         except urllib.error.HTTPError as exc:
             detail = exc.read(2000).decode("utf-8", "replace")
             try:
-                detail = json.loads(detail).get("error") or json.loads(detail).get("detail") or detail
+                detail = json.loads(detail).get("detail") or json.loads(detail).get("error") or detail
             except ValueError:
                 pass
             line = (str(detail).strip().splitlines() or [""])[0][:300]
-            raise EmbeddedStoreError(f"the store's CHECK DATABASE failed (HTTP {exc.code}): {line}") from None
+            raise EmbeddedStoreError(f"the store's {what} failed (HTTP {exc.code}): {line}") from None
         except (OSError, ValueError) as exc:
-            raise EmbeddedStoreError(f"the store's CHECK DATABASE could not run: {exc}") from None
-        rows = body.get("result") or [{}]
-        return rows[0] if isinstance(rows[0], dict) else {}
+            raise EmbeddedStoreError(f"the store's {what} could not run: {exc}") from None
+        return [row for row in body.get("result") or [] if isinstance(row, dict)]
+
+    def check_database(self, timeout_s: float = 600.0) -> dict:
+        """ArcadeDB's own integrity check (SQL `CHECK DATABASE`: pages, records, edges, indexes)
+        of the running daemon's database: its result row (see `sql`)."""
+        rows = self.sql("CHECK DATABASE", timeout_s)
+        return rows[0] if rows else {}
 
     def _start(self) -> ServerInfo:
         self.ensure_home()

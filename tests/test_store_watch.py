@@ -1,0 +1,93 @@
+"""The store's own files and indexes, on private real stores (no mocks):
+
+- `sg3d db check` compares every unique index with the records (a zeroed page of the Object id
+  index, a duplicate id) and fails (exit 1) on NaN values and tallies that disagree with the objects.
+"""
+from __future__ import annotations
+
+import json
+
+import pytest
+
+from tests.cli_helpers import sg3d
+
+
+@pytest.fixture
+def own_store(tmp_path):
+    """A store of its own (damaged on purpose) holding the sample kitchen ingest: (home, server)."""
+    from sg3d.app.ingest import IngestRequest, ingest_graph
+    from sg3d.graphdb.embedded import EmbeddedServer
+    from sg3d.settings import Settings
+    from sg3d.testing import kitchen_body
+
+    home = tmp_path / "home"
+    store = Settings(home=home).store()
+    store.ensure_schema()
+    ingest_graph(store, IngestRequest.model_validate(kitchen_body()))
+    store.close()
+    server = EmbeddedServer(home)
+    yield home, server
+    server.stop()
+
+
+# -- db check: unique indexes against the records --------------------------------------------------
+def _object_id_index(server):
+    """The file of the Object id unique index (ArcadeDB: `<Type>_<bucket>_<n>.<file id>.<page>.v1.umtidx`,
+    one per bucket; the non-unique indexes end .numtidx)."""
+    files = sorted(server.database_dir.glob("Object_0_*.umtidx"))
+    assert len(files) == 1, files
+    return files[0]
+
+
+def test_db_check_finds_a_zeroed_page_of_the_object_id_index(own_store):
+    home, server = own_store
+    assert sg3d(home, "db", "check").returncode == 0
+    index = _object_id_index(server)
+    page = int(index.name.split(".")[2])
+    server.stop()
+    with open(index, "r+b") as f:
+        f.write(b"\0" * page)
+    out = sg3d(home, "db", "check", "--json")
+    assert out.returncode == 1, out.stdout + out.stderr
+    report = json.loads(out.stdout)
+    assert report["integrity"] == "damaged" and any("Object[id]" in line for line in report["damage"]), report
+
+
+def test_db_check_finds_a_duplicate_id_the_index_lets_through(own_store):
+    """Records whose unique key repeats (what a damaged index accepts) fail `db check`, named."""
+    home, server = own_store
+    index = _object_id_index(server)
+    page = int(index.name.split(".")[2])
+    server.stop()
+    with open(index, "r+b") as f:
+        f.write(b"\0" * page)
+    out = sg3d(home, "cypher", "--write", "MATCH (o:Object) WITH o ORDER BY o.id LIMIT 1 "
+               "CREATE (:Object {id: o.id, room: o.room, label: o.label}) RETURN o.id AS id", "--json")
+    assert out.returncode == 0, out.stderr      # the damaged store accepts it
+    duplicate = json.loads(out.stdout)[0]["id"]
+    out = sg3d(home, "db", "check", "--json")
+    assert out.returncode == 1
+    assert any(duplicate in line and "Object" in line for line in json.loads(out.stdout)["damage"]), out.stdout
+
+
+# -- db check: values no reader can use and wrong tallies fail it -----------------------------------
+def test_db_check_exits_1_on_a_nan_value_and_on_a_wrong_tally_until_repaired(own_store):
+    from sg3d.settings import Settings
+
+    home, _ = own_store
+    store = Settings(home=home).store()
+    try:
+        store.run_raw("MATCH (o:Object) WITH o ORDER BY o.id LIMIT 1 SET o.x = $nan", {"nan": float("nan")},
+                      write=True)
+        out = sg3d(home, "db", "check", "--json")
+        assert out.returncode == 1, out.stdout + out.stderr
+        assert len(json.loads(out.stdout)["objects"]) == 1
+        assert sg3d(home, "db", "check", "--repair").returncode == 0
+        assert sg3d(home, "db", "check").returncode == 0
+        store.run_raw("MATCH (t:Tally) SET t.n = t.n + 1", {}, write=True)
+        out = sg3d(home, "db", "check")
+        assert out.returncode == 1 and "tally" in out.stdout, out.stdout + out.stderr
+        assert sg3d(home, "db", "check", "--repair").returncode == 0
+        assert sg3d(home, "db", "check").returncode == 0
+    finally:
+        store.close()
