@@ -1,15 +1,24 @@
 """The store's own files and indexes, on private real stores (no mocks):
 
+- the daemon watches its database files: the store folder deleted, or files deleted inside the
+  database folder (what a tmp cleaner does), stop it at once; a store whose files went (while it ran,
+  or while it was stopped or killed) is never started again as an empty one: every command says
+  why, exit 2, until `sg3d db start` starts an empty store deliberately;
+
 - `sg3d db check` compares every unique index with the records (a zeroed page of the Object id
   index, a duplicate id) and fails (exit 1) on NaN values and tallies that disagree with the objects.
 """
 from __future__ import annotations
 
 import json
+import os
+import signal
+import shutil
+import time
 
 import pytest
 
-from tests.cli_helpers import sg3d
+from tests.cli_helpers import one_error_line, sg3d
 
 
 @pytest.fixture
@@ -91,3 +100,57 @@ def test_db_check_exits_1_on_a_nan_value_and_on_a_wrong_tally_until_repaired(own
         assert sg3d(home, "db", "check").returncode == 0
     finally:
         store.close()
+
+
+# -- the daemon's files ---------------------------------------------------------------------------
+def _gone_within(server, pid: int, seconds: float) -> bool:
+    from sg3d.graphdb.embedded import process_alive
+
+    deadline = time.monotonic() + seconds
+    while time.monotonic() < deadline:
+        if not process_alive(pid):
+            return True
+        time.sleep(0.05)
+    return False
+
+
+def _refused_then_started_empty(home) -> None:
+    """Every command that needs the store refuses (one line, why and the way out) until `db start`."""
+    line = one_error_line(sg3d(home, "rooms"))
+    assert "gone" in line and "sg3d db start" in line, line
+    line = one_error_line(sg3d(home, "cypher", "--write", "CREATE (p:Probe {n: 1}) RETURN p.n"))
+    assert "gone" in line
+    out = sg3d(home, "db", "check")
+    assert out.returncode == 1 and "gone" in out.stdout, out.stdout + out.stderr
+    out = sg3d(home, "db", "start")
+    assert out.returncode == 0 and "starting an empty store" in out.stderr, out.stdout + out.stderr
+    out = sg3d(home, "rooms", "--json")
+    assert out.returncode == 0 and json.loads(out.stdout) == [], out.stdout + out.stderr
+
+
+def test_the_store_folder_deleted_under_the_daemon_is_never_started_empty(own_store):
+    home, server = own_store
+    pid = server.status().info.pid
+    shutil.rmtree(server.home)
+    assert _gone_within(server, pid, 2.0), "the daemon went on with its store folder gone"
+    _refused_then_started_empty(home)
+
+
+def test_files_deleted_inside_the_database_folder_stop_the_daemon(own_store):
+    home, server = own_store
+    pid = server.status().info.pid
+    for path in server.database_dir.glob("Object_0*.bucket"):     # what an age-based tmp cleaner does
+        path.unlink()
+    assert _gone_within(server, pid, 2.0), "the daemon went on with its files deleted"
+    _refused_then_started_empty(home)
+
+
+def test_files_deleted_while_the_store_was_killed_are_found_at_the_next_start(own_store):
+    home, server = own_store
+    pid = server.status().info.pid
+    os.kill(pid, signal.SIGKILL)
+    assert _gone_within(server, pid, 5.0)
+    for path in server.database_dir.glob("*.bucket"):
+        path.unlink()
+    (server.database_dir / "schema.json").unlink()
+    _refused_then_started_empty(home)

@@ -493,23 +493,37 @@ class EmbeddedServer:
     def lost_path(self) -> Path:
         return self.home / LOST_FILE
 
+    @property
+    def record_path(self) -> Path:
+        """The record, beside the store folder, that a database was created (`filewatch.record_path`)."""
+        from sg3d.graphdb.filewatch import record_path
+
+        return record_path(self.home)
+
     def lost(self) -> Optional[str]:
-        """Why the store's data is gone (its database folder vanished while the daemon ran), or
-        None. Written by the daemon, cleared by `accept_lost` (`sg3d db start`)."""
-        if not os.path.lexists(self.lost_path):     # also False when the home is no directory
-            return None
-        try:
-            return read_secret(self.lost_path) or "the store's database folder vanished while it ran"
-        except FileNotFoundError:
-            return None
-        except (OSError, EmbeddedStoreError):
-            return f"{self.lost_path} exists (unreadable): the store's database folder vanished while it ran"
+        """Why the store's data is gone, or None: its database folder vanished while the daemon ran
+        (LOST_FILE), or the record beside the store folder says a database was created and its
+        folder or files are gone (the whole store folder deleted, a tmp cleaner). Cleared by
+        `accept_lost` (`sg3d db start`)."""
+        from sg3d.graphdb.filewatch import gone_from, read_record
+
+        if os.path.lexists(self.lost_path):     # also False when the home is no directory
+            try:
+                return read_secret(self.lost_path) or "the store's database folder vanished while it ran"
+            except FileNotFoundError:
+                pass
+            except (OSError, EmbeddedStoreError):
+                return f"{self.lost_path} exists (unreadable): the store's database folder vanished while it ran"
+        record = read_record(self.record_path)
+        return None if record is None else gone_from(record, self.database_dir)
 
     def accept_lost(self) -> Optional[str]:
-        """Clear the lost-store mark (the user starts an empty store); what it said, or None."""
+        """Clear the lost-store mark and the record of a database that is gone (the user starts an
+        empty store); what it said, or None."""
         why = self.lost()
         if why is not None:
             self.lost_path.unlink(missing_ok=True)
+            self.record_path.unlink(missing_ok=True)
         return why
 
     def sql(self, command: str, timeout_s: float = 600.0, limit: int = -1) -> list[dict]:
@@ -556,7 +570,7 @@ class EmbeddedServer:
         lost = self.lost()
         if lost:
             raise StoreLost(f"{lost}; what it held is gone (restore your backup into {self.home / 'databases'}, "
-                            f"or `sg3d db start` to start an empty store)")
+                            f"or `sg3d db start` to start an empty store deliberately)")
         full = disk_full_message(self.home)
         if full:
             raise EmbeddedStoreError(full)
