@@ -154,3 +154,32 @@ def test_files_deleted_while_the_store_was_killed_are_found_at_the_next_start(ow
         path.unlink()
     (server.database_dir / "schema.json").unlink()
     _refused_then_started_empty(home)
+
+
+# -- a store folder swapped for a symbolic link while the daemon runs -------------------------------
+def _swap_for_link(folder) -> None:
+    moved = folder.with_name(folder.name + "-moved")
+    folder.rename(moved)
+    folder.symlink_to(moved)
+
+
+@pytest.mark.parametrize("shared", [True, False], ids=["store-in-a-shared-home", "home-is-the-store"])
+def test_db_stop_stops_a_daemon_whose_store_folder_became_a_link(tmp_path, shared):
+    from sg3d.graphdb.embedded import EmbeddedServer, process_alive
+
+    home = tmp_path / "home"
+    home.mkdir(mode=0o777 if shared else 0o700)
+    home.chmod(0o777 if shared else 0o700)
+    server = EmbeddedServer(home)
+    pid = server.ensure_running().pid
+    try:
+        _swap_for_link(server.home)
+        out = sg3d(home, "db", "stop")
+        assert out.returncode == 0 and "stopped" in out.stdout, out.stdout + out.stderr
+        assert not process_alive(pid)
+        if shared:   # the link itself is trusted for nothing else
+            line = one_error_line(sg3d(home, "rooms"))
+            assert "symbolic link" in line, line
+    finally:
+        if process_alive(pid):
+            os.kill(pid, signal.SIGKILL)

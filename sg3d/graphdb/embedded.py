@@ -273,9 +273,20 @@ def daemon_pids(home: Path) -> list[int]:
         if not entry.name.isdigit() or int(entry.name) == me:
             continue
         args = _cmdline(int(entry.name))
-        if len(args) >= 3 and args[-1] == str(home) and args[-3:-1] == ["-m", "sg3d.graphdb.daemon"]:
+        if len(args) >= 3 and args[-3:-1] == ["-m", "sg3d.graphdb.daemon"] and _same_home(entry, args[-1], home):
             found.append(int(entry.name))
     return found
+
+
+def _same_home(proc: Path, started_with: str, home: Path) -> bool:
+    """Whether a daemon started with `started_with` serves `home`: the same path, or (a daemon of
+    this user's) a path that now leads to it (its home was moved and a link put in its place)."""
+    if started_with == str(home):
+        return True
+    try:
+        return proc.stat().st_uid == os.getuid() and os.path.realpath(started_with) == os.path.realpath(home)
+    except OSError:
+        return False
 
 
 def process_alive(pid: int) -> bool:
@@ -620,7 +631,13 @@ class EmbeddedServer:
 
     def stop(self) -> bool:
         """Stop the daemon; False if it was not running. Raises EmbeddedStoreError when a
-        daemon runs that cannot be stopped (or the lock is held by an unknown process)."""
+        daemon runs that cannot be stopped (or the lock is held by an unknown process).
+
+        A store folder that became a symbolic link while the daemon ran is trusted for nothing:
+        the daemon is then found by process identity alone and stopped, nothing is read there."""
+        if os.path.islink(self.home):
+            pids = set(self.daemon_pids())
+            return bool(pids) and self._signal(pids, clear=False)
         st = self.status()
         if not st.running:
             return False
@@ -631,6 +648,11 @@ class EmbeddedServer:
             raise EmbeddedStoreError(
                 f"{self.lock_path} is held, but no store daemon of this home was found; "
                 f"see `fuser {self.lock_path}`")
+        return self._signal(pids, clear=True)
+
+    def _signal(self, pids: set[int], clear: bool) -> bool:
+        """TERM, then KILL, the daemon `pids` until they are gone (True); `clear`: then clear a
+        killed daemon's leftovers."""
         for sig, wait_s in ((signal.SIGTERM, STOP_TIMEOUT_S), (signal.SIGKILL, 5.0)):
             for pid in pids:
                 try:
@@ -642,7 +664,8 @@ class EmbeddedServer:
             deadline = time.monotonic() + wait_s
             while time.monotonic() < deadline:
                 if not any(process_alive(pid) for pid in pids) and not self.daemon_pids():
-                    self.status()  # clears the leftovers of a killed daemon
+                    if clear:
+                        self.status()  # clears the leftovers of a killed daemon
                     return True
                 time.sleep(0.1)
         raise EmbeddedStoreError(f"the store daemon (pid {', '.join(map(str, sorted(pids)))}) did not stop")
