@@ -183,3 +183,56 @@ def test_db_stop_stops_a_daemon_whose_store_folder_became_a_link(tmp_path, share
     finally:
         if process_alive(pid):
             os.kill(pid, signal.SIGKILL)
+
+
+# -- a statement that computes inside one row ------------------------------------------------------
+RUNAWAY = ("WITH range(1, 2000) AS r RETURN reduce(s = 0, a IN r | s + reduce(t = 0, b IN r | "
+           "t + reduce(u = 0, c IN r | u + c))) AS x")
+
+
+def _cpu_seconds(pid: int) -> float:
+    fields = open(f"/proc/{pid}/stat").read().rsplit(")", 1)[1].split()
+    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+
+
+def test_a_statement_computing_inside_one_row_is_stopped_by_the_limit(tmp_path):
+    """The store's limit (2 s here) stops a statement whatever it computes inside a row: the caller
+    gets the reason within the limit + 2 s, and the daemon's cores go idle."""
+    import threading
+
+    from sg3d.graphdb.embedded import EmbeddedServer
+    from sg3d.settings import Settings
+
+    home = tmp_path / "home"
+    server = EmbeddedServer(home)
+    os.environ["SG3D_STORE_TIMEOUT_S"] = "2"
+    try:
+        store = Settings(home=home).store()
+    finally:
+        del os.environ["SG3D_STORE_TIMEOUT_S"]
+    pid = server.status().info.pid
+    answer: list = []
+
+    def run():
+        try:
+            store.run_raw(RUNAWAY)
+            answer.append("answered")
+        except Exception as exc:  # noqa: BLE001 - the store's error is the answer
+            answer.append(str(exc))
+
+    try:
+        t0 = time.monotonic()
+        worker = threading.Thread(target=run, daemon=True)
+        worker.start()
+        worker.join(2 + 2)
+        assert answer, f"no answer {time.monotonic() - t0:.1f} s after a statement under a 2 s limit"
+        assert "2 s limit" in answer[0], answer
+        time.sleep(1.0)
+        before = _cpu_seconds(pid)
+        time.sleep(2.0)
+        assert _cpu_seconds(pid) - before < 0.5, "the daemon still computes the stopped statement"
+        out = sg3d(home, "cypher", RUNAWAY)      # the CLI: the reason in one line
+        assert out.returncode != 0 and "2 s limit" in out.stderr, out.stdout + out.stderr
+    finally:
+        store.close()
+        server.stop()

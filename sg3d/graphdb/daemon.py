@@ -16,6 +16,7 @@ from pathlib import Path
 from typing import Optional
 
 from sg3d.graphdb.filewatch import FileWatch
+from sg3d.graphdb.watchdog import Watchdog
 from sg3d.graphdb.embedded import (
     DATABASE,
     READER_GROUP,
@@ -182,6 +183,8 @@ def main(home: str) -> None:
     if not server_home.database_dir.exists():
         server.create_database(DATABASE)
     install_users(server, server_home.credentials())
+    # ArcadeDB's own limit acts between rows only: the watchdog stops a statement whatever it computes
+    Watchdog(server._java_server, store_timeout_s(), log=lambda line: print(line, flush=True)).start()
 
     stop = threading.Event()
     for sig in (signal.SIGTERM, signal.SIGINT, signal.SIGHUP):
