@@ -14,6 +14,10 @@ Files under the home directory:
                   failed logins, and a process that cannot read this file cannot name them.
     server.log    the daemon's output.
     databases/    ArcadeDB's data.
+    store-lost    why the daemon stopped when its database files went (`sg3d db start` clears it).
+Beside the home, in its parent: `.<home name>.sg3d-database`, the record that a database was
+created and which files it keeps (`sg3d.graphdb.filewatch`): it outlives the store folder, so a
+store whose files went is refused, never started empty.
 """
 from __future__ import annotations
 
@@ -52,8 +56,9 @@ class StoreStopped(EmbeddedStoreError):
 
 
 class StoreLost(EmbeddedStoreError):
-    """The store's database folder vanished while the daemon ran (`LOST_FILE`): what it held is
-    gone, so no command starts it again on its own; `sg3d db start` starts an empty store."""
+    """The store's database or some of its files went (while the daemon ran: `LOST_FILE`; or
+    found at a start by the record beside the store folder): what it held is gone, so no command
+    starts it again on its own; `sg3d db start` starts an empty store."""
 
 
 # The embedded store stops any single statement (sg3d's own included) after this many seconds

@@ -2,10 +2,11 @@
 store folder so that a store whose files went is never started again as an empty one.
 
 ArcadeDB keeps each type's records in `*.bucket` files, property names in `dictionary.*.dict` and
-the types in `schema.json`; it never deletes those while it runs (index files `*.umtidx` /
-`*.numtidx` are replaced when compacted and WAL files `*.wal` rotate, so only their deletion while
-open counts). A file deleted under a running store takes every write acknowledged into it with it
-at the next restart: the daemon stops instead (`sg3d.graphdb.daemon`).
+the types in `schema.json`; it never deletes those while it runs (sg3d drops no type), so any of
+them missing is damage (index files `*.umtidx` / `*.numtidx` are replaced when compacted and WAL
+files `*.wal` rotate: not watched; a lost index is found by `sg3d db check`). A file deleted under
+a running store takes every write acknowledged into it with it at the next restart: the daemon
+stops instead (`sg3d.graphdb.daemon`).
 """
 from __future__ import annotations
 
@@ -113,8 +114,8 @@ def gone_from(record: dict, database_dir: Path) -> Optional[str]:
 class FileWatch:
     """The daemon's watch over its database folder: the folder itself (deleted or replaced), the
     kept files (deleted: missing at two looks in a row, since ArcadeDB may rewrite schema.json by
-    renaming), any of its open files deleted; and the record beside the store folder, kept up to
-    date with the kept files' names."""
+    renaming, or deleted while the store holds them open); and the record beside the store folder,
+    kept up to date with the kept files' names."""
 
     def __init__(self, database_dir: Path, record: Path):
         self.database_dir, self.record = database_dir, record
@@ -137,7 +138,9 @@ class FileWatch:
             return f"the store's database folder {self.database_dir} vanished while the store ran ({when})"
         except OSError as exc:
             return f"the store's database folder {self.database_dir} cannot be read ({exc.strerror or exc}; {when})"
-        deleted = deleted_open_files(self.database_dir)
+        # index files are closed before they are deleted when compacted, but only the kept files'
+        # deletion is certain damage: a deleted index is found by `db check` after the restart
+        deleted = [name for name in deleted_open_files(self.database_dir) if KEPT_FILES.search(name)]
         gone = (self.files - now) & self.missing
         if deleted or gone:
             names = sorted(set(deleted) | gone)
