@@ -90,7 +90,7 @@ def main() -> None:
     store = Settings(home=home).store()
     del os.environ["SG3D_STORE_TIMEOUT_S"]
     store.run_raw("UNWIND range(1, 1000) AS i CREATE (:Probe {id: 'p' + toString(i)})", write=True)
-    pid = EmbeddedServer(home).status().info.pid
+    pid = EmbeddedServer(home).ensure_running().pid
     mcp = build_server(Settings(home=home), timeouts={"cypher": args.limit + 30, "read": 30.0})
     rows = []
     try:
