@@ -132,7 +132,7 @@ def test_reads_skip_a_stored_bad_value_and_db_check_repairs_it(client, store, em
 
     runner = CliRunner()
     found = runner.invoke(cli, ["--home", str(embedded_home), "db", "check", "--json"])
-    assert found.exit_code == 0, found.output
+    assert found.exit_code == 1, found.output      # found, not repaired
     report = json.loads(found.output)
     assert len(report["objects"]) == 1 and report["rooms"] == ["home/kitchen"] and not report["repaired"]
     fixed = runner.invoke(cli, ["--home", str(embedded_home), "db", "check", "--repair"])

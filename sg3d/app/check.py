@@ -6,6 +6,7 @@ and the next check finds the same)."""
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import Callable, Optional
 
 from sg3d.graphdb import cypher
 from sg3d.graphdb.protocol import GraphStore
@@ -131,4 +132,58 @@ def record_problems(store: GraphStore) -> list[str]:
         if r.get(missing):
             out.append(f"{r[missing]} of {r[total]} {kind} records have no {what} (the store's dictionary of "
                        f"property names is damaged?)")
+    return out
+
+
+def unique_keys() -> list[tuple[str, str]]:
+    """(label, property) of every unique constraint of sg3d's schema (`cypher/schema.cypher`)."""
+    import re
+
+    return re.findall(r"FOR \(\w+:(\w+)\) REQUIRE \w+\.(\w+) IS UNIQUE", cypher.load("schema"))
+
+
+def _index_vs_records(name: str, entries: Optional[list[dict]], records: list[dict]) -> list[str]:
+    """What disagrees between one unique index's `entries` ({key: [k], rid}; None: the index is
+    missing) and the `records` ({key, rid}) of its type: keys held by several records, records the
+    index does not hold, entries that point to no such record."""
+    out = []
+    holders: dict = {}
+    for r in records:
+        holders.setdefault(r["key"], []).append(r["rid"])
+    for key, rids in holders.items():
+        if len(rids) > 1:
+            out.append(f"{name}: {key!r} is held by {len(rids)} records ({', '.join(rids[:5])}); "
+                       f"a unique key repeats")
+    if entries is None:
+        return [f"the unique index {name} is missing from the store (its file is damaged): "
+                f"duplicates are no longer refused"] + out
+    indexed = {((e.get("key") or [None])[0], e.get("rid")) for e in entries}
+    stored = {(r["key"], r["rid"]) for r in records}
+    for what, pairs in (("records the index does not hold", stored - indexed),
+                        ("index entries that point to no such record", indexed - stored)):
+        if pairs:
+            shown = ", ".join(f"{k!r} {rid}" for k, rid in sorted(pairs, key=str)[:5])
+            out.append(f"{name}: {len(pairs)} {what} ({shown})")
+    return out
+
+
+def index_problems(sql: Callable[[str], list[dict]]) -> list[str]:
+    """Every unique index of sg3d's schema compared with the records of its type (`sql`: the
+    store's own SQL, `EmbeddedServer.sql`): the index is there, holds one entry per record with
+    the record's key, and no key repeats among the records. One line per disagreement; empty: the
+    indexes agree with the records. (A damaged index page passes the store's CHECK DATABASE, and
+    a store whose id index lost entries accepts duplicate ids.)"""
+    from sg3d.graphdb.embedded import EmbeddedStoreError
+
+    present = {r.get("name") for r in sql("SELECT name FROM schema:indexes")}
+    out = []
+    for label, prop in unique_keys():
+        name = f"{label}[{prop}]"
+        records = sql(f"SELECT @rid AS rid, `{prop}` AS key FROM `{label}` WHERE `{prop}` IS NOT NULL")
+        try:
+            entries = sql(f"SELECT key, rid FROM index:`{name}`") if name in present else None
+        except EmbeddedStoreError as exc:
+            out.append(f"the unique index {name} cannot be read: {exc}")
+            continue
+        out += _index_vs_records(name, entries, records)
     return out

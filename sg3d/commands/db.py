@@ -95,11 +95,12 @@ def reset(settings, yes: bool) -> None:
 @click.pass_obj
 def check(settings, repair: bool, as_json: bool) -> None:
     """Check the store: the embedded store's own integrity (ArcadeDB's CHECK DATABASE: pages,
-    records, edges, indexes; and whether its database folder is still there), exit status 1 when
-    it is damaged; then stored values no reader can use (NaN, Infinity, positions beyond the world
-    extent, an up that is no direction) and tallies that disagree with the objects; --repair
-    removes such objects, clears such up directions and recounts the tallies."""
-    from sg3d.app.check import check_store, integrity_problems, record_problems
+    records, edges, indexes; whether its database folder is still there; each unique index against
+    the records), exit status 1 when it is damaged; then stored values no reader can use (NaN,
+    Infinity, positions beyond the world extent, an up that is no direction) and tallies that
+    disagree with the objects, exit status 1 when found; --repair removes such objects, clears such
+    up directions and recounts the tallies (exit status 0)."""
+    from sg3d.app.check import check_store, index_problems, integrity_problems, record_problems
 
     damage: list[str] = []
     server = _server(settings) if settings.embedded else None
@@ -111,7 +112,9 @@ def check(settings, repair: bool, as_json: bool) -> None:
     store.ensure_schema()
     if server is not None:
         damage = integrity_problems(server.check_database(), server.database_dir)
-    damage += record_problems(store)
+    damage += record_problems(store)     # before the indexes: a damaged dictionary explains their disagreement
+    if server is not None:
+        damage += index_problems(server.sql)
     if damage:
         _damaged(damage, as_json)
     report = check_store(store, repair=repair)
@@ -119,11 +122,17 @@ def check(settings, repair: bool, as_json: bool) -> None:
             "tallies": report.tallies, "repaired": report.repaired, "integrity": "clean" if server else "not checked"}
     if as_json:
         click.echo(json.dumps(data))
-        return
-    if report.clean:
-        click.echo("the store holds no unusable values" + ("; its files passed the store's CHECK DATABASE"
+    elif report.clean:
+        click.echo("the store holds no unusable values" + ("; its files passed the store's CHECK DATABASE "
+                                                             "and its unique indexes agree with the records"
                                                              if server else ""))
-        return
+    else:
+        _found(report)
+    if not report.clean and not report.repaired:
+        raise SystemExit(1)     # found, not repaired: a script must not read it as a clean store
+
+
+def _found(report) -> None:
     verb = "removed" if report.repaired else "found"
     click.echo(f"{verb} {len(report.objects)} object(s) with unusable numbers, "
                f"{'cleared' if report.repaired else 'found'} {len(report.rooms)} unusable room up direction(s), "

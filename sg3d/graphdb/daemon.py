@@ -15,6 +15,8 @@ import time
 from pathlib import Path
 from typing import Optional
 
+from sg3d.graphdb.filewatch import FileWatch
+from sg3d.graphdb.watchdog import Watchdog
 from sg3d.graphdb.embedded import (
     DATABASE,
     READER_GROUP,
@@ -25,6 +27,10 @@ from sg3d.graphdb.embedded import (
     free_port,
     store_timeout_s,
 )
+
+# How often the daemon looks at its database files (a look costs ~1 ms): writes acknowledged in
+# the moment between a file's deletion and the next look are lost with it.
+WATCH_S = 0.1
 
 # sg3d never reads files or URLs through LOAD CSV: the engine is told so, whoever logs in
 CLOSED_SETTINGS = {
@@ -102,33 +108,12 @@ class Keeper:
 
     def __init__(self, home: EmbeddedServer, lock_fd: int):
         self.home, self.lock_fd, self.info_text = home, lock_fd, ""
-        # the database folder and its inode when the store opened it; None: not watched
-        self.database: Optional[tuple[Path, int]] = None
-
-    def watch_database(self, path: Path) -> None:
-        self.database = (path, path.stat().st_ino)
-
-    def database_lost(self) -> Optional[str]:
-        """Why the database folder the store has open is gone (deleted or replaced: the store
-        would go on writing into deleted files, and lose every acknowledged write at its stop),
-        or None."""
-        if self.database is None:
-            return None
-        path, inode = self.database
-        try:
-            if path.stat().st_ino == inode:
-                return None
-            what = "was replaced"
-        except FileNotFoundError:
-            what = "vanished"
-        except OSError as exc:
-            what = f"cannot be read ({exc.strerror or exc})"
-        return (f"the store's database folder {path} {what} while the store ran "
-                f"({time.strftime('%Y-%m-%d %H:%M:%S')}); the store stopped rather than acknowledge writes it "
-                f"could not keep")
-
+        self.watch: Optional[FileWatch] = None   # the database's files, once the store opened it
     def mark_lost(self, why: str) -> None:
-        """Leave `why` in the home's LOST_FILE (0600): no command starts the store on its own again."""
+        """Leave `why` in the home's LOST_FILE (0600) and in the record beside the store folder: no
+        command starts the store on its own again."""
+        if self.watch is not None:
+            self.watch.mark_lost(why)
         try:
             fd = os.open(self.home.lost_path, os.O_WRONLY | os.O_CREAT | os.O_TRUNC | os.O_NOFOLLOW, 0o600)
             with os.fdopen(fd, "w") as f:
@@ -166,6 +151,10 @@ def main(home: str) -> None:
         print("another embedded store is running in this home", flush=True)
         sys.exit(3)
     lock_fd = _take_lock(server_home.lock_path)
+    lost = server_home.lost()
+    if lost:        # never an empty store where one existed: only `sg3d db start` clears this
+        print(lost, flush=True)
+        sys.exit(5)
     os.chdir(server_home.home)  # ArcadeDB writes ./log relative to the working directory
 
     import arcadedb_embedded as arcadedb
@@ -194,22 +183,29 @@ def main(home: str) -> None:
     if not server_home.database_dir.exists():
         server.create_database(DATABASE)
     install_users(server, server_home.credentials())
+    # ArcadeDB's own limit acts between rows only: the watchdog stops a statement whatever it computes
+    Watchdog(server._java_server, store_timeout_s(), log=lambda line: print(line, flush=True)).start()
 
     stop = threading.Event()
     for sig in (signal.SIGTERM, signal.SIGINT, signal.SIGHUP):
         signal.signal(sig, lambda *_: stop.set())
 
     keeper = Keeper(server_home, lock_fd)
-    keeper.watch_database(server_home.database_dir)
+    keeper.watch = FileWatch(server_home.database_dir, server_home.record_path)
+    if keeper.watch.problem:
+        print(f"{keeper.watch.problem}: a store whose files go is not recognised at its next start", flush=True)
     keeper.write_info(json.dumps({
         "pid": os.getpid(), "bolt_port": bolt_port, "http_port": http_port,
         "database": DATABASE, "started_at": time.time(), "users": True,
     }))
     print(f"sg3d embedded store ready: bolt://127.0.0.1:{bolt_port} database {DATABASE}", flush=True)
 
-    while not stop.wait(0.5):
-        keeper.heal()
-        lost = keeper.database_lost()
+    ticks = 0
+    while not stop.wait(WATCH_S):
+        ticks += 1
+        if ticks % 5 == 0:
+            keeper.heal()
+        lost = keeper.watch.lost()
         if lost:
             keeper.mark_lost(lost)
             print(lost, flush=True)

@@ -14,6 +14,10 @@ Files under the home directory:
                   failed logins, and a process that cannot read this file cannot name them.
     server.log    the daemon's output.
     databases/    ArcadeDB's data.
+    store-lost    why the daemon stopped when its database files went (`sg3d db start` clears it).
+Beside the home, in its parent: `.<home name>.sg3d-database`, the record that a database was
+created and which files it keeps (`sg3d.graphdb.filewatch`): it outlives the store folder, so a
+store whose files went is refused, never started empty.
 """
 from __future__ import annotations
 
@@ -52,8 +56,9 @@ class StoreStopped(EmbeddedStoreError):
 
 
 class StoreLost(EmbeddedStoreError):
-    """The store's database folder vanished while the daemon ran (`LOST_FILE`): what it held is
-    gone, so no command starts it again on its own; `sg3d db start` starts an empty store."""
+    """The store's database or some of its files went (while the daemon ran: `LOST_FILE`; or
+    found at a start by the record beside the store folder): what it held is gone, so no command
+    starts it again on its own; `sg3d db start` starts an empty store."""
 
 
 # The embedded store stops any single statement (sg3d's own included) after this many seconds
@@ -273,9 +278,20 @@ def daemon_pids(home: Path) -> list[int]:
         if not entry.name.isdigit() or int(entry.name) == me:
             continue
         args = _cmdline(int(entry.name))
-        if len(args) >= 3 and args[-1] == str(home) and args[-3:-1] == ["-m", "sg3d.graphdb.daemon"]:
+        if len(args) >= 3 and args[-3:-1] == ["-m", "sg3d.graphdb.daemon"] and _same_home(entry, args[-1], home):
             found.append(int(entry.name))
     return found
+
+
+def _same_home(proc: Path, started_with: str, home: Path) -> bool:
+    """Whether a daemon started with `started_with` serves `home`: the same path, or (a daemon of
+    this user's) a path that now leads to it (its home was moved and a link put in its place)."""
+    if started_with == str(home):
+        return True
+    try:
+        return proc.stat().st_uid == os.getuid() and os.path.realpath(started_with) == os.path.realpath(home)
+    except OSError:
+        return False
 
 
 def process_alive(pid: int) -> bool:
@@ -493,30 +509,44 @@ class EmbeddedServer:
     def lost_path(self) -> Path:
         return self.home / LOST_FILE
 
+    @property
+    def record_path(self) -> Path:
+        """The record, beside the store folder, that a database was created (`filewatch.record_path`)."""
+        from sg3d.graphdb.filewatch import record_path
+
+        return record_path(self.home)
+
     def lost(self) -> Optional[str]:
-        """Why the store's data is gone (its database folder vanished while the daemon ran), or
-        None. Written by the daemon, cleared by `accept_lost` (`sg3d db start`)."""
-        if not os.path.lexists(self.lost_path):     # also False when the home is no directory
-            return None
-        try:
-            return read_secret(self.lost_path) or "the store's database folder vanished while it ran"
-        except FileNotFoundError:
-            return None
-        except (OSError, EmbeddedStoreError):
-            return f"{self.lost_path} exists (unreadable): the store's database folder vanished while it ran"
+        """Why the store's data is gone, or None: its database folder vanished while the daemon ran
+        (LOST_FILE), or the record beside the store folder says a database was created and its
+        folder or files are gone (the whole store folder deleted, a tmp cleaner). Cleared by
+        `accept_lost` (`sg3d db start`)."""
+        from sg3d.graphdb.filewatch import gone_from, read_record
+
+        if os.path.lexists(self.lost_path):     # also False when the home is no directory
+            try:
+                return read_secret(self.lost_path) or "the store's database folder vanished while it ran"
+            except FileNotFoundError:
+                pass
+            except (OSError, EmbeddedStoreError):
+                return f"{self.lost_path} exists (unreadable): the store's database folder vanished while it ran"
+        record = read_record(self.record_path)
+        return None if record is None else gone_from(record, self.database_dir)
 
     def accept_lost(self) -> Optional[str]:
-        """Clear the lost-store mark (the user starts an empty store); what it said, or None."""
+        """Clear the lost-store mark and the record of a database that is gone (the user starts an
+        empty store); what it said, or None."""
         why = self.lost()
         if why is not None:
             self.lost_path.unlink(missing_ok=True)
+            self.record_path.unlink(missing_ok=True)
         return why
 
-    def check_database(self, timeout_s: float = 600.0) -> dict:
-        """ArcadeDB's own integrity check (SQL `CHECK DATABASE`: pages, records, edges, indexes)
-        of the running daemon's database: its result row. The Bolt plugin speaks only Cypher, so
-        this goes through the daemon's HTTP API (loopback, its random port) as the store's root
-        user, whose password only this user can read. EmbeddedStoreError when it cannot run."""
+    def sql(self, command: str, timeout_s: float = 600.0, limit: int = -1) -> list[dict]:
+        """The result rows of one SQL `command` of sg3d's own (never user text: the store's checks)
+        on the running daemon's database, at most `limit` rows (-1: all). The Bolt plugin speaks only
+        Cypher, so this goes through the daemon's HTTP API (loopback, its random port) as the store's
+        root user, whose password only this user can read. EmbeddedStoreError when it cannot run."""
         import base64
         import urllib.error
         import urllib.request
@@ -527,30 +557,36 @@ class EmbeddedServer:
         auth = base64.b64encode(f"{ROOT_USER}:{self.password()}".encode()).decode()
         request = urllib.request.Request(
             f"http://127.0.0.1:{st.info.http_port}/api/v1/command/{DATABASE}",
-            data=json.dumps({"language": "sql", "command": "CHECK DATABASE"}).encode(),
+            data=json.dumps({"language": "sql", "command": command, "limit": limit}).encode(),
             headers={"Authorization": f"Basic {auth}", "Content-Type": "application/json"})
+        what = command.split(" FROM ")[0][:40]
         try:
             with urllib.request.urlopen(request, timeout=timeout_s) as response:   # noqa: S310 - loopback
                 body = json.loads(response.read())
         except urllib.error.HTTPError as exc:
             detail = exc.read(2000).decode("utf-8", "replace")
             try:
-                detail = json.loads(detail).get("error") or json.loads(detail).get("detail") or detail
+                detail = json.loads(detail).get("detail") or json.loads(detail).get("error") or detail
             except ValueError:
                 pass
             line = (str(detail).strip().splitlines() or [""])[0][:300]
-            raise EmbeddedStoreError(f"the store's CHECK DATABASE failed (HTTP {exc.code}): {line}") from None
+            raise EmbeddedStoreError(f"the store's {what} failed (HTTP {exc.code}): {line}") from None
         except (OSError, ValueError) as exc:
-            raise EmbeddedStoreError(f"the store's CHECK DATABASE could not run: {exc}") from None
-        rows = body.get("result") or [{}]
-        return rows[0] if isinstance(rows[0], dict) else {}
+            raise EmbeddedStoreError(f"the store's {what} could not run: {exc}") from None
+        return [row for row in body.get("result") or [] if isinstance(row, dict)]
+
+    def check_database(self, timeout_s: float = 600.0) -> dict:
+        """ArcadeDB's own integrity check (SQL `CHECK DATABASE`: pages, records, edges, indexes)
+        of the running daemon's database: its result row (see `sql`)."""
+        rows = self.sql("CHECK DATABASE", timeout_s)
+        return rows[0] if rows else {}
 
     def _start(self) -> ServerInfo:
         self.ensure_home()
         lost = self.lost()
         if lost:
             raise StoreLost(f"{lost}; what it held is gone (restore your backup into {self.home / 'databases'}, "
-                            f"or `sg3d db start` to start an empty store)")
+                            f"or `sg3d db start` to start an empty store deliberately)")
         full = disk_full_message(self.home)
         if full:
             raise EmbeddedStoreError(full)
@@ -600,7 +636,13 @@ class EmbeddedServer:
 
     def stop(self) -> bool:
         """Stop the daemon; False if it was not running. Raises EmbeddedStoreError when a
-        daemon runs that cannot be stopped (or the lock is held by an unknown process)."""
+        daemon runs that cannot be stopped (or the lock is held by an unknown process).
+
+        A store folder that became a symbolic link while the daemon ran is trusted for nothing:
+        the daemon is then found by process identity alone and stopped, nothing is read there."""
+        if os.path.islink(self.home):
+            pids = set(self.daemon_pids())
+            return bool(pids) and self._signal(pids, clear=False)
         st = self.status()
         if not st.running:
             return False
@@ -611,6 +653,11 @@ class EmbeddedServer:
             raise EmbeddedStoreError(
                 f"{self.lock_path} is held, but no store daemon of this home was found; "
                 f"see `fuser {self.lock_path}`")
+        return self._signal(pids, clear=True)
+
+    def _signal(self, pids: set[int], clear: bool) -> bool:
+        """TERM, then KILL, the daemon `pids` until they are gone (True); `clear`: then clear a
+        killed daemon's leftovers."""
         for sig, wait_s in ((signal.SIGTERM, STOP_TIMEOUT_S), (signal.SIGKILL, 5.0)):
             for pid in pids:
                 try:
@@ -622,7 +669,8 @@ class EmbeddedServer:
             deadline = time.monotonic() + wait_s
             while time.monotonic() < deadline:
                 if not any(process_alive(pid) for pid in pids) and not self.daemon_pids():
-                    self.status()  # clears the leftovers of a killed daemon
+                    if clear:
+                        self.status()  # clears the leftovers of a killed daemon
                     return True
                 time.sleep(0.1)
         raise EmbeddedStoreError(f"the store daemon (pid {', '.join(map(str, sorted(pids)))}) did not stop")
