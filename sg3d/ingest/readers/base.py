@@ -18,8 +18,10 @@ from sg3d.ingest.readers.registration import DepthRegistrar, Registration
 
 
 # The recording's colour and depth image sizes are the ones most of its first this many readable
-# images agree on (`Sequence._probe_size`, `Sequence.depth_size`).
+# images agree on (`Sequence._probe_size`, `Sequence.depth_size`), looked for among its first
+# SIZE_WINDOW frames.
 SIZE_PROBES = 5
+SIZE_WINDOW = 50
 
 
 class SequenceError(Sg3dError, ValueError):
@@ -209,7 +211,7 @@ class Sequence:
         from collections import Counter
 
         sizes: Counter = Counter()
-        for entry in self._entries[:50]:
+        for entry in self._entries[:SIZE_WINDOW]:
             try:
                 data = entry.color.read_bytes() if entry.color.is_file() else b""
             except OSError:
@@ -233,7 +235,7 @@ class Sequence:
         whose size differs from the colour camera's for the whole recording is (`DepthRegistrar`)."""
         if not hasattr(self, "_depth_size"):
             self._depth_size, self.depth_votes = _probe_depth_size(
-                [e.depth for e in self._entries[:50] if isinstance(e.depth, Path)])
+                [e.depth for e in self._entries[:SIZE_WINDOW] if isinstance(e.depth, Path)])
         return self._depth_size
 
     def _depth_size_problem(self, entry) -> Optional[str]:

@@ -16,7 +16,7 @@ import time
 from pathlib import Path
 from typing import Optional
 
-from sg3d.ingest.readers.base import SIZE_PROBES, Sequence, SequenceError, _parse_pose
+from sg3d.ingest.readers.base import SIZE_PROBES, SIZE_WINDOW, Sequence, SequenceError, _parse_pose
 from sg3d.ingest.readers.frames import Frame, FrameError
 from sg3d.ingest.readers.pose_check import MotionRuns, causal_motion_problem
 
@@ -111,8 +111,10 @@ class FolderFollower:
 
     def _sizes_known(self, seq: Sequence) -> bool:
         """Whether the colour and depth sizes rest on SIZE_PROBES images each: with fewer (the
-        first frames of a recording) one odd image could still set them."""
-        return seq.size_votes >= SIZE_PROBES and getattr(seq, "depth_votes", 0) >= SIZE_PROBES
+        first frames of a recording) one odd image could still set them; past SIZE_WINDOW frames
+        the probes have seen all they ever look at."""
+        return len(seq) > SIZE_WINDOW or (seq.size_votes >= SIZE_PROBES
+                                          and getattr(seq, "depth_votes", 0) >= SIZE_PROBES)
 
     def _judge_motion_to(self, i: int) -> None:
         """Judge the poses of every frame up to i not judged yet, in order, as they arrived

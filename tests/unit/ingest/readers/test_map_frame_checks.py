@@ -11,7 +11,7 @@ import numpy as np
 from scipy.spatial.transform import Rotation
 
 from sg3d.app.mapping import SKIPPED_EXAMPLES, skipped_by_reason
-from sg3d.ingest.readers.base import SIZE_PROBES, _probe_depth_size
+from sg3d.ingest.readers.base import SIZE_PROBES, SIZE_WINDOW, _probe_depth_size
 from sg3d.ingest.readers.follow import MOTION_RUNS_HELD
 from sg3d.ingest.readers.frames import reason_kind
 from sg3d.ingest.readers.pose_check import MotionRuns, causal_motion_problem, implausible_motion
@@ -45,7 +45,7 @@ def _path(n: int = 100) -> list:
 
 
 def test_the_limits_are_pinned():
-    assert (SIZE_PROBES, SKIPPED_EXAMPLES, MOTION_RUNS_HELD) == (5, 3, 32)
+    assert (SIZE_PROBES, SIZE_WINDOW, SKIPPED_EXAMPLES, MOTION_RUNS_HELD) == (5, 50, 3, 32)
 
 
 def test_a_glitch_and_a_shifted_block_get_the_build_verdicts_frame_by_frame():
