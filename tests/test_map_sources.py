@@ -14,7 +14,9 @@ import os
 import threading
 import time
 from pathlib import Path
+from typing import Optional
 
+import cv2
 import numpy as np
 import pytest
 
@@ -225,7 +227,7 @@ def test_map_a_realsense_recording_with_poses_tracked_online(store, realsense_re
     assert summary.state == "done" and not summary.final["as_build"], summary
     assert f["received"] >= 110 and f["read"] >= 5, f
     assert f["read"] + f["jumped"] + f["skipped"] >= f["received"] - 2, f
-    reasons = [s["reason"] for s in f["skipped_frames"]]
+    reasons = [s["reason"] for kind in f["skipped_by_reason"] for s in kind["frames"]]
     assert all(r.startswith(("lost track", "not tracked", "no longer held")) for r in reasons), reasons
 
 
@@ -240,10 +242,11 @@ def test_a_realsense_source_names_what_is_missing(tmp_path):
 # -- MCAP being recorded ---------------------------------------------------------------------------
 
 def _mcap_writer(path: Path, folder: Path, n: int, fps: float, poses: str, started: threading.Event,
-                 done: threading.Event) -> None:
+                 done: threading.Event, depth_sizes: Optional[dict] = None) -> None:
     """Writes `n` frames of `folder` into an MCAP file as `ros2 bag record -s mcap` would (CDR
     messages of sensor_msgs/Image rgb8 + 16UC1, CameraInfo, and /tf world -> camera when `poses`
-    is "tf"), one chunk per frame, at `fps`; `done` is set once the file is finished."""
+    is "tf"), one chunk per frame, at `fps`; `done` is set once the file is finished.
+    `depth_sizes`: frame -> (width, height) its depth image is resized to (None: every frame)."""
     from mcap.writer import CompressionType, Writer
 
     from sg3d.ingest.readers import open_sequence
@@ -273,13 +276,18 @@ def _mcap_writer(path: Path, folder: Path, n: int, fps: float, poses: str, start
             t = t_first + int(round(k / 30 * 1e9))
             h, w = f.color.shape[:2]
             rgb = np.ascontiguousarray(f.color[:, :, ::-1])
+            depth = np.round(f.depth * 1000).astype(np.uint16)
+            size = (depth_sizes or {}).get(k, (depth_sizes or {}).get(None))
+            if size is not None:
+                depth = cv2.resize(depth, size, interpolation=cv2.INTER_NEAREST)
+            dh, dw = depth.shape
             msgs = [(c_colour, "sensor_msgs/msg/Image",
                      _make(ts, "sensor_msgs/msg/Image", header=_header(ts, t, cam), height=h, width=w, encoding="rgb8",
                            is_bigendian=0, step=w * 3, data=rgb.reshape(-1))),
                     (c_depth, "sensor_msgs/msg/Image",
-                     _make(ts, "sensor_msgs/msg/Image", header=_header(ts, t + 3_000_000, cam), height=h, width=w,
-                           encoding="16UC1", is_bigendian=0, step=w * 2,
-                           data=np.round(f.depth * 1000).astype(np.uint16).view(np.uint8).reshape(-1)))]
+                     _make(ts, "sensor_msgs/msg/Image", header=_header(ts, t + 3_000_000, cam), height=dh, width=dw,
+                           encoding="16UC1", is_bigendian=0, step=dw * 2,
+                           data=np.ascontiguousarray(depth).view(np.uint8).reshape(-1)))]
             if k % 10 == 0:
                 msgs.append((c_info, "sensor_msgs/msg/CameraInfo",
                              _make(ts, "sensor_msgs/msg/CameraInfo", header=_header(ts, t, cam), height=h, width=w,
@@ -303,13 +311,13 @@ def _mcap_writer(path: Path, folder: Path, n: int, fps: float, poses: str, start
     done.set()
 
 
-def _start_writer(path: Path, folder: Path, n: int, fps: float, poses: str):
+def _start_writer(path: Path, folder: Path, n: int, fps: float, poses: str, depth_sizes: Optional[dict] = None):
     started, done = threading.Event(), threading.Event()
     errors: list[BaseException] = []
 
     def run():
         try:
-            _mcap_writer(path, folder, n, fps, poses, started, done)
+            _mcap_writer(path, folder, n, fps, poses, started, done, depth_sizes)
         except BaseException as exc:   # noqa: BLE001 - handed to the test
             errors.append(exc)
             started.set()
@@ -347,6 +355,31 @@ def test_mcap_follower_reads_a_growing_file_and_pairs_by_stamp(tmp_path):
         np.testing.assert_allclose(f.pose, g.pose, atol=1e-6)
         np.testing.assert_allclose(f.K, g.K)
     assert follower.sources["poses"] == "/tf: camera_color_optical_frame in world"
+
+
+def test_an_mcap_depth_image_of_another_size_is_skipped_and_a_smaller_depth_camera_resampled(tmp_path):
+    """A depth image of another size than the recording's first is a bad frame, named (never
+    resized into invented depths); a depth camera smaller than the colour camera throughout is
+    resampled into the colour image."""
+    from sg3d.ingest.readers.frames import FrameError
+    from sg3d.ingest.readers.mcap_follow import McapFollower
+
+    folder = _need(LIVING, "living-room data")
+    for name, sizes in (("odd", {7: (320, 240)}), ("small", {None: (320, 240)})):
+        path = tmp_path / f"{name}.mcap"
+        thread, done, errors = _start_writer(path, folder, 12, 200.0, "tf", sizes)
+        thread.join()
+        assert not errors, errors
+        follower = McapFollower(path)
+        assert follower.poll() == 12
+        colour = follower.frame(0).color.shape[:2]
+        for i in (0, 6, 8, 11):
+            assert follower.frame(i).depth.shape == colour
+        if name == "odd":
+            with pytest.raises(FrameError, match="depth image is 320x240, the recording's depth images are"):
+                _ = follower.frame(7).depth
+        else:
+            assert follower.frame(7).depth.shape == colour and follower.depth_size == (320, 240)
 
 
 def test_map_follows_an_mcap_being_recorded(store, tmp_path):

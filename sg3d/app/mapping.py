@@ -27,6 +27,8 @@ from sg3d.graphdb.protocol import GraphStore
 
 # Publishing more often than this gains nothing a reader could see and costs the store writes.
 MIN_PUBLISH_EVERY_S = 0.2
+# Frames listed per kind of reason in the summary of a map's bad frames (`skipped_by_reason`).
+SKIPPED_EXAMPLES = 3
 # How often an idle mapper looks for new frames.
 POLL_S = 0.03
 # --stop-when-idle before any frame arrived: at least this long (a camera or recorder starting up).
@@ -69,6 +71,23 @@ class MapSummary:
 
     def as_dict(self) -> dict:
         return asdict(self)
+
+
+def skipped_by_reason(skipped: dict[str, str], examples: int = SKIPPED_EXAMPLES) -> dict:
+    """The bad frames of a map as its summary lists them: "skipped" (how many) and
+    "skipped_by_reason", one entry per kind of reason (`frames.reason_kind`: the reason without
+    frame names and figures), most frequent first, with its count and its first `examples` frames
+    (each with its full reason). A map can run for hours: the summary stays this size."""
+    from sg3d.ingest.readers.frames import reason_kind
+
+    kinds: dict[str, dict] = {}
+    for name, reason in skipped.items():
+        kind = kinds.setdefault(reason_kind(name, reason), {"count": 0, "frames": []})
+        kind["count"] += 1
+        if len(kind["frames"]) < examples:
+            kind["frames"].append({"frame": name, "reason": reason})
+    listed = [{"reason": k, **v} for k, v in sorted(kinds.items(), key=lambda kv: -kv[1]["count"])]
+    return {"skipped": len(skipped), "skipped_by_reason": listed}
 
 
 def check_request(req: MapRequest) -> None:
@@ -145,7 +164,7 @@ def _map_held(req: MapRequest, detector, follower, mapper, publisher: "_Publishe
     t0 = time.perf_counter()
     final: dict[str, Any] = {}
     if state == "done" and follower.seq is not None:
-        frames = mapper.finish(follower.seq)
+        frames = mapper.finish(follower.whole())    # the recording as a build reads it
         final = {"frames": len(frames), "as_build": True}
         publisher.unseen = frozenset()    # a build's frames saw all there is: what they miss is gone
     else:
@@ -161,7 +180,7 @@ def _map_held(req: MapRequest, detector, follower, mapper, publisher: "_Publishe
         frames={"received": c.received, "read": c.read, "blurry": c.blurry, "keyframes": c.keyframes,
                 "anchors": c.anchors, "coverage": c.coverage, "detected": c.detected,
                 "detected_at_end": c.detected_at_end, "skipped_behind": c.skipped_behind, "jumped": c.jumped,
-                "skipped": len(c.skipped), "skipped_frames": [{"frame": k, "reason": v} for k, v in c.skipped.items()]},
+                **skipped_by_reason(mapper.skipped(follower.seq))},
         objects=report.objects if report else 0, relations=report.relations if report else 0,
         publishes=publisher.publishes, latency_s=publisher.latency(),
         first_objects_after_s=(round(publisher.first_objects_at - follower.written_at(0), 3)

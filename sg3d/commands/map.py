@@ -71,6 +71,9 @@ def map_cmd(settings, source: Path, room: str, building: str, layout: Optional[s
         click.echo(f"{summary['state']}: {summary['room']} holds {summary['objects']} objects, {summary['relations']} "
                    f"relations; {f['received']} frames, {f['detected']} detected, {f['skipped_behind'] + f['jumped']} skipped "
                    f"while behind; latency p50 {lat.get('p50')} s, p95 {lat.get('p95')} s")
+        for kind in f["skipped_by_reason"]:
+            shown = ", ".join(s["frame"] for s in kind["frames"]) + (", ..." if kind["count"] > len(kind["frames"]) else "")
+            click.echo(f"  skipped {kind['count']} bad frame(s), {kind['reason']}: {shown}")
     if summary["state"] == "stopped":
         raise SystemExit(130)
 

@@ -292,6 +292,15 @@ class LiveMapper:
         self.counts.detected += 1
         return True
 
+    def skipped(self, seq=None) -> dict[str, str]:
+        """Frame name -> reason of every bad frame met: those this mapper met, and (with `seq`, the
+        recording it followed) those its reader met anywhere else (gravity, a whole-recording
+        pass, the motion check), as a build names them."""
+        out = dict(self.counts.skipped)
+        for name, reason in (seq.skipped if seq is not None else []):
+            out.setdefault(name, reason)
+        return out
+
     def detected_frames(self) -> list[int]:
         with self._lock:
             return sorted(self._evidence)

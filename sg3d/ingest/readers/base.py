@@ -2,6 +2,7 @@
 intrinsics and pose readers (`sg3d.ingest.readers` opens a folder or a bag)."""
 from __future__ import annotations
 
+import struct
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Iterator, Optional
@@ -11,9 +12,16 @@ import numpy as np
 
 from sg3d.core.errors import Sg3dError
 from sg3d.ingest.readers.frames import Frame, FrameError, FrameSource
-from sg3d.ingest.readers.image_checks import image_problem
+from sg3d.ingest.readers.image_checks import PNG_SIGNATURE, image_problem
 from sg3d.ingest.readers.pose_check import implausible_motion, pose_problem, rigid
 from sg3d.ingest.readers.registration import DepthRegistrar, Registration
+
+
+# The recording's colour and depth image sizes are the ones most of its first this many readable
+# images agree on (`Sequence._probe_size`, `Sequence.depth_size`), looked for among its first
+# SIZE_WINDOW frames.
+SIZE_PROBES = 5
+SIZE_WINDOW = 50
 
 
 class SequenceError(Sg3dError, ValueError):
@@ -83,6 +91,10 @@ class _FileSource:
         raw = self._read(self.entry.depth, cv2.IMREAD_UNCHANGED)
         if raw.ndim != 2 or raw.dtype != np.uint16:
             raise FrameError(self.entry.name, f"{self.entry.depth.name} is not a 16-bit single-channel depth image")
+        size = self.seq.depth_size
+        if size is not None and (raw.shape[1], raw.shape[0]) != size:
+            raise FrameError(self.entry.name, f"{self.entry.depth.name} is {raw.shape[1]}x{raw.shape[0]}, "
+                                              f"the sequence's depth images are {size[0]}x{size[1]}")
         depth = raw.astype(np.float32)
         depth *= np.float32(1.0 / self.seq.depth_scale)
         depth[raw == 65535] = 0.0  # the sensor's "no reading" marker, like 0
@@ -193,13 +205,13 @@ class Sequence:
         """What decodes one entry's pixels (a bag reader decodes messages instead of files)."""
         return _FileSource(entry, self)
 
-    def _probe_size(self, probes: int = 5) -> tuple[int, int]:
+    def _probe_size(self, probes: int = SIZE_PROBES) -> tuple[int, int]:
         """The colour image size most of the first readable frames agree on (one odd image at the
         start must not make every other frame the wrong size)."""
         from collections import Counter
 
         sizes: Counter = Counter()
-        for entry in self._entries[:50]:
+        for entry in self._entries[:SIZE_WINDOW]:
             try:
                 data = entry.color.read_bytes() if entry.color.is_file() else b""
             except OSError:
@@ -212,7 +224,34 @@ class Sequence:
                     break
         if not sizes:
             raise SequenceError(f"no readable colour image among the first frames of {self.path}")
+        self.size_votes = sum(sizes.values())
         return sizes.most_common(1)[0][0]
+
+    @property
+    def depth_size(self) -> Optional[tuple[int, int]]:
+        """(width, height) of the recording's depth images: the size most of the first readable
+        depth files agree on (read from their headers, found once), or None when none is readable.
+        A depth image of another size is a damaged frame, never resampled: only a depth camera
+        whose size differs from the colour camera's for the whole recording is (`DepthRegistrar`)."""
+        if not hasattr(self, "_depth_size"):
+            self._depth_size, self.depth_votes = _probe_depth_size(
+                [e.depth for e in self._entries[:SIZE_WINDOW] if isinstance(e.depth, Path)])
+        return self._depth_size
+
+    def _depth_size_problem(self, entry) -> Optional[str]:
+        """Why the frame's depth file is of another size than the recording's (read from its
+        header when the frame is reached, so every frame a build or a map passes is checked, not
+        only those whose depth is decoded), or None."""
+        path = getattr(entry, "depth", None)
+        if not isinstance(path, Path) or not path.is_file():
+            return None
+        size = self.depth_size
+        if size is None:
+            return None
+        got = _image_header_size(path, decode=False)
+        if got is None or got == size:
+            return None     # a damaged file is named when it is decoded
+        return f"{path.name} is {got[0]}x{got[1]}, the sequence's depth images are {size[0]}x{size[1]}"
 
     def frames(self, start: int = 0, stop: Optional[int] = None, step: int = 1,
                lazy: bool = False) -> Iterator[Frame]:
@@ -238,13 +277,48 @@ class Sequence:
         except FrameError as exc:
             self.skip(exc.name, exc.reason)
             raise
-        jump = self.motion_problems().get(i)
-        if jump:
-            self.skip(entry.name, jump)
-            raise FrameError(entry.name, jump)
+        problem = self.motion_problems().get(i) or self._depth_size_problem(entry)
+        if problem:
+            self.skip(entry.name, problem)
+            raise FrameError(entry.name, problem)
         frame = Frame(i, None, None, self.K, pose, entry.timestamp, entry.name,
                       size=self.image_size, source=self._source(entry), on_error=self.skip)
         return frame if lazy else frame.load()
+
+
+def _image_header_size(path: Path, decode: bool = True) -> Optional[tuple[int, int]]:
+    """(width, height) of an image file from its PNG header (no decoding), else by decoding it
+    (when `decode`); None when it cannot be read."""
+    try:
+        with open(path, "rb") as f:
+            head = f.read(24)
+        if head.startswith(PNG_SIGNATURE) and head[12:16] == b"IHDR":
+            w, h = struct.unpack(">II", head[16:24])
+            return int(w), int(h)
+        if not decode:
+            return None
+        data = path.read_bytes()
+    except OSError:
+        return None
+    if image_problem(data, path.suffix):
+        return None
+    img = cv2.imdecode(np.frombuffer(data, np.uint8), cv2.IMREAD_UNCHANGED)
+    return None if img is None else (img.shape[1], img.shape[0])
+
+
+def _probe_depth_size(paths: list[Path], probes: int = SIZE_PROBES) -> tuple[Optional[tuple[int, int]], int]:
+    """The size most of the first `probes` readable depth images agree on (one odd image at the
+    start must not make every other frame the wrong size), or None; and how many were read."""
+    from collections import Counter
+
+    sizes: Counter = Counter()
+    for path in paths:
+        size = _image_header_size(path) if path.is_file() else None
+        if size is not None:
+            sizes[size] += 1
+            if sum(sizes.values()) >= probes:
+                break
+    return (sizes.most_common(1)[0][0] if sizes else None), sum(sizes.values())
 
 
 def read_matrix(path: Path) -> np.ndarray:

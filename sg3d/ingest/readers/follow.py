@@ -4,8 +4,8 @@ Any folder layout sg3d reads can be followed. The folder is listed again wheneve
 changes (a cheap signature: entry counts of the folder and its sub-folders, sizes and times of
 its text files: pose lists, intrinsics), and re-opened with the layout and depth registration
 chosen the first time, so a frame's index never changes as long as frames are written in order.
-A frame counts as complete once a later frame exists, or once the folder has not changed for
-`settle_s` seconds (a writer that writes colour, depth and pose one after the other is never
+A frame counts as complete once a later frame exists and the recording's image sizes rest on
+SIZE_PROBES images, or once the folder has not changed for `settle_s` seconds (a writer that writes colour, depth and pose one after the other is never
 caught half-way). Writers should still write each file under a temporary name and rename it:
 a half-written image is otherwise skipped as corrupt, like in any recording.
 """
@@ -16,11 +16,15 @@ import time
 from pathlib import Path
 from typing import Optional
 
-from sg3d.ingest.readers.base import Sequence, SequenceError
-from sg3d.ingest.readers.frames import Frame
+from sg3d.ingest.readers.base import SIZE_PROBES, SIZE_WINDOW, Sequence, SequenceError, _parse_pose
+from sg3d.ingest.readers.frames import Frame, FrameError
+from sg3d.ingest.readers.pose_check import MotionRuns, causal_motion_problem
 
 # A frame with no later frame is taken as complete after the folder was this long unchanged.
 DEFAULT_SETTLE_S = 0.5
+# Runs of poses kept while following (`pose_check.MotionRuns`): a recording with more separate
+# jumps than this lets its oldest runs go (the path so far is always kept).
+MOTION_RUNS_HELD = 32
 
 
 def folder_signature(path: Path) -> tuple:
@@ -57,7 +61,10 @@ class FolderFollower:
         self.waiting_for = "the first frames"      # why nothing could be opened yet
         self._signature: tuple = ()
         self._changed_at = time.monotonic()
-        self._skipped: dict[str, str] = {}
+        self._motion: dict[int, str] = {}     # frame -> why its pose is no plausible move
+        self._runs = MotionRuns(max_runs=MOTION_RUNS_HELD)
+        self._judged = 0                       # frames before this one had their motion judged
+        self._ended = False                    # `whole()` was called
 
     def poll(self) -> int:
         """The number of complete frames (0 while the folder holds no readable sequence yet)."""
@@ -71,7 +78,9 @@ class FolderFollower:
         if self.seq is None:
             return 0
         n = len(self.seq)
-        return n if now - self._changed_at >= self.settle_s else max(0, n - 1)
+        if now - self._changed_at >= self.settle_s:
+            return n
+        return max(0, n - 1) if self._sizes_known(self.seq) else 0
 
     def _reopen(self) -> None:
         from sg3d.ingest.readers import open_sequence
@@ -94,13 +103,48 @@ class FolderFollower:
                 raise SequenceError(f"frames disappeared from {self.path} while it was followed "
                                     f"({len(old)} before, {len(seq)} now)")
         # the whole-recording motion check (`Sequence.motion_problems`) would re-read every pose at
-        # each listing and judge the newest frame without its next neighbour: off while following
-        seq._motion = {}
+        # each listing and judge the newest frame without its next neighbour: while following, each
+        # frame is judged once, in order, against the frames before it (`_judge_motion_to`)
+        seq._motion = None if self._ended else self._motion
+        _ = seq.depth_size   # probed now, over the frames of this listing
         self.seq = seq
+
+    def _sizes_known(self, seq: Sequence) -> bool:
+        """Whether the colour and depth sizes rest on SIZE_PROBES images each: with fewer (the
+        first frames of a recording) one odd image could still set them; past SIZE_WINDOW frames
+        the probes have seen all they ever look at."""
+        return len(seq) > SIZE_WINDOW or (seq.size_votes >= SIZE_PROBES
+                                          and getattr(seq, "depth_votes", 0) >= SIZE_PROBES)
+
+    def _judge_motion_to(self, i: int) -> None:
+        """Judge the poses of every frame up to i not judged yet, in order, as they arrived
+        (`pose_check.causal_motion_problem`); a frame's verdict never changes afterwards."""
+        assert self.seq is not None
+        seq = self.seq
+        while self._judged <= i:
+            k = self._judged
+            self._judged += 1
+            try:
+                pose = _parse_pose(seq._entries[k])
+            except FrameError:
+                continue                       # named when the frame is reached
+            why = causal_motion_problem(self._runs, k, pose, seq.timestamp_of(k), seq.name_of(k), seq.name_of)
+            if why:
+                self._motion[k] = why
+
+    def whole(self) -> Optional[Sequence]:
+        """The recording as a build reads it, once it ended: the motion check over the whole
+        recording (`Sequence.motion_problems`) instead of the one frame by frame."""
+        self._ended = True
+        if self.seq is not None:
+            self.seq._motion = None
+        return self.seq
 
     def frame(self, i: int) -> Frame:
         """Frame i, lazily decoded (FrameError when it is bad; recorded in `seq.skipped`)."""
         assert self.seq is not None
+        if self.seq._motion is self._motion:
+            self._judge_motion_to(i)
         return self.seq.frame(i, lazy=True)
 
     def written_at(self, i: int) -> float:

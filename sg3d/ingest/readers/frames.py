@@ -7,6 +7,7 @@ in-memory sequences) pass them straight in and no source is needed.
 """
 from __future__ import annotations
 
+import re
 from collections import deque
 from concurrent.futures import ThreadPoolExecutor
 from typing import Callable, Iterable, Iterator, Optional, Protocol
@@ -159,6 +160,18 @@ class Frame:
         """Drop decoded pixels that can be decoded again (keeps in-memory frames intact)."""
         if self._source is not None:
             self._color = self._depth = self._gray = None
+
+
+_FRAME_NAME = re.compile(r"frame-\d+")
+_FIGURE = re.compile(r"[-+]?\d+(\.\d+)?(e[-+]?\d+)?")
+
+
+def reason_kind(name: str, reason: str) -> str:
+    """What kind of damage a skipped frame's reason names, the same for every frame it hits: the
+    reason without the frame's name in its file names, other frames' names as "frame-N" and
+    every figure as "N" ("frame-000059.depth.png is truncated" -> "depth.png is truncated")."""
+    text = reason.replace(name + ".", "").replace(name, "frame-N")
+    return _FIGURE.sub("N", _FRAME_NAME.sub("frame-N", text))
 
 
 def ring_item(items, count: int, i: int, name: str, ring: int):

@@ -16,7 +16,8 @@ paired with the helpers of `sg3d.ingest.readers.bag` (the reader of finished bag
 
 - colour: ``sensor_msgs/msg/Image`` (rgb8, bgr8, ...) or ``CompressedImage``; depth: ``Image``
   16UC1 (mm) / 32FC1 (m) or compressedDepth, registered to colour (realsense-ros'
-  ``aligned_depth_to_color``; another size is resampled); a topic's kind is read from its first
+  ``aligned_depth_to_color``; a depth topic of another size than colour is resampled, a depth
+  image of another size than the topic's first is a bad frame, skipped); a topic's kind is read from its first
   message; the first colour and the first depth topic are followed, others are listed in
   `ignored`;
 - intrinsics: ``sensor_msgs/msg/CameraInfo`` (the topic beside the colour topic, else the first);
@@ -127,7 +128,13 @@ class _Pixels:
         assert self.held.size is not None
         msg, msgtype = self._msg(self.held.depth)
         depth = decode_depth(msg, msgtype, self.held.name)
-        if (depth.shape[1], depth.shape[0]) != self.held.size:
+        size = (depth.shape[1], depth.shape[0])
+        with self.follower._lock:
+            first = self.follower.depth_size = self.follower.depth_size or size
+        if size != first:       # a damaged or foreign image: resampling it would invent depths
+            raise FrameError(self.held.name, f"depth image is {size[0]}x{size[1]}, the recording's depth "
+                                             f"images are {first[0]}x{first[1]}")
+        if size != self.held.size:    # a depth camera of another size than the colour camera's
             depth = cv2.resize(depth, self.held.size, interpolation=cv2.INTER_NEAREST)
         return depth
 
@@ -157,6 +164,7 @@ class McapFollower:
         self.waiting_for = f"{self.path} to appear"
         self.ended = False                      # the footer was read: the recording is finished
         self.ignored: dict[str, str] = {}       # topic -> why it is not used
+        self.depth_size: Optional[tuple[int, int]] = None   # the first depth image's: every other's
         self.pose_mode: Optional[str] = None    # "tf" | "topic" | "none" (estimated)
         self.sources: dict[str, str] = {}
         self._file: Optional[IO[bytes]] = None

@@ -1,7 +1,7 @@
 """The check every camera pose passes before its frame is used, whatever layout it came from."""
 from __future__ import annotations
 
-from typing import Optional, Sequence
+from typing import Any, Callable, Optional, Sequence
 
 import numpy as np
 
@@ -82,38 +82,77 @@ def motion_problem(a: np.ndarray, b: np.ndarray, dt: float) -> Optional[str]:
     return None
 
 
+class MotionRuns:
+    """The runs of poses that can belong to one camera's path, grown one frame at a time in order
+    (the rule of `implausible_motion`): a frame joins the run of the frame before it when the step
+    is plausible (`motion_problem`), else the most recent earlier run it can be reached from (a
+    shifted block ends where the path comes back), else it opens a new run. `add` returns the run
+    the frame joined; `path` is the run with the most frames so far (ties: the earliest)."""
+
+    def __init__(self, max_runs: Optional[int] = None):
+        self.runs: list[dict[str, Any]] = []     # {last: index, pose, stamp, count, why: str}
+        self.current: Optional[dict[str, Any]] = None
+        self.max_runs = max_runs       # live: the oldest runs besides the path are let go past this
+
+    def add(self, i: int, pose: np.ndarray, stamp: float, name: str,
+            names: Callable[[int], str]) -> dict[str, Any]:
+        """Frame i (its camera-to-world `pose`, time `stamp`) joins a run; `names(k)` is frame k's name."""
+        current = self.current
+        home: Optional[dict[str, Any]] = current
+        if current is None:
+            home = {"last": i, "pose": pose, "stamp": stamp, "count": 0, "why": ""}
+            self.runs.append(home)
+        else:
+            why = motion_problem(current["pose"], pose, stamp - current["stamp"])
+            if why is not None:
+                home = next((r for r in sorted(self.runs, key=lambda r: -r["last"]) if r is not current and
+                             motion_problem(r["pose"], pose, stamp - r["stamp"]) is None), None)
+                if home is None:
+                    home = {"last": i, "pose": pose, "stamp": stamp, "count": 0,
+                            "why": f"{why} from {names(current['last'])}"}
+                    self.runs.append(home)
+                    if not current["why"]:          # the first run: named by the jump that ended it
+                        current["why"] = f"{why} to {name}"
+        assert home is not None
+        home["count"] += 1
+        home["last"], home["pose"], home["stamp"] = i, pose, stamp
+        self.current = home
+        if self.max_runs is not None and len(self.runs) > self.max_runs:
+            path = self.path
+            self.runs.remove(min((r for r in self.runs if r is not path and r is not home), key=lambda r: r["last"]))
+        return home
+
+    @property
+    def path(self) -> Optional[dict[str, Any]]:
+        return max(self.runs, key=lambda r: r["count"]) if self.runs else None   # max keeps the first of equals
+
+
 def implausible_motion(poses: Sequence[Optional[np.ndarray]], stamps: Sequence[float],
                        names: Sequence[str]) -> dict[int, str]:
     """Frame index -> why its pose is left out, for the frames whose poses cannot belong to one
-    camera's path with the rest (`motion_problem`). Frames are taken in order: a frame joins the
-    run of the frame before it when the step is plausible, else the most recent earlier run it can
-    be reached from (a shifted block ends where the path comes back), else it opens a new run. The
-    run with the most frames is the camera's path (ties: the earliest); every other run's frames
-    are named, with the jump that opened their run. A pose of None (missing, unusable) is passed over."""
-    runs: list[dict] = []          # {last: index, frames: [indices], why: str}
-    current: Optional[dict] = None
+    camera's path with the rest (`motion_problem`), over the whole recording: the frames are put
+    into runs in order (`MotionRuns`); the run with the most frames is the camera's path (ties:
+    the earliest); every other run's frames are named, with the jump that opened their run. A
+    pose of None (missing, unusable) is passed over."""
+    runs = MotionRuns()
+    member: dict[int, int] = {}
     for i, pose in enumerate(poses):
-        if pose is None:
-            continue
-        if current is None:
-            current = {"last": i, "frames": [i], "why": ""}
-            runs.append(current)
-            continue
-        why = motion_problem(poses[current["last"]], pose, stamps[i] - stamps[current["last"]])
-        home: Optional[dict] = current
-        if why is not None:
-            home = next((r for r in sorted(runs, key=lambda r: -r["last"]) if r is not current and
-                         motion_problem(poses[r["last"]], pose, stamps[i] - stamps[r["last"]]) is None), None)
-            if home is None:
-                home = {"last": i, "frames": [], "why": f"{why} from {names[current['last']]}"}
-                runs.append(home)
-                if not current["why"]:          # the first run: named by the jump that ended it
-                    current["why"] = f"{why} to {names[i]}"
-        assert home is not None
-        home["frames"].append(i)
-        home["last"] = i
-        current = home
-    if len(runs) < 2:
+        if pose is not None:
+            member[i] = id(runs.add(i, pose, stamps[i], names[i], names.__getitem__))
+    if len(runs.runs) < 2:
         return {}
-    path = max(runs, key=lambda r: len(r["frames"]))     # max keeps the first of equals
-    return {i: r["why"] for r in runs if r is not path for i in r["frames"]}
+    path = runs.path
+    whys = {id(r): r["why"] for r in runs.runs}
+    return {i: whys[r] for i, r in member.items() if r != id(path)}
+
+
+def causal_motion_problem(runs: MotionRuns, i: int, pose: np.ndarray, stamp: float, name: str,
+                          names: Callable[[int], str]) -> Optional[str]:
+    """Why frame i's pose is left out when it is judged as it arrives (a live map), or None. Rule:
+    the frame joins a run of `runs` (`MotionRuns.add`); it is kept when that run is the path so
+    far (the most frames), else named with the jump that opened its run. The same verdicts as
+    `implausible_motion` for any damage the path outnumbers when it happens (a glitch, a shifted
+    block); a block at the very start that the later path outgrows is named by the whole-recording
+    check but was kept when it arrived, and the first frames after it are named until it is."""
+    home = runs.add(i, pose, stamp, name, names)
+    return None if home is runs.path else home["why"] or "no plausible move from the frames before it"
