@@ -24,15 +24,10 @@ MAX_SCOPE_CHARS = 2 * bounds.MAX_NAME_CHARS + 1
 def input_problem(question: object, room: object = None, building: object = None) -> Optional[str]:
     """Why these cannot be asked, or None: each a text within its length (the reason names the
     length and the limit, never the value)."""
-    for what, value, limit in (("question", question, MAX_QUESTION_CHARS), ("room", room, MAX_SCOPE_CHARS),
-                               ("building", building, MAX_SCOPE_CHARS)):
-        if value is None and what != "question":
-            continue
-        if not isinstance(value, str):
-            return f"{what} must be a text"
-        if len(value) > limit:
-            return f"{what} is {len(value)} characters; at most {limit}"
-    return None
+    if question is None:
+        return "question must be a text"
+    return bounds.length_problem((("question", question, MAX_QUESTION_CHARS), ("room", room, MAX_SCOPE_CHARS),
+                                  ("building", building, MAX_SCOPE_CHARS)))
 
 
 @dataclass

@@ -93,6 +93,20 @@ def _text_problem(value: object, what: str, limit: int) -> Optional[str]:
     return None
 
 
+def length_problem(fields: Iterable[tuple[str, object, int]]) -> Optional[str]:
+    """Why one of the (what, value, limit) fields is no text of at most `limit` characters, or
+    None; a field whose value is None was not given and passes. The reason names the length and
+    the limit, never the value (a 5 MB value must not come back in an error)."""
+    for what, value, limit in fields:
+        if value is None:
+            continue
+        if not isinstance(value, str):
+            return f"{what} must be a text"
+        if len(value) > limit:
+            return f"{what} is {len(value)} characters; at most {limit}"
+    return None
+
+
 def finite(values: Iterable[float]) -> bool:
     return all(isinstance(v, (int, float)) and math.isfinite(v) for v in values)
 

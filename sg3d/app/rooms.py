@@ -19,15 +19,8 @@ def filter_problem(label: object = None, colour: object = None, building: object
     at most `bounds.MAX_LABEL_CHARS` characters, a building or room (a name or an id) at most
     `MAX_SCOPE_CHARS`: the bounds of `GET /rooms...` too, here so that every front end (HTTP, MCP,
     CLI) keeps them. The reason names the length and the limit, never the value."""
-    for what, value, limit in (("label", label, bounds.MAX_LABEL_CHARS), ("colour", colour, bounds.MAX_LABEL_CHARS),
-                               ("building", building, MAX_SCOPE_CHARS), ("room", room, MAX_SCOPE_CHARS)):
-        if value is None:
-            continue
-        if not isinstance(value, str):
-            return f"{what} must be a text"
-        if len(value) > limit:
-            return f"{what} is {len(value)} characters; at most {limit}"
-    return None
+    return bounds.length_problem((("label", label, bounds.MAX_LABEL_CHARS), ("colour", colour, bounds.MAX_LABEL_CHARS),
+                                  ("building", building, MAX_SCOPE_CHARS), ("room", room, MAX_SCOPE_CHARS)))
 
 
 def _check_filters(**values) -> None:
