@@ -186,8 +186,12 @@ def test_printed_answers_contain_no_ids(store, house, question, tmp_path):
     from sg3d.commands.ask import ask as ask_cmd
 
     runner = CliRunner()
-    r = runner.invoke(ask_cmd, [question, "--room", "kitchen", "--out", str(tmp_path / "x.png")], obj=StoreSettings(store))
+    r = runner.invoke(ask_cmd, [question, "--room", "kitchen"], obj=StoreSettings(store))
     assert r.exit_code == 0, r.output
+    assert not ID.search(r.output), r.output
+    picture = tmp_path / "x.png"          # written when the answer has one, else refused: never an id either way
+    r = runner.invoke(ask_cmd, [question, "--room", "kitchen", "--out", str(picture)], obj=StoreSettings(store))
+    assert (r.exit_code, picture.exists()) in {(0, True), (2, False)}, r.output
     assert not ID.search(r.output), r.output
     r = runner.invoke(ask_cmd, [question, "--room", "kitchen", "--json"], obj=StoreSettings(store))
     data = json.loads(r.output)

@@ -268,7 +268,7 @@ def test_refusals_name_the_word_and_viewpoints_are_read_once(store, home):
     a = answer(store, "how many chairs are near the tv and also singing?", use_embedding=False)
     assert not a.ok and "'also'" in a.text
     a = answer(store, "what is the weather like?", use_embedding=False)
-    assert not a.ok and "'like'" in a.text
+    assert not a.ok and "'weather'" in a.text   # the word no word list holds, not 'like' where reading stopped
     a = answer(store, "is there a chair behind the table as seen from the tv?", room="kitchen", use_embedding=False)
     assert a.ok and a.logical is not None and a.logical["seen_from"] == {"noun": "tv"}
     a = answer(store, "what changed in the kitchen?", use_embedding=False)

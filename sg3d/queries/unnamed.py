@@ -13,6 +13,9 @@ Rule "could be one" (`could_be`): an unnamed object could be an object of a clas
   its handle), and a thin side measured from depth is a centimetre or two off whatever its size
   (noise, and what the object lies on). A factor of 2 let a 28 cm box be a 50 cm microwave and a
   1.2 m cube a 0.7 m wide fridge in the benchmark rooms;
+- the ratio of its two largest sides is within ASPECT_FACTOR of the class's: each side alone
+  within the factor still lets a sheet of paper (30 x 21 cm) be a keyboard (45 x 15), whose
+  outline is three times as long as it is deep;
 - its shape class (`sg3d.core.shape`) is one the class's objects take (a keyboard is flat; a
   bottle tall, round or box-shaped when it lies);
 - it rests on the class's usual support (`rests_on`): on a surface (a table, desk, counter,
@@ -35,6 +38,7 @@ from sg3d.queries.vocabulary import ACTIVITIES, LIST_SHOWN
 
 SIZE_FACTOR = 1.5
 SIZE_SLACK_M = 0.02
+ASPECT_FACTOR = 1.5
 # what a thing is put down on; the structure's "surface" is any horizontal one found from depth
 SURFACES = frozenset(ACTIVITIES["put things down"]) | {"surface"}
 WORKTOPS = frozenset(ACTIVITIES["work"])
@@ -77,11 +81,20 @@ def could_be(size: Optional[Sequence[float]], shape: Optional[str], support: Opt
     if any(s <= 0 or not (1 / SIZE_FACTOR <= s / t <= SIZE_FACTOR or abs(s - t) <= SIZE_SLACK_M + ROUNDING_M)
            for s, t in zip(sides, prior["size"])):
         return False
+    if not _same_proportions(sides, prior["size"]):
+        return False
     if shape not in prior["shapes"]:
         return False
     kinds = rests_on(support, support_size, size)
     want = {"any": {"floor", "surface"}}.get(prior["support"], {prior["support"]})
     return bool(kinds & want)
+
+
+def _same_proportions(sides: Sequence[float], typical: Sequence[float]) -> bool:
+    """The aspect part of rule "could be one": the ratio of the two largest sides (sorted) within
+    ASPECT_FACTOR of the typical ratio."""
+    ratio = (sides[0] / sides[1]) / (typical[0] / typical[1])
+    return 1 / ASPECT_FACTOR <= ratio <= ASPECT_FACTOR
 
 
 def misfit(size: Sequence[float], prior: dict) -> float:

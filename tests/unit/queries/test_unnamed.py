@@ -23,6 +23,9 @@ KEYBOARD = {"size": (0.45, 0.15, 0.03), "shapes": ("flat",), "support": "surface
     ((0.45, 0.15, 0.050000000000000024), True),                       # two 2.5 cm voxels, as built
     ((0.45, 0.15, 0.0101), True), ((0.45, 0.15, 0.0099), False),      # on a thin side
     ((0.02, 0.14, 0.45), True),                                       # sides are compared sorted
+    ((0.30, 0.22, 0.02), False),                                      # a sheet of paper: each side fits, not its outline
+    ((0.32, 0.159, 0.02), True), ((0.32, 0.161, 0.02), False),        # ASPECT_FACTOR, a rounder outline
+    ((0.60, 0.1334, 0.02), True), ((0.60, 0.1332, 0.02), False),      # ... and a longer one
 ])
 def test_size_within_a_factor_on_each_sorted_side(size, fits):
     assert could_be(size, "flat", "desk", KEYBOARD) is fits
