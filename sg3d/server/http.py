@@ -40,12 +40,12 @@ from sg3d.server import schemas
 from sg3d.server.auth import token_matches
 from sg3d.server.dispatch import (
     LONG_TIMEOUT_S,
-    MAX_WORKERS,
+    MAX_THREADS,
     QUICK_TIMEOUT_S,
     RETRY_AFTER_S,
     Dispatcher,
     StoreUnavailable,
-    Workers,
+    CallThreads,
 )
 from sg3d.server.guard import PARSED, TOKEN_HINT, Guard
 from sg3d.server.schemas import ROUTE_ERRORS
@@ -200,11 +200,11 @@ def validation_details(errors) -> list[dict]:
 
 def create_app(settings, token: str, handle: Optional[StoreHandle] = None,
                max_body: int = bounds.DEFAULT_MAX_BODY, quick_timeout_s: float = QUICK_TIMEOUT_S,
-               long_timeout_s: float = LONG_TIMEOUT_S, max_workers: int = MAX_WORKERS) -> FastAPI:
+               long_timeout_s: float = LONG_TIMEOUT_S, max_threads: int = MAX_THREADS) -> FastAPI:
     """The FastAPI application for `settings`' store; `token` is the bearer token callers send;
     request bodies above `max_body` bytes are refused (413) before they are read; a read that has
     not answered within `quick_timeout_s` (a plan, export or ingest: `long_timeout_s`) is a 503;
-    at most `max_workers` calls run at once (more wait their turn, within their deadline)."""
+    at most `max_threads` calls run at once (more wait their turn, within their deadline)."""
     stores = handle or StoreHandle(settings)
     api = FastAPI(title="sg3d", version=__version__,
                   description="3-D scene graphs of rooms: ask, plan, list rooms and objects, export, ingest.")
@@ -218,7 +218,7 @@ def create_app(settings, token: str, handle: Optional[StoreHandle] = None,
 
     _add_error_handlers(api, settings)
     watch = StoreWatch(settings, restart=lambda: _reconnect(stores))
-    calls = Dispatcher(watch, Workers(max_workers), quick_timeout_s=quick_timeout_s, long_timeout_s=long_timeout_s)
+    calls = Dispatcher(watch, CallThreads(max_threads), quick_timeout_s=quick_timeout_s, long_timeout_s=long_timeout_s)
     _add_health_route(api, stores, settings, calls, watch)
     auth = [Depends(authorised)]
     _add_read_routes(api, stores, calls, auth)
