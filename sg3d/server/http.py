@@ -36,7 +36,7 @@ from sg3d.app import plan as app_plan
 from sg3d.app import rooms as app_rooms
 from sg3d.app.errors import AppError, NotFound, Refused, RoomBusy
 from sg3d.app.stores import StoreHandle
-from sg3d.server import schemas
+from sg3d.server import metrics, schemas
 from sg3d.server.auth import token_matches
 from sg3d.server.dispatch import (
     LONG_TIMEOUT_S,
@@ -220,6 +220,7 @@ def create_app(settings, token: str, handle: Optional[StoreHandle] = None,
     watch = StoreWatch(settings, restart=lambda: _reconnect(stores))
     calls = Dispatcher(watch, CallThreads(max_threads), quick_timeout_s=quick_timeout_s, long_timeout_s=long_timeout_s)
     _add_health_route(api, stores, settings, calls, watch)
+    _add_metrics_route(api, calls)
     auth = [Depends(authorised)]
     _add_read_routes(api, stores, calls, auth)
     _add_write_routes(api, stores, calls, auth)
@@ -228,6 +229,8 @@ def create_app(settings, token: str, handle: Optional[StoreHandle] = None,
                            if isinstance(r, APIRoute) and (r.methods or set()) & {"POST", "PUT", "PATCH"})
     api.add_middleware(Failures, settings=settings)
     api.add_middleware(Guard, token=token, max_body=max_body, body_paths=body_paths)
+    api.add_middleware(metrics.RequestMetrics, routes=lambda: api.routes)
+    metrics.count_store_statements()
     api.state.stores = stores
     api.state.watch = watch
     return api
@@ -338,6 +341,17 @@ def _add_health_route(api: FastAPI, stores: StoreHandle, settings, calls: Dispat
             return json_response({"status": full, "store": True, "state": DISK_FULL, "version": __version__},
                                  status_code=507)
         return json_response({"status": "ok", "store": True, "state": UP, "version": __version__})
+
+
+def _add_metrics_route(api: FastAPI, calls: Dispatcher) -> None:
+    @api.get("/metrics", tags=["service"], response_class=Response,
+             responses={200: {"content": {metrics.CONTENT_TYPE: {}}, "description": "the Prometheus text format"}})
+    async def scrape():
+        """Request counts and latency histograms per route, answer-cache hits and misses, statements
+        sent to the store, in the Prometheus text format (every worker's). No token needed, as for
+        /health: it names routes and counts, never a room, an object or a question."""
+        body = await calls.run(metrics.exposition, HEALTH_TIMEOUT_S, watched=False)
+        return Response(body, media_type=metrics.CONTENT_TYPE)
 
 
 def _add_read_routes(api: FastAPI, stores: StoreHandle, calls: Dispatcher, auth: list) -> None:
