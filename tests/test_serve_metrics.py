@@ -53,4 +53,7 @@ def test_metrics_count_requests_per_route_template_cache_and_store_round_trips(t
     assert not any(dict(labels).get("route", "").startswith("/rooms/home") for _, labels in after)
     assert moved("sg3d_http_request_duration_seconds_count", method="POST", route="/ask") == 3
     assert moved("sg3d_http_request_duration_seconds_bucket", method="POST", route="/ask", le="+Inf") == 3
+    # the same question three times, nothing written between: computed once, then kept
+    assert moved("sg3d_answer_cache_total", result="miss") == 1
+    assert moved("sg3d_answer_cache_total", result="hit") == 2
     assert moved("sg3d_store_statements_total") >= 3

@@ -27,6 +27,7 @@ from fastapi.routing import APIRoute
 from pydantic import BaseModel, ConfigDict, Field
 
 from sg3d import __version__
+from sg3d.app import answers as app_answers
 from sg3d.app import ask as app_ask
 from sg3d.app import bounds
 from sg3d.app import graph as app_graph
@@ -200,11 +201,13 @@ def validation_details(errors) -> list[dict]:
 
 def create_app(settings, token: str, handle: Optional[StoreHandle] = None,
                max_body: int = bounds.DEFAULT_MAX_BODY, quick_timeout_s: float = QUICK_TIMEOUT_S,
-               long_timeout_s: float = LONG_TIMEOUT_S, max_threads: int = MAX_THREADS) -> FastAPI:
+               long_timeout_s: float = LONG_TIMEOUT_S, max_threads: int = MAX_THREADS,
+               answer_cache: int = bounds.ANSWER_CACHE_ENTRIES) -> FastAPI:
     """The FastAPI application for `settings`' store; `token` is the bearer token callers send;
     request bodies above `max_body` bytes are refused (413) before they are read; a read that has
     not answered within `quick_timeout_s` (a plan, export or ingest: `long_timeout_s`) is a 503;
-    at most `max_threads` calls run at once (more wait their turn, within their deadline)."""
+    at most `max_threads` calls run at once (more wait their turn, within their deadline); `/ask`
+    keeps up to `answer_cache` answers (`sg3d.app.answers`; 0: none)."""
     stores = handle or StoreHandle(settings)
     api = FastAPI(title="sg3d", version=__version__,
                   description="3-D scene graphs of rooms: ask, plan, list rooms and objects, export, ingest.")
@@ -222,7 +225,8 @@ def create_app(settings, token: str, handle: Optional[StoreHandle] = None,
     _add_health_route(api, stores, settings, calls, watch)
     _add_metrics_route(api, calls)
     auth = [Depends(authorised)]
-    _add_read_routes(api, stores, calls, auth)
+    answers = app_answers.AnswerCache(answer_cache)
+    _add_read_routes(api, stores, calls, auth, answers)
     _add_write_routes(api, stores, calls, auth)
     # only the routes that take a body are sent one (the rest refuse it before it is read)
     body_paths = frozenset(r.path for r in api.routes
@@ -233,6 +237,7 @@ def create_app(settings, token: str, handle: Optional[StoreHandle] = None,
     metrics.count_store_statements()
     api.state.stores = stores
     api.state.watch = watch
+    api.state.answers = answers
     return api
 
 
@@ -354,7 +359,8 @@ def _add_metrics_route(api: FastAPI, calls: Dispatcher) -> None:
         return Response(body, media_type=metrics.CONTENT_TYPE)
 
 
-def _add_read_routes(api: FastAPI, stores: StoreHandle, calls: Dispatcher, auth: list) -> None:
+def _add_read_routes(api: FastAPI, stores: StoreHandle, calls: Dispatcher, auth: list,
+                     answers: app_answers.AnswerCache) -> None:
     read = stores.call
     opts: dict[str, Any] = {"dependencies": auth, "tags": ["read"], "responses": ROUTE_ERRORS}
 
@@ -365,9 +371,13 @@ def _add_read_routes(api: FastAPI, stores: StoreHandle, calls: Dispatcher, auth:
         viewpoint = body.viewpoint.model_dump(exclude_none=True) if body.viewpoint else None
         if viewpoint is not None and len(viewpoint) != 1:
             raise AppError("viewpoint takes exactly one of pose, position and object")
-        return await calls.quick(lambda: json_response(read(lambda s: app_ask.ask(
-            s, body.question, room=body.room, building=body.building, viewpoint=viewpoint
-        ).to_json(inline_thumbnail=True))))
+
+        def answer() -> Response:
+            data, hit = read(lambda s: app_answers.ask_kept(s, answers, body.question, room=body.room,
+                                                            building=body.building, viewpoint=viewpoint))
+            metrics.count_cache(hit)
+            return json_response(data)
+        return await calls.quick(answer)
 
     @api.post("/plan", response_model=schemas.Plan, **opts)
     async def plan(body: PlanBody):
