@@ -65,3 +65,38 @@ def test_asks_while_mapping_equal_the_count_of_the_revision_committed_before(sto
     assert mapped["s"].state == "done"
     assert len(revisions) >= 4 and len(values) >= 2, (revisions, values)   # publishes came during the asks
     assert checked >= ASKS // 2, checked
+
+
+def test_concurrent_asks_share_revision_reads_never_one_begun_before_they_arrived(store):
+    """16 threads each commit a merge of a room's lock (cypher/room_ensure bumps its revision) and
+    then read the revision through one shared `Revisions`: each must see its own commit (a read
+    begun before it, still in flight, would not), and the store saw fewer reads than asks."""
+    from sg3d.app.answers import Revisions, store_revision
+    from sg3d.graphdb import cypher
+
+    shared, failures, asked = Revisions(), [], [0]
+    text = cypher.load("room_ensure")
+
+    def bump(k: int) -> None:
+        store.execute_write(lambda tx: tx.run(text, building="default", room=f"default/revs{k % 4}",
+                                              name=f"revs{k % 4}", up=None).consume())
+
+    for k in range(4):                          # made one at a time: two MERGEs making one node collide
+        bump(k)
+
+    def reader(k: int):
+        for _ in range(20):
+            before = store_revision(store)
+            bump(k)
+            got = shared.read(store)
+            asked[0] += 1
+            if got[1] <= before[1]:                  # the sum of revisions: this thread's commit is missing
+                failures.append((before, got))
+
+    readers = [threading.Thread(target=reader, args=(k,)) for k in range(16)]
+    for t in readers:
+        t.start()
+    for t in readers:
+        t.join(300)
+    assert not failures, (len(failures), failures[:3])
+    assert asked[0] == 320 and shared.reads < asked[0], shared.reads

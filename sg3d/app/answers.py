@@ -34,6 +34,63 @@ def store_revision(store: GraphStore) -> tuple:
     return row["rooms"], row["revisions"], row["born"]
 
 
+class _Read:
+    __slots__ = ("start", "done", "result", "failed")
+
+    def __init__(self, start: int):
+        self.start = start
+        self.done = threading.Event()
+        self.result: Optional[tuple] = None
+        self.failed = False
+
+
+class Revisions:
+    """The store's revision for many concurrent asks with few reads (one round trip each). Rule
+    "a read that began after the ask arrived": its result names every commit before the ask, so
+    an ask takes the result of the read in progress when that read began after the ask arrived;
+    otherwise it waits for that older read to end and then joins the next one or starts it. A
+    hundred asks at once cost a few reads, each ask waiting at most about two of them."""
+
+    def __init__(self) -> None:
+        self._lock = threading.Lock()
+        self._ticket = 0                 # rises with every arrival and every read begun
+        self._latest: Optional[_Read] = None
+        self.reads = 0                   # reads sent to the store
+
+    def read(self, store: GraphStore) -> tuple:
+        with self._lock:
+            self._ticket += 1
+            arrived = self._ticket
+        while True:
+            with self._lock:
+                read = self._latest
+                if read is None or (read.done.is_set() and read.start < arrived):
+                    self._ticket += 1
+                    read = self._latest = _Read(self._ticket)
+                    leads = True
+                else:
+                    leads = False
+            if leads:
+                self.reads += 1
+                return self._lead(read, store)
+            read.done.wait()
+            if read.start > arrived:     # began after this ask arrived: its result will do
+                if read.failed or read.result is None:
+                    return store_revision(store)
+                return read.result
+
+    @staticmethod
+    def _lead(read: _Read, store: GraphStore) -> tuple:
+        try:
+            read.result = store_revision(store)
+            return read.result
+        except BaseException:
+            read.failed = True
+            raise
+        finally:
+            read.done.set()
+
+
 def normalised(question: str) -> str:
     """The question as the cache keys it: lower case, runs of white space as one space."""
     return " ".join(question.split()).lower()
@@ -51,6 +108,7 @@ class AnswerCache:
         self._lock = threading.Lock()
         self.hits = 0
         self.misses = 0
+        self.revisions = Revisions()
 
     def __len__(self) -> int:
         return len(self._kept)
@@ -85,7 +143,7 @@ def ask_kept(store: GraphStore, cache: AnswerCache, question: str, room: Optiona
              building: Optional[str] = None, viewpoint: Optional[dict] = None) -> tuple[dict, bool]:
     """(the JSON of `ask` with the picture inline, whether it came from `cache`). A refusal is kept
     under the question as asked (its text may quote it); an answer under the normalised question."""
-    revision = store_revision(store)         # before the answer: the answer is at least this new
+    revision = cache.revisions.read(store)   # before the answer: the answer is at least this new
     options = (room, building, json.dumps(viewpoint, sort_keys=True) if viewpoint else None)
     key = (revision, normalised(question), options)
     kept = cache.get(key, (*key, question))
