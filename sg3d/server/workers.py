@@ -7,7 +7,8 @@ through the environment (`SERVE_ENV`, JSON): uvicorn spawns fresh interpreters, 
 app with `app()` (a factory, `factory=True`). So every worker has the same token (read from the
 same file), limits, deadlines and store watch (each restarts a dead embedded store, which starts
 it once however many ask) as a single-process server. The parent serves no request; it restarts a
-worker that dies and stops them all on SIGTERM/SIGINT.
+worker that dies and stops them all on SIGTERM/SIGINT. (The environment carries a --uri store's
+password too, as SG3D_PASSWORD would: a process's environment is readable by its own user only.)
 """
 from __future__ import annotations
 
