@@ -1,7 +1,12 @@
 """`sg3d serve` under load: p10/p50/p95 latency of POST /ask (room-scoped questions, one client: httpx,
 and the standard library's http.client, whose own cost per request is smaller), the same questions
 answered in this process through `sg3d.app.ask`, interleaved with them (the service's overhead is the
-ratio, measured in the same run), then C concurrent clients x Q questions each (errors, requests/s).
+ratio, measured in the same run), then C concurrent clients x Q questions each (errors, requests/s),
+the questions drawn from QUESTIONS, then again with every request distinct (each its own
+`viewpoint` position, which only left/right questions read: the same work, no answer-cache hit),
+with the server's answer-cache hits and misses of each run from its /metrics.
+
+    python -m benchmarks.bench_serve --home DIR --crowd-only --workers 2   # the crowds only, 2 workers
 
     python -m benchmarks.bench_serve                       # scratch store, builds the real kitchen
     python -m benchmarks.bench_serve --home DIR --room kitchen   # a store you built already
@@ -51,8 +56,9 @@ def sg3d(home: Path, *args: str, **kw) -> subprocess.CompletedProcess:
     return subprocess.run([sys.executable, "-m", "sg3d", "--home", str(home), *args], check=True, **kw)
 
 
-def start_server(home: Path, port: int) -> subprocess.Popen:
-    proc = subprocess.Popen([sys.executable, "-m", "sg3d", "--home", str(home), "serve", "--port", str(port)],
+def start_server(home: Path, port: int, workers: int = 1) -> subprocess.Popen:
+    more = ["--workers", str(workers)] if workers > 1 else []
+    proc = subprocess.Popen([sys.executable, "-m", "sg3d", "--home", str(home), "serve", "--port", str(port), *more],
                             stderr=subprocess.DEVNULL)
     deadline = time.monotonic() + 120
     while time.monotonic() < deadline:
@@ -120,7 +126,8 @@ def latencies(url: str, token: str, home: Path, room: str, repeat: int) -> dict[
     return ms
 
 
-async def crowd(url: str, token: str, room: str, clients: int, per_client: int) -> tuple[int, int, float, list[float]]:
+async def crowd(url: str, token: str, room: str, clients: int, per_client: int,
+                distinct: bool = False) -> tuple[int, int, float, list[float]]:
     errors, done, ms = 0, 0, []
 
     async def robot(i: int) -> None:
@@ -129,7 +136,10 @@ async def crowd(url: str, token: str, room: str, clients: int, per_client: int) 
             for k in range(per_client):
                 t0 = time.perf_counter()
                 try:
-                    r = await c.post("/ask", json={"question": QUESTIONS[(i + k) % len(QUESTIONS)], "room": room})
+                    body: dict = {"question": QUESTIONS[(i + k) % len(QUESTIONS)], "room": room}
+                    if distinct:
+                        body["viewpoint"] = {"position": [float(i), float(k), 0.0]}
+                    r = await c.post("/ask", json=body)
                     ok = r.status_code == 200 and "answer" in r.json()
                 except httpx.HTTPError:
                     ok = False
@@ -237,6 +247,33 @@ def health_under_flood(url: str, seconds: float, mb: int) -> None:
           f"p50 {pct(flooded, 50):.1f} ms, p95 {pct(flooded, 95):.1f} ms, max {max(flooded):.1f} ms", flush=True)
 
 
+def cache_counts(url: str) -> dict[str, float]:
+    """The server's answer-cache hits and misses from /metrics (empty for a server without it)."""
+    r = httpx.get(url + "/metrics", timeout=30)
+    if r.status_code != 200:
+        return {}
+    from prometheus_client.parser import text_string_to_metric_families
+
+    return {s.labels["result"]: s.value for f in text_string_to_metric_families(r.text)
+            if f.name == "sg3d_answer_cache" for s in f.samples if s.name.endswith("_total")}
+
+
+def crowds(url: str, token: str, room: str, clients: int, per_client: int) -> int:
+    """The crowd with the questions list, then with every request distinct: errors of both."""
+    errors_all = 0
+    for distinct in (False, True):
+        before, load = cache_counts(url), os.getloadavg()[0]
+        done, errors, wall, cms = asyncio.run(crowd(url, token, room, clients, per_client, distinct))
+        after = cache_counts(url)
+        cached = ", ".join(f"{k} {after.get(k, 0) - before.get(k, 0):.0f}" for k in ("hit", "miss")) if after else "none"
+        print(f"{clients} concurrent clients x {per_client} questions{', every one distinct' if distinct else ''}: "
+              f"{done} requests, {errors} errors, {done / wall:.1f} requests/s, p50 {pct(cms, 50):.0f} ms, "
+              f"p95 {pct(cms, 95):.0f} ms; answer cache: {cached}; load average (1 min) {load:.2f} before, "
+              f"{os.getloadavg()[0]:.2f} after", flush=True)
+        errors_all += errors
+    return errors_all
+
+
 def pct(values: list[float], p: float) -> float:
     return statistics.quantiles(values, n=100, method="inclusive")[int(p) - 1] if len(values) > 1 else values[0]
 
@@ -254,6 +291,8 @@ def main() -> None:
     ap.add_argument("--repeat", type=int, default=20, help="rounds of the questions for the latency figures")
     ap.add_argument("--clients", type=int, default=100)
     ap.add_argument("--per-client", type=int, default=20)
+    ap.add_argument("--workers", type=int, default=1, help="sg3d serve --workers")
+    ap.add_argument("--crowd-only", action="store_true", help="only the two crowds, not the one-client latency rounds")
     ap.add_argument("--trust", action="store_true", help="only the burst/quiet and /health-under-flood figures")
     ap.add_argument("--burst", type=int, default=200, help="--trust: concurrent calls in the burst (0: none, only the /health figures)")
     ap.add_argument("--quiet-s", type=float, default=65.0, help="--trust: seconds of quiet after the burst")
@@ -278,7 +317,7 @@ def main() -> None:
                 raise SystemExit(f"no kitchen at {KITCHEN}: use --tiny or --home")
             print("building the kitchen into a scratch store ...", flush=True)
             sg3d(home, "build", str(KITCHEN), "--room", args.room, "--json", stdout=subprocess.DEVNULL)
-        server = start_server(home, port)
+        server = start_server(home, port, args.workers)
         from sg3d.server.auth import token_path
 
         url, token = f"http://127.0.0.1:{port}", token_path(home).read_text().strip()
@@ -296,6 +335,11 @@ def main() -> None:
             if not ok:
                 raise SystemExit(1)
             return
+        if args.crowd_only:
+            asyncio.run(calls_at_once(url, token, args.room, 8))     # warm-up: the label model, taxonomy, connections
+            if crowds(url, token, args.room, args.clients, args.per_client):
+                raise SystemExit(1)
+            return
         load_before = os.getloadavg()[0]
         ms = latencies(url, token, home, args.room, args.repeat)
         print(f"load average (1 min) {load_before:.2f} before the latency rounds, {os.getloadavg()[0]:.2f} after")
@@ -304,10 +348,7 @@ def main() -> None:
         for client in ("httpx", "stdlib"):
             print(f"POST /ask, room-scoped, one {client} client: {spread(ms[client])}; "
                   f"service / in-process p50 = {pct(ms[client], 50) / local:.2f}")
-        done, errors, wall, cms = asyncio.run(crowd(url, token, args.room, args.clients, args.per_client))
-        print(f"{args.clients} concurrent clients x {args.per_client} questions: {done} requests, {errors} errors, "
-              f"{done / wall:.1f} requests/s, p50 {pct(cms, 50):.0f} ms, p95 {pct(cms, 95):.0f} ms")
-        if errors:
+        if crowds(url, token, args.room, args.clients, args.per_client):
             raise SystemExit(1)
     finally:
         if server is not None:

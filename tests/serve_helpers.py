@@ -43,3 +43,44 @@ def serving(api):
     finally:
         server.should_exit = True
         thread.join(10)
+
+
+@contextmanager
+def serve_process(home, *options: str, start_s: float = 120):
+    """The console command `sg3d --home HOME serve --port P *options` in a process of its own,
+    once /health answers 200; yields the base URL, and ends it with SIGTERM."""
+    import os
+    import signal
+    import subprocess
+    import sys
+
+    import httpx
+
+    from sg3d.graphdb.embedded import free_port
+
+    repo = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    port = free_port()
+    env = {**{k: v for k, v in os.environ.items() if k != "SG3D_URI"},
+           "PYTHONPATH": repo + os.pathsep + os.environ.get("PYTHONPATH", "")}
+    proc = subprocess.Popen([sys.executable, "-m", "sg3d", "--home", str(home), "serve", "--port", str(port), *options],
+                            env=env, start_new_session=True)
+    base = f"http://127.0.0.1:{port}"
+    try:
+        deadline = time.monotonic() + start_s
+        while True:
+            try:
+                if httpx.get(base + "/health", timeout=10).status_code == 200:
+                    break
+            except httpx.TransportError:
+                pass
+            assert proc.poll() is None and time.monotonic() < deadline, "sg3d serve did not start"
+            time.sleep(0.2)
+        yield base
+    finally:
+        if proc.poll() is None:
+            proc.send_signal(signal.SIGTERM)
+            try:
+                proc.wait(30)
+            except subprocess.TimeoutExpired:
+                os.killpg(proc.pid, signal.SIGKILL)
+                proc.wait()

@@ -22,7 +22,7 @@ def calls():
     dispatcher = Dispatcher()
     yield dispatcher
     deadline = time.monotonic() + 90
-    while dispatcher.workers._stuck and time.monotonic() < deadline:
+    while dispatcher.threads._stuck and time.monotonic() < deadline:
         time.sleep(0.2)
 
 

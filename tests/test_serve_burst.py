@@ -24,7 +24,7 @@ def small_pool(store_session, embedded_home):
     from sg3d.settings import Settings
 
     token = ensure_token(embedded_home)
-    with running_server(Settings(home=embedded_home), token, max_workers=POOL, quick_timeout_s=QUICK_S) as url:
+    with running_server(Settings(home=embedded_home), token, max_threads=POOL, quick_timeout_s=QUICK_S) as url:
         yield url, token
 
 

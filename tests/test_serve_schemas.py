@@ -37,8 +37,11 @@ def _json_schema(spec: dict, op: dict, status: str) -> dict:
 def test_openapi_lists_a_response_schema_for_every_route(kitchen):
     spec = kitchen.get("/openapi.json").json()
     ops = {(m, p): op for p, item in spec["paths"].items() for m, op in item.items()}
-    assert AUTHED | {("get", "/health")} == set(ops)
+    assert AUTHED | {("get", "/health"), ("get", "/metrics")} == set(ops)
+    assert any(t.startswith("text/plain") for t in ops["get", "/metrics"]["responses"]["200"]["content"])
     for key, op in ops.items():
+        if key == ("get", "/metrics"):       # the Prometheus text format, not JSON
+            continue
         body = _json_schema(spec, op, "200")
         assert body.get("properties"), (key, body)      # a named model, not an empty "any"
         assert body.get("required"), key

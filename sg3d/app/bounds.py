@@ -31,8 +31,15 @@ MAX_JSON_DEPTH = 32
 MAX_GOAL_DEPTH = 16
 # Request bodies (bytes); `sg3d serve --max-body` changes it.
 DEFAULT_MAX_BODY = 32 * 1024 * 1024
-# Store calls `sg3d serve` runs at once (more wait their turn); `sg3d serve --workers` changes it.
-DEFAULT_WORKERS = 64
+# Store calls `sg3d serve` runs at once (more wait their turn); `sg3d serve --threads` changes it.
+DEFAULT_THREADS = 64
+# Worker processes of `sg3d serve` (`--workers`). One: on the 2-core machines it was measured on,
+# the store's JVM needs a core of its own under load, and each worker holds its own label model
+# and connection pool; `--workers 2` is worth trying where more cores are free.
+DEFAULT_WORKERS = 1
+# Answers `sg3d serve` keeps per process (sg3d.app.answers): entries, and their approximate bytes.
+ANSWER_CACHE_ENTRIES = 4096
+ANSWER_CACHE_BYTES = 64 * 1024 * 1024
 # A user's own Cypher statement (MCP `cypher`, `sg3d cypher`, `sg3d shell`): characters.
 MAX_STATEMENT_CHARS = 20_000
 # The embedded store's statement time limit lives with the store: sg3d.graphdb.embedded.STORE_TIMEOUT_S.

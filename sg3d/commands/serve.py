@@ -5,7 +5,7 @@ import errno
 
 import click
 
-from sg3d.app.bounds import DEFAULT_MAX_BODY, DEFAULT_WORKERS
+from sg3d.app.bounds import DEFAULT_MAX_BODY, DEFAULT_THREADS, DEFAULT_WORKERS
 
 
 @click.command()
@@ -17,10 +17,13 @@ from sg3d.app.bounds import DEFAULT_MAX_BODY, DEFAULT_WORKERS
 @click.option("--max-body", type=click.IntRange(min=1024), default=DEFAULT_MAX_BODY, show_default=True,
               metavar="BYTES", help="Largest request body accepted; a larger one is refused (413) before it is "
                                     "read, and a request without the token (401) before its body is read.")
+@click.option("--threads", type=click.IntRange(min=1), default=DEFAULT_THREADS, show_default=True,
+              help="Store calls one process runs at once (threads); more wait their turn (within their deadline).")
 @click.option("--workers", type=click.IntRange(min=1), default=DEFAULT_WORKERS, show_default=True,
-              help="Store calls run at once; more wait their turn (within their deadline).")
+              help="Worker processes (uvicorn's process model) sharing the one store, each with --threads threads. "
+                   "More than 1 pays where cores are free for them beside the store.")
 @click.pass_obj
-def serve(settings, host: str, port: int, access_log: bool, max_body: int, workers: int) -> None:
+def serve(settings, host: str, port: int, access_log: bool, max_body: int, threads: int, workers: int) -> None:
     """Serve the scene graph over HTTP: /ask, /plan, /rooms, /graph, /ingest (OpenAPI at /docs).
 
     Callers send `Authorization: Bearer <token>`; the token is generated into api-token (mode
@@ -40,7 +43,14 @@ def serve(settings, host: str, port: int, access_log: bool, max_body: int, worke
     if not is_loopback(host):
         click.echo(f"warning: binding {host}: the API is reachable from other machines; anyone with the "
                    f"token can read and ingest (put TLS in front of it on an untrusted network)", err=True)
-    api = create_app(settings, token, max_body=max_body, max_workers=workers)
+    if workers > 1:
+        from sg3d.server.workers import serve_workers
+
+        click.echo(f"sg3d serving http://{host}:{port} with {workers} workers (docs at /docs); token in "
+                   f"{token_path(home)}", err=True)
+        serve_workers(settings, sock, workers, max_body=max_body, threads=threads, access_log=access_log)
+        return
+    api = create_app(settings, token, max_body=max_body, max_threads=threads)
     api.state.stores.get()          # start or find the store now, not on the first request
     click.echo(f"sg3d serving http://{host}:{port} (docs at /docs); token in {token_path(home)}", err=True)
     # a stuck store call ends at its own deadline; SIGTERM waits at most 5 s for requests in flight

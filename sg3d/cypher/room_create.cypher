@@ -3,5 +3,5 @@
 MERGE (b:Building {id: $building})
 ON CREATE SET b.name = $building
 MERGE (r:Room {id: $room})
-ON CREATE SET r.name = $room_name, r.building = $building
+ON CREATE SET r.name = $room_name, r.building = $building, r.born = timestamp()
 MERGE (b)-[:HAS_ROOM]->(r)

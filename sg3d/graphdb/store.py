@@ -149,6 +149,23 @@ def _timed(fn: Callable) -> Callable:
     return unit_of_work(timeout=seconds)(fn)
 
 
+# Called once for every statement sg3d sends (a round trip to the store): `sg3d serve` counts them
+# for /metrics. One slot, not a list: a process that builds several apps installs the same counter.
+_on_statement: Optional[Callable[[], None]] = None
+
+
+def on_statement(hook: Optional[Callable[[], None]]) -> None:
+    """Call `hook()` for every statement sent to the store from now on (None: stop)."""
+    global _on_statement
+    _on_statement = hook
+
+
+def _sent() -> None:
+    hook = _on_statement
+    if hook is not None:
+        hook()
+
+
 class _GuardedTransaction:
     """A driver transaction whose `run` passes `check_statement` first; the rest is the driver's."""
 
@@ -157,6 +174,7 @@ class _GuardedTransaction:
 
     def run(self, query, parameters=None, **kwparameters):
         check_statement(query, parameters, kwparameters)
+        _sent()
         return self._tx.run(query, parameters, **kwparameters)
 
     def __enter__(self):
@@ -189,6 +207,7 @@ class _GuardedSession:
         seconds = _TX_TIMEOUT.get()
         if seconds is not None and isinstance(query, str):
             query = Query(query, timeout=seconds)
+        _sent()
         return self._session.run(query, parameters, **kwargs)
 
     def begin_transaction(self, *args, **kwargs):

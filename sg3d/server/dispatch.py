@@ -2,13 +2,13 @@
 
 The application layer and the store driver are synchronous, and a driver call can wait a long
 time (it retries a dead store's port for its whole retry time) or, after a broken exchange with
-the store, forever. So every call runs in a worker thread (`Workers`) while the event loop awaits
+the store, forever. So every call runs in a worker thread (`CallThreads`) while the event loop awaits
 it with a deadline, checking the store's state (`sg3d.server.watch.StoreWatch`) a few times a
 second: a store that is down, or a call past its deadline, is answered at once with
 `StoreUnavailable` (503 with Retry-After), and the worker is left to finish on its own. The
 event loop is never held, so /health answers and SIGTERM stops the server whatever the store does.
 
-`Workers` is a kept pool: a fixed number of threads (`MAX_WORKERS`, `sg3d serve --workers`) on one
+`CallThreads` is a kept pool: a fixed number of threads (`MAX_THREADS`, `sg3d serve --threads`) on one
 standard queue, started as calls need them and never ended while the process runs, so no idle
 timeout can leave a queued call without a thread. Two promises shape it, and neither the standard
 library's pools nor anyio's keep both, which is why it is not `concurrent.futures.ThreadPoolExecutor`
@@ -27,7 +27,7 @@ import threading
 from queue import SimpleQueue
 from typing import Callable, Optional, TypeVar
 
-from sg3d.app.bounds import DEFAULT_WORKERS
+from sg3d.app.bounds import DEFAULT_THREADS
 from sg3d.core.errors import Sg3dError
 
 T = TypeVar("T")
@@ -36,7 +36,7 @@ QUICK_TIMEOUT_S = 30.0     # a read (/ask, /rooms, objects): the embedded store 
 LONG_TIMEOUT_S = 300.0     # a plan, an export, an ingest
 POLL_S = 0.25              # how often a waiting call looks at the store's state
 RETRY_AFTER_S = 2
-MAX_WORKERS = DEFAULT_WORKERS   # threads running calls at once (stuck ones not counted)
+MAX_THREADS = DEFAULT_THREADS   # threads running calls at once (stuck ones not counted)
 
 
 class StoreUnavailable(Sg3dError, RuntimeError):
@@ -57,7 +57,7 @@ class _Job:
         self.finished = False
 
 
-class Workers:
+class CallThreads:
     """A kept pool of `size` daemon threads on one queue (see the module's docstring). Threads start
     as calls need them, up to `size` not counting stuck ones, and are never ended for being idle; a
     thread whose call was abandoned while it ran (`abandon`) is replaced at once and ends when
@@ -65,7 +65,7 @@ class Workers:
     thread, `_waiting` threads blocked on the queue; a call starts a thread when the queued calls
     outnumber the waiting threads."""
 
-    def __init__(self, size: int = MAX_WORKERS):
+    def __init__(self, size: int = MAX_THREADS):
         if size < 1:
             raise ValueError("a worker pool needs at least one thread")
         self.size = size
@@ -133,13 +133,13 @@ class Workers:
 
 
 class Dispatcher:
-    """Runs each route's call in `Workers` with a deadline, refusing it at once while `watch`
+    """Runs each route's call in `CallThreads` with a deadline, refusing it at once while `watch`
     says the store is down. `in_flight` counts the calls being awaited."""
 
-    def __init__(self, watch=None, workers: Optional[Workers] = None,
+    def __init__(self, watch=None, threads: Optional[CallThreads] = None,
                  quick_timeout_s: float = QUICK_TIMEOUT_S, long_timeout_s: float = LONG_TIMEOUT_S):
         self.watch = watch
-        self.workers = workers or Workers()
+        self.threads = threads or CallThreads()
         self.quick_timeout_s = quick_timeout_s
         self.long_timeout_s = long_timeout_s
         self.in_flight = 0
@@ -160,7 +160,7 @@ class Dispatcher:
         try:
             if watch is not None:
                 watch.raise_if_down()
-            job = self.workers.submit(fn)
+            job = self.threads.submit(fn)
             waiting = asyncio.wrap_future(job.future)
             loop = asyncio.get_running_loop()
             deadline = loop.time() + timeout_s
@@ -182,6 +182,6 @@ class Dispatcher:
             self.in_flight -= 1
 
     def _give_up(self, job: _Job, waiting: asyncio.Future) -> None:
-        self.workers.abandon(job)
+        self.threads.abandon(job)
         # the call's eventual exception is nobody's: read it so asyncio does not log it
         waiting.add_done_callback(lambda f: f.cancelled() or f.exception())

@@ -21,7 +21,7 @@ from sg3d.app import bounds
 from sg3d.server.auth import token_matches
 
 PARSED = "sg3d.json"          # the scope key of a body the door parsed already
-OPEN_PATHS = frozenset({"/health", "/openapi.json", "/docs", "/docs/oauth2-redirect", "/redoc"})
+OPEN_PATHS = frozenset({"/health", "/metrics", "/openapi.json", "/docs", "/docs/oauth2-redirect", "/redoc"})
 TOKEN_HINT = ("missing or wrong token: send Authorization: Bearer <token> "
               "(the token is in $SG3D_HOME/api-token; `sg3d serve` prints where)")
 

@@ -27,6 +27,7 @@ from fastapi.routing import APIRoute
 from pydantic import BaseModel, ConfigDict, Field
 
 from sg3d import __version__
+from sg3d.app import answers as app_answers
 from sg3d.app import ask as app_ask
 from sg3d.app import bounds
 from sg3d.app import graph as app_graph
@@ -36,16 +37,16 @@ from sg3d.app import plan as app_plan
 from sg3d.app import rooms as app_rooms
 from sg3d.app.errors import AppError, NotFound, Refused, RoomBusy
 from sg3d.app.stores import StoreHandle
-from sg3d.server import schemas
+from sg3d.server import metrics, schemas
 from sg3d.server.auth import token_matches
 from sg3d.server.dispatch import (
     LONG_TIMEOUT_S,
-    MAX_WORKERS,
+    MAX_THREADS,
     QUICK_TIMEOUT_S,
     RETRY_AFTER_S,
     Dispatcher,
     StoreUnavailable,
-    Workers,
+    CallThreads,
 )
 from sg3d.server.guard import PARSED, TOKEN_HINT, Guard
 from sg3d.server.schemas import ROUTE_ERRORS
@@ -200,11 +201,13 @@ def validation_details(errors) -> list[dict]:
 
 def create_app(settings, token: str, handle: Optional[StoreHandle] = None,
                max_body: int = bounds.DEFAULT_MAX_BODY, quick_timeout_s: float = QUICK_TIMEOUT_S,
-               long_timeout_s: float = LONG_TIMEOUT_S, max_workers: int = MAX_WORKERS) -> FastAPI:
+               long_timeout_s: float = LONG_TIMEOUT_S, max_threads: int = MAX_THREADS,
+               answer_cache: int = bounds.ANSWER_CACHE_ENTRIES) -> FastAPI:
     """The FastAPI application for `settings`' store; `token` is the bearer token callers send;
     request bodies above `max_body` bytes are refused (413) before they are read; a read that has
     not answered within `quick_timeout_s` (a plan, export or ingest: `long_timeout_s`) is a 503;
-    at most `max_workers` calls run at once (more wait their turn, within their deadline)."""
+    at most `max_threads` calls run at once (more wait their turn, within their deadline); `/ask`
+    keeps up to `answer_cache` answers (`sg3d.app.answers`; 0: none)."""
     stores = handle or StoreHandle(settings)
     api = FastAPI(title="sg3d", version=__version__,
                   description="3-D scene graphs of rooms: ask, plan, list rooms and objects, export, ingest.")
@@ -218,18 +221,23 @@ def create_app(settings, token: str, handle: Optional[StoreHandle] = None,
 
     _add_error_handlers(api, settings)
     watch = StoreWatch(settings, restart=lambda: _reconnect(stores))
-    calls = Dispatcher(watch, Workers(max_workers), quick_timeout_s=quick_timeout_s, long_timeout_s=long_timeout_s)
+    calls = Dispatcher(watch, CallThreads(max_threads), quick_timeout_s=quick_timeout_s, long_timeout_s=long_timeout_s)
     _add_health_route(api, stores, settings, calls, watch)
+    _add_metrics_route(api, calls)
     auth = [Depends(authorised)]
-    _add_read_routes(api, stores, calls, auth)
+    answers = app_answers.AnswerCache(answer_cache)
+    _add_read_routes(api, stores, calls, auth, answers)
     _add_write_routes(api, stores, calls, auth)
     # only the routes that take a body are sent one (the rest refuse it before it is read)
     body_paths = frozenset(r.path for r in api.routes
                            if isinstance(r, APIRoute) and (r.methods or set()) & {"POST", "PUT", "PATCH"})
     api.add_middleware(Failures, settings=settings)
     api.add_middleware(Guard, token=token, max_body=max_body, body_paths=body_paths)
+    api.add_middleware(metrics.RequestMetrics, routes=lambda: api.routes)
+    metrics.count_store_statements()
     api.state.stores = stores
     api.state.watch = watch
+    api.state.answers = answers
     return api
 
 
@@ -340,7 +348,19 @@ def _add_health_route(api: FastAPI, stores: StoreHandle, settings, calls: Dispat
         return json_response({"status": "ok", "store": True, "state": UP, "version": __version__})
 
 
-def _add_read_routes(api: FastAPI, stores: StoreHandle, calls: Dispatcher, auth: list) -> None:
+def _add_metrics_route(api: FastAPI, calls: Dispatcher) -> None:
+    @api.get("/metrics", tags=["service"], response_class=Response,
+             responses={200: {"content": {metrics.CONTENT_TYPE: {}}, "description": "the Prometheus text format"}})
+    async def scrape():
+        """Request counts and latency histograms per route, answer-cache hits and misses, statements
+        sent to the store, in the Prometheus text format (every worker's). No token needed, as for
+        /health: it names routes and counts, never a room, an object or a question."""
+        body = await calls.run(metrics.exposition, HEALTH_TIMEOUT_S, watched=False)
+        return Response(body, media_type=metrics.CONTENT_TYPE)
+
+
+def _add_read_routes(api: FastAPI, stores: StoreHandle, calls: Dispatcher, auth: list,
+                     answers: app_answers.AnswerCache) -> None:
     read = stores.call
     opts: dict[str, Any] = {"dependencies": auth, "tags": ["read"], "responses": ROUTE_ERRORS}
 
@@ -351,9 +371,13 @@ def _add_read_routes(api: FastAPI, stores: StoreHandle, calls: Dispatcher, auth:
         viewpoint = body.viewpoint.model_dump(exclude_none=True) if body.viewpoint else None
         if viewpoint is not None and len(viewpoint) != 1:
             raise AppError("viewpoint takes exactly one of pose, position and object")
-        return await calls.quick(lambda: json_response(read(lambda s: app_ask.ask(
-            s, body.question, room=body.room, building=body.building, viewpoint=viewpoint
-        ).to_json(inline_thumbnail=True))))
+
+        def answer() -> Response:
+            data, hit = read(lambda s: app_answers.ask_kept(s, answers, body.question, room=body.room,
+                                                            building=body.building, viewpoint=viewpoint))
+            metrics.count_cache(hit)
+            return json_response(data)
+        return await calls.quick(answer)
 
     @api.post("/plan", response_model=schemas.Plan, **opts)
     async def plan(body: PlanBody):

@@ -220,9 +220,9 @@ def test_store_failures_map_to_their_statuses():
 
 
 def test_workers_are_reused_and_kept_through_a_quiet_spell():
-    from sg3d.server.dispatch import Workers
+    from sg3d.server.dispatch import CallThreads
 
-    workers = Workers(size=3)
+    workers = CallThreads(size=3)
     for _ in range(5):
         assert workers.submit(lambda: 7).future.result(5) == 7
     assert workers._threads == 1                       # one call at a time: one thread, reused
@@ -238,9 +238,9 @@ def test_workers_are_reused_and_kept_through_a_quiet_spell():
 
 
 def test_a_stuck_call_is_replaced_and_its_thread_ends_when_it_returns():
-    from sg3d.server.dispatch import Workers
+    from sg3d.server.dispatch import CallThreads
 
-    workers = Workers(size=1)
+    workers = CallThreads(size=1)
     stuck = threading.Event()
     job = workers.submit(stuck.wait)
     time.sleep(0.1)
