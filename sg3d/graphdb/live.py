@@ -72,6 +72,19 @@ def stable_ids(new: list[dict], old: list[dict], radius: float = STABLE_ID_RADIU
     return out
 
 
+def resumed_ids(new: list[dict], old: list[dict], unseen: frozenset,
+                radius: float = STABLE_ID_RADIUS_M) -> dict[int, str]:
+    """`stable_ids` for a resumed map: rule "a resumed map takes back the killed map's ids first".
+    The rows are matched to the nodes the killed map published (`unseen`: ids) before any other,
+    so a node this run created while it had seen only part of a thing never takes the place of
+    the one the killed map published there; the rows left are matched to the other nodes. With
+    no `unseen` it is `stable_ids`."""
+    first = stable_ids(new, [o for o in old if o["id"] in unseen], radius)
+    rest = [i for i in range(len(new)) if i not in first]
+    second = stable_ids([new[i] for i in rest], [o for o in old if o["id"] not in unseen], radius)
+    return {**first, **{rest[k]: gid for k, gid in second.items()}}
+
+
 # Objects a live map created carry a first scan named so (`sg3d.app.mapping`: map:<room>@<start>).
 MAP_SCAN_PREFIX = "map:"
 
@@ -102,7 +115,7 @@ def publish_in_tx(tx: ManagedTransaction, graph: LocalGraph, scan: ScanInfo, sta
     rows = [dict(r) for r in tx.run(cypher.load("live_objects"), room=rid)]
     old = [o for o in rows if made_by_map(o)]
     plan = plan_merge(graph, [], None, [], embedding, scan, now, rid)
-    keep = stable_ids([row["props"] for row in plan.creates], old)
+    keep = resumed_ids([row["props"] for row in plan.creates], old, unseen)
     updates, creates = _split_plan(plan, keep, {o["id"]: o.get("first_seen") for o in old})
     kept_ids = set(keep.values())
     gone = [o["id"] for o in old if o["id"] not in kept_ids and o["id"] not in unseen]
