@@ -19,17 +19,15 @@ import tempfile
 import time
 from pathlib import Path
 
-RUNAWAY = {
-    "triple reduce": "WITH range(1, 2000) AS r RETURN reduce(s = 0, a IN r | s + reduce(t = 0, b IN r | "
-                     "t + reduce(u = 0, c IN r | u + c))) AS x",
-    "string reduce": "RETURN size(reduce(s = '', x IN range(1, 1000000) | s + 'xxxxxxxxxx')) AS n",
-    "nested comprehensions": "RETURN size([a IN range(1, 1000) | [b IN range(1, 1000) | "
-                             "[c IN range(1, 1000) | a + b + c]]]) AS n",
-    "nested comprehensions, bound in a variable": "WITH 1000 AS n RETURN size([a IN range(1, n) | "
-                                                  "[b IN range(1, n) | [c IN range(1, n) | a + b + c]]]) AS n",
-    "comprehensions over collect": "MATCH (n:Probe) WITH collect(n.id) AS ids RETURN size([a IN ids | "
-                                   "[b IN ids | [c IN ids | a + b + c]]]) AS n",
-    "list reduce": "RETURN size(reduce(l = [], x IN range(1, 1000000) | l + [x])) AS n",
+from benchmarks.common import load_cypher
+
+RUNAWAY = {      # name -> benchmarks/cypher/runaway_<file>.cypher
+    "triple reduce": "triple_reduce",
+    "string reduce": "string_reduce",
+    "nested comprehensions": "nested_comprehensions",
+    "nested comprehensions, bound in a variable": "nested_comprehensions_variable",
+    "comprehensions over collect": "comprehensions_over_collect",
+    "list reduce": "list_reduce",
 }
 
 
@@ -89,14 +87,14 @@ def main() -> None:
     os.environ["SG3D_STORE_TIMEOUT_S"] = str(args.limit)
     store = Settings(home=home).store()
     del os.environ["SG3D_STORE_TIMEOUT_S"]
-    store.run_raw("UNWIND range(1, 1000) AS i CREATE (:Probe {id: 'p' + toString(i)})", write=True)
+    store.run_raw(load_cypher("probe_create_many"), {"count": 1000}, write=True)
     pid = EmbeddedServer(home).ensure_running().pid
     mcp = build_server(Settings(home=home), timeouts={"cypher": args.limit + 30, "read": 30.0})
     rows = []
     try:
         # what a `sg3d cypher` process takes besides its statement (start-up, connect): RETURN 1
         overhead = min(_via_cli(home, "RETURN 1 AS x")[0] for _ in range(3))
-        for name, statement in RUNAWAY.items():
+        for name, statement in ((n, load_cypher(f"runaway_{f}")) for n, f in RUNAWAY.items()):
             for via in ("cli", "mcp"):
                 seconds, answer = _via_cli(home, statement) if via == "cli" else _via_mcp(mcp, statement)
                 in_store = seconds - overhead if via == "cli" else seconds

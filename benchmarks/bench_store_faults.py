@@ -21,6 +21,8 @@ import tempfile
 import time
 from pathlib import Path
 
+from benchmarks.common import load_cypher
+
 FAULTS = ("kill9", "rm_store", "rm_files", "kill9_rm_files")
 
 
@@ -50,7 +52,7 @@ def _writer(home: Path, seconds: float, fault_at: float, kind: str) -> dict:
         try:
             if store is None:
                 store = Settings(home=home).store()
-            store.run_raw("CREATE (p:Probe {n: $n}) RETURN p.n", {"n": n}, write=True)
+            store.run_raw(load_cypher("probe_create"), {"n": n}, write=True)
             acked.append(n)
             after += faulted is not None
         except Exception:  # noqa: BLE001 - a refused or dead store: the writer goes on trying
@@ -75,7 +77,7 @@ def _afterwards(home: Path, acked: list[int]) -> dict:
     except EmbeddedStoreError as exc:
         return {"outcome": "refused", "why": str(exc)[:160]}
     try:
-        _, rows = store.run_raw("MATCH (p:Probe) RETURN p.n")
+        _, rows = store.run_raw(load_cypher("probe_numbers"))
     finally:
         store.close()
     present = {r[0] for r in rows}

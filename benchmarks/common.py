@@ -12,6 +12,16 @@ from sg3d.core.model import HIST_SIZE, ObjectObservation
 LABELS = ["cup", "bowl", "chair", "dining table", "tv", "bottle", "sink", "couch", "book", "vase"]
 
 
+CYPHER = Path(__file__).with_name("cypher")
+
+
+def load_cypher(name: str) -> str:
+    """A benchmark's own statement from benchmarks/cypher/NAME.cypher, its comment lines left out
+    (the probes it writes and the statements it sends as a user would, never product templates)."""
+    text = (CYPHER / f"{name}.cypher").read_text()
+    return "\n".join(ln for ln in text.splitlines() if not ln.lstrip().startswith("//")).strip()
+
+
 @contextmanager
 def scratch_store():
     """A fresh embedded store in a temporary home, stopped afterwards."""

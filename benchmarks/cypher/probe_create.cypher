@@ -1,0 +1,3 @@
+// One acknowledged write of the fault benchmark
+CREATE (p:Probe {n: $n})
+RETURN p.n

@@ -1,0 +1,3 @@
+// Every write the store kept
+MATCH (p:Probe)
+RETURN p.n
