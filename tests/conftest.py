@@ -80,3 +80,22 @@ def kitchen_client(served, store):
     with httpx.Client(base_url=url, headers={"Authorization": f"Bearer {token}"}, timeout=60) as c:
         assert c.post("/ingest", json=kitchen_body()).status_code == 200
         yield c
+
+
+@pytest.fixture
+def own_store(tmp_path):
+    """A store of its own (damaged on purpose by the trust tests) holding the sample kitchen
+    ingest: (home, server)."""
+    from sg3d.app.ingest import IngestRequest, ingest_graph
+    from sg3d.graphdb.embedded import EmbeddedServer
+    from sg3d.settings import Settings
+    from sg3d.testing import kitchen_body
+
+    home = tmp_path / "home"
+    store = Settings(home=home).store()
+    store.ensure_schema()
+    ingest_graph(store, IngestRequest.model_validate(kitchen_body()))
+    store.close()
+    server = EmbeddedServer(home)
+    yield home, server
+    server.stop()

@@ -1,6 +1,7 @@
 """A real `sg3d serve` application on a free loopback port (uvicorn in a thread)."""
 from __future__ import annotations
 
+import socket
 import threading
 import time
 from contextlib import contextmanager
@@ -84,3 +85,17 @@ def serve_process(home, *options: str, start_s: float = 120):
             except subprocess.TimeoutExpired:
                 os.killpg(proc.pid, signal.SIGKILL)
                 proc.wait()
+
+
+def reply_status(sock: socket.socket) -> int:
+    """The status of the reply that comes on `sock` (0 when none came before it closed)."""
+    reply = b""
+    try:
+        while b"\r\n" not in reply:
+            more = sock.recv(4096)
+            if not more:
+                break
+            reply += more
+    except (ConnectionResetError, socket.timeout):
+        pass
+    return int(reply.split()[1]) if reply.startswith(b"HTTP/") else 0

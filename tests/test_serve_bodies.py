@@ -11,7 +11,7 @@ from urllib.parse import urlsplit
 import httpx
 import pytest
 
-from tests.serve_helpers import running_server
+from tests.serve_helpers import reply_status, running_server
 
 BODY = b"[" + b"1," * (7_500_000 - 1) + b"1]"      # 15 MB of valid JSON
 
@@ -39,16 +39,7 @@ def post_raw(url: str, path: str, body: bytes, token=None) -> int:
             sock.sendall(("\r\n".join(head) + "\r\n\r\n").encode() + body)
         except (BrokenPipeError, ConnectionResetError):
             pass          # answered and closed before the whole body went: the point
-        reply = b""
-        try:
-            while b"\r\n" not in reply:
-                more = sock.recv(4096)
-                if not more:
-                    break
-                reply += more
-        except (ConnectionResetError, socket.timeout):
-            pass
-        return int(reply.split()[1]) if reply.startswith(b"HTTP/") else 0
+        return reply_status(sock)
     finally:
         sock.close()
 

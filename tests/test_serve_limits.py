@@ -9,7 +9,7 @@ from urllib.parse import urlsplit
 import httpx
 import pytest
 
-from tests.serve_helpers import kitchen_body, running_server
+from tests.serve_helpers import kitchen_body, reply_status, running_server
 
 BIG = 119 * 1024 * 1024
 CHUNK = b"[" + b"1," * (512 * 1024 - 1) + b"1"   # ~1 MB of a JSON list, sent again and again
@@ -53,16 +53,7 @@ def _send_big(url: str, token, declare_length: bool) -> int:
         except (BrokenPipeError, ConnectionResetError, socket.timeout):
             pass           # the server answered and closed: the point of the limit
         sock.settimeout(10)
-        reply = b""
-        try:
-            while b"\r\n" not in reply:
-                more = sock.recv(4096)
-                if not more:
-                    break
-                reply += more
-        except (ConnectionResetError, socket.timeout):
-            pass
-        return int(reply.split()[1]) if reply.startswith(b"HTTP/") else 0
+        return reply_status(sock)
     finally:
         sock.close()
 

@@ -21,22 +21,6 @@ import pytest
 from tests.cli_helpers import one_error_line, sg3d
 
 
-@pytest.fixture
-def own_store(tmp_path):
-    """A store of its own (damaged on purpose) holding the sample kitchen ingest: (home, server)."""
-    from sg3d.app.ingest import IngestRequest, ingest_graph
-    from sg3d.graphdb.embedded import EmbeddedServer
-    from sg3d.settings import Settings
-    from sg3d.testing import kitchen_body
-
-    home = tmp_path / "home"
-    store = Settings(home=home).store()
-    store.ensure_schema()
-    ingest_graph(store, IngestRequest.model_validate(kitchen_body()))
-    store.close()
-    server = EmbeddedServer(home)
-    yield home, server
-    server.stop()
 
 
 # -- db check: unique indexes against the records --------------------------------------------------

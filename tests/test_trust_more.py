@@ -314,22 +314,6 @@ def test_the_stores_own_http_listener_is_loopback_only_and_serves_no_studio(stor
 
 
 # -- the store's own integrity ---------------------------------------------------------------------
-@pytest.fixture
-def own_store(tmp_path):
-    """A store of its own (it is damaged on purpose) holding the sample kitchen ingest."""
-    from sg3d.app.ingest import IngestRequest, ingest_graph
-    from sg3d.graphdb.embedded import EmbeddedServer
-    from sg3d.settings import Settings
-    from sg3d.testing import kitchen_body
-
-    home = tmp_path / "home"
-    store = Settings(home=home).store()
-    store.ensure_schema()
-    ingest_graph(store, IngestRequest.model_validate(kitchen_body()))
-    store.close()
-    server = EmbeddedServer(home)
-    yield home, server
-    server.stop()
 
 
 def test_db_check_finds_a_damaged_dictionary_and_a_truncated_bucket(own_store):
