@@ -40,6 +40,26 @@ def floor_verdict(gt: dict, nodes) -> tuple[bool, str]:
     return (seen and abs(h) <= FLOOR_HEIGHT_TOL_M), f"floor at {h:+.2f} m"
 
 
+WALL_PLANE_TOL_M = 0.15
+
+
+def wall_verdict(gt: dict, nodes) -> tuple[int, int]:
+    """(seen walls that a wall node lies on, wall nodes that lie on no wall): a node lies on a
+    wall when its centre is within WALL_PLANE_TOL_M of the wall's plane (x = 0, x = W, y = 0,
+    y = D in the room frame) and it runs along it (longer along the plane than across)."""
+    W, D = gt["room"]["size"][:2]
+    T = np.asarray(gt["room_to_world"])
+    planes = {"wall-west": (0, 0.0), "wall-east": (0, W), "wall-south": (1, 0.0), "wall-north": (1, D)}
+    seen = {w["id"] for w in gt["structure"]["walls"] if w["seen"]}
+    hit, wrong = set(), 0
+    for n in (n for n in nodes if n.layer == "structure" and n.label == "wall"):
+        c = T[:3, :3].T @ (np.asarray(n.position, float) - T[:3, 3])
+        on = [w for w, (axis, at) in planes.items() if abs(c[axis] - at) <= WALL_PLANE_TOL_M]
+        hit |= set(on)
+        wrong += not on
+    return len(hit & seen), wrong
+
+
 def match_objects(objects, gt, info: dict):
     """`sg3d.evaluation.matching` (Hungarian over feasible distances) with sizes that agree."""
     from scipy.optimize import linear_sum_assignment
@@ -104,6 +124,7 @@ def judge(gt_dict: dict, nodes, edges) -> dict:
     tall = [o for o in seen if o["size"][2] > FLAT_MAX_M]
     flat = [o for o in seen if o["size"][2] <= FLAT_MAX_M]
     ok_floor, floor_said = floor_verdict(gt_dict, nodes)
+    walls_found, walls_wrong = wall_verdict(gt_dict, nodes)
     by_node = {n.id: n for n in objects}
     errors = [e for n, g, _ in m.pairs if (e := _size_error(by_node[n].size, info[g]["size"])) is not None]
     on = edge_metrics([r for r in gt.relations if r.type == "ON"], [e for e in edges if e["type"] == "ON"], m)
@@ -111,6 +132,8 @@ def judge(gt_dict: dict, nodes, edges) -> dict:
     return {
         "kind": gt_dict["kind"], "seed": gt_dict["seed"],
         "floor_seen": gt_dict["structure"]["floor"]["seen"], "floor_said": floor_said, "floor_right": ok_floor,
+        "walls_seen": sum(w["seen"] for w in gt_dict["structure"]["walls"]), "walls_found": walls_found,
+        "walls_wrong": walls_wrong,
         "focus_object": top_is_an_object(gt_dict, info[focus], objects) if focus and info[focus]["seen"] else None,
         "tall": len(tall), "tall_found": sum(o["id"] in m.gt_to_node for o in tall),
         "flat": len(flat), "flat_found": sum(o["id"] in m.gt_to_node for o in flat),
@@ -128,7 +151,7 @@ def _r(a: int, b: int) -> str:
 
 def table(rows: list[dict]) -> str:
     """One line per kind: micro-averaged over its layouts."""
-    head = ("kind", "layouts", "floor right", "focus top an object", "any R (>= 5 cm)", "any P",
+    head = ("kind", "layouts", "floor right", "walls found (wrong)", "focus top an object", "any R (>= 5 cm)", "any P",
             "flat R (1-5 cm)", "ON P", "ON R", "median size error")
     lines = [" | ".join(head), " | ".join("---" for _ in head)]
     for kind in dict.fromkeys(r["kind"] for r in rows):
@@ -140,7 +163,10 @@ def table(rows: list[dict]) -> str:
         floor = f"{sum(r['floor_right'] for r in rs)}/{len(rs)}" + (f" ({not_seen} not seen)" if not_seen else "")
         errs = [e for r in rs for e in r["size_errors"]]
         lines.append(" | ".join((
-            kind, str(len(rs)), floor, f"{sum(focus)}/{len(focus)}" if focus else "-",
+            kind, str(len(rs)), floor,
+            f"{sum(r.get('walls_found', 0) for r in rs)}/{sum(r.get('walls_seen', 0) for r in rs)}"
+            f" ({sum(r.get('walls_wrong', 0) for r in rs)})",
+            f"{sum(focus)}/{len(focus)}" if focus else "-",
             _r(s["tall_found"], s["tall"]), _r(s["matched"], s["nodes"]), _r(s["flat_found"], s["flat"]),
             _r(s["on_correct"], s["on_graph"]), _r(s["on_found"], s["on_gt"]),
             f"{np.median(errs):.2f}" if errs else "-")))

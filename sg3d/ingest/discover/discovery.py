@@ -100,6 +100,15 @@ FLOOR_REMNANT_THICKNESS_M = 0.06
 SEAT_MAX_BOTTOM_M = 0.60
 # A segment rests on a surface when its bottom is this close to the surface's level.
 RESTING_M = 0.05
+# What holds a top up stands on the floor (its foot at most LEG_FOOT_M above it: a leg's glide,
+# a plinth) and reaches the top's underside: its highest voxel at most LEG_REACH_M below the
+# top's level (the board's thickness, 2-4 cm, the surface slab cut away with it, SURFACE_SLAB_M,
+# and a voxel), with LEG_UNDER_SHARE of its voxels under the top's footprint. Nothing else
+# spans from the floor to a top's underside: a chair's back rises past it, a box under a table
+# stops short of it, and a book on a shelf board does not stand on the floor.
+LEG_FOOT_M = 0.10
+LEG_REACH_M = 0.08
+LEG_UNDER_SHARE = 0.5
 # Shape words: flat when the height is at most FLAT_RATIO of the larger horizontal side; tall
 # when at least TALL_RATIO times it; box-shaped when the three sides are within BOX_RATIO of
 # each other and the points fill the box's faces.
@@ -224,6 +233,24 @@ def resting_on(seg: Segment, surfaces: Sequence[Element]) -> bool:
             centre[0, 2] = e.height
             if bool(e.contains(centre, RESTING_M)[0]):
                 return True
+    return False
+
+
+def holds_up_top(seg: Segment, surfaces: Sequence[Element]) -> bool:
+    """Rule "what holds a top up": a segment whose foot lies at most LEG_FOOT_M above the floor,
+    whose top lies within LEG_REACH_M below a horizontal surface's level (and not above it), and
+    with LEG_UNDER_SHARE of its voxels under that surface's footprint is the surface's legs,
+    sides or pedestal: part of the furniture the top belongs to, not a thing of its own."""
+    if float(seg.lo[2]) > LEG_FOOT_M:
+        return False
+    top = float(seg.hi[2])
+    for e in surfaces:
+        if not e.height - LEG_REACH_M <= top <= e.height:
+            continue
+        lifted = seg.voxels.copy()
+        lifted[:, 2] = e.height
+        if float(e.contains(lifted, RESTING_M).mean()) >= LEG_UNDER_SHARE:
+            return True
     return False
 
 
@@ -647,7 +674,6 @@ def discover(named: list[ObjectObservation], cloud: RoomCloud, structure: Sequen
     detection of a kind solid to the floor with the floor seen under it (`furniture.open_below`)
     is no object: it leaves `named` (in place), and its points are segmented like any others."""
     surfaces = [e for e in structure if e.footprint is not None]
-    misread = [gravity_box(o, cloud) for o in named if furniture.open_below(o.label, *gravity_box(o, cloud), cloud)]
     named[:] = [o for o in named if not furniture.open_below(o.label, *gravity_box(o, cloud), cloud)]
     tops = [whole_object_box(o, cloud, surfaces) for o in named]
     for k, (o, top) in enumerate(zip(named, tops)):
@@ -657,7 +683,7 @@ def discover(named: list[ObjectObservation], cloud: RoomCloud, structure: Sequen
             named[k].size = vec3(hi - lo)
             named[k].box_centre = vec3(cloud.to_world((lo + hi) / 2))
     owned = {id(e) for e in tops if e is not None}
-    boxes = [gravity_box(o, cloud) for o in named] + misread
+    boxes = [gravity_box(o, cloud) for o in named]
     desks = _desks([e for e in surfaces if id(e) not in owned], cloud, colour_image)
     owned |= {id(e) for e, _ in desks}
     standing = [b for o, b in zip(named, boxes) if o.label in FLOOR_STANDING_LABELS]
@@ -685,7 +711,7 @@ def discover(named: list[ObjectObservation], cloud: RoomCloud, structure: Sequen
 
     def part_of_another(seg: Segment, whole: bool = True) -> bool:
         return (named_by(seg, boxes) or own_edge(seg, claims) or cloud.floor_seen and floor_remnant(seg)
-                or board_of_surface(seg, surfaces)
+                or board_of_surface(seg, surfaces) or cloud.floor_seen and holds_up_top(seg, surfaces)
                 or whole and (plane_remnant(seg, planes) or relief_of_found_wall(seg, found_walls))
                 or furniture.base_under_seat(seg.lo, seg.hi, seats)
                 or any(furniture.carrel_panel(seg.lo, seg.hi, *top) for top in worktops))

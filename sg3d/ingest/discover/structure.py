@@ -44,6 +44,20 @@ WALL_MAX_BEHIND = 0.10                # share of the room's points that may lie 
 WALL_FAR_M = 0.3
 WALL_SURE_FAR = 0.01
 MAX_WALLS = 10
+# A wall's face is a large flat area, however many pixels saw it: the fitted plane's points
+# cover at least WALL_FIT_MIN_AREA_M2 of FILL_CELL_M cells (a metre square: a wall the camera
+# walked past shows metres of it, a strip of furniture front seen between things far less).
+# Point normals from noisy depth spread a wall's votes over many angle bins; their mean direction agrees with the fitted plane within
+# WALL_NORMAL_AGREE_DEG (a line crossing a wall at a slant does not). A fitted plane within
+# WALL_SAME_DEG and WALL_SAME_M of a wall found before is that wall (walls of one room are
+# never parallel and this close).
+WALL_FIT_MIN_AREA_M2 = 1.0
+WALL_FIT_MIN_VOTES = 30
+WALL_FIT_CANDIDATES = 40
+WALL_FIT_SLABS_M = (0.15, 0.10, 0.05)
+WALL_NORMAL_AGREE_DEG = 5.0
+WALL_SAME_DEG = 10.0
+WALL_SAME_M = 0.25
 # A front is a face (cabinet doors, a backsplash): its points fill at least FRONT_MIN_FILL of the
 # FILL_CELL_M cells of its rectangle. The folds of a curtain or the bars of a frame line up on a
 # plane in strips and fill far less.
@@ -263,7 +277,125 @@ def walls(cloud: RoomCloud) -> list[Element]:
     return out
 
 
+def _angle_gap_deg(a: float, b: float) -> float:
+    """Degrees between two plane normal directions (angles mod pi)."""
+    return abs(((np.degrees(a - b) + 90.0) % 180.0) - 90.0)
+
+
+def fitted_plane(xy: np.ndarray, theta: float, rho: float) -> tuple[float, float]:
+    """A vertical plane (theta, rho) fitted by total least squares to the top-view points within
+    each of WALL_FIT_SLABS_M of the previous estimate in turn (wide first, so a vote bin's
+    coarse plane is pulled onto the wall); the vote's plane when the fit turns by more than
+    WALL_SAME_DEG or has too few points."""
+    for slab in WALL_FIT_SLABS_M:
+        near = np.abs(xy[:, 0] * np.cos(theta) + xy[:, 1] * np.sin(theta) - rho) <= slab
+        if np.count_nonzero(near) < 10:
+            break
+        q = xy[near]
+        mean = q.mean(axis=0)
+        _, vecs = np.linalg.eigh(np.cov((q - mean).T))
+        t = float(np.mod(np.arctan2(vecs[1, 0], vecs[0, 0]), np.pi))
+        if _angle_gap_deg(t, theta) > WALL_SAME_DEG:
+            break
+        theta, rho = t, float(mean[0] * np.cos(t) + mean[1] * np.sin(t))
+    return theta, rho
+
+
+def normals_agree(normals: np.ndarray, theta: float) -> bool:
+    """The mean horizontal direction of the points' normals (axial mean: angles doubled) lies
+    within WALL_NORMAL_AGREE_DEG of the plane's normal."""
+    ang = 2.0 * np.arctan2(normals[:, 1], normals[:, 0])
+    mean = 0.5 * float(np.arctan2(np.sin(ang).mean(), np.cos(ang).mean()))
+    return _angle_gap_deg(mean, theta) <= WALL_NORMAL_AGREE_DEG
+
+
+def seen_face_area(along: np.ndarray, height: np.ndarray) -> float:
+    """m^2 of the FILL_CELL_M cells (along the plane x height) that hold a point."""
+    cells = np.floor(np.stack([along, height], axis=1) / FILL_CELL_M).astype(int)
+    return len(np.unique(cells, axis=0)) * FILL_CELL_M ** 2
+
+
+def _vote(q: np.ndarray, nq: np.ndarray) -> tuple[np.ndarray, float]:
+    theta = np.mod(np.arctan2(nq[:, 1], nq[:, 0]), np.pi)
+    rho = q[:, 0] * np.cos(theta) + q[:, 1] * np.sin(theta)
+    tbin = np.floor(np.degrees(theta) / WALL_ANGLE_BIN_DEG).astype(int)
+    rmin = float(rho.min())
+    rbin = np.floor((rho - rmin) / WALL_OFFSET_BIN_M).astype(int)
+    nt = int(180 / WALL_ANGLE_BIN_DEG)
+    acc = np.zeros((nt, rbin.max() + 3))
+    np.add.at(acc, (tbin % nt, rbin), 1)
+    return ndimage.uniform_filter(acc, size=(3, 3), mode=("wrap", "constant")) * 9, rmin
+
+
+def fitted_walls(cloud: RoomCloud, found: list[Element]) -> list[Element]:
+    """Rule "a wall is a large bounding face" for the walls the vote missed: depth noise spreads
+    a wall's normals, so its votes never reach the vote rule's count. Vote bins (at least
+    WALL_FIT_MIN_VOTES) are taken in turn, each plane fitted to the points (`fitted_plane`); a
+    plane is a wall when it is none found before (WALL_SAME_DEG, WALL_SAME_M), spans
+    WALL_MIN_HEIGHT and WALL_MIN_LENGTH, its seen face covers WALL_FIT_MIN_AREA_M2
+    (`seen_face_area`), its points' normals agree with it (`normals_agree`), and it bounds the
+    room for sure: at most WALL_MAX_BEHIND of the room's points behind it and WALL_SURE_FAR more
+    than WALL_FAR_M behind (a furniture front has the wall behind it)."""
+    p, n = cloud.points, cloud.normals
+    vert = (np.abs(n[:, 2]) < WALL_NORMAL_COS) & (np.linalg.norm(n[:, :2], axis=1) > 0.5)
+    q, nq = p[vert], n[vert]
+    planes = [e.plane for e in found if e.plane is not None]
+    taken = np.zeros(len(q), bool)
+    for th, rh in planes:
+        taken |= np.abs(q[:, 0] * np.cos(th) + q[:, 1] * np.sin(th) - rh) <= WALL_SLAB_M
+    cams = np.array([v.pose[:3, 3] @ cloud.basis.T for v in cloud.views])
+    sample = p[:: max(1, len(p) // 200000)]
+    out: list[Element] = []
+    tried: list[tuple[int, float]] = []
+    while len(found) + len(out) < MAX_WALLS and np.count_nonzero(~taken) >= WALL_FIT_MIN_VOTES:
+        acc, rmin = _vote(q[~taken], nq[~taken])
+        for tb, r in tried:
+            rb = int(np.floor((r - rmin) / WALL_OFFSET_BIN_M))
+            acc[max(0, tb - 3):tb + 4, max(0, rb - 3):max(0, rb + 4)] = 0
+        wall = None
+        for _ in range(WALL_FIT_CANDIDATES):
+            tb, rb = (int(v) for v in np.unravel_index(int(np.argmax(acc)), acc.shape))
+            if acc[tb, rb] < WALL_FIT_MIN_VOTES:
+                break
+            acc[max(0, tb - 3):tb + 4, max(0, rb - 3):rb + 4] = 0
+            tried.append((tb, rmin + (rb + 0.5) * WALL_OFFSET_BIN_M))
+            wall = _fitted_wall(q, nq, taken, planes, cams, sample,
+                                (tb + 0.5) * np.radians(WALL_ANGLE_BIN_DEG), tried[-1][1])
+            if wall is not None:
+                break
+        if wall is None or wall.plane is None:
+            break
+        th, rh = wall.plane
+        taken |= np.abs(q[:, 0] * np.cos(th) + q[:, 1] * np.sin(th) - rh) <= WALL_SLAB_M
+        planes.append((th, rh))
+        out.append(wall)
+    return out
+
+
+def _fitted_wall(q, nq, taken, planes, cams, sample, theta: float, rho: float) -> Optional[Element]:
+    th, rh = fitted_plane(q[~taken, :2], theta, rho)
+    if any(_angle_gap_deg(th, t) <= WALL_SAME_DEG and abs(np.cos(th - t) * rh - r) <= WALL_SAME_M for t, r in planes):
+        return None
+    inl = (np.abs(q[:, 0] * np.cos(th) + q[:, 1] * np.sin(th) - rh) <= WALL_SLAB_M) & ~taken
+    if np.count_nonzero(inl) < WALL_FIT_MIN_VOTES or not normals_agree(nq[inl], th):
+        return None
+    pts = q[inl]
+    along = -pts[:, 0] * np.sin(th) + pts[:, 1] * np.cos(th)
+    a_lo, a_hi = np.percentile(along, [2, 98])
+    h_lo, h_hi = np.percentile(pts[:, 2], [2, 98])
+    if h_hi - h_lo < WALL_MIN_HEIGHT or a_hi - a_lo < WALL_MIN_LENGTH or seen_face_area(along, pts[:, 2]) < WALL_FIT_MIN_AREA_M2:
+        return None
+    side = float(np.sign(np.median(cams[:, 0] * np.cos(th) + cams[:, 1] * np.sin(th)) - rh)) or 1.0
+    s_off = side * (sample[:, 0] * np.cos(th) + sample[:, 1] * np.sin(th) - rh)
+    far = float(np.mean(s_off < -WALL_FAR_M))
+    if float(np.mean(s_off < -WALL_SLAB_M)) > WALL_MAX_BEHIND or far > WALL_SURE_FAR:
+        return None
+    return Element("wall", np.min(pts, axis=0), np.max(pts, axis=0), int(inl.sum()), 0, plane=(th, rh), side=side,
+                   far_behind=far)
+
+
 def room_structure(cloud: RoomCloud) -> list[Element]:
-    """Floor, walls and horizontal surfaces of the room."""
+    """Floor, walls (the vote's, then the fitted ones it missed) and horizontal surfaces."""
     found = [e for e in [floor_element(cloud)] if e is not None]
-    return found + walls(cloud) + horizontal_surfaces(cloud)
+    voted = walls(cloud)
+    return found + voted + fitted_walls(cloud, voted) + horizontal_surfaces(cloud)

@@ -401,3 +401,33 @@ def test_where_the_floor_was_not_seen_a_free_surface_is_an_object_and_the_floor_
     assert desk.label == UNNAMED_LABEL and desk.layer == "object" and desk.shape == "flat"
     # the surface rule's closing takes 2 cells (10 cm) off every side
     assert desk.size[0] == pytest.approx(1.0, abs=0.06) and desk.size[1] == pytest.approx(0.4, abs=0.06)
+
+
+def _leg(a: float, foot: float, top: float, columns: int = 2, b: float = 0.5):
+    """A leg of `columns` voxel columns from a (2.5 cm apart) at b, from `foot` to `top` (the
+    segment's box adds half a voxel to the voxel centres)."""
+    h = np.arange(foot + 0.0125, top - 0.0125 + 1e-9, 0.025)
+    return _segment([[a + 0.025 * k, b, z] for k in range(columns) for z in h])
+
+
+def test_a_leg_stands_on_the_floor_10_cm_at_most():                   # LEG_FOOT_M
+    from sg3d.ingest.discover.discovery import holds_up_top
+
+    assert holds_up_top(_leg(0.5, 0.0875, 0.70), [_surface()])
+    assert not holds_up_top(_leg(0.5, 0.1125, 0.70), [_surface()])
+
+
+def test_a_leg_reaches_within_8_cm_of_the_top_and_not_past_it():      # LEG_REACH_M
+    from sg3d.ingest.discover.discovery import holds_up_top
+
+    assert holds_up_top(_leg(0.5, 0.0, 0.675), [_surface()])            # 7.5 cm below its level
+    assert not holds_up_top(_leg(0.5, 0.0, 0.65), [_surface()])         # 10 cm: a box under the table
+    assert not holds_up_top(_leg(0.5, 0.0, 0.80), [_surface()])         # past the top: a chair's back
+
+
+def test_half_a_leg_lies_under_the_top():                              # LEG_UNDER_SHARE
+    from sg3d.ingest.discover.discovery import holds_up_top
+
+    # the top's footprint ends at a = 1 m: two of three columns under it, then one
+    assert holds_up_top(_leg(0.9625, 0.0, 0.70, columns=3), [_surface()])
+    assert not holds_up_top(_leg(0.9875, 0.0, 0.70, columns=3), [_surface()])

@@ -1,0 +1,84 @@
+"""Walls the vote misses (`structure.fitted_walls`): few points with noisy normals, as a low-
+resolution camera sees them. Each threshold on both sides."""
+from __future__ import annotations
+
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+from sg3d.ingest.discover.room_cloud import RoomCloud
+from sg3d.ingest.discover.structure import (Element, fitted_plane, fitted_walls, normals_agree, seen_face_area,
+                                            walls)
+
+
+def _sparse_wall(x: float, length: float, height: float, jitter_deg: float = 8.0, seed: int = 0):
+    """A wall across x (facing the camera at the origin), one point per 5 cm cell, normals turned
+    by up to +-jitter_deg at random (depth noise), so no vote bin reaches the vote rule's count."""
+    rng = np.random.default_rng(seed)
+    b, h = np.meshgrid(np.arange(-0.6, -0.6 + length - 1e-9, 0.05) + 0.025, np.arange(0.1, 0.1 + height - 1e-9, 0.05) + 0.025)
+    pts = np.stack([np.full(b.size, x), b.ravel(), h.ravel()], axis=1)
+    turn = np.radians(rng.uniform(-jitter_deg, jitter_deg, len(pts)))
+    nrm = np.stack([-np.cos(turn), -np.sin(turn), np.zeros(len(pts))], axis=1)
+    return pts, nrm
+
+
+def _room(*planes) -> RoomCloud:
+    a, b = np.meshgrid(np.arange(-1.0, 1.5, 0.05), np.arange(-1.0, 1.0, 0.05))
+    points = [np.stack([a.ravel(), b.ravel(), np.zeros(a.size)], axis=1)]
+    normals = [np.tile([0.0, 0.0, 1.0], (a.size, 1))]
+    for pts, nrm in planes:
+        points.append(pts)
+        normals.append(nrm)
+    p = np.vstack(points)
+    return RoomCloud(p, np.vstack(normals), np.zeros(len(p), int), np.eye(3), 0.0, [SimpleNamespace(pose=np.eye(4))])
+
+
+def _found_x(cloud, found=()) -> list[float]:
+    return [round(float(e.plane[1]), 2) for e in fitted_walls(cloud, list(found))]
+
+
+def test_the_vote_misses_a_sparse_noisy_wall_and_the_fit_finds_it():
+    cloud = _room(_sparse_wall(1.5, 2.0, 1.2))
+    assert walls(cloud) == []
+    (wall,) = fitted_walls(cloud, [])
+    assert wall.label == "wall"
+    assert abs(np.degrees(wall.plane[0])) < 1.0 and wall.plane[1] == pytest.approx(1.5, abs=0.01)
+
+
+def test_a_fitted_plane_is_pulled_from_its_vote_bin_onto_the_wall():
+    pts, _ = _sparse_wall(1.5, 2.0, 1.2)
+    theta, rho = fitted_plane(pts[:, :2], np.radians(4.0), 1.45)
+    assert abs(np.degrees(theta)) < 0.5 and rho == pytest.approx(1.5, abs=0.005)
+
+
+def test_a_wall_shows_a_square_metre_of_face():                          # WALL_FIT_MIN_AREA_M2
+    assert seen_face_area(*_sparse_wall(1.5, 1.3, 0.8)[0][:, 1:].T) == pytest.approx(1.04)
+    assert _found_x(_room(_sparse_wall(1.5, 1.3, 0.8))) == [1.5]
+    assert _found_x(_room(_sparse_wall(1.5, 1.15, 0.8))) == []          # 0.92 m^2
+
+
+def test_its_normals_agree_with_it_within_5_degrees():                  # WALL_NORMAL_AGREE_DEG
+    def turned(deg):
+        t = np.radians(deg)
+        return np.tile([-np.cos(t), -np.sin(t), 0.0], (10, 1))
+    assert normals_agree(turned(4.5), 0.0)
+    assert not normals_agree(turned(5.5), 0.0)
+    assert normals_agree(turned(180 - 4.5), 0.0)                        # a normal is a direction
+
+
+def test_a_plane_25_cm_from_a_found_wall_is_that_wall():                # WALL_SAME_M
+    found = Element("wall", np.zeros(3), np.ones(3), 100, 0, plane=(0.0, 1.5))
+    assert _found_x(_room(_sparse_wall(1.72, 2.0, 1.2)), [found]) == []
+    assert _found_x(_room(_sparse_wall(1.78, 2.0, 1.2)), [found]) == [1.78]
+
+
+def test_a_plane_with_the_room_far_behind_it_is_no_wall():              # WALL_SURE_FAR
+    wall = _sparse_wall(1.5, 2.0, 1.2)
+    cloud = _room(wall)
+    n = len(cloud.points)
+    for share, expect in ((0.008, [1.5]), (0.012, [])):
+        k = int(share * n / (1 - share)) + 1
+        behind = (np.column_stack([np.full(k, 1.9), np.linspace(-0.5, 0.5, k), np.full(k, 0.5)]),
+                  np.tile([0.0, 0.0, 1.0], (k, 1)))
+        assert _found_x(_room(wall, behind)) == expect
