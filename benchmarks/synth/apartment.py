@@ -351,12 +351,13 @@ def _turn_toward(gaze: float, want: float, limit: float) -> float:
     return gaze + float(np.clip(d, -limit, limit))
 
 
-def walk(apt: Apartment, n: int, rng) -> list[tuple[np.ndarray, np.ndarray]]:
+def walk(apt: Room, n: int, rng) -> list[tuple[np.ndarray, np.ndarray]]:
     """The walk through the route at 1.2-1.7 m: STEP_M steps between points, looking ahead (the
     gaze turns at most TURN_STEP per frame, swaying a little) and down; in each room's middle a
     look round of LOOK_FRAMES views. `n` is ignored: the walk's own steps keep a camera's speed
     and turn rate (`sg3d.ingest.readers.pose_check`) at 30 frames/s, so every pose is kept."""
-    out = []
+    assert isinstance(apt, Apartment)
+    out: list[tuple[np.ndarray, np.ndarray]] = []
     here: Optional[np.ndarray] = None
     phase = float(rng.uniform(0, 2 * np.pi))
     gaze = phase
@@ -404,7 +405,7 @@ def doorway_seen(scene_, apt: Apartment, poses: list[np.ndarray], K: np.ndarray,
             if not (0 <= u < w and 0 <= v < h):
                 continue
             ray = np.r_[pose[:3, 3], target - pose[:3, 3]].astype(np.float32)[None]
-            t = float(scene_.scene.cast_rays(o3d.core.Tensor(ray))["t_hit"].numpy()[0])
+            t = float(scene_.scene.cast_rays(o3d.core.Tensor.from_numpy(ray))["t_hit"].numpy()[0])
             n += bool(t > 0.97)
         out[d.id] = n
     return out
