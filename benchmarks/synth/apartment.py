@@ -367,7 +367,7 @@ def walk(apt: Room, n: int, rng) -> list[tuple[np.ndarray, np.ndarray]]:
             for i in range(LOOK_FRAMES):
                 a = gaze + 2 * np.pi * (i + 1) / LOOK_FRAMES
                 u = np.array([np.cos(a), np.sin(a)])
-                out.append((np.r_[p + 0.1 * u, height()], np.r_[p + 2.4 * u, 0.35]))
+                out.append((np.r_[p + 0.1 * u, height()], np.r_[p + 2.2 * u, 0.0]))
             continue
         if here is None:
             here = p

@@ -33,9 +33,9 @@ class PlacesConfig:
     # Points beyond this range are too noisy to place a 5 cm cell (Kinect-type depth).
     max_range_m: float = 4.0
     # The camera was carried here, so the floor around it is free: a person stands and turns
-    # there, and a camera looking 30 degrees down sees the floor only from ~1 m away (0.25 m
+    # there, and a camera looking 35 degrees down sees the floor only from ~0.9 m away (0.25 m
     # left a ring of unknown round each look-round that split rooms: recall 0.72 -> 0.86).
-    camera_free_m: float = 0.7
+    camera_free_m: float = 0.9
     # Unknown cells enclosed by free ones within this radius are free (gaps between floor samples).
     fill_gap_m: float = 0.10
     # Room seeds (`places.rooms`): a maximum of the distance map is a room when it stands this
@@ -50,8 +50,16 @@ class PlacesConfig:
     min_room_radius_m: float = 0.45
     # Filtration step of the distance levels (one cell).
     level_step_m: float = 0.05
+    # Two rooms whose border is this share of the narrower one's width are one. Measured on 10
+    # generated apartments: borders between two true rooms (doors, openings) were 0.02-0.69 of
+    # the narrower room's width, borders cutting one true room (a corridor's stretches, a long
+    # room's ends) 0.72-0.87 where they were wide at all.
+    wide_passage_ratio: float = 0.7
     # A room has at least this much free floor; smaller pieces join their widest neighbour.
     min_room_area_m2: float = 1.5
+    # A border narrower than this between two rooms is no doorway: one or two cells of two rooms
+    # touching through a gap in a wall seen edge-on (a half-open door's border measured 0.16 m).
+    min_doorway_m: float = 0.15
     # Occupied cells (furniture, walls) belong to the nearest room within this distance.
     furniture_reach_m: float = 1.0
 
@@ -104,12 +112,14 @@ def camera_cells(fm_shape: tuple, centres_ij: np.ndarray, cell: float, cfg: Plac
     ok = (centres_ij[:, 0] >= 0) & (centres_ij[:, 1] >= 0) & (centres_ij[:, 0] < fm_shape[0]) & \
         (centres_ij[:, 1] < fm_shape[1])
     mark[centres_ij[ok, 0], centres_ij[ok, 1]] = True
+    if not mark.any():                 # no camera on the grid: nothing was walked
+        return mark
     return ndimage.distance_transform_edt(~mark) * cell <= cfg.camera_free_m
 
 
 def fill_gaps(free: np.ndarray, blocked: np.ndarray, cell: float, cfg: PlacesConfig) -> np.ndarray:
     """Rule "gaps between floor samples": a morphological closing of the free cells with a disc of
-    `fill_gap_m`, never over an occupied cell."""
+    `fill_gap_m`, never over a `blocked` (occupied) cell."""
     from scipy import ndimage
 
     r = max(1, int(round(cfg.fill_gap_m / cell)))
@@ -129,7 +139,8 @@ def floor_map(points: np.ndarray, cameras: np.ndarray, cfg: PlacesConfig = Place
     ij = fm.cells_of(points)
     floor = count_in_cells(shape, ij[np.abs(h) <= cfg.floor_band_m]) > 0
     band = (h >= cfg.obstacle_low_m) & (h <= cfg.obstacle_high_m)
-    occupied = obstacle_cells(count_in_cells(shape, ij[band]), cfg)
+    counts = count_in_cells(shape, ij[band])
+    occupied = obstacle_cells(counts, cfg)
     free = (floor | camera_cells(shape, fm.cells_of(cameras), cfg.cell_m, cfg)) & ~occupied
     free = fill_gaps(free, occupied, cfg.cell_m, cfg)
     fm.state[free] = FREE

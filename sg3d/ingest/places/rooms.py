@@ -124,6 +124,22 @@ def contacts(labels: np.ndarray) -> dict[tuple[int, int], list[tuple[int, int]]]
     return out
 
 
+def borders(labels: np.ndarray) -> list[tuple[int, int, np.ndarray]]:
+    """Each separate border between two touching rooms (a, b, its cells): the cells of one pair
+    split into 8-connected groups, so two doors between the same rooms are two borders."""
+    from scipy import ndimage
+
+    out = []
+    for (a, b), cells in sorted(contacts(labels).items()):
+        ij = np.asarray(cells)
+        mark = np.zeros(labels.shape, bool)
+        mark[ij[:, 0], ij[:, 1]] = True
+        groups, n = ndimage.label(mark, structure=np.ones((3, 3), bool))
+        g = groups[ij[:, 0], ij[:, 1]]
+        out += [(a, b, np.unique(ij[g == k], axis=0)) for k in range(1, n + 1)]
+    return out
+
+
 def merge_small(labels: np.ndarray, cell: float, cfg: PlacesConfig) -> np.ndarray:
     """Rule "a room has floor to stand on": a room of less than `min_room_area_m2` free floor
     joins the neighbour it shares the longest border with (or is dropped without one)."""
@@ -139,6 +155,23 @@ def merge_small(labels: np.ndarray, cell: float, cfg: PlacesConfig) -> np.ndarra
             labels[labels == k] = pair[0] if pair[1] == k else pair[1]
         else:
             labels[labels == k] = 0
+
+
+def merge_wide(labels: np.ndarray, dist: np.ndarray, cell: float, cfg: PlacesConfig) -> np.ndarray:
+    """Rule "a doorway is narrower than both rooms": two touching rooms with a border at least
+    `wide_passage_ratio` of the narrower one's widest free circle (its diameter) are one room
+    (a corridor's stretches between doors, a long room's two ends); the widest first."""
+    while True:
+        peak = {int(k): float(dist[labels == k].max()) for k in np.unique(labels[labels > 0])}
+        wide = []
+        for a, b, cells in borders(labels):
+            ratio = passage_width(cells * cell, cell) / (2 * min(peak[a], peak[b]))
+            if ratio >= cfg.wide_passage_ratio:
+                wide.append((ratio, a, b))
+        if not wide:
+            return labels
+        _, a, b = max(wide)
+        labels[labels == b] = a
 
 
 def renumber(labels: np.ndarray) -> np.ndarray:
@@ -163,14 +196,16 @@ def passage_width(cells: np.ndarray, cell: float) -> float:
     return float(s.max() - s.min() + cell)
 
 
-def doorways(labels: np.ndarray, fm: FloorMap) -> list[Passage]:
-    """Rule "a doorway is where two rooms meet": each pair of touching rooms gives one passage at
-    the middle of their border cells, as wide as the border (`passage_width`)."""
+def doorways(labels: np.ndarray, fm: FloorMap, cfg: PlacesConfig = PlacesConfig()) -> list[Passage]:
+    """Rule "a doorway is where two rooms meet": each separate border between two rooms
+    (`borders`) at least `min_doorway_m` wide is one passage at the middle of its cells, as wide
+    as it (`passage_width`)."""
     out = []
-    for (a, b), cells in sorted(contacts(labels).items()):
-        xy = fm.centres(np.asarray(cells))
-        out.append(Passage(a, b, [round(float(v), 4) for v in xy.mean(axis=0)],
-                           round(passage_width(xy, fm.cell), 3)))
+    for a, b, cells in borders(labels):
+        xy = fm.centres(cells)
+        width = passage_width(xy, fm.cell)
+        if width >= cfg.min_doorway_m:
+            out.append(Passage(a, b, [round(float(v), 4) for v in xy.mean(axis=0)], round(width, 3)))
     return out
 
 
@@ -206,7 +241,7 @@ def segment_rooms(fm: FloorMap, cfg: PlacesConfig = PlacesConfig()) -> Places:
     free = fm.state == FREE
     dist = distance_map(free, fm.cell)
     labels = flood(free, dist, room_seeds(dist, cfg))
-    labels = renumber(merge_small(labels, fm.cell, cfg))
+    labels = renumber(merge_wide(merge_small(labels, fm.cell, cfg), dist, fm.cell, cfg))
     extent = room_extent(labels, fm.state == OCCUPIED, fm.cell, cfg)
     rooms = []
     for k in range(1, int(labels.max()) + 1):
@@ -214,7 +249,7 @@ def segment_rooms(fm: FloorMap, cfg: PlacesConfig = PlacesConfig()) -> Places:
         centre = fm.centres(np.argwhere(labels == k)).mean(axis=0)
         rooms.append(Place(k, footprint(mask, fm), round(float(mask.sum()) * fm.cell ** 2, 3),
                            round(float((labels == k).sum()) * fm.cell ** 2, 3), [round(float(v), 3) for v in centre]))
-    return Places(rooms, doorways(labels, fm), extent, fm)
+    return Places(rooms, doorways(labels, fm, cfg), extent, fm)
 
 
 def room_at(places: Places, ab: np.ndarray, reach_m: float = 1.5) -> np.ndarray:

@@ -124,3 +124,18 @@ def test_rooms_of_walk_runs_from_points_and_cameras():
     wall = wall[(wall[:, 1] < 1.55) | (wall[:, 1] > 2.45)]
     places = rooms_of_walk(np.concatenate([floor, wall]), np.array([[1.0, 2.0, 1.4], [3.0, 2.0, 1.4]]))
     assert len(places.rooms) == 2 and len(places.doorways) == 1
+
+
+def test_a_border_narrower_than_the_minimum_is_no_doorway():
+    from sg3d.ingest.places.rooms import doorways
+
+    fm = _plan([])
+    labels = np.zeros(fm.state.shape, np.int32)
+    labels[:40, :] = 1
+    labels[40:, :] = 2
+    labels[40:, 20:] = 0          # the rooms touch along a border of n cells from b = 0
+    labels[:40, 20:] = 0
+    for n, kept in ((int(CFG.min_doorway_m / fm.cell) - 1, False), (int(CFG.min_doorway_m / fm.cell) + 1, True)):
+        lab = labels.copy()
+        lab[39, n:] = 0
+        assert bool(doorways(lab, fm, CFG)) == kept, n
