@@ -38,7 +38,7 @@ def test_a_walk_through_an_apartment_gives_its_rooms_doorways_and_each_object_in
     assert all(r["area"] > 4 and len(r["polygon"]) >= 9 for r in rooms)
     doorways = {d["doorway"] for r in rooms for d in r["doorways"]}
     assert len(doorways) >= len([d for d in gt["apartment"]["doorways"] if d["kind"] == "door"])
-    assert all(0.15 <= d["width"] < 2.5 for r in rooms for d in r["doorways"])
+    assert all(0.1 <= d["width"] < 2.5 for r in rooms for d in r["doorways"])
     rows = _every_object_in_one_room(store, rid)
     assert summary.rooms_found["objects_placed"] == len(rows)
     assert json.loads(json.dumps(summary.as_dict()))["rooms_found"]["doorways"] == len(doorways)
