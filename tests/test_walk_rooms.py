@@ -85,3 +85,13 @@ def test_a_real_room_built_without_a_name_is_one_room_holding_all_its_objects(st
     rows = _every_object_in_one_room(store, rid)
     assert {r["rooms"][0] for r in rows} == {"room 1"}
     assert sorted(rooms[0]["objects"]) == sorted(r["id"] for r in rows)
+
+
+def test_build_without_room_or_rooms_auto_is_one_error_line(tmp_path):
+    from click.testing import CliRunner
+
+    from sg3d.cli import cli
+
+    r = CliRunner().invoke(cli, ["build", str(tmp_path)])
+    assert r.exit_code == 2
+    assert "give --room NAME, or --rooms auto" in r.output
