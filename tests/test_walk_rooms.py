@@ -95,3 +95,28 @@ def test_build_without_room_or_rooms_auto_is_one_error_line(tmp_path):
     r = CliRunner().invoke(cli, ["build", str(tmp_path)])
     assert r.exit_code == 2
     assert "give --room NAME, or --rooms auto" in r.output
+
+
+def test_questions_over_the_rooms_of_a_walk(store, house):
+    """"how many rooms", "where is X" name the rooms found in a walk, with their guessed kinds;
+    a building without such a layer answers as before."""
+    from sg3d.graphdb.places import write_places
+    from sg3d.queries.vqa import answer
+
+    before = answer(store, "how many rooms are there?", building="home").text
+    assert before.startswith("2 rooms")
+    rid = room_id("home", "kitchen")
+    rooms = [{"id": f"{rid}#{k}", "name": f"room {k}", "polygon": [0.0] * 12, "area": 12.0, "free_area": 9.0,
+              "x": 0.0, "y": 0.0, "z": 0.0, "kind_guess": kind, "kind_evidence": evidence}
+             for k, kind, evidence in ((1, "kitchen", ["sink"]), (2, "office", ["tv"]))]
+    pairs = [{"object": house[k], "room": f"{rid}#{1 if k in ('sk', 'k1', 'b2') else 2}"}
+             for k in ("c1", "c2", "c3", "t", "s", "u1", "u2", "b1", "b2", "b3", "f1", "k1", "sp", "m", "sk")]
+    doorways = [{"id": f"{rid}#doorway 1", "a": f"{rid}#1", "b": f"{rid}#2", "x": 1.0, "y": 0.0, "z": 0.0,
+                 "width": 0.9}]
+    write_places(store, rid, rooms, doorways, pairs)
+    assert [r["doorways"][0]["room"] for r in read_places(store, rid)] == ["room 2", "room 1"]
+    text = answer(store, "how many rooms are there?", building="home").text
+    assert text.startswith("3 rooms") and "room 1 of the kitchen (looks like a kitchen)" in text, text
+    assert "living room" in text
+    where = answer(store, "where is the sink?", building="home").text
+    assert "room 1 (looks like a kitchen: sink) of the kitchen" in where, where

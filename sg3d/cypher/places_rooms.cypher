@@ -2,7 +2,7 @@
 // through doorways.
 MATCH (p:WalkRoom)
 WHERE p.walk = $room
-OPTIONAL MATCH (o:Object)-[:IN]->(p)
+OPTIONAL MATCH (o:Object)-[:IN_ROOM]->(p)
 WITH p, collect(o.id) AS objects
 OPTIONAL MATCH (p)-[:CONNECTED]-(d:Doorway)-[:CONNECTED]-(q:WalkRoom)
 WITH p, objects, collect({doorway: d.id, room: q.name, width: d.width, x: d.x, y: d.y, z: d.z}) AS doors

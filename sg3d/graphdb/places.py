@@ -1,6 +1,6 @@
 """The places layer of a recorded room in the store: the rooms found in its walk (WalkRoom nodes,
 parts of the recorded Room), their doorways (Doorway nodes, CONNECTED both ways) and each
-object IN exactly one of them. Written whole in one transaction, replacing the last one."""
+object IN_ROOM exactly one of them (not IN: that is the spatial relation between objects). Written whole in one transaction, replacing the last one."""
 from __future__ import annotations
 
 from sg3d.graphdb import cypher
