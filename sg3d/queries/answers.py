@@ -543,10 +543,6 @@ def op_rooms_next_to(a: Answerer, form: Form):
     return f"{_join(names)} (rooms that share objects with the {r.room})", names, []
 
 
-def _an(noun: str) -> str:
-    return ("an " if noun[:1] in "aeiou" else "a ") + noun
-
-
 def op_room_count(a: Answerer, form: Form):
     """Rooms in scope; a recorded room whose walk was split into rooms (`sg3d build --rooms auto`)
     counts as the rooms found in it."""
