@@ -55,6 +55,9 @@ class PlacesConfig:
     # the narrower room's width, borders cutting one true room (a corridor's stretches, a long
     # room's ends) 0.72-0.87 where they were wide at all.
     wide_passage_ratio: float = 0.7
+    # Obstacle cells this wide inside one border do not split it into two passages (a corridor's
+    # border cut by 1-4 noise cells measured 0.86 + 0.21 m and stayed two rooms).
+    passage_gap_m: float = 0.15
     # A room has at least this much free floor; smaller pieces join their widest neighbour.
     min_room_area_m2: float = 1.5
     # A border narrower than this between two rooms is no doorway: a single cell is two rooms

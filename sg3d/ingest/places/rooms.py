@@ -124,17 +124,22 @@ def contacts(labels: np.ndarray) -> dict[tuple[int, int], list[tuple[int, int]]]
     return out
 
 
-def borders(labels: np.ndarray) -> list[tuple[int, int, np.ndarray]]:
+def borders(labels: np.ndarray, gap_cells: int = 1) -> list[tuple[int, int, np.ndarray]]:
     """Each separate border between two touching rooms (a, b, its cells): the cells of one pair
-    split into 8-connected groups, so two doors between the same rooms are two borders."""
+    split into groups whose cells lie within `gap_cells` of each other, so two doors between the
+    same rooms are two borders while a few obstacle cells inside one passage (a flying pixel, a
+    chair leg) do not split it."""
     from scipy import ndimage
 
     out = []
+    r = (gap_cells + 1) // 2         # both sides grown by r bridge a gap of 2r >= gap_cells cells
+    reach = np.ones((2 * r + 1, 2 * r + 1), bool)
     for (a, b), cells in sorted(contacts(labels).items()):
         ij = np.asarray(cells)
         mark = np.zeros(labels.shape, bool)
         mark[ij[:, 0], ij[:, 1]] = True
-        groups, n = ndimage.label(mark, structure=np.ones((3, 3), bool))
+        groups, n = ndimage.label(ndimage.binary_dilation(mark, structure=reach) if r else mark,
+                                  structure=np.ones((3, 3), bool))
         g = groups[ij[:, 0], ij[:, 1]]
         out += [(a, b, np.unique(ij[g == k], axis=0)) for k in range(1, n + 1)]
     return out
@@ -164,7 +169,7 @@ def merge_wide(labels: np.ndarray, dist: np.ndarray, cell: float, cfg: PlacesCon
     while True:
         peak = {int(k): float(dist[labels == k].max()) for k in np.unique(labels[labels > 0])}
         wide = []
-        for a, b, cells in borders(labels):
+        for a, b, cells in borders(labels, max(1, int(round(cfg.passage_gap_m / cell)))):
             ratio = passage_width(cells * cell, cell) / (2 * min(peak[a], peak[b]))
             if ratio >= cfg.wide_passage_ratio:
                 wide.append((ratio, a, b))
@@ -201,7 +206,7 @@ def doorways(labels: np.ndarray, fm: FloorMap, cfg: PlacesConfig = PlacesConfig(
     (`borders`) at least `min_doorway_m` wide is one passage at the middle of its cells, as wide
     as it (`passage_width`)."""
     out = []
-    for a, b, cells in borders(labels):
+    for a, b, cells in borders(labels, max(1, int(round(cfg.passage_gap_m / fm.cell)))):
         xy = fm.centres(cells)
         width = passage_width(xy, fm.cell)
         if width >= cfg.min_doorway_m:

@@ -139,3 +139,17 @@ def test_a_border_narrower_than_the_minimum_is_no_doorway():
         lab = labels.copy()
         lab[39, n:] = 0
         assert bool(doorways(lab, fm, CFG)) == kept, n
+
+
+def test_obstacle_cells_inside_a_border_split_it_only_past_the_passage_gap():
+    from sg3d.ingest.places.rooms import borders
+
+    gap = int(round(CFG.passage_gap_m / 0.05))
+    for hole, parts in ((gap, 1), (gap + 2, 2)):
+        labels = np.zeros((20, 60), np.int32)
+        labels[:10, :] = 1
+        labels[10:, :] = 2
+        labels[9, 20:20 + hole] = 0           # obstacle cells in the border between the two rooms
+        labels[9, :10] = 0
+        labels[9, 40:] = 0
+        assert len(borders(labels, gap)) == parts, hole
