@@ -24,6 +24,7 @@ def test_prepare_builds_the_detector_once_and_hands_it_on():
     (REQUEST, Settings(method=METHODS["3d-basic"]), ("--t-key",), "does not run"),
     (REQUEST, Settings(detector="absent-model.onnx"), (), "labels file"),
     (BuildRequest(Path("s"), "kitchen", transform_file=Path("absent-transform.txt")), Settings(), (), "absent"),
+    (BuildRequest(Path("s"), "kitchen", rooms="manual"), Settings(), (), "only 'auto'"),
 ])
 def test_prepare_refuses_bad_input_with_one_build_error(request_, settings, given, message):
     with pytest.raises(BuildError, match=message):
@@ -35,7 +36,7 @@ def test_the_summary_reads_like_its_json():
                   quality="default", detector="ssd", interrupted=False, up=[0.0, 0.0, 1.0],
                   frames={"read": 3}, hypotheses={}, from_depth={}, graph={"chunks": 1}, seconds={"total": 1.0},
                   input_frames_per_second=3.0, key="k", scan="k@0-3", placement=None, poses={"source": "given"},
-                  floor="not seen")
+                  floor="not seen", rooms_found=None)
     summary = BuildSummary(**fields)
     assert summary.as_dict() == fields and list(summary.as_dict()) == list(fields)
     assert summary["graph"]["chunks"] == 1 and summary.get("placement") is None

@@ -6,7 +6,9 @@ camera-intrinsics.txt) that `sg3d build` reads, plus ground_truth.json in the sh
 
 Kinds (`KINDS`): room (a walk around a furnished room at 1.2-1.7 m looking inwards), desk (a
 tabletop scan 0.3-0.7 m above a desk's top; the floor is never seen), robot (a camera 0.3 m
-above the floor), shelf (a sweep along a bookcase), corner (a corner seen from one side).
+above the floor), shelf (a sweep along a bookcase), corner (a corner seen from one side), apartment (2-6 rooms walked through in one recording at
+1.2-1.7 m, `benchmarks.synth.apartment`; its ground truth adds each room's footprint, the
+doorways and the room of every object under "apartment").
 Needs the optional extra `synth` (open3d-cpu: its RaycastingScene).
 """
 from __future__ import annotations
@@ -17,10 +19,14 @@ from typing import Optional
 
 import numpy as np
 
-from benchmarks.synth import camera, layouts, render, truth
+from benchmarks.synth import apartment, camera, layouts, render, truth
 from benchmarks.synth.scene import Room
 
-KINDS = tuple(layouts.LAYOUTS)
+LAYOUTS = {**layouts.LAYOUTS, "apartment": apartment.layout_apartment}
+PATHS = {**camera.PATHS, "apartment": apartment.walk}
+ROOM_KINDS = tuple(layouts.LAYOUTS)      # one room each; `layouts_for` deals these by default
+KINDS = tuple(LAYOUTS)
+FRAMES = {"apartment": 1}                # frames when not given (else 80); an apartment's walk sets its own
 EYE_CLEARANCE_M = 0.15           # no camera inside or this near a thing
 
 
@@ -61,24 +67,28 @@ def camera_poses(room: Room, scene: render.Scene, n: int, K, w: int, h: int, see
     want, poses = n, []
     floor = next(k for k, t in enumerate(room.things) if t.category == "floor")
     for tries in range(4):
-        pairs = camera.PATHS[room.kind](room, want * (tries + 1), rng)
+        pairs = PATHS[room.kind](room, want * (tries + 1), rng)
         poses = [camera.look_at(e, t) for e, t in pairs if clear_of_things(room, e)]
         if room.kind == "desk":
             poses = [p for p in poses if not (scene.cast(p, K, w, h)[1] == floor).any()]
         if len(poses) >= n:
             break
+    if room.kind == "apartment":           # its walk sets its frames (`apartment.walk`)
+        return poses
     idx = np.linspace(0, len(poses) - 1, min(n, len(poses))).round().astype(int)
     return [poses[i] for i in idx]
 
 
-def generate(kind: str, seed: int, out: Path, frames: int = 80, width: int = 320, height: int = 240) -> dict:
-    """Render layout `seed` of `kind` into `out`; returns its ground truth (also written to
-    out/ground_truth.json)."""
+def generate(kind: str, seed: int, out: Path, frames: Optional[int] = None, width: int = 320,
+             height: int = 240) -> dict:
+    """Render layout `seed` of `kind` into `out` (`frames`: FRAMES of the kind, else 80); returns
+    its ground truth (also written to out/ground_truth.json)."""
     import cv2
 
-    if kind not in layouts.LAYOUTS:
+    if kind not in LAYOUTS:
         raise ValueError(f"unknown kind {kind!r}: one of {', '.join(KINDS)}")
-    room = layouts.LAYOUTS[kind](seed)
+    frames = frames or FRAMES.get(kind, 80)
+    room = LAYOUTS[kind](seed)
     scene = render.Scene(room)
     K = intrinsics(width, height)
     poses = camera_poses(room, scene, frames, K, width, height, seed)
@@ -102,11 +112,15 @@ def generate(kind: str, seed: int, out: Path, frames: int = 80, width: int = 320
         np.savetxt(str(stem) + ".pose.txt", T @ pose, fmt="%.8f")
     gt = truth.ground_truth(room, T, pixels, frames_seen)
     gt["frames"] = len(poses)
+    if isinstance(room, apartment.Apartment):
+        gt["apartment"] = apartment.truth(room, poses, scene, K, width, height, T)
+        for o in gt["objects"]:
+            o["room"] = gt["apartment"]["object_rooms"][o["id"]]
     (out / "ground_truth.json").write_text(json.dumps(gt, indent=1) + "\n", encoding="utf-8")
     return gt
 
 
 def layouts_for(n: int, first_seed: int = 0, kinds: Optional[tuple[str, ...]] = None) -> list[tuple[str, int]]:
     """n (kind, seed) pairs dealt round the kinds in turn."""
-    kinds = kinds or KINDS
+    kinds = kinds or ROOM_KINDS
     return [(kinds[i % len(kinds)], first_seed + i) for i in range(n)]

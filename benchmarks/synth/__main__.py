@@ -13,7 +13,7 @@ def main(argv=None) -> int:
     ap.add_argument("--kind", choices=KINDS, default="room")
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--out", type=Path, required=True)
-    ap.add_argument("--frames", type=int, default=80)
+    ap.add_argument("--frames", type=int, default=None, help="frames (default 80; an apartment's walk sets its own)")
     ap.add_argument("--size", default="320x240", help="WIDTHxHEIGHT of the frames")
     args = ap.parse_args(argv)
     try:

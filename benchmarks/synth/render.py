@@ -39,6 +39,8 @@ def thing_mesh(thing: Thing):
             ext = np.maximum(p.hi - p.lo, 1e-4)
             m = o3d.geometry.TriangleMesh.create_box(*ext)
             m.translate(p.lo)
+            if p.yaw:
+                m.rotate(o3d.geometry.get_rotation_matrix_from_xyz((0.0, 0.0, p.yaw)), center=(p.lo + p.hi) / 2)
         else:
             r, h = float(p.hi[0]), float(p.hi[2])
             m = o3d.geometry.TriangleMesh.create_cylinder(radius=r, height=h, resolution=32, split=1)

@@ -32,6 +32,18 @@ class Part:
     kind: str                      # box | cylinder
     lo: np.ndarray                 # box: corner; cylinder: centre of its base
     hi: np.ndarray                 # box: corner; cylinder: (radius, radius, height)
+    yaw: float = 0.0               # box: turn about the vertical through its centre (radians)
+
+    def corners(self) -> np.ndarray:
+        """A box's 8 corners after its turn (`yaw`)."""
+        xs, ys, zs = zip(self.lo, self.hi)
+        pts = np.array([(x, y, z) for x in xs for y in ys for z in zs], float)
+        if self.yaw:
+            c, s = np.cos(self.yaw), np.sin(self.yaw)
+            mid = (self.lo + self.hi) / 2
+            rel = pts[:, :2] - mid[:2]
+            pts[:, :2] = mid[:2] + rel @ np.array([[c, s], [-s, c]])
+        return pts
 
 
 @dataclass
@@ -48,7 +60,10 @@ class Thing:
     def box(self) -> tuple[np.ndarray, np.ndarray]:
         los, his = [], []
         for p in self.parts:
-            if p.kind == "box":
+            if p.kind == "box" and p.yaw:
+                los.append(p.corners().min(axis=0))
+                his.append(p.corners().max(axis=0))
+            elif p.kind == "box":
                 los.append(p.lo)
                 his.append(p.hi)
             else:
@@ -166,6 +181,7 @@ SMALL = {   # category -> (coco, (width, depth, height) or (radius, radius, heig
     "phone": ("cell phone", (0.075, 0.15, 0.01), "box"),
     "papers": (None, (0.21, 0.30, 0.012), "box"),
     "standing book": ("book", (0.03, 0.17, 0.24), "box"),
+    "tv": ("tv", (0.75, 0.06, 0.45), "box"),
 }
 FLAT = ("keyboard", "phone", "papers", "book")
 

@@ -39,6 +39,7 @@ class BuildRequest:
     estimate_poses: bool = False        # ignore the recording's poses and estimate them
     trajectory_out: Optional[Path] = None  # write the estimated trajectory here (TUM format)
     wait: bool = False                  # wait for another writer of the room instead of refusing
+    rooms: Optional[str] = None         # "auto": find the rooms of the walk too (`sg3d.app.places`)
 
 
 def check_names(room: str, building: str, error: type[Exception] = BuildError) -> None:
@@ -53,6 +54,8 @@ def check_names(room: str, building: str, error: type[Exception] = BuildError) -
 
 def validate(req: BuildRequest) -> None:
     check_names(req.room, req.building)
+    if req.rooms not in (None, "auto"):
+        raise BuildError(f"--rooms {req.rooms}: only 'auto' (find the rooms of the walk) is known")
     if sum(map(bool, (req.transform_file, req.align_to, req.shared_frame))) > 1:
         raise BuildError("give at most one of --transform, --align-to and --shared-frame")
     if req.trajectory_out is not None and not Path(req.trajectory_out).expanduser().parent.is_dir():
@@ -138,6 +141,7 @@ class BuildSummary:
     poses: dict
     # "seen", or "not seen": the recording never saw the floor (a desk scan), so its tops are objects
     floor: str = "seen"
+    rooms_found: Optional[dict] = None   # --rooms auto: `sg3d.app.places.write_walk_rooms`
 
     def as_dict(self) -> dict:
         return {f.name: getattr(self, f.name) for f in fields(self)}
@@ -197,10 +201,20 @@ def _run_held(store: GraphStore, prepared: PreparedBuild, seq, stop: int, lease,
     chunks.totals["remerged_chunks"] = forgotten
     chunks.merge_all(req.start, stop)
     placed = None if chunks.interrupted else place_room(store, req, prepared.placement)
+    found, t_rooms = None, time.perf_counter()
+    if req.rooms == "auto" and not chunks.interrupted:
+        from sg3d.app.places import write_walk_rooms
+
+        found = write_walk_rooms(store, room_id(req.building, req.room), seq, req.start, stop, gravity.up,
+                                 gravity.floor_height)
+    t_rooms = time.perf_counter() - t_rooms
     wall = time.perf_counter() - t_start
-    return _summary(store, room_id(req.building, req.room), seq, req, settings, stop, gravity.up, chunks,
-                    {**({"poses": poses["seconds"]} if "seconds" in poses else {}), "gravity": t_gravity},
-                    wall, placed, poses, gravity.floor_height is not None)
+    summary = _summary(store, room_id(req.building, req.room), seq, req, settings, stop, gravity.up, chunks,
+                       {**({"poses": poses["seconds"]} if "seconds" in poses else {}), "gravity": t_gravity,
+                        **({"rooms": t_rooms} if found is not None else {})},
+                       wall, placed, poses, gravity.floor_height is not None)
+    summary.rooms_found = found
+    return summary
 
 
 def merged_chunks(store: GraphStore, rid: str, run: str, scan: str) -> tuple[set, int]:

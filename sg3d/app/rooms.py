@@ -109,12 +109,14 @@ def room_objects(store: GraphStore, building: str, room: str, label: Optional[st
 DELETE_BATCH = 2000   # objects removed per statement when a room is deleted (all in one transaction)
 
 # What deleting a room removes after its objects, in this order, in the objects' transaction.
-DELETE_STEPS = ("room_delete_tallies", "room_delete_merge_logs", "room_delete_scans", "room_delete_node")
+DELETE_STEPS = ("room_delete_tallies", "room_delete_merge_logs", "room_delete_scans", "places_clear",
+                "room_delete_node")
 
 
 def delete_room_in_tx(tx, rid: str, batch: Optional[int] = None) -> int:
     """The body of the delete transaction: the room's objects (with their Appearance nodes and
-    every edge, `batch` per statement), tallies, merge logs, scans and the room node. Returns the
+    every edge, `batch` per statement), tallies, merge logs, scans, the rooms found in its walk
+    (`--rooms auto`) and the room node. Returns the
     objects removed."""
     from sg3d.graphdb import cypher
 

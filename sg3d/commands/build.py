@@ -46,6 +46,8 @@ def _summary_table(summary: dict):
     if summary.get("scan"):
         t.add_row("scan", f"{summary['scan']} (`sg3d changes --room {summary['room']}` shows what it changed)")
     t.add_row("relations", f"{g['relations']} merged; room now holds {g['room_relations']}")
+    if summary.get("rooms_found") is not None:
+        t.add_row("rooms found", _rooms_text(summary["rooms_found"]))
     t.add_row("seconds", ", ".join(f"{k} {v:.2f}" for k, v in summary["seconds"].items()))
     if not interrupted and f["read"]:    # a speed over a run cut short, or over no frame, means nothing
         t.add_row("speed", f"{summary['input_frames_per_second']:.1f} input frames/s")
@@ -94,6 +96,22 @@ def _poses_text(poses: dict) -> str:
     return text
 
 
+def _room_name(room: Optional[str], rooms: Optional[str], sequence: Path) -> str:
+    """--room, or with --rooms auto and no --room the recording's folder name."""
+    if room is None and rooms is None:
+        raise UserError("give --room NAME, or --rooms auto to find the rooms of the walk")
+    return room or Path(sequence).resolve().name
+
+
+def _rooms_text(found: dict) -> str:
+    """sg3d.app.places.write_walk_rooms's dict in words: the rooms, their objects and kind guesses."""
+    if not found["rooms"]:
+        return f"none ({found.get('why', 'no free floor was seen')})"
+    rooms = "; ".join(f"{r['name']} {r['area']:.1f} m2, {r['objects']} objects"
+                      + (f", looks like a {r['kind_guess']}" if r["kind_guess"] else "") for r in found["rooms"])
+    return f"{len(found['rooms'])} ({rooms}); {found['doorways']} doorways"
+
+
 def _placement_text(placement: dict) -> str:
     """sg3d.app.build.place_room's dict in words: how the room was placed, then the alignment's figures."""
     extra = []
@@ -110,9 +128,12 @@ def _placement_text(placement: dict) -> str:
 @click.argument("sequence", type=click.Path(path_type=Path), required=False)
 @click.option("--sample", "sample_name", default=None, metavar="NAME",
               help="Build sample recording NAME instead of a SEQUENCE (found or downloaded as `sg3d sample NAME` does).")
-@click.option("--room", required=True, callback=checked_name,
+@click.option("--room", default=None, callback=checked_name,
               help="Room name (printable, any script; no '/', '\\' or '..'); the graph of this room is "
-                   "created or extended.")
+                   "created or extended. Required unless --rooms auto (then: the recording's folder name).")
+@click.option("--rooms", "rooms", type=click.Choice(["auto"]), default=None,
+              help="auto: also find the rooms the walk went through (floor map, rooms, doorways) and put "
+                   "each object in one of them.")
 @click.option("--building", default="default", show_default=True, callback=checked_name,
               help="Building the room belongs to (same rule as --room).")
 @click.option("--method", type=click.Choice(["2d-basic", "2d-efficient", "3d-basic", "3d-efficient", "3d-full"]),
@@ -168,7 +189,7 @@ def build(settings, sequence: Path, room: str, building: str, method: str, quali
           detect_fraction: Optional[float], chunk_frames: Optional[int], abir_gain: Optional[float],
           t_key: Optional[float], t_anchor: Optional[float], transform_file: Optional[Path], align_to: Optional[str],
           shared_frame: bool, estimate_poses: bool, trajectory_out: Optional[Path], wait: bool, as_json: bool,
-          bag: dict, sample_name: Optional[str]) -> None:
+          bag: dict, sample_name: Optional[str], rooms: Optional[str] = None) -> None:
     """Build (or extend) the 3-D scene graph of ROOM from the RGB-D SEQUENCE folder or ROS bag
     (ROS1 .bag, ROS2 bag folder, .mcap; topics are picked when unambiguous, see the --*-topic options).
 
@@ -202,9 +223,10 @@ def build(settings, sequence: Path, room: str, building: str, method: str, quali
     from sg3d.ingest.select import coverage
 
     sequence = _sequence(sequence, sample_name)
+    room = _room_name(room, rooms, sequence)
     request = BuildRequest(sequence, room, building, layout, start, stop, transform_file, align_to, shared_frame,
                            bag_options=bag, estimate_poses=estimate_poses, trajectory_out=trajectory_out,
-                           wait=wait)
+                           wait=wait, rooms=rooms)
     selection = {"--abir-gain": abir_gain, "--t-key": t_key, "--t-anchor": t_anchor}
     given = [flag for flag, value in selection.items() if value is not None]
     tuned: dict[str, Any] = {k: v for k, v in (("t_key", t_key), ("t_anchor", t_anchor)) if v is not None}

@@ -544,7 +544,14 @@ def op_rooms_next_to(a: Answerer, form: Form):
 
 
 def op_room_count(a: Answerer, form: Form):
+    """Rooms in scope; a recorded room whose walk was split into rooms (`sg3d build --rooms auto`)
+    counts as the rooms found in it."""
     rows = a.run.read("vqa_rooms_all", building=a.ev.building)
+    walked = {r["id"]: a.run.read("places_rooms", room=r["id"]) for r in rows}
+    if any(walked.values()):
+        parts = [f"{w['name']} of the {r['name']}"
+                 + (f" (looks like {_an(w['kind_guess'])})" if w["kind_guess"] else "") for r in rows for w in walked[r["id"]]] + [r["name"] for r in rows if not walked[r["id"]]]
+        return f"{len(parts)} rooms: " + _join(parts), len(parts), []
     names = sorted({r["name"] for r in rows})
     return f"{len(rows)} room{'s' if len(rows) != 1 else ''}: " + _join(names) if rows else "0 rooms", len(rows), []
 

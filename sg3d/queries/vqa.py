@@ -461,6 +461,15 @@ def rooms_with(run: _Run, q: Query, rooms) -> Answer:
     return Answer("", True, text, "rooms", value, value, q)
 
 
+def found_room(w: Optional[dict]) -> str:
+    """The words for the room of the walk an object is in (`sg3d build --rooms auto`), said before
+    the recorded room: "room 2 (looks like a kitchen: refrigerator, sink) of the "; "" without one."""
+    if not w:
+        return ""
+    kind = f" (looks like {_a(w['kind_guess'])}: {', '.join(w['kind_evidence'])})" if w.get("kind_guess") else ""
+    return f"{w['name']}{kind} of the "
+
+
 def where(run: _Run, q: Query, rooms) -> Answer:
     """Where is the <object>: per matching object, what it is on/in/next to, and its room."""
     rows = _candidates(run, q, rooms)
@@ -481,9 +490,10 @@ def where(run: _Run, q: Query, rooms) -> Answer:
     parts = []
     named = run.names(rows[:LIST_SHOWN] + [{"id": x["other_id"], "label": x["other_label"], "room": r.get("room")}
                                            for r in rows[:LIST_SHOWN] for x in rels[r["id"]]])
+    walked = {w["id"]: w for w in run.read("places_rooms_of", ids=ids)}
     for r in rows[:LIST_SHOWN]:
         found = rels[r["id"]]
-        room = (r.get("room") or "?").split("/", 1)[-1]
+        room = found_room(walked.get(r["id"])) + (r.get("room") or "?").split("/", 1)[-1]
         said = views.describe_place(placed[r["id"]], {k: the(v) for k, v in named.items()})
         parts.append(f"{the(without_place(named[r['id']], said))} is "
                      + (f"{said}, in the {room}" if said else f"in the {room}"))

@@ -9,7 +9,7 @@ import pytest
 
 pytest.importorskip("open3d", reason="the generator needs the optional extra `synth` (open3d-cpu)")
 
-from benchmarks.synth import KINDS, generate, intrinsics, layouts, render  # noqa: E402
+from benchmarks.synth import KINDS, LAYOUTS, generate, intrinsics, layouts, render  # noqa: E402
 from benchmarks.synth.truth import FLAT_MAX_M  # noqa: E402
 
 SEEDS = range(6)
@@ -18,7 +18,7 @@ SEEDS = range(6)
 @pytest.mark.parametrize("kind", KINDS)
 def test_every_support_top_is_its_things_bottom(kind):
     for seed in SEEDS:
-        room = layouts.LAYOUTS[kind](seed)
+        room = LAYOUTS[kind](seed)
         for t in room.objects():
             lo, hi = t.box()
             if t.support == "floor":
@@ -33,7 +33,7 @@ def test_every_support_top_is_its_things_bottom(kind):
 @pytest.mark.parametrize("kind", KINDS)
 def test_things_do_not_overlap_and_stay_in_the_room(kind):
     for seed in SEEDS:
-        room = layouts.LAYOUTS[kind](seed)
+        room = LAYOUTS[kind](seed)
         W, D = room.size
         boxes = [(t.id, *t.box()) for t in room.objects()]
         for i, (a, alo, ahi) in enumerate(boxes):
@@ -115,3 +115,51 @@ def test_flat_things_are_flat():
     room = layouts.LAYOUTS["desk"](1)
     flat = {t.category for t in room.objects() if t.box()[1][2] - t.box()[0][2] <= FLAT_MAX_M}
     assert {"keyboard", "phone", "papers"} <= flat
+
+
+def test_an_apartment_has_2_to_6_rooms_each_object_in_one_and_doorways_in_shared_walls():
+    from benchmarks.synth import apartment
+
+    counts = set()
+    for seed in range(12):
+        apt = apartment.layout_apartment(seed)
+        counts.add(len(apt.spaces))
+        for o in apt.objects():
+            lo, hi = o.box()
+            inside = [s.id for s in apt.spaces if s.contains(*((lo[:2] + hi[:2]) / 2))]
+            assert len(inside) == 1, (seed, o.id, inside)
+            assert all(s.contains(lo[0], lo[1]) and s.contains(hi[0], hi[1]) for s in apt.spaces if s.id == inside[0])
+        for d in apt.doorways:
+            a, b = apt.space(d.a), apt.space(d.b)
+            # the doorway's middle lies in the wall between them: a step either way is in a, then b
+            assert a.contains(*d.into(-1, 0.1)) and b.contains(*d.into(1, 0.1)), (seed, d.id)
+    assert counts == {2, 3, 4, 5, 6} or counts >= {2, 4, 6}, counts
+
+
+def test_the_walk_through_an_apartment_moves_like_a_person_at_1_2_to_1_7_m():
+    from benchmarks.synth import apartment, clear_of_things
+    from sg3d.ingest.readers.pose_check import MAX_SPEED_M_S, MAX_TURN_RATE_DEG_S
+
+    for seed in range(6):
+        apt = apartment.layout_apartment(seed)
+        pairs = [(e, t) for e, t in apartment.walk(apt, 1, np.random.default_rng(seed)) if clear_of_things(apt, e)]
+        eyes = np.array([e for e, _ in pairs])
+        assert 1.2 <= eyes[:, 2].min() and eyes[:, 2].max() <= 1.7
+        assert np.linalg.norm(np.diff(eyes, axis=0), axis=1).max() < MAX_SPEED_M_S / 30
+        gaze = np.array([np.arctan2(*(t - e)[:2][::-1]) for e, t in pairs])
+        turn = np.degrees(np.abs((np.diff(gaze) + np.pi) % (2 * np.pi) - np.pi))
+        assert turn.max() < MAX_TURN_RATE_DEG_S / 30
+        visited = {apartment.room_of(apt, *e[:2]) for e in eyes}
+        assert {s.id for s in apt.spaces} <= visited, seed
+
+
+def test_an_apartment_renders_the_same_bytes_and_its_truth_places_every_object(tmp_path):
+    one = generate("apartment", 1, tmp_path / "a", width=80, height=60)
+    two = generate("apartment", 1, tmp_path / "b", width=80, height=60)
+    assert one == two
+    for name in sorted(p.name for p in (tmp_path / "a").iterdir()):
+        assert (tmp_path / "a" / name).read_bytes() == (tmp_path / "b" / name).read_bytes(), name
+    rooms = {r["id"] for r in one["apartment"]["rooms"]}
+    assert 2 <= len(rooms) <= 6
+    assert all(o["room"] in rooms for o in one["objects"])
+    assert all(set(d["rooms"]) <= rooms and d["width"] > 0.7 for d in one["apartment"]["doorways"])

@@ -1,0 +1,111 @@
+"""Rooms from one walk (`sg3d build --rooms auto`): the recording's floor map segmented into rooms
+and doorways (`sg3d.ingest.places`), every object of the built room put in exactly one of them,
+and the layer written to the store (`sg3d.graphdb.places`)."""
+from __future__ import annotations
+
+from typing import Optional
+
+import numpy as np
+
+from sg3d.graphdb.protocol import GraphStore
+
+MAX_FRAMES = 300          # frames of the recording the floor map reads (evenly spread)
+POINTS_PER_FRAME = 5000   # about this many depth pixels of each (the stride follows the size)
+# Rule "a kind is guessed from what a room holds": the labels that say each kind. A guess with its
+# evidence (the labels found), never a fact; no evidence, no guess.
+KIND_EVIDENCE = (
+    ("kitchen", frozenset({"refrigerator", "sink", "oven", "microwave", "toaster"})),
+    ("bedroom", frozenset({"bed"})),
+    ("living room", frozenset({"couch", "tv"})),
+    ("office", frozenset({"desk", "keyboard", "laptop", "mouse"})),
+    ("bathroom", frozenset({"toilet"})),
+)
+
+
+def guess_kind(labels: list[str]) -> tuple[Optional[str], list[str]]:
+    """(kind, evidence): the kind of KIND_EVIDENCE with the most of its labels among `labels`
+    (ties: the first listed), and those labels; (None, []) when none says anything."""
+    best: tuple[Optional[str], list[str]] = (None, [])
+    for kind, says in KIND_EVIDENCE:
+        found = sorted(label for label in labels if label in says)
+        if len(found) > len(best[1]):
+            best = (kind, found)
+    return best
+
+
+def walk_frames(seq, start: int, stop: int) -> list:
+    from sg3d.ingest.readers.frames import FrameError
+
+    frames = []
+    for i in np.unique(np.linspace(start, stop - 1, min(stop - start, MAX_FRAMES)).round().astype(int)):
+        try:
+            frames.append(seq.frame(int(i)))
+        except FrameError:
+            continue
+    return frames
+
+
+def find_places(seq, start: int, stop: int, up, floor: Optional[float]):
+    """The places layer (`sg3d.ingest.places.Places`) of frames [start, stop) and the gravity
+    basis; None when the recording never saw the floor (no floor map without one)."""
+    from sg3d.core.geometry import horizontal_frame
+    from sg3d.ingest.places import rooms_of_walk, walk_points
+
+    if floor is None:
+        return None, None
+    basis = horizontal_frame(up)
+    frames = walk_frames(seq, start, stop)
+    if not frames:
+        return None, None
+    h, w = frames[0].depth.shape
+    stride = max(2, int(round(float(np.sqrt(h * w / POINTS_PER_FRAME)))))
+    points, cameras = walk_points(frames, basis, float(floor), stride=stride)
+    return rooms_of_walk(points, cameras), basis
+
+
+def layer_rows(rid: str, places, basis: np.ndarray, floor: float, objects: list[dict]) -> tuple[list, list, list]:
+    """The rows `sg3d.graphdb.places.write_places` writes: rooms "room 1..n" (footprint and middle in
+    world coordinates, a guessed kind), doorways, and each object in the room at its position
+    (`room_at`, no reach limit: every object in exactly one room)."""
+    from sg3d.ingest.places import room_at
+
+    def world(ab) -> list[float]:
+        ab = np.asarray(ab, float).reshape(-1, 2)
+        return [round(float(v), 4) for v in (np.c_[ab, np.full(len(ab), floor)] @ basis).ravel()]
+
+    pos = np.array([[o["x"], o["y"], o["z"]] for o in objects], float).reshape(-1, 3)
+    at = room_at(places, (pos @ basis.T)[:, :2], reach_m=float("inf")) if len(objects) else np.zeros(0, int)
+    ids = {p.label: f"{rid}#{p.label}" for p in places.rooms}
+    pairs = [{"object": o["id"], "room": ids[int(k)]} for o, k in zip(objects, at) if int(k) in ids]
+    rooms = []
+    for p in places.rooms:
+        kind, evidence = guess_kind([o["label"] for o, k in zip(objects, at) if int(k) == p.label])
+        x, y, z = world(p.centre)
+        rooms.append({"id": ids[p.label], "name": f"room {p.label}", "polygon": world(p.polygon), "area": p.area_m2,
+                      "free_area": p.free_m2, "x": x, "y": y, "z": z, "kind_guess": kind, "kind_evidence": evidence})
+    doorways = []
+    for k, d in enumerate(places.doorways, start=1):
+        x, y, z = world(d.position)
+        doorways.append({"id": f"{rid}#doorway {k}", "a": ids[d.a], "b": ids[d.b], "x": x, "y": y, "z": z,
+                         "width": d.width_m})
+    return rooms, doorways, pairs
+
+
+def write_walk_rooms(store: GraphStore, rid: str, seq, start: int, stop: int, up, floor: Optional[float]) -> dict:
+    """Find the rooms of the recording's walk and write them under recorded room `rid`; what the
+    build summary says: rooms (name, area, objects, kind guess), doorways, objects placed."""
+    from sg3d.graphdb.places import write_places
+
+    places, basis = find_places(seq, start, stop, up, floor)
+    if places is None or floor is None or not places.rooms:
+        return {"rooms": [], "doorways": 0, "objects_placed": 0,
+                "why": "the recording never saw the floor" if floor is None else "no free floor was seen"}
+    objects = store.read("places_objects", room=rid)
+    rooms, doorways, pairs = layer_rows(rid, places, basis, float(floor), objects)
+    write_places(store, rid, rooms, doorways, pairs)
+    held = {r["id"]: 0 for r in rooms}
+    for p in pairs:
+        held[p["room"]] += 1
+    return {"rooms": [{"name": r["name"], "area": r["area"], "objects": held[r["id"]], "kind_guess": r["kind_guess"]}
+                      for r in rooms],
+            "doorways": len(doorways), "objects_placed": len(pairs)}

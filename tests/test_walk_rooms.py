@@ -1,0 +1,124 @@
+"""Rooms from one walk (`sg3d build --rooms auto`) in the real store: a generated apartment gives
+its rooms, doorways and every object in exactly one room; every real recording of ../shared/data
+(each one room) gives exactly one room holding all its objects."""
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+
+from sg3d.app.build import BuildRequest, build_room
+from sg3d.graphdb.places import object_rooms, read_places
+from sg3d.graphdb.values import room_id
+from sg3d.ingest.pipeline import Settings
+
+DATA = Path(__file__).resolve().parents[2] / "shared" / "data"
+REAL = ("open3d-livingroom1-micro", "7scenes-redkitchen", "3dmatch-studyroom/fragment-1", "3dmatch-studyroom/fragment-2")
+
+
+def _every_object_in_one_room(store, rid: str) -> list[dict]:
+    rows = object_rooms(store, rid)
+    assert rows, "the build kept no object"
+    assert all(len(r["rooms"]) == 1 for r in rows), [r for r in rows if len(r["rooms"]) != 1]
+    return rows
+
+
+def test_a_walk_through_an_apartment_gives_its_rooms_doorways_and_each_object_in_one(store, tmp_path):
+    pytest.importorskip("open3d", reason="the generated apartment needs the optional extra `synth` (open3d-cpu)")
+    from benchmarks.synth import generate
+
+    gt = generate("apartment", 4, tmp_path / "walk")
+    summary = build_room(store, BuildRequest(sequence=tmp_path / "walk", room="walk", building="home", rooms="auto"),
+                         Settings())
+    rid = room_id("home", "walk")
+    rooms = read_places(store, rid)
+    assert len(rooms) == len(gt["apartment"]["rooms"]) == 5
+    assert [r["name"] for r in rooms] == [f"room {k}" for k in range(1, 6)]
+    assert all(r["area"] > 4 and len(r["polygon"]) >= 9 for r in rooms)
+    doorways = {d["doorway"] for r in rooms for d in r["doorways"]}
+    assert len(doorways) >= len([d for d in gt["apartment"]["doorways"] if d["kind"] == "door"])
+    assert all(0.1 <= d["width"] < 2.5 for r in rooms for d in r["doorways"])
+    rows = _every_object_in_one_room(store, rid)
+    assert summary.rooms_found["objects_placed"] == len(rows)
+    assert json.loads(json.dumps(summary.as_dict()))["rooms_found"]["doorways"] == len(doorways)
+    from sg3d.app.rooms import delete_room
+
+    delete_room(store, "home", "walk")                  # the found rooms go with their recorded room
+    assert read_places(store, rid) == []
+
+
+def test_a_build_with_room_name_writes_no_places_layer(store, tmp_path):
+    seq = DATA / "open3d-livingroom1-micro"
+    if not seq.exists():
+        pytest.skip(f"{seq} is not there")
+    summary = build_room(store, BuildRequest(sequence=seq, room="living", stop=60), Settings())
+    assert summary.rooms_found is None
+    assert read_places(store, room_id("default", "living")) == []
+
+
+@pytest.mark.parametrize("name", REAL)
+def test_every_real_recording_is_one_room(name):
+    """The places layer of each real recording: one room (no build: the floor map and rooms only)."""
+    from sg3d.app.places import find_places
+    from sg3d.ingest.poses.gravity import estimate_gravity, sample_frames
+    from sg3d.ingest.readers import open_sequence
+
+    seq_dir = DATA / name
+    if not seq_dir.exists():
+        pytest.skip(f"{seq_dir} is not there")
+    seq = open_sequence(seq_dir)
+    g = estimate_gravity(sample_frames(seq, 20, 0, len(seq)))
+    places, _ = find_places(seq, 0, len(seq), g.up, g.floor_height)
+    assert places is not None and len(places.rooms) == 1, places and [r.free_m2 for r in places.rooms]
+    assert places.doorways == []
+
+
+def test_a_real_room_built_without_a_name_is_one_room_holding_all_its_objects(store):
+    seq = DATA / "open3d-livingroom1-micro"
+    if not seq.exists():
+        pytest.skip(f"{seq} is not there")
+    build_room(store, BuildRequest(sequence=seq, room=seq.name, rooms="auto"), Settings())
+    rid = room_id("default", seq.name)
+    rooms = read_places(store, rid)
+    assert len(rooms) == 1
+    rows = _every_object_in_one_room(store, rid)
+    assert {r["rooms"][0] for r in rows} == {"room 1"}
+    assert sorted(rooms[0]["objects"]) == sorted(r["id"] for r in rows)
+
+
+def test_build_without_room_or_rooms_auto_is_one_error_line(tmp_path):
+    from click.testing import CliRunner
+
+    from sg3d.cli import cli
+
+    r = CliRunner().invoke(cli, ["build", str(tmp_path)])
+    assert r.exit_code == 2
+    assert "give --room NAME, or --rooms auto" in r.output
+
+
+def test_questions_over_the_rooms_of_a_walk(store, house):
+    """"how many rooms", "where is X" name the rooms found in a walk, with their guessed kinds;
+    a building without such a layer answers as before."""
+    from sg3d.graphdb.places import write_places
+    from sg3d.queries.vqa import answer
+
+    before = answer(store, "how many rooms are there?", building="home").text
+    assert before.startswith("2 rooms")
+    rid = room_id("home", "kitchen")
+    rooms = [{"id": f"{rid}#{k}", "name": f"room {k}", "polygon": [0.0] * 12, "area": 12.0, "free_area": 9.0,
+              "x": 0.0, "y": 0.0, "z": 0.0, "kind_guess": kind, "kind_evidence": evidence}
+             for k, kind, evidence in ((1, "kitchen", ["sink"]), (2, "office", ["tv"]))]
+    pairs = [{"object": house[k], "room": f"{rid}#{1 if k in ('sk', 'k1', 'b2') else 2}"}
+             for k in ("c1", "c2", "c3", "t", "s", "u1", "u2", "b1", "b2", "b3", "f1", "k1", "sp", "m", "sk")]
+    doorways = [{"id": f"{rid}#doorway 1", "a": f"{rid}#1", "b": f"{rid}#2", "x": 1.0, "y": 0.0, "z": 0.0,
+                 "width": 0.9}]
+    revisions = store.read("room_revisions")[0]["revisions"]
+    write_places(store, rid, rooms, doorways, pairs)
+    assert store.read("room_revisions")[0]["revisions"] > revisions       # cached answers are not served over it
+    assert [r["doorways"][0]["room"] for r in read_places(store, rid)] == ["room 2", "room 1"]
+    text = answer(store, "how many rooms are there?", building="home").text
+    assert text.startswith("3 rooms") and "room 1 of the kitchen (looks like a kitchen)" in text, text
+    assert "living room" in text
+    where = answer(store, "where is the sink?", building="home").text
+    assert "room 1 (looks like a kitchen: sink) of the kitchen" in where, where
