@@ -316,7 +316,10 @@ class Store:
         def work(tx: ManagedTransaction):
             result = tx.run(text, params or {})
             keys = list(result.keys())
-            return keys, [list(r.values()) for r in result]
+            rows = [list(r.values()) for r in result]
+            if write:      # what a user's statement changed is unknown: every room's answers retire
+                tx.run(cypher.load("room_bump_all")).consume()
+            return keys, rows
 
         with self.session() as s:
             return (s.execute_write if write else s.execute_read)(work)

@@ -103,7 +103,7 @@ def _room_or_object(ev: Evaluator, np: NP) -> Resolved:
     except Unanswerable:
         if np.number is not None or np.alternatives or len(np.words) > 3:
             raise
-        rows = ev.run.read("vqa_rooms_all", building=ev.building)
+        rows = ev.run.read("vqa_room_names", building=ev.building)
         stored = ", ".join(sorted({f"{r['building']}/{r['name']}" for r in rows})) or "none"
         raise Unanswerable(f"no room '{np.text()}' in the store (rooms: {stored})") from None
 
