@@ -40,6 +40,7 @@ from sg3d.queries.vocabulary import (
     INVERSE,
     RELATIONS,
     SIZES,
+    STORED_TYPES,
     STRUCTURE_LABELS,
     SUPERLATIVES,
 )
@@ -175,6 +176,48 @@ def labels_read(form: Form, ev: Evaluator) -> Optional[list[str]]:
         if r.kind == "any":
             return None
         labels |= set(r.labels or [])
+        pending += [f.other for f in np.filters] + ([np.toward] if np.toward is not None else [])
+    return sorted(labels)
+
+
+# The forms whose answer is the set of objects asked about, as it is (no object outside it is read).
+ANCHORED_OPS = frozenset({"list", "count", "exists"})
+
+
+def anchor_labels(form: Form, ev: Evaluator) -> Optional[list[str]]:
+    """Rule "read from the anchor outwards": a form about any object ("what", "things") held to
+    a named kind by a stored relation ("what is on the table", "how many things are next to the
+    sink", "anything on the shelves besides the cups") needs only the objects of every kind it
+    names (the anchors, and the floor) and the objects linked to them. Their labels when the
+    form is one of ANCHORED_OPS; its one set of any object has no colour, size, shape, number,
+    purpose, extreme or alternatives of its own and at least one filter that is a relation (not a
+    negated one) to a named kind; and every other set it names is a named kind. None otherwise:
+    the whole scope is read."""
+    if form.op not in ANCHORED_OPS or len(form.sets) > 1 or form.lacking or form.number is not None \
+            or form.seen_from is not None or form.among:
+        return None
+    head = form.sets[0] if form.sets else NP([])
+    if head.alternatives or head.number is not None or head.superlative or head.toward is not None \
+            or head.purpose or head.pronoun:
+        return None
+    r = ev.resolved(head)
+    if r.kind != "any" or r.colour or r.size or r.shape:
+        return None
+    filters = list(head.filters) + list(form.filters)
+    if not any(f.kind == "rel" and not f.negated and RELATIONS[f.relation or ""][0] in STORED_TYPES
+               for f in filters):
+        return None
+    labels: set[str] = {"floor"}
+    pending = [f.other for f in filters]
+    while pending:
+        np = pending.pop()
+        if np.alternatives:
+            pending += np.alternatives
+            continue
+        other = ev.resolved(np)
+        if other.kind not in ("named", "structure", "unknown"):
+            return None
+        labels |= set(other.labels or [])
         pending += [f.other for f in np.filters] + ([np.toward] if np.toward is not None else [])
     return sorted(labels)
 
@@ -389,7 +432,9 @@ def compile_question(run, form: Form, room: Optional[str], room_rows, scope: Cal
         if is_simple(form, ev):
             return Outcome("simple", form=logical, room=q_room, query=plan_simple(form, ev, q_room),
                            room_ids=found[0].room_ids if found else None, notes=ev.notes)
-        ev.load(found[0].room_ids if found else scope(room), labels_read(form, ev))
+        anchors = anchor_labels(form, ev)
+        ev.load(found[0].room_ids if found else scope(room), labels_read(form, ev) if anchors is None else anchors,
+                anchored=anchors is not None)
         answerer = Answerer(ev, q_room or room)
         value_text, value, rows = OPS[form.op](answerer, form)
     except Unanswerable as exc:

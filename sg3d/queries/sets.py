@@ -152,15 +152,36 @@ def resolve_np(np: NP, is_room: Callable[[str], list], embedding=None, use_embed
 
 # -- the scene: the scope's objects and edges, read once ---------------------------------------
 class Scene:
-    def __init__(self, run, rooms: Optional[list[str]], labels: Optional[list[str]] = None):
+    def __init__(self, run, rooms: Optional[list[str]], labels: Optional[list[str]] = None, anchored: bool = False):
+        """The scope's objects of `labels` (None: every one); `anchored` (a few rooms, `labels`
+        the kinds the question names): also every object linked to one of them by a stored
+        relation, with those edges, read from the anchors outwards (`_link`)."""
         self.run, self.rooms = run, rooms
         name = "vqa_scene_objects_in_rooms" if few_rooms(rooms) else "vqa_scene_objects"
         rows = run.read(name, rooms=rooms, labels=labels, limit=ROW_LIMIT)
         self.objects = {r["id"]: r for r in rows}
-        run.rows_by_id.update(self.objects)
         self._edges: Optional[list[dict]] = None
+        if anchored and labels is not None and few_rooms(rooms):
+            self._link(rows)
+        run.rows_by_id.update(self.objects)
         self._floor: dict[str, Optional[float]] = {}
         self._up: Optional[dict] = None
+
+    def _link(self, anchors: list[dict]) -> None:
+        """Rule "read from the anchor outwards": the objects linked to the anchors by a stored
+        relation and those edges (cypher/vqa_scene_linked: by the anchors' ids); the scene's edges
+        are then every stored edge with an anchor at one end, in the order the whole scope's read
+        gives (s, type, o), which is all a relation filter to the anchors reads."""
+        edges: dict[tuple, dict] = {}
+        if anchors:
+            for r in self.run.read("vqa_scene_linked", ids=[a["id"] for a in anchors], types=list(STORED_TYPES),
+                                   rooms=self.rooms):
+                s, o = (r["anchor"], r["id"]) if r["outgoing"] else (r["id"], r["anchor"])
+                edges[(s, r["type"], o)] = {"s": s, "type": r["type"], "o": o, "score": r["edge_score"]}
+                self.objects.setdefault(r["id"], {k: v for k, v in r.items()
+                                                  if k not in ("anchor", "type", "outgoing", "edge_score")})
+        self.objects = dict(sorted(self.objects.items()))
+        self._edges = [edges[k] for k in sorted(edges)]
 
     def edges(self) -> list[dict]:
         if self._edges is None:
@@ -228,8 +249,8 @@ class Evaluator:
         self.absent: list[Resolved] = []     # asked kinds with no object at all in scope
         self._resolved: dict[int, Resolved] = {}
 
-    def load(self, rooms: Optional[list[str]], labels: Optional[list[str]] = None) -> None:
-        self.scene = Scene(self.run, rooms, labels)
+    def load(self, rooms: Optional[list[str]], labels: Optional[list[str]] = None, anchored: bool = False) -> None:
+        self.scene = Scene(self.run, rooms, labels, anchored)
 
     def resolved(self, np: NP, may_be_room: bool = False) -> Resolved:
         if id(np) not in self._resolved:

@@ -702,8 +702,8 @@ def _composed(question: str, o, notes: list[str], run: _Run) -> Answer:
     """An answer of the compiler (sg3d/queries/compose.py) as an Answer."""
     extra = notes + [n for n in run.notes if n not in notes + o.notes] + o.notes
     text = o.text + (f" [{'; '.join(extra)}]" if extra else "")
-    objects = [cast(AnswerObject, row_value(r, run.names([r]).get(r["id"], r["label"])))
-               for r in o.rows[:PROVENANCE_MAX]] if o.rows else []
+    named = run.names(o.rows[:PROVENANCE_MAX]) if o.rows else {}     # one read for every row, not one each
+    objects = [cast(AnswerObject, row_value(r, named.get(r["id"], r["label"]))) for r in o.rows[:PROVENANCE_MAX]]
     a = Answer(question, True, text, o.op, o.value, objects, steps=run.steps, logical=o.form,
                absent_evidence=o.absent, thumbnail=bytes(o.thumbnail) if o.thumbnail else None, plan="sets")
     ids = [r["id"] for r in o.rows[:PROVENANCE_MAX]]
