@@ -155,13 +155,17 @@ class Scene:
     def __init__(self, run, rooms: Optional[list[str]], labels: Optional[list[str]] = None, anchored: bool = False):
         """The scope's objects of `labels` (None: every one); `anchored` (a few rooms, `labels`
         the kinds the question names): also every object linked to one of them by a stored
-        relation, with those edges, read from the anchors outwards (`_link`)."""
+        relation, with those edges, read from the anchors outwards (`_link`); past a few rooms
+        every object of the scope is read instead."""
         self.run, self.rooms = run, rooms
+        if anchored and not few_rooms(rooms):
+            anchored, labels = False, None
         name = "vqa_scene_objects_in_rooms" if few_rooms(rooms) else "vqa_scene_objects"
         rows = run.read(name, rooms=rooms, labels=labels, limit=ROW_LIMIT)
         self.objects = {r["id"]: r for r in rows}
         self._edges: Optional[list[dict]] = None
-        if anchored and labels is not None and few_rooms(rooms):
+        self._touching: dict[frozenset, list[dict]] = {}
+        if anchored and labels is not None:
             self._link(rows)
         run.rows_by_id.update(self.objects)
         self._floor: dict[str, Optional[float]] = {}
@@ -182,6 +186,23 @@ class Scene:
                                                   if k not in ("anchor", "type", "outgoing", "edge_score")})
         self.objects = dict(sorted(self.objects.items()))
         self._edges = [edges[k] for k in sorted(edges)]
+
+    def edges_touching(self, ids: set[str]) -> list[dict]:
+        """The scene's stored edges with an end in `ids` (what a relation filter to those objects
+        reads): from the scene's edges when they are read, else read by those ids
+        (cypher/vqa_scene_edges_of; a few rooms only), without reading every object's edges."""
+        if self._edges is not None or not few_rooms(self.rooms):
+            return [e for e in self.edges() if e["s"] in ids or e["o"] in ids]
+        key = frozenset(ids)
+        if key not in self._touching:
+            edges: dict[tuple, dict] = {}
+            rows = self.run.read("vqa_scene_edges_of", ids=sorted(ids), types=list(STORED_TYPES),
+                                 rooms=self.rooms) if ids else []
+            for r in rows:
+                s, o = (r["anchor"], r["id"]) if r["outgoing"] else (r["id"], r["anchor"])
+                edges[(s, r["type"], o)] = {"s": s, "type": r["type"], "o": o, "score": r["score"]}
+            self._touching[key] = [edges[k] for k in sorted(edges)]
+        return self._touching[key]
 
     def edges(self) -> list[dict]:
         if self._edges is None:
@@ -365,7 +386,7 @@ class Evaluator:
             types = IMPLIED_BY.get(rel_type, (rel_type,))
             linked: set[str] = set()
             inverse = INVERSE.get(rel_type, ())
-            for e in self.scene.edges():
+            for e in self.scene.edges_touching(other_ids):
                 if f.reverse:       # "what is the cup on": where the cup's own edge ends
                     if e["type"] in types and e["s"] in other_ids:
                         linked.add(e["o"])
