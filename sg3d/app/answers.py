@@ -31,7 +31,7 @@ from sg3d.graphdb.protocol import GraphStore
 _ENTRY_BYTES = 2048          # what an answer without a picture holds, roughly
 
 # Statements that read only the room list (ids, names, buildings): the key always holds that list.
-ROOM_LIST_READS = frozenset({"vqa_room_named", "vqa_rooms", "vqa_room_names", "eval_room_exists", "scan_list"})
+ROOM_LIST_READS = frozenset({"vqa_room_named", "vqa_rooms", "vqa_room_names", "eval_room_exists"})
 # A statement that finds objects by their id (already found by a read over their rooms) or reads
 # the taxonomy names one of FINDERS and nothing past NO_ROOM_PARAMS: it reads no room of its own.
 FINDERS = frozenset({"id", "ids", "category", "root"})
@@ -52,8 +52,10 @@ class Snapshot:
 
 
 def store_revision(store: GraphStore) -> Snapshot:
-    """Every room's revision and the room list (one round trip)."""
-    rows = store.read("room_revisions")
+    """Every room's revision and the room list (one round trip), read where the latest commit is:
+    on a cluster the leader, and the answer's own reads, sent to replicas, then wait until they
+    hold as much (the store's bookmarks), so an answer is at least as new as the key it is kept under."""
+    rows = store.read_latest("room_revisions")
     return Snapshot({r["id"]: (r["born"], r["revision"]) for r in rows},
                     tuple((r["id"], r["name"], r["building"], r["born"]) for r in rows))
 
