@@ -28,3 +28,17 @@ def test_a_routing_store_keys_answers_by_revisions_read_at_the_leader(house, sto
         assert not hit and fresh["value"] == 4
     finally:
         routed.close()
+
+
+def test_a_process_shares_one_bookmark_manager_per_database(store, embedded_home):
+    """A server's reader and writer handles: what one wrote, the other's reads wait for."""
+    from sg3d.graphdb.embedded import EmbeddedServer
+
+    info = EmbeddedServer(embedded_home).ensure_running()
+    reader = Store(info.uri, info.reader_auth, info.database, read_only=True)
+    try:
+        assert reader.bookmarks is store.bookmarks
+        store.write("room_bump_all")
+        assert store.bookmarks.get_bookmarks()
+    finally:
+        reader.close()

@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import functools
 import logging
+import threading
 from contextlib import contextmanager
 from contextvars import ContextVar
 from typing import TYPE_CHECKING, Any, Callable, Iterable, Iterator, Optional, cast
@@ -24,6 +25,18 @@ _GRAPH_TYPES = (Node, Relationship, Path)
 # the driver logs every retry of a refused connection; the CLI reports the final failure once
 logging.getLogger("neo4j").setLevel(logging.ERROR)
 log = logging.getLogger("sg3d.store")
+
+
+_BOOKMARKS: dict[tuple[str, str], Any] = {}
+_BOOKMARKS_LOCK = threading.Lock()
+
+
+def shared_bookmarks(uri: str, database: str):
+    """The one bookmark manager of this process for a database (`uri`, `database`)."""
+    with _BOOKMARKS_LOCK:
+        if (uri, database) not in _BOOKMARKS:
+            _BOOKMARKS[(uri, database)] = GraphDatabase.bookmark_manager()
+        return _BOOKMARKS[(uri, database)]
 
 
 def plain_rows(result) -> list[dict]:
@@ -267,10 +280,11 @@ class Store:
         self._writes_via = writes_via
         self.driver = GraphDatabase.driver(uri, auth=auth, connection_timeout=10,
                                            max_transaction_retry_time=30)
-        # every session of this handle starts after the last transaction any of them ended: on a
-        # cluster (a neo4j:// routing URI) a read sent to a replica waits until the replica holds
-        # what this handle wrote or read last (causal consistency); one node ignores them
-        self.bookmarks = GraphDatabase.bookmark_manager()
+        # every session of the process's handles on this database (a server's reader and writer)
+        # starts after the last transaction any of them ended: on a cluster (a neo4j:// routing
+        # URI) a read sent to a replica waits until it holds what the process wrote or read last
+        # (causal consistency); one node ignores them
+        self.bookmarks = shared_bookmarks(uri, database)
         self._schema_checked = False
         # rooms this handle has created or seen created (sg3d.graphdb.merge skips create_room for them)
         self.rooms_known: set[str] = set()
