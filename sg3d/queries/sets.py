@@ -152,14 +152,16 @@ def resolve_np(np: NP, is_room: Callable[[str], list], embedding=None, use_embed
 
 # -- the scene: the scope's objects and edges, read once ---------------------------------------
 class Scene:
-    def __init__(self, run, rooms: Optional[list[str]], labels: Optional[list[str]] = None, anchored: bool = False):
+    def __init__(self, run, rooms: Optional[list[str]], labels: Optional[list[str]] = None, anchored: bool = False,
+                 colour: Optional[str] = None):
         """The scope's objects of `labels` (None: every one); `anchored` (a few rooms, `labels`
         the kinds the question names): also every object linked to one of them by a stored
-        relation, with those edges, read from the anchors outwards (`_link`); past a few rooms
-        every object of the scope is read instead."""
+        relation, with those edges, read from the anchors outwards (`_link`); `colour`: also every
+        object whose main or second colour it is; past a few rooms every object of the scope is
+        read instead of either."""
         self.run, self.rooms = run, rooms
-        if anchored and not few_rooms(rooms):
-            anchored, labels = False, None
+        if (anchored or colour) and not few_rooms(rooms):
+            anchored, colour, labels = False, None, None
         name = "vqa_scene_objects_in_rooms" if few_rooms(rooms) else "vqa_scene_objects"
         rows = run.read(name, rooms=rooms, labels=labels, limit=ROW_LIMIT)
         self.objects = {r["id"]: r for r in rows}
@@ -167,6 +169,10 @@ class Scene:
         self._touching: dict[frozenset, list[dict]] = {}
         if anchored and labels is not None:
             self._link(rows)
+        elif colour is not None:
+            for r in run.read("vqa_scene_objects_coloured", rooms=rooms, colour=colour, limit=ROW_LIMIT):
+                self.objects.setdefault(r["id"], r)
+            self.objects = dict(sorted(self.objects.items()))
         run.rows_by_id.update(self.objects)
         self._floor: dict[str, Optional[float]] = {}
         self._up: Optional[dict] = None
@@ -270,8 +276,9 @@ class Evaluator:
         self.absent: list[Resolved] = []     # asked kinds with no object at all in scope
         self._resolved: dict[int, Resolved] = {}
 
-    def load(self, rooms: Optional[list[str]], labels: Optional[list[str]] = None, anchored: bool = False) -> None:
-        self.scene = Scene(self.run, rooms, labels, anchored)
+    def load(self, rooms: Optional[list[str]], labels: Optional[list[str]] = None, anchored: bool = False,
+             colour: Optional[str] = None) -> None:
+        self.scene = Scene(self.run, rooms, labels, anchored, colour)
 
     def resolved(self, np: NP, may_be_room: bool = False) -> Resolved:
         if id(np) not in self._resolved:
