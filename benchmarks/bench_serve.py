@@ -2,9 +2,11 @@
 and the standard library's http.client, whose own cost per request is smaller), the same questions
 answered in this process through `sg3d.app.ask`, interleaved with them (the service's overhead is the
 ratio, measured in the same run), then C concurrent clients x Q questions each (errors, requests/s),
-the questions drawn from QUESTIONS, then again with every request distinct (each its own
-`viewpoint` position, which only left/right questions read: the same work, no answer-cache hit),
-with the server's answer-cache hits and misses of each run from its /metrics.
+the questions drawn from the docs' question list (every `sg3d ask "..." --room kitchen` example of the
+README and docs/asking.md), then again with every request distinct (each its own `viewpoint`
+position, which only left/right questions read: the same work, no answer-cache hit); one table of
+both crowds: requests/s, p50, p95, errors, the server's answer-cache hits and misses (its
+/metrics) and the machine's 1-minute load average before and after each.
 
     python -m benchmarks.bench_serve --home DIR --crowd-only --workers 2   # the crowds only, 2 workers
 
@@ -27,6 +29,7 @@ import asyncio
 import http.client
 import json
 import os
+import re
 import socket
 import statistics
 import subprocess
@@ -40,16 +43,18 @@ import httpx
 
 REPO = Path(__file__).resolve().parents[1]
 KITCHEN = Path(os.environ.get("SG3D_SHARED", REPO.parent / "shared")) / "data" / "7scenes-redkitchen"
-QUESTIONS = [
-    "how many cups are in the room?",
-    "is there a sink?",
-    "what is on the table?",
-    "how many chairs are there?",
-    "where is the microwave?",
-    "which cup is the biggest?",
-    "how many objects are on the table?",
-    "is the cup on the table?",
-]
+# the docs' question list: every `sg3d ask "..." --room kitchen` example of the README and docs/asking.md
+DOCS_ASKED = re.compile(r'sg3d ask "([^"]+)" --room kitchen')
+
+
+def docs_questions() -> list[str]:
+    found: list[str] = []
+    for page in (REPO / "README.md", REPO / "docs" / "asking.md"):
+        found += DOCS_ASKED.findall(page.read_text())
+    return list(dict.fromkeys(found))
+
+
+QUESTIONS = docs_questions()
 
 
 def sg3d(home: Path, *args: str, **kw) -> subprocess.CompletedProcess:
@@ -259,18 +264,20 @@ def cache_counts(url: str) -> dict[str, float]:
 
 
 def crowds(url: str, token: str, room: str, clients: int, per_client: int) -> int:
-    """The crowd with the questions list, then with every request distinct: errors of both."""
-    errors_all = 0
+    """The crowd with the docs' questions, then with every request distinct: one table (errors of both)."""
+    errors_all, lines = 0, []
     for distinct in (False, True):
         before, load = cache_counts(url), os.getloadavg()[0]
         done, errors, wall, cms = asyncio.run(crowd(url, token, room, clients, per_client, distinct))
         after = cache_counts(url)
-        cached = ", ".join(f"{k} {after.get(k, 0) - before.get(k, 0):.0f}" for k in ("hit", "miss")) if after else "none"
-        print(f"{clients} concurrent clients x {per_client} questions{', every one distinct' if distinct else ''}: "
-              f"{done} requests, {errors} errors, {done / wall:.1f} requests/s, p50 {pct(cms, 50):.0f} ms, "
-              f"p95 {pct(cms, 95):.0f} ms; answer cache: {cached}; load average (1 min) {load:.2f} before, "
-              f"{os.getloadavg()[0]:.2f} after", flush=True)
+        hits, misses = (f"{after.get(k, 0) - before.get(k, 0):.0f}" if after else "-" for k in ("hit", "miss"))
+        mode = "every question distinct" if distinct else f"the docs' {len(QUESTIONS)} questions"
+        lines.append(f"| {clients} x {per_client}, {mode} | {done} | {errors} | {done / wall:.1f} | {pct(cms, 50):.0f} ms "
+                     f"| {pct(cms, 95):.0f} ms | {hits} | {misses} | {load:.2f} → {os.getloadavg()[0]:.2f} |")
         errors_all += errors
+    print("| crowd | requests | errors | requests/s | p50 | p95 | cache hits | cache misses | load (1 min) |")
+    print("|---|---|---|---|---|---|---|---|---|")
+    print("\n".join(lines), flush=True)
     return errors_all
 
 

@@ -182,6 +182,7 @@ def link_rooms(store, room_a: str, room_b: str, transform: Optional[np.ndarray] 
             tx.run(cypher.load("building_same_as_merge"), rows=same_as).consume()
             tx.run(cypher.load("building_adjacent_merge"), room_a=room_a, room_b=room_b,
                    shared=len(same_as), residual=None if np.isnan(residual) else residual).consume()
+        tx.run(cypher.load("room_bump"), rooms=[room_a, room_b]).consume()
 
     store.execute_write(work)
     return LinkReport(room_a, room_b, T, T_a, T_b, residual, n_pairs, same_as, transform is not None, **evidence)
@@ -198,8 +199,10 @@ def unlink_rooms(store, room_a: str, room_b: str) -> dict:
     get_room(store, room_b)
 
     def work(tx):
-        return {key: sum(int(r["n"] or 0) for r in tx.run(cypher.load(name), room_a=room_a, room_b=room_b).data())
-                for key, name in (("same_as", "building_unlink_same_as"), ("adjacent", "building_unlink_adjacent"))}
+        removed = {key: sum(int(r["n"] or 0) for r in tx.run(cypher.load(name), room_a=room_a, room_b=room_b).data())
+                   for key, name in (("same_as", "building_unlink_same_as"), ("adjacent", "building_unlink_adjacent"))}
+        tx.run(cypher.load("room_bump"), rooms=[room_a, room_b]).consume()
+        return removed
 
     removed = store.execute_write(work)
     if not removed["adjacent"] and not removed["same_as"]:

@@ -23,6 +23,11 @@ class GraphStore(Protocol):
         """Run template `name` in a read transaction; its rows as dicts."""
         ...
 
+    def read_latest(self, name: str, **params: Any) -> list[dict]:
+        """Run read template `name` where the latest commit is (a cluster's leader); later reads
+        of this handle see at least as much."""
+        ...
+
     def write(self, name: str, **params: Any) -> list[dict]:
         """Run template `name` in a write transaction; its rows as dicts."""
         ...

@@ -3,11 +3,13 @@ from __future__ import annotations
 
 import functools
 import logging
+import threading
 from contextlib import contextmanager
 from contextvars import ContextVar
 from typing import TYPE_CHECKING, Any, Callable, Iterable, Iterator, Optional, cast
 
 from neo4j import GraphDatabase, ManagedTransaction, Query, Session, unit_of_work
+from neo4j.graph import Node, Path, Relationship
 
 from sg3d.core.errors import Sg3dError
 from sg3d.graphdb import cypher
@@ -18,9 +20,36 @@ from sg3d.graphdb.values import finite_rows
 SCHEMA_VERSION = 3
 MIGRATION_BATCH = 2000   # objects moved per transaction by a schema migration
 
+_GRAPH_TYPES = (Node, Relationship, Path)
+
 # the driver logs every retry of a refused connection; the CLI reports the final failure once
 logging.getLogger("neo4j").setLevel(logging.ERROR)
 log = logging.getLogger("sg3d.store")
+
+
+_BOOKMARKS: dict[tuple[str, str], Any] = {}
+_BOOKMARKS_LOCK = threading.Lock()
+
+
+def shared_bookmarks(uri: str, database: str):
+    """The one bookmark manager of this process for a database (`uri`, `database`)."""
+    with _BOOKMARKS_LOCK:
+        if (uri, database) not in _BOOKMARKS:
+            _BOOKMARKS[(uri, database)] = GraphDatabase.bookmark_manager()
+        return _BOOKMARKS[(uri, database)]
+
+
+def plain_rows(result) -> list[dict]:
+    """The rows of `result` as dicts, what `Result.data()` gives, without its walk through every
+    list element (a quarter of a scene read's time in the driver): sg3d's templates return
+    numbers, texts, bytes, lists and maps, so only a row holding a node, relationship or path is
+    converted by the driver."""
+    keys = result.keys()
+    rows = []
+    for record in result:
+        values = record.values()
+        rows.append(record.data() if any(isinstance(v, _GRAPH_TYPES) for v in values) else dict(zip(keys, values)))
+    return rows
 
 
 class ReadOnlyStoreError(Sg3dError, RuntimeError):
@@ -251,6 +280,11 @@ class Store:
         self._writes_via = writes_via
         self.driver = GraphDatabase.driver(uri, auth=auth, connection_timeout=10,
                                            max_transaction_retry_time=30)
+        # every session of the process's handles on this database (a server's reader and writer)
+        # starts after the last transaction any of them ended: on a cluster (a neo4j:// routing
+        # URI) a read sent to a replica waits until it holds what the process wrote or read last
+        # (causal consistency); one node ignores them
+        self.bookmarks = shared_bookmarks(uri, database)
         self._schema_checked = False
         # rooms this handle has created or seen created (sg3d.graphdb.merge skips create_room for them)
         self.rooms_known: set[str] = set()
@@ -273,6 +307,8 @@ class Store:
         """A session on the store's database whose every statement is measured before it is sent
         (`check_statement`: StatementTooLarge above MAX_STATEMENT_BYTES, nothing sent). Every
         statement of sg3d goes through here; use it, never `driver.session`."""
+        if "bookmarks" not in kw:
+            kw.setdefault("bookmark_manager", self.bookmarks)
         return cast(Session, _GuardedSession(self.driver.session(database=self.database, **kw)))
 
     # -- running templates -----------------------------------------------------------------
@@ -281,7 +317,16 @@ class Store:
         NaN or Infinity (skipped with a warning: `sg3d.graphdb.values.finite_rows`)."""
         text = cypher.load(name)
         with self.session() as s:
-            rows = s.execute_read(lambda tx: tx.run(text, params).data())
+            rows = s.execute_read(lambda tx: plain_rows(tx.run(text, params)))
+        return finite_rows(rows, name)
+
+    def read_latest(self, name: str, **params: Any) -> list[dict]:
+        """Run read template `name` where the latest commit is: in a write transaction, which a
+        routing driver sends to the cluster's leader (it writes nothing); its bookmark then makes
+        this handle's later reads, sent to replicas, wait until they hold as much. One node: `read`."""
+        text = cypher.load(name)
+        with self.session() as s:
+            rows = s.execute_write(lambda tx: plain_rows(tx.run(text, params)))
         return finite_rows(rows, name)
 
     def writer(self) -> "Store":
@@ -316,7 +361,10 @@ class Store:
         def work(tx: ManagedTransaction):
             result = tx.run(text, params or {})
             keys = list(result.keys())
-            return keys, [list(r.values()) for r in result]
+            rows = [list(r.values()) for r in result]
+            if write:      # what a user's statement changed is unknown: every room's answers retire
+                tx.run(cypher.load("room_bump_all")).consume()
+            return keys, rows
 
         with self.session() as s:
             return (s.execute_write if write else s.execute_read)(work)

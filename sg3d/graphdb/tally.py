@@ -98,6 +98,7 @@ def rebuild_tallies_in_tx(tx, batch: int = 5000) -> int:
     tx.run(cypher.load("tally_clear")).consume()
     for i in range(0, len(rows), batch):
         tx.run(cypher.load("tally_add"), rows=rows[i:i + batch]).consume()
+    tx.run(cypher.load("room_bump_all")).consume()       # counts may read tallies, of any room
     return len(rows)
 
 

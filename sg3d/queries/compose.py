@@ -40,6 +40,7 @@ from sg3d.queries.vocabulary import (
     INVERSE,
     RELATIONS,
     SIZES,
+    STORED_TYPES,
     STRUCTURE_LABELS,
     SUPERLATIVES,
 )
@@ -103,7 +104,7 @@ def _room_or_object(ev: Evaluator, np: NP) -> Resolved:
     except Unanswerable:
         if np.number is not None or np.alternatives or len(np.words) > 3:
             raise
-        rows = ev.run.read("vqa_rooms_all", building=ev.building)
+        rows = ev.run.read("vqa_room_names", building=ev.building)
         stored = ", ".join(sorted({f"{r['building']}/{r['name']}" for r in rows})) or "none"
         raise Unanswerable(f"no room '{np.text()}' in the store (rooms: {stored})") from None
 
@@ -177,6 +178,76 @@ def labels_read(form: Form, ev: Evaluator) -> Optional[list[str]]:
         labels |= set(r.labels or [])
         pending += [f.other for f in np.filters] + ([np.toward] if np.toward is not None else [])
     return sorted(labels)
+
+
+# The forms whose answer is the set of objects asked about, as it is (no object outside it is read).
+ANCHORED_OPS = frozenset({"list", "count", "exists"})
+
+
+def _any_head(form: Form, ev: Evaluator):
+    """(its one set of any object, resolved; the filters on it) when the form is one of
+    ANCHORED_OPS about one set of any object with no size, shape, number, purpose, extreme or
+    alternatives of its own; else None."""
+    if form.op not in ANCHORED_OPS or len(form.sets) > 1 or form.lacking or form.number is not None \
+            or form.seen_from is not None or form.among:
+        return None
+    head = form.sets[0] if form.sets else NP([])
+    if head.alternatives or head.number is not None or head.superlative or head.toward is not None \
+            or head.purpose or head.pronoun:
+        return None
+    r = ev.resolved(head)
+    if r.kind != "any" or r.size or r.shape:
+        return None
+    return r, list(head.filters) + list(form.filters)
+
+
+def _named_labels(filters: list[Filter], ev: Evaluator) -> Optional[set[str]]:
+    """The labels of every set the filters name, the floor too; None when one is not a named kind."""
+    labels: set[str] = {"floor"}
+    pending = [f.other for f in filters]
+    while pending:
+        np = pending.pop()
+        if np.alternatives:
+            pending += np.alternatives
+            continue
+        other = ev.resolved(np)
+        if other.kind not in ("named", "structure", "unknown"):
+            return None
+        labels |= set(other.labels or [])
+        pending += [f.other for f in np.filters] + ([np.toward] if np.toward is not None else [])
+    return labels
+
+
+def anchor_labels(form: Form, ev: Evaluator) -> Optional[list[str]]:
+    """Rule "read from the anchor outwards": a form about any object ("what", "things") held to
+    a named kind by a stored relation ("what is on the table", "how many things are next to the
+    sink", "anything on the shelves besides the cups") needs only the objects of every kind it
+    names (the anchors, and the floor) and the objects linked to them. Their labels when the
+    form is one of ANCHORED_OPS; its one set of any object has no colour, size, shape, number,
+    purpose, extreme or alternatives of its own and at least one filter that is a relation (not a
+    negated one) to a named kind; and every other set it names is a named kind. None otherwise:
+    the whole scope is read."""
+    found = _any_head(form, ev)
+    if found is None or found[0].colour:
+        return None
+    filters = found[1]
+    if not any(f.kind == "rel" and not f.negated and RELATIONS[f.relation or ""][0] in STORED_TYPES
+               for f in filters):
+        return None
+    labels = _named_labels(filters, ev)
+    return None if labels is None else sorted(labels)
+
+
+def colour_read(form: Form, ev: Evaluator) -> Optional[tuple[list[str], str]]:
+    """Rule "read by colour": a form about any object of a colour ("what is red", "anything
+    purple on the table?") needs only the objects whose main or second colour it is (the second
+    is reported) and the objects of every kind it names: (those labels, the colour) under the
+    conditions of `anchor_labels` but with a colour and with or without filters; None otherwise."""
+    found = _any_head(form, ev)
+    if found is None or not found[0].colour:
+        return None
+    labels = _named_labels(found[1], ev)
+    return None if labels is None else (sorted(labels), found[0].colour)
 
 
 def _simple_extreme(form: Form, ev: Evaluator) -> bool:
@@ -389,7 +460,14 @@ def compile_question(run, form: Form, room: Optional[str], room_rows, scope: Cal
         if is_simple(form, ev):
             return Outcome("simple", form=logical, room=q_room, query=plan_simple(form, ev, q_room),
                            room_ids=found[0].room_ids if found else None, notes=ev.notes)
-        ev.load(found[0].room_ids if found else scope(room), labels_read(form, ev))
+        rooms, anchors = (found[0].room_ids if found else scope(room)), anchor_labels(form, ev)
+        coloured = None if anchors is not None else colour_read(form, ev)
+        if anchors is not None:
+            ev.load(rooms, anchors, anchored=True)
+        elif coloured is not None:
+            ev.load(rooms, coloured[0], colour=coloured[1])
+        else:
+            ev.load(rooms, labels_read(form, ev))
         answerer = Answerer(ev, q_room or room)
         value_text, value, rows = OPS[form.op](answerer, form)
     except Unanswerable as exc:

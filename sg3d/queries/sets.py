@@ -152,15 +152,63 @@ def resolve_np(np: NP, is_room: Callable[[str], list], embedding=None, use_embed
 
 # -- the scene: the scope's objects and edges, read once ---------------------------------------
 class Scene:
-    def __init__(self, run, rooms: Optional[list[str]], labels: Optional[list[str]] = None):
+    def __init__(self, run, rooms: Optional[list[str]], labels: Optional[list[str]] = None, anchored: bool = False,
+                 colour: Optional[str] = None):
+        """The scope's objects of `labels` (None: every one); `anchored` (a few rooms, `labels`
+        the kinds the question names): also every object linked to one of them by a stored
+        relation, with those edges, read from the anchors outwards (`_link`); `colour`: also every
+        object whose main or second colour it is; past a few rooms every object of the scope is
+        read instead of either."""
         self.run, self.rooms = run, rooms
+        if (anchored or colour) and not few_rooms(rooms):
+            anchored, colour, labels = False, None, None
         name = "vqa_scene_objects_in_rooms" if few_rooms(rooms) else "vqa_scene_objects"
         rows = run.read(name, rooms=rooms, labels=labels, limit=ROW_LIMIT)
         self.objects = {r["id"]: r for r in rows}
-        run.rows_by_id.update(self.objects)
         self._edges: Optional[list[dict]] = None
+        self._touching: dict[frozenset, list[dict]] = {}
+        if anchored and labels is not None:
+            self._link(rows)
+        elif colour is not None:
+            for r in run.read("vqa_scene_objects_coloured", rooms=rooms, colour=colour, limit=ROW_LIMIT):
+                self.objects.setdefault(r["id"], r)
+            self.objects = dict(sorted(self.objects.items()))
+        run.rows_by_id.update(self.objects)
         self._floor: dict[str, Optional[float]] = {}
         self._up: Optional[dict] = None
+
+    def _link(self, anchors: list[dict]) -> None:
+        """Rule "read from the anchor outwards": the objects linked to the anchors by a stored
+        relation and those edges (cypher/vqa_scene_linked: by the anchors' ids); the scene's edges
+        are then every stored edge with an anchor at one end, in the order the whole scope's read
+        gives (s, type, o), which is all a relation filter to the anchors reads."""
+        edges: dict[tuple, dict] = {}
+        if anchors:
+            for r in self.run.read("vqa_scene_linked", ids=[a["id"] for a in anchors], types=list(STORED_TYPES),
+                                   rooms=self.rooms):
+                s, o = (r["anchor"], r["id"]) if r["outgoing"] else (r["id"], r["anchor"])
+                edges[(s, r["type"], o)] = {"s": s, "type": r["type"], "o": o, "score": r["edge_score"]}
+                self.objects.setdefault(r["id"], {k: v for k, v in r.items()
+                                                  if k not in ("anchor", "type", "outgoing", "edge_score")})
+        self.objects = dict(sorted(self.objects.items()))
+        self._edges = [edges[k] for k in sorted(edges)]
+
+    def edges_touching(self, ids: set[str]) -> list[dict]:
+        """The scene's stored edges with an end in `ids` (what a relation filter to those objects
+        reads): from the scene's edges when they are read, else read by those ids
+        (cypher/vqa_scene_edges_of; a few rooms only), without reading every object's edges."""
+        if self._edges is not None or not few_rooms(self.rooms):
+            return [e for e in self.edges() if e["s"] in ids or e["o"] in ids]
+        key = frozenset(ids)
+        if key not in self._touching:
+            edges: dict[tuple, dict] = {}
+            rows = self.run.read("vqa_scene_edges_of", ids=sorted(ids), types=list(STORED_TYPES),
+                                 rooms=self.rooms) if ids else []
+            for r in rows:
+                s, o = (r["anchor"], r["id"]) if r["outgoing"] else (r["id"], r["anchor"])
+                edges[(s, r["type"], o)] = {"s": s, "type": r["type"], "o": o, "score": r["score"]}
+            self._touching[key] = [edges[k] for k in sorted(edges)]
+        return self._touching[key]
 
     def edges(self) -> list[dict]:
         if self._edges is None:
@@ -228,8 +276,9 @@ class Evaluator:
         self.absent: list[Resolved] = []     # asked kinds with no object at all in scope
         self._resolved: dict[int, Resolved] = {}
 
-    def load(self, rooms: Optional[list[str]], labels: Optional[list[str]] = None) -> None:
-        self.scene = Scene(self.run, rooms, labels)
+    def load(self, rooms: Optional[list[str]], labels: Optional[list[str]] = None, anchored: bool = False,
+             colour: Optional[str] = None) -> None:
+        self.scene = Scene(self.run, rooms, labels, anchored, colour)
 
     def resolved(self, np: NP, may_be_room: bool = False) -> Resolved:
         if id(np) not in self._resolved:
@@ -344,7 +393,7 @@ class Evaluator:
             types = IMPLIED_BY.get(rel_type, (rel_type,))
             linked: set[str] = set()
             inverse = INVERSE.get(rel_type, ())
-            for e in self.scene.edges():
+            for e in self.scene.edges_touching(other_ids):
                 if f.reverse:       # "what is the cup on": where the cup's own edge ends
                     if e["type"] in types and e["s"] in other_ids:
                         linked.add(e["o"])

@@ -114,6 +114,8 @@ def ensure_taxonomy(store, taxonomy: Taxonomy | None = None, force: bool = False
         tx.run(cypher.load("taxonomy_nodes"), names=names).consume()
         tx.run(cypher.load("taxonomy_edges"), pairs=pairs).consume()
         tx.run(cypher.load("taxonomy_version_set"), root=tax.root, version=tax.version).consume()
+        # what a category word names changed for every room: kept answers must not outlive it
+        tx.run(cypher.load("room_bump_all")).consume()
 
     store.execute_write(load)
     _loaded.add(key)

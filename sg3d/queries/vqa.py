@@ -218,7 +218,7 @@ def _building_like(run: _Run, building: str) -> list[dict]:
     says what was matched."""
     from sg3d.queries.place_names import match_name, read_as
 
-    rows = run.read("vqa_rooms_all", building=None)
+    rows = run.read("vqa_room_names", building=None)
     hit = match_name(building, {r["building"] for r in rows}, compose.typo_vocabulary())
     said = read_as(building, hit, "building") if hit else None
     if said and said not in run.notes:
@@ -232,7 +232,7 @@ def _rooms_like(store, name: str, building: Optional[str]) -> list[dict]:
     `read_as`, the note the answer gives. [] when no one room is meant."""
     from sg3d.queries.place_names import match_name, read_as
 
-    rows = store.read("vqa_rooms_all", building=None)
+    rows = store.read("vqa_room_names", building=None)
     vocab = compose.typo_vocabulary()
     notes = []
     if building:
@@ -691,7 +691,7 @@ def _reader_failed(text: str, step: str, exc: Exception):
 
 
 def _room_names(store, building: Optional[str], with_buildings: bool = False) -> list[str]:
-    rows = store.read("vqa_rooms_all", building=building.lower() if building else None)
+    rows = store.read("vqa_room_names", building=building.lower() if building else None)
     return [r["name"] for r in rows] + ([r["building"] for r in rows] if with_buildings else [])
 
 
@@ -712,8 +712,8 @@ def _composed(question: str, o, notes: list[str], run: _Run) -> Answer:
     """An answer of the compiler (sg3d/queries/compose.py) as an Answer."""
     extra = notes + [n for n in run.notes if n not in notes + o.notes] + o.notes
     text = o.text + (f" [{'; '.join(extra)}]" if extra else "")
-    objects = [cast(AnswerObject, row_value(r, run.names([r]).get(r["id"], r["label"])))
-               for r in o.rows[:PROVENANCE_MAX]] if o.rows else []
+    named = run.names(o.rows[:PROVENANCE_MAX]) if o.rows else {}     # one read for every row, not one each
+    objects = [cast(AnswerObject, row_value(r, named.get(r["id"], r["label"]))) for r in o.rows[:PROVENANCE_MAX]]
     a = Answer(question, True, text, o.op, o.value, objects, steps=run.steps, logical=o.form,
                absent_evidence=o.absent, thumbnail=bytes(o.thumbnail) if o.thumbnail else None, plan="sets")
     ids = [r["id"] for r in o.rows[:PROVENANCE_MAX]]
