@@ -7,6 +7,7 @@ coordinate cannot be written as JSON, a NaN `up` cannot be drawn), so they are r
 from __future__ import annotations
 
 import math
+import os
 import unicodedata
 from typing import Iterable, Optional
 
@@ -33,10 +34,13 @@ MAX_GOAL_DEPTH = 16
 DEFAULT_MAX_BODY = 32 * 1024 * 1024
 # Store calls `sg3d serve` runs at once (more wait their turn); `sg3d serve --threads` changes it.
 DEFAULT_THREADS = 64
-# Worker processes of `sg3d serve` (`--workers`). One: on the 2-core machines it was measured on,
-# the store's JVM needs a core of its own under load, and each worker holds its own label model
-# and connection pool; `--workers 2` is worth trying where more cores are free.
-DEFAULT_WORKERS = 1
+# Worker processes of `sg3d serve` (`--workers`) by default: `default_workers`. On the 2-core
+# machines it was measured on, the store's JVM needs STORE_CORES of its own under load and a
+# second worker gave no more answers per second; each worker holds its own label model and
+# connection pool, so past MAX_DEFAULT_WORKERS more are a choice, not a default.
+STORE_CORES = 2
+CORES_PER_WORKER = 2
+MAX_DEFAULT_WORKERS = 4
 # Answers `sg3d serve` keeps per process (sg3d.app.answers): entries, and their approximate bytes.
 ANSWER_CACHE_ENTRIES = 4096
 ANSWER_CACHE_BYTES = 64 * 1024 * 1024
@@ -45,6 +49,17 @@ MAX_STATEMENT_CHARS = 20_000
 # The embedded store's statement time limit lives with the store: sg3d.graphdb.embedded.STORE_TIMEOUT_S.
 
 _SEPARATORS = ("/", "\\")
+
+
+def default_workers(cores: Optional[int]) -> int:
+    """Rule "workers from cores": one worker, plus one per CORES_PER_WORKER cores beyond the
+    store's STORE_CORES, at most MAX_DEFAULT_WORKERS (one when the count is unknown)."""
+    if not cores:
+        return 1
+    return max(1, min(MAX_DEFAULT_WORKERS, 1 + (cores - STORE_CORES) // CORES_PER_WORKER))
+
+
+DEFAULT_WORKERS = default_workers(os.cpu_count())
 
 
 def name_problem(name: object, what: str = "name") -> Optional[str]:

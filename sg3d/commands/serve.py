@@ -21,7 +21,7 @@ from sg3d.app.bounds import DEFAULT_MAX_BODY, DEFAULT_THREADS, DEFAULT_WORKERS
               help="Store calls one process runs at once (threads); more wait their turn (within their deadline).")
 @click.option("--workers", type=click.IntRange(min=1), default=DEFAULT_WORKERS, show_default=True,
               help="Worker processes (uvicorn's process model) sharing the one store, each with --threads threads. "
-                   "More than 1 pays where cores are free for them beside the store.")
+                   "The default is one, plus one per two cores beyond the store's two (at most 4).")
 @click.pass_obj
 def serve(settings, host: str, port: int, access_log: bool, max_body: int, threads: int, workers: int) -> None:
     """Serve the scene graph over HTTP: /ask, /plan, /rooms, /graph, /ingest (OpenAPI at /docs).
