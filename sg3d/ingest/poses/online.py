@@ -15,11 +15,12 @@ tracked camera; the live mapper estimates up and floor from the frames themselve
   prediction (`predict_pose`: the motion of the last `VELOCITY_WINDOW_S` carried on to the new
   frame's time), which OpenCV's odometry cannot take as a guess but `Odometry.fit_from` can;
 - when that fit fails, the frame is fitted to the last placed frame, then re-localised against
-  the `RELOCALISE_KEYFRAMES` most recent keyframes, starting from the predicted and from the last
-  known pose (`Odometry.fit_from`);
+  `RELOCALISE_TRIES` older keyframes, starting from the predicted pose (else the last known one;
+  `Odometry.fit_from`);
 - a frame none of them places is skipped with the reason "lost track: ..." (`FrameError`, so
   the mapper lists it and goes on); the next placeable frame continues from the last known pose.
-  After `MAX_LOST` unplaceable frames in a row (that still show enough depth) the track restarts:
+  After `MAX_LOST` unplaceable frames in a row (that still show enough depth), `MAX_LOST_S`
+  after the last placed one, the track restarts:
   the next such frame becomes a keyframe at the last known pose (counted in `restarts`).
 
 A frame that already carries a finite pose passes through untouched, and so does every frame of
@@ -52,7 +53,10 @@ RELOCALISE_KEYFRAMES = 5     # recent keyframes held for relocalisation
 RELOCALISE_TRIES = 2         # older keyframes a lost frame is tried against (the time budget of a loss:
 RELOCALISE_ROUNDS = 2        # each try is up to this many fits from a guess, ~55 ms each)
 RELOCALISE_OVERLAP, RELOCALISE_AGREEMENT = 0.4, 0.8
-MAX_LOST = 3                 # unplaceable frames in a row before the track restarts at the last pose
+MAX_LOST = 3                 # unplaceable frames in a row before the track restarts at the last pose,
+MAX_LOST_S = 2.0             # and at least this long without a pose: a tracker that takes one frame in
+                             # 10 on a busy machine met 3 in 1 s, and a restart puts the rest of the map
+                             # in another frame (the kitchen's live ATE 0.57 m after 6 restarts)
 VELOCITY_WINDOW_S = 0.3      # the camera's velocity: its motion over about this long before the last frame
 TRACK_POLL_S = 0.01          # how often the tracking thread looks for a new frame
 HELD_FRAMES = 4              # decoded frames kept for the mapper after tracking (a few turns' worth)
@@ -243,7 +247,8 @@ class OnlinePoses:
             gap_m, gap_deg = motion_gap(self.poses[key.index], pose)
             self._place(view, pose, keyframe=gap_m >= KEYFRAME_M or gap_deg >= KEYFRAME_DEG or share < KEYFRAME_INLIERS)
             return
-        if self._lost_in_row >= MAX_LOST:              # a new track from the last known pose
+        lost_for = self.times[view.index] - self.times[self._last.index]
+        if self._lost_in_row >= MAX_LOST and lost_for >= MAX_LOST_S:   # a new track from the last known pose
             self.restarts += 1
             self._keyframes.clear()
             self._place(view, self.poses[self._last.index], keyframe=True)

@@ -83,3 +83,68 @@ def test_detection_waits_for_tracking_but_at_most_half_a_second():     # DETECT_
     assert not live.LiveMapper.may_detect(waiting) and waiting.counts.detect_deferred == 1
     assert live.LiveMapper.may_detect(_mapper(True, 3, 0.6))           # half a second without one
     assert live.LiveMapper.may_detect(_mapper(False, 30, 0.0))         # poses given: no tracking to wait for
+
+
+class _Odometry:
+    """Stands in for `tracking.Odometry`: a frame fits unless it is in `bad`; no guessed fit works."""
+
+    bad: set = set()
+
+    def __init__(self, *args, **kwargs):
+        pass
+
+    def view(self, index, depth, gray):
+        return SimpleNamespace(index=index)
+
+    def fit(self, view, target, min_inliers):
+        from sg3d.ingest.poses.tracking import Fit
+
+        return Fit(view.index not in self.bad, np.eye(4), 0.9, 0.01, "no fit")
+
+    def fit_from(self, view, target, guess, min_overlap, min_agreement):
+        from sg3d.ingest.poses.tracking import Fit
+
+        return Fit(False, guess, 0.0, float("inf"), "no fit")
+
+
+class _Frames:
+    """A pose-less source: frame i at time i / fps."""
+
+    seq = None
+
+    def __init__(self, fps: float):
+        self.fps = fps
+
+    def poll(self) -> int:
+        return 1000
+
+    def written_at(self, i: int) -> float:
+        return i / self.fps
+
+    def frame(self, i: int):
+        from sg3d.ingest.readers.frames import Frame
+
+        K = np.array([[100.0, 0, 20], [0, 100.0, 15], [0, 0, 1]])
+        return Frame(i, np.zeros((30, 40, 3), np.uint8), np.ones((30, 40), np.float32), K, np.full((4, 4), np.nan),
+                     i / self.fps, f"frame-{i}")
+
+
+def _restarts(monkeypatch, fps: float, bad: range) -> int:
+    monkeypatch.setattr(online, "Odometry", _Odometry)
+    monkeypatch.setattr(_Odometry, "bad", set(bad))
+    tracker = online.OnlinePoses(_Frames(fps))
+    for i in range(bad.stop + 2):
+        try:
+            tracker.frame(i)
+        except Exception:      # noqa: BLE001 - the lost frames
+            pass
+    return tracker.restarts
+
+
+def test_a_track_restarts_after_3_lost_frames_and_2_s(monkeypatch):    # MAX_LOST, MAX_LOST_S
+    assert online.MAX_LOST == 3 and online.MAX_LOST_S == 2.0
+    # frames 0-4 placed (the last at 4 s or 0.4 s); a restart is the frame that fails after that
+    assert _restarts(monkeypatch, 1.0, range(5, 9)) == 1      # frame 8: 3 lost before it, 4 s without a pose
+    assert _restarts(monkeypatch, 1.0, range(5, 8)) == 0      # frame 8 fits again
+    assert _restarts(monkeypatch, 10.0, range(5, 25)) == 1    # frame 24: 2.0 s without a pose
+    assert _restarts(monkeypatch, 10.0, range(5, 24)) == 0    # frame 23 at 1.9 s still relocalises; 24 fits
