@@ -139,3 +139,11 @@ def test_a_gap_of_20_frames_is_bridged():
     for i in range(GAP.stop, 90):
         metres, degrees = motion_gap(whole.poses[i], gapped.poses[i])
         assert metres <= GAP_M and degrees <= GAP_DEG, (i, metres, degrees)
+
+
+def test_a_trajectory_out_in_no_folder_is_refused_at_once(store, embedded_home, tmp_path):
+    from tests.cli_helpers import one_error_line, sg3d
+
+    out = sg3d(embedded_home, "map", tmp_path, "--room", "x", "--stop-when-idle", "1",
+               "--trajectory-out", tmp_path / "nowhere" / "t.tum")
+    assert out.returncode == 2 and "--trajectory-out" in one_error_line(out)

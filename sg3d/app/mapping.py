@@ -101,6 +101,8 @@ def check_request(req: MapRequest) -> None:
         raise MapError(f"--publish-every {req.publish_every}: at least {MIN_PUBLISH_EVERY_S} s")
     if req.stop_when_idle is not None and req.stop_when_idle <= 0:
         raise MapError(f"--stop-when-idle {req.stop_when_idle}: give a number of seconds above 0")
+    if req.trajectory_out is not None and not Path(req.trajectory_out).expanduser().parent.is_dir():
+        raise MapError(f"--trajectory-out {req.trajectory_out}: its folder does not exist")
     from sg3d.app.live_sources import source_kind
 
     source_kind(req.source)      # SourceError (a MapError) when SOURCE names nothing to follow
