@@ -176,6 +176,11 @@ def _map_held(req: MapRequest, detector, follower, mapper, publisher: "_Publishe
         frames = mapper.finish(follower.whole())    # the recording as a build reads it
         final = {"frames": len(frames), "as_build": True}
         publisher.unseen = frozenset()    # a build's frames saw all there is: what they miss is gone
+    elif state == "done" and getattr(follower, "posed", True) is False and mapper.gravity is not None:
+        # a source tracked live: the tracked frames the budget left undetected are detected now
+        # (coverage choice over every judged frame, as `finish` makes it; those no longer held are skipped)
+        frames = mapper.finish(None)
+        final = {"frames": len(frames), "as_build": False}
     else:
         frames = mapper.detected_frames()
         final = {"frames": len(frames), "as_build": False}

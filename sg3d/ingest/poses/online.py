@@ -189,6 +189,8 @@ class OnlinePoses:
         return getattr(self.source, "waiting_for", "the first frames")
 
     def poll(self) -> int:
+        if self._stop.is_set() and not self.posed:
+            return self._ready                        # stopped: what tracking dealt with, no more
         if self._thread is None or self.posed:
             with self._lock:
                 return self.source.poll()
@@ -213,6 +215,8 @@ class OnlinePoses:
         held = self._held.pop(i, None)
         frame = held if held is not None else self.source.frame(i)
         if i not in self.poses:
+            if np.all(np.isfinite(frame.pose)):
+                return frame                             # it carries its own pose
             raise NotTracked(frame.name, "not tracked: tracking went past it to a newer frame")
         frame.pose = self.poses[i]
         return frame
