@@ -3,6 +3,7 @@ frames/s while `sg3d map` follows it and `sg3d serve` answers questions from the
 
     python -m benchmarks.bench_map                        # the kitchen, 30 frames/s, 100 asks
     python -m benchmarks.bench_map --room-dir DIR --fps 30 --asks 0 --stop 300
+    python -m benchmarks.bench_map --realtime --no-poses [--load 1] [--realsense]   # see map_noposes
 
 Prints: when the first objects were visible (after the first frame was written), the latency
 frame written -> its evidence visible in the store (p50, p95, max), frames skipped while behind,
@@ -98,7 +99,18 @@ def main(argv=None) -> None:
     ap.add_argument("--compare", action="store_true", help="also build the same frames and compare")
     ap.add_argument("--port", type=int, default=18777)
     ap.add_argument("--json", action="store_true")
+    ap.add_argument("--realtime", action="store_true", help="play at the recording's own rate (30 frames/s)")
+    ap.add_argument("--no-poses", action="store_true",
+                    help="a camera without poses: kitchen and living room, tracked live (benchmarks.map_noposes)")
+    ap.add_argument("--rooms", default="kitchen,living", help="with --no-poses: which rooms")
+    ap.add_argument("--load", type=int, default=0, help="with --no-poses: processes keeping a core busy each")
+    ap.add_argument("--realsense", action="store_true", help="with --no-poses: also through a RealSense recording")
     a = ap.parse_args(argv)
+    if a.no_poses:
+        from benchmarks.map_noposes import main as no_poses
+
+        no_poses(a.rooms.split(","), a.load, a.realsense, a.json)
+        return
     with tempfile.TemporaryDirectory(prefix="sg3d-bench-map-") as tmp:
         home, folder = Path(tmp) / "home", Path(tmp) / "frames"
         folder.mkdir()

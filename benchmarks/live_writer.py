@@ -4,7 +4,8 @@
 Each file is written under a temporary name and renamed (what a recorder should do, see
 `sg3d.ingest.readers.follow`); the frame's colour image goes last, so a listed frame is whole.
 Two layouts: 7-Scenes/3DMatch (per-frame files) and Open3D (image/, depth/, and trajectory.log
-rewritten with the poses so far). Prints nothing; exits when every frame is written.
+rewritten with the poses so far). `--no-poses` writes no pose file (a camera without tracking:
+`sg3d map` tracks such a folder itself). Prints nothing; exits when every frame is written.
 """
 from __future__ import annotations
 
@@ -31,51 +32,61 @@ def _put_text(text: str, dst: Path) -> None:
     os.replace(tmp, dst)
 
 
-def seven_scenes_frames(src: Path) -> list[list[tuple[Path, str]]]:
+def seven_scenes_frames(src: Path, poses: bool = True) -> list[list[tuple[Path, str]]]:
     """Per frame: (source file, name in the destination), colour last."""
     out = []
     for p in sorted(src.iterdir()):
         m = SEVEN.match(p.name)
         if m:
             stem = m.group(1)
-            files = [(src / f"{stem}.depth.png", f"{stem}.depth.png"), (src / f"{stem}.pose.txt", f"{stem}.pose.txt")]
+            files = [(src / f"{stem}.depth.png", f"{stem}.depth.png")]
+            if poses:
+                files.append((src / f"{stem}.pose.txt", f"{stem}.pose.txt"))
             out.append([f for f in files if f[0].is_file()] + [(p, p.name)])
     return out
 
 
-def write_live(src: Path, dst: Path, fps: float = 30.0, stop: Optional[int] = None, start_delay: float = 0.0) -> int:
-    """Write SRC's frames into DST at `fps` frames per second; returns the frames written."""
+def write_live(src: Path, dst: Path, fps: float = 30.0, stop: Optional[int] = None, start_delay: float = 0.0,
+               poses: bool = True, skip: frozenset = frozenset()) -> int:
+    """Write SRC's frames into DST at `fps` frames per second (without pose files unless `poses`;
+    the frames numbered in `skip` are left out, as a camera drops them); returns the frames written."""
     src, dst = Path(src), Path(dst)
     dst.mkdir(parents=True, exist_ok=True)
     if start_delay:
         time.sleep(start_delay)
     t0 = time.monotonic()
     if (src / "trajectory.log").is_file():
-        return _write_open3d(src, dst, fps, stop, t0)
+        return _write_open3d(src, dst, fps, stop, t0, poses, skip)
     for name in ("camera-intrinsics.txt",):
         if (src / name).is_file():
             _put(src / name, dst / name)
-    frames = seven_scenes_frames(src)[:stop]
+    frames = seven_scenes_frames(src, poses)[:stop]
     for k, files in enumerate(frames):
         _wait(t0 + k / fps)
+        if k in skip:
+            continue
         for s, name in files:
             _put(s, dst / name)
     return len(frames)
 
 
-def _write_open3d(src: Path, dst: Path, fps: float, stop: Optional[int], t0: float) -> int:
+def _write_open3d(src: Path, dst: Path, fps: float, stop: Optional[int], t0: float, poses: bool = True,
+                  skip: frozenset = frozenset()) -> int:
     for p in src.glob("*.json"):
         _put(p, dst / p.name)
     (dst / "image").mkdir(exist_ok=True)
     (dst / "depth").mkdir(exist_ok=True)
     blocks = (src / "trajectory.log").read_text().strip().splitlines()
-    poses = ["\n".join(blocks[i:i + 5]) for i in range(0, len(blocks), 5)]
+    trajectory = ["\n".join(blocks[i:i + 5]) for i in range(0, len(blocks), 5)]
     images = sorted((src / "image").iterdir())[:stop]
     depths = {p.stem: p for p in (src / "depth").iterdir()}
     for k, img in enumerate(images):
         _wait(t0 + k / fps)
+        if k in skip:
+            continue
         _put(depths[img.stem], dst / "depth" / depths[img.stem].name)
-        _put_text("\n".join(poses[:k + 1]) + "\n", dst / "trajectory.log")
+        if poses:
+            _put_text("\n".join(trajectory[:k + 1]) + "\n", dst / "trajectory.log")
         _put(img, dst / "image" / img.name)
     return len(images)
 
@@ -93,8 +104,9 @@ def main(argv: Optional[list[str]] = None) -> None:
     ap.add_argument("--fps", type=float, default=30.0)
     ap.add_argument("--stop", type=int, default=None, help="write only the first N frames")
     ap.add_argument("--start-delay", type=float, default=0.0)
+    ap.add_argument("--no-poses", action="store_true", help="write no pose files (a camera without tracking)")
     a = ap.parse_args(argv)
-    write_live(a.src, a.dst, a.fps, a.stop, a.start_delay)
+    write_live(a.src, a.dst, a.fps, a.stop, a.start_delay, poses=not a.no_poses)
 
 
 if __name__ == "__main__":

@@ -20,6 +20,7 @@ import cv2
 import numpy as np
 import pytest
 
+from benchmarks.realsense_recording import record_realsense
 from tests.conftest import SHARED
 
 LIVING = SHARED / "data" / "open3d-livingroom1-micro"
@@ -101,69 +102,6 @@ def test_online_poses_track_the_kitchen_and_name_a_lost_track():
 
 
 # -- RealSense ----------------------------------------------------------------------------------------
-
-def record_realsense(path: Path, folder: Path, n: int, colour_format: str = "bgr8", fps: int = 30) -> Path:
-    """A RealSense recording made by librealsense's own recorder from a software device whose
-    depth (z16, 1 mm units) and colour sensors are fed `n` frames of an Open3D-layout folder at
-    `fps` (a RealSense streams at 6, 15, 30 or 60). librealsense 2.57+ records ROS 2 .db3 files (older ones: .bag)."""
-    import cv2
-
-    from sg3d.ingest.readers import open_sequence
-
-    rs = _realsense()
-    seq = open_sequence(folder)
-    first = seq.frame(0)
-    h, w = first.color.shape[:2]
-    K = first.K
-
-    def intrinsics():
-        i = rs.intrinsics()
-        i.width, i.height, i.fx, i.fy, i.ppx, i.ppy = w, h, K[0, 0], K[1, 1], K[0, 2], K[1, 2]
-        i.model, i.coeffs = rs.distortion.none, [0.0] * 5
-        return i
-
-    def stream(kind, uid, fmt, bpp):
-        s = rs.video_stream()
-        s.type, s.index, s.uid, s.width, s.height, s.fps, s.bpp, s.fmt = kind, 0, uid, w, h, fps, bpp, fmt
-        s.intrinsics = intrinsics()
-        return s
-
-    device = rs.software_device()
-    depth_sensor, colour_sensor = device.add_sensor("Depth"), device.add_sensor("Color")
-    depth_profile = depth_sensor.add_video_stream(stream(rs.stream.depth, 0, rs.format.z16, 2))
-    depth_sensor.add_read_only_option(rs.option.depth_units, 0.001)
-    fmt = rs.format.rgb8 if colour_format == "rgb8" else rs.format.bgr8
-    colour_profile = colour_sensor.add_video_stream(stream(rs.stream.color, 1, fmt, 3))
-    same = rs.extrinsics()
-    same.rotation, same.translation = [1, 0, 0, 0, 1, 0, 0, 0, 1], [0, 0, 0]
-    depth_profile.register_extrinsics_to(colour_profile, same)
-    device.create_matcher(rs.matchers.default)
-    recorder = rs.recorder(str(path), device)
-    sync = rs.syncer()
-    depth_sensor.open(depth_profile)
-    colour_sensor.open(colour_profile)
-    depth_sensor.start(sync)
-    colour_sensor.start(sync)
-    for k in range(n):
-        f = seq.frame(k)
-        depth = np.ascontiguousarray(np.round(f.depth * 1000).astype(np.uint16))
-        colour = np.ascontiguousarray(cv2.cvtColor(f.color, cv2.COLOR_BGR2RGB) if colour_format == "rgb8" else f.color)
-        for sensor, profile, pixels, bpp in ((depth_sensor, depth_profile, depth, 2),
-                                             (colour_sensor, colour_profile, colour, 3)):
-            frame = rs.software_video_frame()
-            frame.pixels, frame.stride, frame.bpp = pixels, w * bpp, bpp
-            frame.timestamp, frame.domain, frame.frame_number = k * 1000 / fps, rs.timestamp_domain.hardware_clock, k
-            frame.profile = profile.as_video_stream_profile()
-            if sensor is depth_sensor:
-                frame.depth_units = 0.001
-            sensor.on_video_frame(frame)
-        time.sleep(0.002)
-    for sensor in (depth_sensor, colour_sensor):
-        sensor.stop()
-        sensor.close()
-    del recorder               # closes the file
-    return path
-
 
 @pytest.fixture(scope="module")
 def realsense_recording(tmp_path_factory) -> Path:

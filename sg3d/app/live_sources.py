@@ -8,7 +8,8 @@
 - ``FILE.mcap``, or a ROS 2 bag folder still being recorded (``*.mcap`` files, no
   ``metadata.yaml`` yet: the first one is followed): `sg3d.ingest.readers.mcap_follow`.
 
-Sources without poses (a RealSense; an MCAP without /tf or a pose topic) are wrapped in
+Sources without poses (a folder without pose files, a RealSense; an MCAP without /tf or a pose
+topic) are wrapped in
 `sg3d.ingest.poses.online.OnlinePoses`. A camera or stream cannot be read again: such sources
 have ``seq = None`` and their final graph is the live evidence.
 """
@@ -57,8 +58,8 @@ def open_live_source(source, layout: Optional[str] = None):
     from sg3d.ingest.readers.follow import FolderFollower
 
     kind = source_kind(source)
-    if kind == "folder":
-        return FolderFollower(Path(source), layout)
+    if kind == "folder":      # tracked online when its frames turn out to carry no poses
+        return OnlinePoses(FolderFollower(Path(source), layout))
     try:
         if kind == "realsense":
             from sg3d.ingest.readers.realsense import RealSenseSource

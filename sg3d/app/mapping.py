@@ -49,6 +49,7 @@ class MapRequest:
     stop_when_idle: Optional[float] = None    # seconds without a new frame; None: until stopped
     resume: bool = False
     wait: bool = False                        # wait for another writer of the room instead of refusing
+    trajectory_out: Optional[Path] = None     # the poses tracked online, as a TUM file (pose-less sources)
 
 
 @dataclass
@@ -68,6 +69,8 @@ class MapSummary:
     seconds: dict
     peak_memory_mib: float
     final: dict = field(default_factory=dict)   # the last publish: made of the frames a build detects
+    tracking: Optional[dict] = None  # a source without poses: what online tracking did (`OnlinePoses.summary`)
+    stages: dict = field(default_factory=dict)   # per stage: ran / skipped (`_stages`)
 
     def as_dict(self) -> dict:
         return asdict(self)
@@ -98,6 +101,8 @@ def check_request(req: MapRequest) -> None:
         raise MapError(f"--publish-every {req.publish_every}: at least {MIN_PUBLISH_EVERY_S} s")
     if req.stop_when_idle is not None and req.stop_when_idle <= 0:
         raise MapError(f"--stop-when-idle {req.stop_when_idle}: give a number of seconds above 0")
+    if req.trajectory_out is not None and not Path(req.trajectory_out).expanduser().parent.is_dir():
+        raise MapError(f"--trajectory-out {req.trajectory_out}: its folder does not exist")
     from sg3d.app.live_sources import source_kind
 
     source_kind(req.source)      # SourceError (a MapError) when SOURCE names nothing to follow
@@ -155,8 +160,12 @@ def _map_held(req: MapRequest, detector, follower, mapper, publisher: "_Publishe
     publisher.announce()
     publisher.start()
     discoverer.start()
+    getattr(follower, "start", lambda: None)()      # a source tracked online tracks on its own thread
     t_loop = time.perf_counter()
-    state = _follow(mapper, req, should_stop)
+    try:
+        state = _follow(mapper, req, should_stop)
+    finally:
+        getattr(follower, "stop", lambda: None)()
     t_live = time.perf_counter() - t_loop
     discoverer.stop()
     publisher.stop()
@@ -167,6 +176,11 @@ def _map_held(req: MapRequest, detector, follower, mapper, publisher: "_Publishe
         frames = mapper.finish(follower.whole())    # the recording as a build reads it
         final = {"frames": len(frames), "as_build": True}
         publisher.unseen = frozenset()    # a build's frames saw all there is: what they miss is gone
+    elif state == "done" and getattr(follower, "posed", True) is False and mapper.gravity is not None:
+        # a source tracked live: the tracked frames the budget left undetected are detected now
+        # (coverage choice over every judged frame, as `finish` makes it; those no longer held are skipped)
+        frames = mapper.finish(None)
+        final = {"frames": len(frames), "as_build": False}
     else:
         frames = mapper.detected_frames()
         final = {"frames": len(frames), "as_build": False}
@@ -184,7 +198,7 @@ def _map_held(req: MapRequest, detector, follower, mapper, publisher: "_Publishe
         objects=report.objects if report else 0, relations=report.relations if report else 0,
         publishes=publisher.publishes, latency_s=publisher.latency(),
         first_objects_after_s=(round(publisher.first_objects_at - follower.written_at(0), 3)
-                               if publisher.first_objects_at is not None and follower.seq is not None else None),
+                               if publisher.first_objects_at is not None and c.received else None),
         backlog_at_end=backlog,
         seconds={"live": round(t_live, 3), "final": round(t_final, 3), "total": round(time.time() - started, 3),
                  "publish_mean": round(publisher.mean_seconds(), 3),
@@ -192,7 +206,37 @@ def _map_held(req: MapRequest, detector, follower, mapper, publisher: "_Publishe
                  "discoveries": discoverer.runs,
                  "discovery_mean": round(float(np.mean(discoverer.seconds)) if discoverer.seconds else 0.0, 3)},
         peak_memory_mib=round(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024, 1),
-        final=final)
+        final=final, tracking=_tracking(follower, req),
+        stages=_stages(mapper, follower, publisher, discoverer))
+
+
+def _stages(mapper, follower, publisher: "_Publisher", discoverer: "_Discoverer") -> dict:
+    """Per stage of the live loop, how often it ran and what it skipped (the `--json` "stages"):
+    tracking (a source without poses), judging (ABIR + KGE), detection, discovery, publishing."""
+    c = mapper.counts
+    t = follower.summary() if getattr(follower, "posed", True) is False and hasattr(follower, "summary") else None
+    return {"tracking": {"ran": t["ran"], "skipped": t["skipped"]} if t else None,
+            "judging": {"ran": c.read, "skipped": c.jumped},
+            "detection": {"ran": c.detected - c.detected_at_end, "skipped": c.skipped_behind,
+                          "deferred": c.detect_deferred, "at_end": c.detected_at_end},
+            "discovery": {"ran": discoverer.runs, "deferred": discoverer.deferred},
+            "publishing": {"ran": publisher.publishes}}
+
+
+def _tracking(follower, req: MapRequest) -> Optional[dict]:
+    """What online tracking did (None when the source carried its own poses); writes the tracked
+    trajectory to `req.trajectory_out` (TUM) when asked."""
+    if getattr(follower, "posed", True) is True or not hasattr(follower, "summary"):
+        return None
+    if req.trajectory_out is not None:
+        from sg3d.ingest.poses.trajectory import write_tum
+
+        times, poses = follower.trajectory()
+        try:
+            write_tum(req.trajectory_out, times, poses)
+        except OSError as exc:
+            raise MapError(f"cannot write --trajectory-out {req.trajectory_out}: {exc.strerror}")
+    return follower.summary()
 
 
 def _follow(mapper, req: MapRequest, should_stop: Optional[Callable[[], bool]]) -> str:
@@ -210,7 +254,7 @@ def _follow(mapper, req: MapRequest, should_stop: Optional[Callable[[], bool]]) 
                 judged = mapper.look(limit=8)
             except SequenceError as exc:
                 raise MapError(str(exc))
-            detected = mapper.detect_next()
+            detected = mapper.detect_next() if mapper.may_detect() else False
             if mapper.counts.received != last_frames:
                 last_frames, last_change = mapper.counts.received, time.monotonic()
             if not judged and not detected:
@@ -259,12 +303,16 @@ class _Discoverer(_Worker):
         super().__init__("sg3d-map-discover")
         self.mapper = mapper
         self.runs = 0
+        self.deferred = 0
         self.seconds: list[float] = []
 
     def _run(self) -> None:
         while not self._stop.wait(DISCOVER_EVERY_S):
             m = self.mapper
             if m.gravity is None or (m.discovered is not None and m.discovered.version == m.version):
+                continue
+            if m.tracked() and m.backlog() > m.max_backlog():   # tracking first: discovery waits
+                self.deferred += 1
                 continue
             t0 = time.perf_counter()
             m.graph(fast=False)

@@ -28,15 +28,19 @@ from sg3d.errors import UserError
               help="When another build, map or ingest is writing ROOM, wait for it instead of refusing.")
 @click.option("--detector", default=None, metavar="NAME|MODEL.onnx",
               help="Detector: ssd-mobilenet-v2-coco (default) or your own ONNX model (labels file beside it).")
+@click.option("--trajectory-out", type=click.Path(path_type=Path, dir_okay=False), default=None,
+              help="A source without poses: write the camera poses tracked online here (TUM format).")
 @click.option("--json", "as_json", is_flag=True, help="Print the summary as JSON at the end (no live line).")
 @click.pass_obj
 def map_cmd(settings, source: Path, room: str, building: str, layout: Optional[str], publish_every: float,
-            stop_when_idle: Optional[float], resume: bool, wait: bool, detector: Optional[str], as_json: bool) -> None:
+            stop_when_idle: Optional[float], resume: bool, wait: bool, detector: Optional[str],
+            trajectory_out: Optional[Path], as_json: bool) -> None:
     """Follow SOURCE and keep ROOM's scene graph in the store current while frames arrive. SOURCE
     is a folder that frames are being written into (any layout `sg3d build` reads), `realsense`,
     `realsense:SERIAL` or `realsense:FILE.bag|.db3` (a RealSense camera or recording; pip install
     'sg3d[live]'), or an MCAP file (or ROS 2 bag folder) that `ros2 bag record -s mcap` is writing.
-    Sources without poses (a RealSense, an MCAP without /tf or odometry) are tracked online.
+    Sources without poses (a folder without pose files, a RealSense, an MCAP without /tf or
+    odometry) are tracked online (--trajectory-out writes the tracked poses).
 
     Every frame is judged as it arrives (blur, keyframes), the chosen ones are detected, and the
     room's graph is recomputed from all evidence so far and published at most every
@@ -58,7 +62,7 @@ def map_cmd(settings, source: Path, room: str, building: str, layout: Optional[s
         if not as_json:
             print_update(console, u)
 
-    req = MapRequest(source, room, building, layout, publish_every, stop_when_idle, resume, wait)
+    req = MapRequest(source, room, building, layout, publish_every, stop_when_idle, resume, wait, trajectory_out)
     try:
         summary = map_room(settings.store(), req, options, on_update=on_update).as_dict()
     except (MapError, BuildError) as exc:

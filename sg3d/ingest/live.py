@@ -45,6 +45,7 @@ from sg3d.ingest.pipeline import (
 )
 from sg3d.ingest.objects import existence, fusion
 from sg3d.ingest.poses.gravity import Gravity, estimate_gravity, sample_frames
+from sg3d.ingest.poses.online import NotTracked
 from sg3d.ingest.readers.frames import Frame, FrameError
 from sg3d.ingest.select import coverage
 from sg3d.ingest.select.selection import choose_detected_frames
@@ -65,6 +66,12 @@ GRAVITY_FRAMES = 20
 # to the newest: judging what the camera saw a while ago only delays what it sees now. The frames
 # jumped over are counted, and `finish` then chooses the build's frames by a whole pass.
 MAX_BACKLOG = 15
+# A source tracked online (no poses of its own) keeps a tighter budget: tracking comes first, and
+# tracking a stale frame only delays the newest one, so mapping jumps to the newest frame when
+# more than this many wait (the tracker bridges the gap from a constant-velocity prediction),
+# and detection waits while tracking is behind, but runs at least every DETECT_EVERY_S.
+TRACKED_BACKLOG = 2
+DETECT_EVERY_S = 0.5
 # A named object takes the last discovery's verdict on the object of its label this near (a fused
 # centre moves by centimetres between two snapshots a few seconds apart).
 CARRY_RADIUS_M = 0.3
@@ -138,6 +145,7 @@ class LiveCounts:
     skipped_behind: int = 0      # chosen, but still waiting MAX_LAG_S after arrival
     jumped: int = 0              # never judged live: more than MAX_BACKLOG frames were waiting
     detected_at_end: int = 0     # chosen frames detected by `finish`
+    detect_deferred: int = 0     # turns in which detection waited for tracking to catch up
     skipped: dict = field(default_factory=dict)     # frame name -> reason (bad frames)
 
 
@@ -169,13 +177,14 @@ class LiveMapper:
         self.late: set[int] = set()           # frames detected by `finish`, after the source ended
         self.discovered: Optional[Discovered] = None
         self.live = True                      # False once the source ended: every frame is judged
+        self._last_detect = 0.0               # monotonic time of the last detection
 
     # -- frames arriving -----------------------------------------------------------------------
     def look(self, limit: Optional[int] = None) -> int:
         """Judge the frames that arrived since the last call (ABIR, then KGE on the sharp ones),
         at most `limit`; returns how many were judged."""
         ready = self.source.poll()
-        if self.live and ready - self.next_frame > MAX_BACKLOG:
+        if self.live and ready - self.next_frame > self.max_backlog():
             self.counts.jumped += ready - 1 - self.next_frame
             self.next_frame = ready - 1
         stop = ready if limit is None else min(ready, self.next_frame + limit)
@@ -186,6 +195,26 @@ class LiveMapper:
             n += 1
         self.counts.received = max(self.counts.received, ready)
         return n
+
+    def tracked(self) -> bool:
+        """Whether the source's poses are tracked online (it carries none of its own)."""
+        return getattr(self.source, "posed", True) is False
+
+    def max_backlog(self) -> int:
+        """Frames that may wait before mapping jumps to the newest (`MAX_BACKLOG`, or
+        `TRACKED_BACKLOG` for a source tracked online)."""
+        return TRACKED_BACKLOG if self.tracked() else MAX_BACKLOG
+
+    def may_detect(self) -> bool:
+        """Whether detection may run now: always for a source with poses; for one tracked online
+        only when tracking is not behind (at most `TRACKED_BACKLOG` frames wait) or the last
+        detection is `DETECT_EVERY_S` old (under load the map gets coarser, never stuck)."""
+        if not self.tracked() or not self.live or self.backlog() <= TRACKED_BACKLOG:
+            return True
+        if time.monotonic() - self._last_detect >= DETECT_EVERY_S:
+            return True
+        self.counts.detect_deferred += 1
+        return False
 
     def backlog(self) -> int:
         """Frames that arrived and were not judged yet."""
@@ -201,6 +230,9 @@ class LiveMapper:
                 frame.release()
                 return
             role = self.grouper.add(frame)
+        except NotTracked:
+            self.counts.jumped += 1          # tracking took a newer frame: skipped, not bad
+            return
         except FrameError as exc:
             self.counts.skipped[exc.name] = exc.reason
             return
@@ -269,6 +301,7 @@ class LiveMapper:
             return False
         i = min(self._queue, key=lambda k: (self._queue[k], -k))
         priority = self._queue.pop(i)
+        self._last_detect = time.monotonic()
         if self._detect(i) and priority == 1:
             self.counts.coverage += 1
         return True

@@ -10,35 +10,102 @@ tracked camera; the live mapper estimates up and floor from the frames themselve
   it becomes the next keyframe when it lies `KEYFRAME_M` / `KEYFRAME_DEG` away from the last one
   or shows less than `KEYFRAME_INLIERS` in common with it (drift grows per keyframe, not per
   frame);
+- after a gap (frames never tracked: a camera dropping them, or a mapper that skipped ahead to
+  the newest frame to keep up), the fit to the last keyframe starts from a constant-velocity
+  prediction (`predict_pose`: the motion of the last `VELOCITY_WINDOW_S` carried on to the new
+  frame's time), which OpenCV's odometry cannot take as a guess but `Odometry.fit_from` can;
 - when that fit fails, the frame is fitted to the last placed frame, then re-localised against
-  the `RELOCALISE_KEYFRAMES` most recent keyframes, starting from the last known pose
-  (`Odometry.fit_from`);
+  `RELOCALISE_TRIES` older keyframes, starting from the predicted pose (else the last known one;
+  `Odometry.fit_from`);
 - a frame none of them places is skipped with the reason "lost track: ..." (`FrameError`, so
   the mapper lists it and goes on); the next placeable frame continues from the last known pose.
-  After `MAX_LOST` unplaceable frames in a row (that still show enough depth) the track restarts:
+  After `MAX_LOST` unplaceable frames in a row (that still show enough depth), `MAX_LOST_S`
+  after the last placed one, the track restarts:
   the next such frame becomes a keyframe at the last known pose (counted in `restarts`).
 
-A frame that already carries a finite pose passes through untouched. Odometry runs at about 320
+A frame that already carries a finite pose passes through untouched, and so does every frame of
+a source that says it carries poses (`posed` True: a folder with pose files); such a source is
+read again at the end as a build reads it (`seq`, `whole()`), a pose-less one is not (its final
+graph is made of the frames tracked live). Odometry runs at about 320
 px width (`sg3d.ingest.poses.tracking`): 15-40 ms a frame on 2 cores. Memory: a pose per frame
 (128 bytes) and the reduced views of the recent keyframes.
 """
 from __future__ import annotations
 
 import threading
+import time
 from collections import deque
 from typing import Optional
 
 import numpy as np
 
-from sg3d.ingest.poses.tracking import Odometry, View, motion_gap
+from sg3d.ingest.poses.tracking import Fit, Odometry, View, motion_gap
 from sg3d.ingest.readers.frames import Frame, FrameError
 
+# Odometry runs on images this wide (320x240 from 640x480). Measured on the kitchen on 2 busy
+# cores: at 160 px a fit costs ~4x less (23 against 104 ms), but every 5th of the first 300 frames
+# gave ATE 6.8 cm against 3.7 cm and a gap of 20 frames was no longer bridged.
+ONLINE_WIDTH = 320
 TRACK_MIN_INLIERS = 0.5      # share of a frame's depth the keyframe must confirm (as `estimate`)
 KEYFRAME_M, KEYFRAME_DEG = 0.05, 5.0   # measured on the kitchen: 0.05 m / 5 deg ATE 6 mm, 0.1 m / 10 deg 37 mm
 KEYFRAME_INLIERS = 0.7       # a frame sharing less than this with the keyframe becomes the next one
-RELOCALISE_KEYFRAMES = 5     # recent keyframes a lost frame is tried against
+RELOCALISE_KEYFRAMES = 5     # recent keyframes held for relocalisation
+RELOCALISE_TRIES = 2         # older keyframes a lost frame is tried against (the time budget of a loss:
+RELOCALISE_ROUNDS = 2        # each try is up to this many fits from a guess, ~55 ms each)
 RELOCALISE_OVERLAP, RELOCALISE_AGREEMENT = 0.4, 0.8
-MAX_LOST = 3                 # unplaceable frames in a row before the track restarts at the last pose
+MAX_LOST = 3                 # unplaceable frames in a row before the track restarts at the last pose,
+MAX_LOST_S = 2.0             # and at least this long without a pose: a tracker that takes one frame in
+                             # 10 on a busy machine met 3 in 1 s, and a restart puts the rest of the map
+                             # in another frame (the kitchen's live ATE 0.57 m after 6 restarts)
+VELOCITY_WINDOW_S = 0.3      # the camera's velocity: its motion over about this long before the last frame
+TRACK_POLL_S = 0.01          # how often the tracking thread looks for a new frame
+HELD_FRAMES = 4              # decoded frames kept for the mapper after tracking (a few turns' worth)
+MAX_PREDICT_S = 1.5          # no prediction further ahead than this (a camera may have stopped)
+BRIDGE_ROUNDS = 3            # fits from a guess, each starting where the last ended (measured: a guess
+                             # 3.5 cm / 4.8 deg off converged in the second round, not the first)
+
+
+def _left_jacobian(w: np.ndarray) -> np.ndarray:
+    """SO(3)'s left Jacobian of a rotation vector: maps the screw's translation rate to the
+    translation it gives (I + (1 - cos a)/a^2 W + (a - sin a)/a^3 W^2)."""
+    a = float(np.linalg.norm(w))
+    W = np.array([[0, -w[2], w[1]], [w[2], 0, -w[0]], [-w[1], w[0], 0]])
+    if a < 1e-9:
+        return np.eye(3) + W / 2
+    return np.eye(3) + (1 - np.cos(a)) / a**2 * W + (a - np.sin(a)) / a**3 * W @ W
+
+
+def screw_power(V: np.ndarray, f: float) -> np.ndarray:
+    """V^f for a rigid motion V: the same screw motion (rotation about and translation along one
+    axis) carried on `f` times as far (closed form of expm(f logm(V)); scipy's logm costs ~100x more)."""
+    from scipy.spatial.transform import Rotation
+
+    w = Rotation.from_matrix(V[:3, :3]).as_rotvec()
+    u = np.linalg.solve(_left_jacobian(w), V[:3, 3])
+    out = np.eye(4)
+    out[:3, :3] = Rotation.from_rotvec(w * f).as_matrix()
+    out[:3, 3] = _left_jacobian(w * f) @ (u * f)
+    return out
+
+
+def predict_pose(history: list[tuple[float, np.ndarray]], t: float) -> Optional[np.ndarray]:
+    """Constant-velocity prediction of the camera-to-world pose at time `t` from the placed poses
+    `history` [(time, pose), ...] (oldest first): the relative motion between the last pose and
+    the oldest one at most `VELOCITY_WINDOW_S` before it, carried on to `t` (`screw_power`); None with fewer than two poses, no time between them, or `t`
+    more than `MAX_PREDICT_S` after the last."""
+    if len(history) < 2:
+        return None
+    t_last, last = history[-1]
+    t_ref, ref = next(((ti, P) for ti, P in history[:-1] if t_last - ti <= VELOCITY_WINDOW_S), history[-2])
+    dt = t_last - t_ref
+    if dt <= 0 or not 0 <= t - t_last <= MAX_PREDICT_S:
+        return None
+    V = np.linalg.inv(ref) @ last                 # the motion over dt, in the last camera's frame
+    return last @ screw_power(V, (t - t_last) / dt)
+
+
+class NotTracked(FrameError):
+    """A frame tracking went past (it took a newer one): not a bad frame, a skipped one."""
 
 
 class OnlinePoses:
@@ -47,8 +114,8 @@ class OnlinePoses:
     def __init__(self, source, max_depth: float = 4.0):
         self.source = source
         self.max_depth = max_depth
-        self.seq = None                               # no sequence to read again: the final graph is live
         self.poses: dict[int, np.ndarray] = {}
+        self.times: dict[int, float] = {}             # frame -> its timestamp (placed frames)
         self.lost: dict[int, str] = {}                # frame -> reason (the source's own FrameErrors too)
         self.tracked = 0
         self.restarts = 0
@@ -58,15 +125,76 @@ class OnlinePoses:
         self._keyframes: deque[View] = deque(maxlen=RELOCALISE_KEYFRAMES)
         self._last: Optional[View] = None             # the last placed frame
         self._lost_in_row = 0
+        self._history: deque[tuple[float, np.ndarray]] = deque(maxlen=16)   # (time, pose) of placed frames
+        self._held: dict[int, Frame] = {}             # frames tracked last (decoded once for both uses)
         self._lock = threading.Lock()
+        self._thread: Optional[threading.Thread] = None
+        self._stop = threading.Event()
+        self._ready = 0                               # frames the tracking thread has dealt with
+        self.error: Optional[BaseException] = None
+        self.seconds: deque[float] = deque(maxlen=10_000)   # per frame the tracking thread took (read + fit)
+
+    # -- tracking on its own thread ------------------------------------------------------------------
+    def start(self) -> None:
+        """Track on a thread of its own from now on: it always takes the newest frame that arrived
+        (the frames in between are never tracked: `NotTracked`), so tracking keeps up with the
+        camera whatever detection and publishing cost, and gaps are bridged (`_fit`); `poll()`
+        then says how many frames tracking has dealt with. A source with poses stops the thread."""
+        self._thread = threading.Thread(target=self._follow, name="sg3d-map-track", daemon=True)
+        self._thread.start()
+
+    def stop(self) -> None:
+        self._stop.set()
+        if self._thread is not None:
+            self._thread.join()
+            self._thread = None
+        if self.error is not None:
+            raise self.error
+
+    def _follow(self) -> None:
+        try:
+            while not self._stop.is_set():
+                with self._lock:
+                    n = self.source.poll()
+                    if self.posed:
+                        return                        # nothing to track: poll() passes through
+                    fresh = n - 1 >= self._next
+                    if fresh:
+                        t0 = time.perf_counter()
+                        self._track(n - 1)
+                        self._next = n
+                        self.seconds.append(time.perf_counter() - t0)
+                    self._ready = n
+                if not fresh:
+                    self._stop.wait(TRACK_POLL_S)
+        except Exception as exc:   # noqa: BLE001 - raised again on the mapping thread by stop()
+            self.error = exc
 
     # -- the LiveSource protocol ------------------------------------------------------------------
+    @property
+    def posed(self) -> bool:
+        """Whether the source carries its own poses (then nothing is tracked)."""
+        return getattr(self.source, "posed", False) is True
+
+    @property
+    def seq(self):
+        """The recording to read again at the end, when the source carries poses; else None."""
+        return self.source.seq if self.posed else None
+
+    def whole(self):
+        return self.source.whole() if self.posed else None
+
     @property
     def waiting_for(self) -> str:
         return getattr(self.source, "waiting_for", "the first frames")
 
     def poll(self) -> int:
-        return self.source.poll()
+        if self._stop.is_set() and not self.posed:
+            return self._ready                        # stopped: what tracking dealt with, no more
+        if self._thread is None or self.posed:
+            with self._lock:
+                return self.source.poll()
+        return self._ready
 
     def written_at(self, i: int) -> float:
         return self.source.written_at(i)
@@ -75,15 +203,21 @@ class OnlinePoses:
         """Frame i with its pose, tracked from the last placed frame when i is new (frames the mapper
         jumped over while behind are not tracked); FrameError "lost track: ..." when odometry could
         not place it."""
-        with self._lock:
-            if i >= self._next:          # frames the mapper jumped over are never tracked
-                self._track(i)
-                self._next = i + 1
+        if self.posed:
+            return self.source.frame(i)
+        if self._thread is None:
+            with self._lock:
+                if i >= self._next:          # frames the mapper jumped over are never tracked
+                    self._track(i)
+                    self._next = i + 1
         if i in self.lost:
             raise FrameError(self._names.get(i, f"frame {i}"), self.lost[i])
-        frame = self.source.frame(i)
+        held = self._held.pop(i, None)
+        frame = held if held is not None else self.source.frame(i)
         if i not in self.poses:
-            raise FrameError(frame.name, "not tracked: mapping went past it (it was behind the camera)")
+            if np.all(np.isfinite(frame.pose)):
+                return frame                             # it carries its own pose
+            raise NotTracked(frame.name, "not tracked: tracking went past it to a newer frame")
         frame.pose = self.poses[i]
         return frame
 
@@ -91,10 +225,13 @@ class OnlinePoses:
     def _track(self, i: int) -> None:
         try:
             frame = self.source.frame(i)
+            self._hold(frame)
             self._names[i] = frame.name
             if np.all(np.isfinite(frame.pose)):
                 self.poses[i] = frame.pose
+                self.times[i] = frame.timestamp
                 return
+            self.times[i] = frame.timestamp
             view = self._view(frame)
         except FrameError as exc:
             self._names[i] = exc.name
@@ -114,7 +251,8 @@ class OnlinePoses:
             gap_m, gap_deg = motion_gap(self.poses[key.index], pose)
             self._place(view, pose, keyframe=gap_m >= KEYFRAME_M or gap_deg >= KEYFRAME_DEG or share < KEYFRAME_INLIERS)
             return
-        if self._lost_in_row >= MAX_LOST:              # a new track from the last known pose
+        lost_for = self.times[view.index] - self.times[self._last.index]
+        if self._lost_in_row >= MAX_LOST and lost_for >= MAX_LOST_S:   # a new track from the last known pose
             self.restarts += 1
             self._keyframes.clear()
             self._place(view, self.poses[self._last.index], keyframe=True)
@@ -123,12 +261,14 @@ class OnlinePoses:
 
     def _view(self, frame: Frame) -> View:
         if self._odometry is None:
-            self._odometry = Odometry(frame.K, frame.size, self.max_depth)
+            self._odometry = Odometry(frame.K, frame.size, self.max_depth, ONLINE_WIDTH)
         return self._odometry.view(frame.index, frame.depth, frame.gray)
 
     def _fit(self, view: View) -> Optional[tuple[np.ndarray, float]]:
-        """(pose, share of its depth confirmed) from the last keyframe, the last placed frame, or
-        the recent keyframes starting from the last known pose; None (reason in `_why`)."""
+        """(pose, share of its depth confirmed) from the last keyframe (directly, then from the
+        constant-velocity prediction), the last placed frame, or the recent keyframes starting
+        from the prediction (else the last known pose); None (reason in `_why`). Cheapest first:
+        a direct fit costs ~20 ms at 320x240, one from a guess ~55 ms (it renders the view)."""
         assert self._odometry is not None and self._last is not None
         odo = self._odometry
         key = self._keyframes[-1]
@@ -136,23 +276,73 @@ class OnlinePoses:
         if fit.ok:
             return self.poses[key.index] @ fit.motion, fit.inliers
         why = f"against keyframe {key.index}: {fit.why}"
+        predicted = predict_pose(list(self._history), self.times[view.index])
+        if predicted is not None:        # a gap or a fast turn: start where the camera should be
+            fit = self._bridge(view, key, np.linalg.inv(self.poses[key.index]) @ predicted, TRACK_MIN_INLIERS)
+            if fit.ok:
+                return self.poses[key.index] @ fit.motion, fit.inliers
         if self._last.index != key.index:
             fit = odo.fit(view, self._last, TRACK_MIN_INLIERS)
             if fit.ok:
                 return self.poses[self._last.index] @ fit.motion, 0.0   # a keyframe from here on
-        last_pose = self.poses[self._last.index]
-        for kf in reversed(self._keyframes):
-            predicted = np.linalg.inv(self.poses[kf.index]) @ last_pose
-            fit = odo.fit_from(view, kf, predicted, RELOCALISE_OVERLAP, RELOCALISE_AGREEMENT)
+        start = predicted if predicted is not None else self.poses[self._last.index]
+        for kf in list(reversed(self._keyframes))[1:1 + RELOCALISE_TRIES]:
+            fit = self._bridge(view, kf, np.linalg.inv(self.poses[kf.index]) @ start, rounds=RELOCALISE_ROUNDS)
             if fit.ok:
                 return self.poses[kf.index] @ fit.motion, 0.0
-        self._why = f"lost track: not placed by odometry ({why}; nor against the last frame or {len(self._keyframes)} recent keyframes)"
+        self._why = (f"lost track: not placed by odometry ({why}; nor from the predicted pose, the last frame or "
+                     f"{min(len(self._keyframes), 1 + RELOCALISE_TRIES)} recent keyframes)")
         return None
 
     _why = ""
 
+    def _bridge(self, view: View, target: View, guess: np.ndarray, min_share: Optional[float] = None,
+                rounds: int = BRIDGE_ROUNDS) -> Fit:
+        """The motion of `view` into `target` from a `guess`: up to `rounds` fits
+        (`Odometry.fit_from`), each starting from the motion the last one reached, until one is
+        accepted: overlap `RELOCALISE_OVERLAP` and agreement `RELOCALISE_AGREEMENT` (an older
+        keyframe), or, with `min_share` (the last keyframe, as a direct fit is judged), that
+        share of the view's depth confirmed."""
+        assert self._odometry is not None
+        fit = guessed = Fit(False, guess, 0.0, float("inf"))
+        for _ in range(rounds):
+            fit = self._odometry.fit_from(view, target, guessed.motion, RELOCALISE_OVERLAP, RELOCALISE_AGREEMENT)
+            if min_share is not None and not fit.ok and fit.inliers >= min_share and np.all(np.isfinite(fit.motion)):
+                fit = Fit(True, fit.motion, fit.inliers, fit.rms)
+            if fit.ok or not np.all(np.isfinite(fit.motion)):
+                break
+            guessed = fit
+        return fit
+
+    def _hold(self, frame: Frame) -> None:
+        self._held[frame.index] = frame
+        for k in list(self._held):           # a copy: the mapping thread pops from it
+            if k < frame.index - HELD_FRAMES:
+                self._held.pop(k, None)
+
+    # -- what tracking did -------------------------------------------------------------------------
+    def summary(self) -> dict:
+        """The `--json` summary's "tracking": frames tracked ("ran"), placed, lost ("lost track"),
+        never tracked because mapping went past them ("skipped"), restarts, and the longest time
+        without a pose between two placed frames (`longest_loss_s`, by the frames' timestamps)."""
+        placed = sorted(self.poses)
+        times = [self.times[i] for i in placed if i in self.times]
+        gaps = np.diff(times) if len(times) > 1 else np.zeros(0)
+        return {"ran": self.tracked, "placed": len(placed),
+                "lost": sum(1 for r in self.lost.values() if r.startswith("lost track")),
+                "skipped": max(0, self._next - len(self._names)), "restarts": self.restarts,
+                "longest_loss_s": round(float(gaps.max()), 3) if gaps.size else 0.0,
+                "ms_mean": round(1000 * float(np.mean(self.seconds)), 1) if self.seconds else None,
+                "ms_p95": round(1000 * float(np.percentile(self.seconds, 95)), 1) if self.seconds else None}
+
+    def trajectory(self) -> tuple[list[float], np.ndarray]:
+        """(timestamps, camera-to-world poses) of the placed frames, in frame order."""
+        placed = [i for i in sorted(self.poses) if i in self.times]
+        return [self.times[i] for i in placed], np.array([self.poses[i] for i in placed]).reshape(-1, 4, 4)
+
     def _place(self, view: View, pose: np.ndarray, keyframe: bool) -> None:
         self.poses[view.index] = pose
+        self._history.append((self.times[view.index], pose))
         self._last = view
         self._lost_in_row = 0
         if keyframe:

@@ -35,15 +35,15 @@ class Fit:
     why: str = ""
 
 
-def reduce_factor(width: int) -> int:
-    return max(1, int(round(width / TARGET_WIDTH)))
+def reduce_factor(width: int, target: int = TARGET_WIDTH) -> int:
+    return max(1, int(round(width / target)))
 
 
 class Odometry:
-    """RGB-D odometry (photometric + ICP, `cv2.OdometryType_RGB_DEPTH`) at about 320 px width."""
+    """RGB-D odometry (photometric + ICP, `cv2.OdometryType_RGB_DEPTH`) at about `width` px (320)."""
 
-    def __init__(self, K: np.ndarray, size: tuple[int, int], max_depth: float = 4.0):
-        self.factor = reduce_factor(size[0])
+    def __init__(self, K: np.ndarray, size: tuple[int, int], max_depth: float = 4.0, width: int = TARGET_WIDTH):
+        self.factor = reduce_factor(size[0], width)
         self.size = (size[0] // self.factor, size[1] // self.factor)
         self.K = np.asarray(K, dtype=np.float64).copy()
         self.K[0, :] *= self.size[0] / size[0]

@@ -63,7 +63,7 @@ def path_length(poses: np.ndarray) -> float:
 
 def write_tum(path: Path, timestamps: Seq[float], poses: np.ndarray) -> None:
     """TUM RGB-D trajectory file: one line per pose, `t tx ty tz qx qy qz qw` (camera-to-world)."""
-    quats = Rotation.from_matrix(poses[:, :3, :3]).as_quat()  # x y z w
+    quats = Rotation.from_matrix(poses[:, :3, :3]).as_quat() if len(poses) else []  # x y z w
     lines = ["# timestamp tx ty tz qx qy qz qw (camera-to-world, estimated by sg3d)"]
     for t, T, q in zip(timestamps, poses, quats):
         lines.append(f"{t:.6f} " + " ".join(f"{v:.6f}" for v in (*T[:3, 3], *q)))

@@ -285,6 +285,17 @@ class Sequence:
                       size=self.image_size, source=self._source(entry), on_error=self.skip)
         return frame if lazy else frame.load()
 
+    def unposed_frame(self, i: int) -> Frame:
+        """Frame i without its pose (a NaN matrix), lazily decoded, for a recording that carries
+        none (`sg3d map` tracks it online); FrameError when its depth is of another size."""
+        entry = self._entries[i]
+        problem = self._depth_size_problem(entry)
+        if problem:
+            self.skip(entry.name, problem)
+            raise FrameError(entry.name, problem)
+        return Frame(i, None, None, self.K, np.full((4, 4), np.nan), entry.timestamp, entry.name,
+                     size=self.image_size, source=self._source(entry), on_error=self.skip)
+
 
 def _image_header_size(path: Path, decode: bool = True) -> Optional[tuple[int, int]]:
     """(width, height) of an image file from its PNG header (no decoding), else by decoding it

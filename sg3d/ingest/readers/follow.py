@@ -8,6 +8,10 @@ A frame counts as complete once a later frame exists and the recording's image s
 SIZE_PROBES images, or once the folder has not changed for `settle_s` seconds (a writer that writes colour, depth and pose one after the other is never
 caught half-way). Writers should still write each file under a temporary name and rename it:
 a half-written image is otherwise skipped as corrupt, like in any recording.
+
+A folder whose first complete frames carry no pose (no pose files, no trajectory: a bare RGB-D
+camera's recorder) is followed without poses (`posed` False): its frames come with a NaN pose
+and `sg3d.ingest.poses.online.OnlinePoses` tracks them, as `sg3d build` estimates them.
 """
 from __future__ import annotations
 
@@ -65,6 +69,7 @@ class FolderFollower:
         self._runs = MotionRuns(max_runs=MOTION_RUNS_HELD)
         self._judged = 0                       # frames before this one had their motion judged
         self._ended = False                    # `whole()` was called
+        self.posed: Optional[bool] = None      # whether the frames carry poses (decided on the first ones)
 
     def poll(self) -> int:
         """The number of complete frames (0 while the folder holds no readable sequence yet)."""
@@ -79,8 +84,12 @@ class FolderFollower:
             return 0
         n = len(self.seq)
         if now - self._changed_at >= self.settle_s:
-            return n
-        return max(0, n - 1) if self._sizes_known(self.seq) else 0
+            ready = n
+        else:
+            ready = max(0, n - 1) if self._sizes_known(self.seq) else 0
+        if ready and self.posed is None:
+            self.posed = self.seq.has_poses()
+        return ready
 
     def _reopen(self) -> None:
         from sg3d.ingest.readers import open_sequence
@@ -143,6 +152,8 @@ class FolderFollower:
     def frame(self, i: int) -> Frame:
         """Frame i, lazily decoded (FrameError when it is bad; recorded in `seq.skipped`)."""
         assert self.seq is not None
+        if self.posed is False:
+            return self.seq.unposed_frame(i)
         if self.seq._motion is self._motion:
             self._judge_motion_to(i)
         return self.seq.frame(i, lazy=True)

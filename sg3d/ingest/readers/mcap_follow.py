@@ -204,6 +204,11 @@ class McapFollower:
         return Frame(i, None, None, held.K, held.pose, held.stamp / 1e9, held.name, size=held.size,
                      source=_Pixels(held, self))
 
+    @property
+    def posed(self) -> Optional[bool]:
+        """Whether its frames carry poses (/tf or a pose topic); None until the first frames tell."""
+        return None if self.pose_mode is None else self.pose_mode != "none"
+
     def written_at(self, i: int) -> float:
         with self._lock:
             first = self._count - len(self._times)

@@ -1,0 +1,150 @@
+"""Online tracking's rules for a camera without poses (`sg3d.ingest.poses.online`) and the live
+loop's budget for it (`sg3d.ingest.live`): the constant-velocity prediction, and when mapping
+jumps to the newest frame or lets detection wait (the real odometry on real frames:
+tests/test_map_no_poses.py)."""
+from __future__ import annotations
+
+from types import SimpleNamespace
+
+import numpy as np
+from scipy.spatial.transform import Rotation
+
+from sg3d.ingest import live
+from sg3d.ingest.poses import online
+from sg3d.ingest.poses.tracking import motion_gap
+
+
+def pose(x: float = 0.0, yaw_deg: float = 0.0) -> np.ndarray:
+    T = np.eye(4)
+    T[:3, :3] = Rotation.from_euler("y", yaw_deg, degrees=True).as_matrix()
+    T[:3, 3] = (x, 0.0, 0.0)
+    return T
+
+
+def walk(n: int, dx: float, dyaw: float, dt: float = 1 / 30) -> list[tuple[float, np.ndarray]]:
+    """A camera turning and moving along its own x axis at a constant rate."""
+    out, T = [], np.eye(4)
+    for i in range(n):
+        out.append((i * dt, T))
+        T = T @ pose(dx, dyaw)
+    return out
+
+
+def test_the_prediction_carries_a_constant_motion_on():
+    history = walk(10, 0.01, 1.0)
+    t_last, last = history[-1]
+    truth = last
+    for _ in range(20):                   # 20 frames later, the same motion per frame
+        truth = truth @ pose(0.01, 1.0)
+    predicted = online.predict_pose(history, t_last + 20 / 30)
+    metres, degrees = motion_gap(truth, predicted)
+    assert metres < 0.01 and degrees < 0.1, (metres, degrees)
+
+
+def test_no_prediction_from_one_pose_or_too_far_ahead():              # MAX_PREDICT_S
+    history = walk(10, 0.01, 1.0)
+    t_last = history[-1][0]
+    assert online.predict_pose(history[:1], t_last + 0.1) is None
+    assert online.predict_pose(history, t_last + online.MAX_PREDICT_S - 0.01) is not None
+    assert online.predict_pose(history, t_last + online.MAX_PREDICT_S + 0.01) is None
+
+
+def test_the_velocity_is_the_motion_of_the_last_0_3_s():              # VELOCITY_WINDOW_S
+    # a camera at rest until 1 s, then moving 1 cm a frame: a window reaching back before the
+    # start of the motion would halve the speed
+    history = [(i / 30, np.eye(4)) for i in range(30)]
+    T = np.eye(4)
+    for i in range(30, 45):
+        T = T @ pose(0.01)
+        history.append((i / 30, T))
+    t_last, last = history[-1]
+    predicted = online.predict_pose(history, t_last + 10 / 30)
+    assert abs((np.linalg.inv(last) @ predicted)[0, 3] - 0.10) < 0.005
+    assert online.VELOCITY_WINDOW_S == 0.3
+
+
+def _mapper(tracked: bool, backlog: int, since_detect: float):
+    m = SimpleNamespace(live=True, counts=live.LiveCounts(), _last_detect=live.time.monotonic() - since_detect)
+    m.tracked = lambda: tracked
+    m.backlog = lambda: backlog
+    m.max_backlog = lambda: live.LiveMapper.max_backlog(m)
+    return m
+
+
+def test_a_tracked_source_jumps_when_more_than_2_frames_wait():        # TRACKED_BACKLOG
+    assert live.TRACKED_BACKLOG == 2
+    assert live.LiveMapper.max_backlog(_mapper(True, 0, 0)) == 2
+    assert live.LiveMapper.max_backlog(_mapper(False, 0, 0)) == live.MAX_BACKLOG
+
+
+def test_detection_waits_for_tracking_but_at_most_half_a_second():     # DETECT_EVERY_S
+    assert live.LiveMapper.may_detect(_mapper(True, 2, 0.0))           # tracking caught up
+    waiting = _mapper(True, 3, 0.4)
+    assert not live.LiveMapper.may_detect(waiting) and waiting.counts.detect_deferred == 1
+    assert live.LiveMapper.may_detect(_mapper(True, 3, 0.6))           # half a second without one
+    assert live.LiveMapper.may_detect(_mapper(False, 30, 0.0))         # poses given: no tracking to wait for
+
+
+class _Odometry:
+    """Stands in for `tracking.Odometry`: a frame fits unless it is in `bad`; no guessed fit works."""
+
+    bad: set = set()
+
+    def __init__(self, *args, **kwargs):
+        pass
+
+    def view(self, index, depth, gray):
+        return SimpleNamespace(index=index)
+
+    def fit(self, view, target, min_inliers):
+        from sg3d.ingest.poses.tracking import Fit
+
+        return Fit(view.index not in self.bad, np.eye(4), 0.9, 0.01, "no fit")
+
+    def fit_from(self, view, target, guess, min_overlap, min_agreement):
+        from sg3d.ingest.poses.tracking import Fit
+
+        return Fit(False, guess, 0.0, float("inf"), "no fit")
+
+
+class _Frames:
+    """A pose-less source: frame i at time i / fps."""
+
+    seq = None
+
+    def __init__(self, fps: float):
+        self.fps = fps
+
+    def poll(self) -> int:
+        return 1000
+
+    def written_at(self, i: int) -> float:
+        return i / self.fps
+
+    def frame(self, i: int):
+        from sg3d.ingest.readers.frames import Frame
+
+        K = np.array([[100.0, 0, 20], [0, 100.0, 15], [0, 0, 1]])
+        return Frame(i, np.zeros((30, 40, 3), np.uint8), np.ones((30, 40), np.float32), K, np.full((4, 4), np.nan),
+                     i / self.fps, f"frame-{i}")
+
+
+def _restarts(monkeypatch, fps: float, bad: range) -> int:
+    monkeypatch.setattr(online, "Odometry", _Odometry)
+    monkeypatch.setattr(_Odometry, "bad", set(bad))
+    tracker = online.OnlinePoses(_Frames(fps))
+    for i in range(bad.stop + 2):
+        try:
+            tracker.frame(i)
+        except Exception:      # noqa: BLE001 - the lost frames
+            pass
+    return tracker.restarts
+
+
+def test_a_track_restarts_after_3_lost_frames_and_2_s(monkeypatch):    # MAX_LOST, MAX_LOST_S
+    assert online.MAX_LOST == 3 and online.MAX_LOST_S == 2.0
+    # frames 0-4 placed (the last at 4 s or 0.4 s); a restart is the frame that fails after that
+    assert _restarts(monkeypatch, 1.0, range(5, 9)) == 1      # frame 8: 3 lost before it, 4 s without a pose
+    assert _restarts(monkeypatch, 1.0, range(5, 8)) == 0      # frame 8 fits again
+    assert _restarts(monkeypatch, 10.0, range(5, 25)) == 1    # frame 24: 2.0 s without a pose
+    assert _restarts(monkeypatch, 10.0, range(5, 24)) == 0    # frame 23 at 1.9 s still relocalises; 24 fits
