@@ -21,6 +21,7 @@ desk's, a table's, a counter's top):
 """
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 from typing import Callable, Optional, Sequence
 
@@ -56,6 +57,7 @@ LOWER_PLANE_SHARE = 0.5
 # and by that view's own pose error (the fused top's +-1 cm over a metre: about 1 degree); a plane
 # tilted more than MAX_TILT_DEG from the fused top's runs across things.
 MAX_TILT_DEG = 2.0
+FUSED_ITERATIONS = 2
 # A flat thing is at most this high above the top (the issue's 1-5 cm, with a centimetre for the
 # plane and the noise); what rises higher is a taller thing the voxel segments find.
 FLAT_MAX_RISE_M = 0.06
@@ -87,6 +89,9 @@ MIN_FLAT_AREA_M2 = 0.004
 # standing on the top; a box over TOP_SHARE of the top's footprint is the top's own furniture.
 TAKEN_SHARE = 0.3
 TOP_SHARE = 0.5
+# A flat thing's extent: its lying pixels from this percentile to 100 less it (the extremes are
+# mixed pixels at its rim).
+EXTENT_PERCENTILE = 1.0
 # The height stored for a flat thing is at least a depth quantum above the top.
 MIN_HEIGHT_M = 0.005
 
@@ -113,34 +118,48 @@ def colour_distance(lab: np.ndarray, reference: np.ndarray) -> np.ndarray:
 @dataclass
 class ViewGrid:
     """One view's small depth grid in the gravity frame: points (H x W x 3, NaN where no depth),
-    range z, the pixels beside a depth jump, and those whose surface faces up."""
+    range z and the (a, b) box of its points; the pixels beside a depth jump (`depth_jumps`) and
+    those whose surface faces up (`faces_up`) worked out when first asked (for the views that see a top)."""
 
     k: int
     points: np.ndarray
     z: np.ndarray
-    jump: np.ndarray
-    up: np.ndarray
+    lo: np.ndarray
+    hi: np.ndarray
+
+    @functools.cached_property
+    def jump(self) -> np.ndarray:
+        return depth_jumps(self.z)
+
+    @functools.cached_property
+    def up(self) -> np.ndarray:
+        return faces_up(self.points)
 
 
 def view_grid(k: int, cloud: RoomCloud) -> ViewGrid:
-    """The gravity-frame points of view k's small depth grid (`room_cloud.grid_points`), and the
-    pixels next to a depth jump larger than the normals' (NORMAL_JUMP_REL * z + NORMAL_JUMP_M):
-    flying pixels between a thing and what lies behind it."""
-    view = cloud.views[k]
-    pts, d = grid_points(view, cloud.basis, cloud.floor)
+    """The gravity-frame points of view k's small depth grid (`room_cloud.grid_points`)."""
+    pts, d = grid_points(cloud.views[k], cloud.basis, cloud.floor)
     valid = d > 0
     pts = np.where(valid[..., None], pts, np.nan)
+    ab = pts[valid][:, :2]
+    lo, hi = (ab.min(axis=0), ab.max(axis=0)) if len(ab) else (np.full(2, np.inf), np.full(2, -np.inf))
+    return ViewGrid(k, pts, d, lo, hi)
+
+
+def depth_jumps(d: np.ndarray) -> np.ndarray:
+    """The pixels of a depth grid (0 = none) next to a depth jump larger than the normals'
+    (room_cloud: NORMAL_JUMP_REL * z + NORMAL_JUMP_M), grown by a pixel: flying pixels between a
+    thing and what lies behind it. A hole is no jump: depth is missing there, not far."""
+    valid = d > 0
     far = np.zeros_like(valid)
     tol = NORMAL_JUMP_REL * d + NORMAL_JUMP_M
-    # a hole is no jump: depth is missing there, not far
     across = (np.abs(np.diff(d, axis=1)) > np.minimum(tol[:, 1:], tol[:, :-1])) & valid[:, 1:] & valid[:, :-1]
     far[:, 1:] |= across
     far[:, :-1] |= across
     down = (np.abs(np.diff(d, axis=0)) > np.minimum(tol[1:], tol[:-1])) & valid[1:] & valid[:-1]
     far[1:] |= down
     far[:-1] |= down
-    far = cv2.dilate(far.astype(np.uint8), np.ones((3, 3), np.uint8)).astype(bool)
-    return ViewGrid(k, pts, d, far, faces_up(pts))
+    return cv2.dilate(far.astype(np.uint8), np.ones((3, 3), np.uint8)).astype(bool)
 
 
 def faces_up(pts: np.ndarray) -> np.ndarray:
@@ -157,26 +176,47 @@ def faces_up(pts: np.ndarray) -> np.ndarray:
     return out
 
 
-def over_top(el: Element, pts: np.ndarray) -> np.ndarray:
-    """Mask of the points (... x 3, NaN allowed) whose (a, b) lie over the top's footprint grown by
-    one of its cells (its edge cells were seen by fewer views: a phone at the edge of a desk)."""
-    assert el.footprint is not None and el.origin is not None
-    ab = np.nan_to_num(pts[..., :2], nan=-1e6)
-    cells = np.floor((ab - el.origin) / SURFACE_CELL_M).astype(np.int64) + 1
-    fp = ndimage.binary_dilation(np.pad(el.footprint, 1))
-    inside = (cells[..., 0] >= 0) & (cells[..., 1] >= 0) & (cells[..., 0] < fp.shape[0]) & (cells[..., 1] < fp.shape[1])
-    out = np.zeros(inside.shape, bool)
-    out[inside] = fp[cells[..., 0][inside], cells[..., 1][inside]]
+def grown_footprint(el: Element) -> np.ndarray:
+    """The top's footprint grown by one of its cells all round (its edge cells were seen by fewer
+    views: a phone at the edge of a desk); cell [0, 0] lies one cell before `el.origin`."""
+    assert el.footprint is not None
+    return ndimage.binary_dilation(np.pad(el.footprint, 1))
+
+
+def over_top(el: Element, pts: np.ndarray, grown: Optional[np.ndarray] = None) -> np.ndarray:
+    """Mask of the points (... x 3, NaN allowed) whose (a, b) lie over the top's grown footprint
+    (`grown_footprint`, computed when not given)."""
+    assert el.origin is not None
+    fp = grown_footprint(el) if grown is None else grown
+    start = el.origin - SURFACE_CELL_M
+    with np.errstate(invalid="ignore"):
+        near = ((pts[..., 0] >= start[0]) & (pts[..., 1] >= start[1])
+                & (pts[..., 0] < start[0] + fp.shape[0] * SURFACE_CELL_M)
+                & (pts[..., 1] < start[1] + fp.shape[1] * SURFACE_CELL_M))
+    out = np.zeros(near.shape, bool)
+    cells = np.floor((pts[near][:, :2] - start) / SURFACE_CELL_M).astype(np.int64)
+    cells = np.minimum(cells, np.array(fp.shape) - 1)
+    out[near] = fp[cells[:, 0], cells[:, 1]]
     return out
 
 
 def fused_plane(el: Element, cloud: RoomCloud) -> np.ndarray:
     """The top's plane h = c0 a + c1 b + c2 in the fused cloud: least squares over its points
-    (within SURFACE_SLAB_M of its level over its footprint); level at its height when too few."""
-    pts = cloud.points[el.contains(cloud.points, SURFACE_SLAB_M)]
-    if len(pts) < MIN_TOP_PIXELS:
-        return np.array([0.0, 0.0, el.height])
-    return np.linalg.lstsq(np.c_[pts[:, :2], np.ones(len(pts))], pts[:, 2], rcond=None)[0]
+    over its grown footprint (`over_top`) within SURFACE_SLAB_M of its level, then again
+    FUSED_ITERATIONS times within SURFACE_SLAB_M of the plane fitted (a top tilted in the
+    gravity frame leaves the level's slab at its ends: cut so, it fits too level); level at its
+    height when too few points."""
+    band = np.abs(cloud.points[:, 2] - el.height) <= 3 * SURFACE_SLAB_M
+    idx = np.flatnonzero(band)
+    idx = idx[over_top(el, cloud.points[idx])]
+    pts = cloud.points[idx]
+    coef = np.array([0.0, 0.0, el.height])
+    for _ in range(FUSED_ITERATIONS + 1):
+        near = pts[np.abs(pts[:, 2] - plane_height(coef, pts)) <= SURFACE_SLAB_M]
+        if len(near) < MIN_TOP_PIXELS:
+            break
+        coef = np.linalg.lstsq(np.c_[near[:, :2], np.ones(len(near))], near[:, 2], rcond=None)[0]
+    return coef
 
 
 def plane_height(plane: np.ndarray, ab: np.ndarray) -> np.ndarray:
@@ -189,14 +229,19 @@ def top_views(el: Element, grids: Sequence[ViewGrid], plane: np.ndarray) -> list
     within SURFACE_SLAB_M of its fused plane (`fused_plane`), most first, at most MAX_TOP_VIEWS; each with its mask
     of the pixels over the footprint."""
     ranked = []
+    grown = grown_footprint(el)
     for g in grids:
-        over = over_top(el, g.points)
-        on = over & (np.abs(np.nan_to_num(g.points[..., 2] - plane_height(plane, g.points), nan=1e6)) <= SURFACE_SLAB_M)
-        n = int(on.sum())
+        if (g.hi < el.lo[:2] - SURFACE_CELL_M).any() or (g.lo > el.hi[:2] + SURFACE_CELL_M).any():
+            continue                  # the view looks elsewhere
+        # counted on every other pixel each way: a quarter of them
+        sub = g.points[::2, ::2]
+        on = over_top(el, sub, grown) & (np.abs(np.nan_to_num(sub[..., 2] - plane_height(plane, sub), nan=1e6))
+                                         <= SURFACE_SLAB_M)
+        n = 4 * int(on.sum())
         if n >= MIN_TOP_PIXELS:
-            ranked.append((n, g.k, g, over))
+            ranked.append((n, g.k, g))
     ranked.sort(key=lambda t: (-t[0], t[1]))
-    return [(g, over) for _, _, g, over in ranked[:MAX_TOP_VIEWS]]
+    return [(g, over_top(el, g.points, grown)) for _, _, g in ranked[:MAX_TOP_VIEWS]]
 
 
 def plane_hypotheses(pts: np.ndarray, z: np.ndarray, tilt: np.ndarray) -> list[tuple[np.ndarray, np.ndarray]]:
@@ -303,7 +348,7 @@ class TopCells:
     seen: np.ndarray              # views that saw the cell (flat or lying)
     lying: np.ndarray             # views that found it lying
     tall: np.ndarray              # views that saw something taller there
-    points: np.ndarray            # N x 4 lying pixels: a, b, rise, view position
+    points: np.ndarray            # N x 5 lying pixels: a, b, rise, view position, pixel footprint (m)
     views: dict                   # view position -> lying cells it saw (flat index -> count)
 
 
@@ -342,8 +387,8 @@ def fused_cells(el: Element, verdicts: Sequence[tuple[int, np.ndarray, Lying, fl
         idx = _cell_index(pts[v.lying][:, :2], origin, shape)
         views[k] = np.bincount(idx[idx >= 0], minlength=n)
         lying_n = int(v.lying.sum())
-        kept.append(np.c_[pts[v.lying][:, :2], v.rise[v.lying], np.full(lying_n, k)])
-    points = np.concatenate(kept) if kept else np.zeros((0, 4))
+        kept.append(np.c_[pts[v.lying][:, :2], v.rise[v.lying], np.full(lying_n, k), np.full(lying_n, pixel_m)])
+    points = np.concatenate(kept) if kept else np.zeros((0, 5))
     return TopCells(origin, seen.reshape(shape), lying.reshape(shape), tall.reshape(shape), points, views)
 
 
@@ -380,8 +425,8 @@ def already_taken(member: np.ndarray, origin: np.ndarray, taken: Sequence[tuple[
 
 
 def region_segment(plane: np.ndarray, cells: TopCells, member: np.ndarray) -> Optional[Segment]:
-    """A lying region (cells (i, j)) as a flat segment ON the top: its footprint its cells' extent,
-    its bottom on the top's fused plane at its centre, its height their median
+    """A lying region (cells (i, j)) as a flat segment ON the top: its footprint the extent of its
+    lying pixels (EXTENT_PERCENTILE in from each end, half a pixel out), its bottom on the top's fused plane at its centre, its height their median
     rise (at least MIN_HEIGHT_M); voxels on its upper face at its cells' centres; the views that
     found most of it lying first. None when the footprint is no flat thing's (`flat_size`)."""
     shape = cells.seen.shape
@@ -390,8 +435,11 @@ def region_segment(plane: np.ndarray, cells: TopCells, member: np.ndarray) -> Op
     pts = cells.points[np.isin(idx, flat)]
     if len(pts) < MIN_LYING_VIEWS:
         return None
-    a_lo = cells.origin + member.min(axis=0) * FLAT_CELL_M
-    a_hi = cells.origin + (member.max(axis=0) + 1) * FLAT_CELL_M
+    # its pixels' centres lie half a pixel inside its edges; the extreme EXTENT_PERCENTILE are
+    # mixed pixels at its rim (its colour bled into the top's)
+    pad = 0.5 * float(np.median(pts[:, 4]))
+    a_lo = np.percentile(pts[:, :2], EXTENT_PERCENTILE, axis=0) - pad
+    a_hi = np.percentile(pts[:, :2], 100 - EXTENT_PERCENTILE, axis=0) + pad
     if not flat_size(*(a_hi - a_lo)):
         return None
     height = max(MIN_HEIGHT_M, float(np.median(pts[:, 2])))
@@ -444,16 +492,16 @@ def stands_on(lo: np.ndarray, hi: np.ndarray, el: Element) -> bool:
 
 
 def things_on_top(el: Element, cloud: RoomCloud, grids: Sequence[ViewGrid],
-                  colour_image: Callable[[int], Optional[np.ndarray]],
+                  lab_of: Callable[[int], Optional[np.ndarray]],
                   taken: Sequence[tuple[np.ndarray, np.ndarray]]) -> list[Segment]:
     """The flat things lying on one top: each view that sees it well (`top_views`) gives its
     verdict (`lying_pixels`), the verdicts are fused on the top's cells (`fused_cells`) and cut
-    into regions (`flat_regions`). Only `taken` boxes standing on this top count (`stands_on`)."""
+    into regions (`flat_regions`). Only `taken` boxes standing on this top count (`stands_on`).
+    `lab_of(k)`: view k's colour on its small grid in CIELAB (`small_lab`), or None."""
     verdicts = []
     plane = fused_plane(el, cloud)
     for g, over in top_views(el, grids, plane):
-        image = colour_image(cloud.views[g.k].index)
-        v = lying_pixels(plane, g, over, small_lab(image, g.z.shape))
+        v = lying_pixels(plane, g, over, lab_of(g.k))
         if v is not None:
             verdicts.append((g.k, g.points, v, pixel_footprint(cloud.views[g.k], g.z[over & (g.z > 0)])))
     if len(verdicts) < MIN_LYING_VIEWS:
@@ -469,4 +517,11 @@ def flat_things(tops: Sequence[Element], cloud: RoomCloud, colour_image: Callabl
         return []
     # a view without depth shows no top
     grids = [view_grid(k, cloud) for k, view in enumerate(cloud.views) if np.any(view.depth > 0)]
-    return [seg for el in tops if el.footprint is not None for seg in things_on_top(el, cloud, grids, colour_image, taken)]
+    labs: dict[int, Optional[np.ndarray]] = {}        # each view's colour is read once for all tops
+
+    def lab_of(k: int) -> Optional[np.ndarray]:
+        if k not in labs:
+            labs[k] = small_lab(colour_image(cloud.views[k].index), cloud.views[k].depth.shape)
+        return labs[k]
+
+    return [seg for el in tops if el.footprint is not None for seg in things_on_top(el, cloud, grids, lab_of, taken)]

@@ -56,7 +56,8 @@ def _things_found(things, centres, offsets=None, taken=()):
     views = [v for v, _ in rendered]
     cloud = room_cloud(views, (0.0, 0.0, 1.0), 0.0)
     grids = [ft.view_grid(k, cloud) for k in range(len(views))]
-    return ft.things_on_top(_top(), cloud, grids, lambda index: rendered[index][1], list(taken))
+    return ft.things_on_top(_top(), cloud, grids, lambda k: ft.small_lab(rendered[k][1], views[k].depth.shape),
+                            list(taken))
 
 
 CENTRES = [(0.45, 0.3), (0.55, 0.3), (0.65, 0.3), (0.5, 0.25), (0.6, 0.35), (0.55, 0.28)]
@@ -148,7 +149,7 @@ def test_faces_up_on_a_level_grid_not_on_a_wall():
 def _cells(lying, seen, tall=None):
     shape = np.shape(lying)
     return ft.TopCells(np.zeros(2), np.asarray(seen), np.asarray(lying),
-                       np.zeros(shape, int) if tall is None else np.asarray(tall), np.zeros((0, 4)), {})
+                       np.zeros(shape, int) if tall is None else np.asarray(tall), np.zeros((0, 5)), {})
 
 
 def test_a_cell_lies_when_enough_views_and_their_share_say_so():
