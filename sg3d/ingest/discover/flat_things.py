@@ -118,14 +118,12 @@ def colour_distance(lab: np.ndarray, reference: np.ndarray) -> np.ndarray:
 @dataclass
 class ViewGrid:
     """One view's small depth grid in the gravity frame: points (H x W x 3, NaN where no depth),
-    range z and the (a, b) box of its points; the pixels beside a depth jump (`depth_jumps`) and
+    range z; the pixels beside a depth jump (`depth_jumps`) and
     those whose surface faces up (`faces_up`) worked out when first asked (for the views that see a top)."""
 
     k: int
     points: np.ndarray
     z: np.ndarray
-    lo: np.ndarray
-    hi: np.ndarray
 
     @functools.cached_property
     def jump(self) -> np.ndarray:
@@ -140,10 +138,7 @@ def view_grid(k: int, cloud: RoomCloud) -> ViewGrid:
     """The gravity-frame points of view k's small depth grid (`room_cloud.grid_points`)."""
     pts, d = grid_points(cloud.views[k], cloud.basis, cloud.floor)
     valid = d > 0
-    pts = np.where(valid[..., None], pts, np.nan)
-    ab = pts[valid][:, :2]
-    lo, hi = (ab.min(axis=0), ab.max(axis=0)) if len(ab) else (np.full(2, np.inf), np.full(2, -np.inf))
-    return ViewGrid(k, pts, d, lo, hi)
+    return ViewGrid(k, np.where(valid[..., None], pts, np.nan), d)
 
 
 def depth_jumps(d: np.ndarray) -> np.ndarray:
@@ -200,23 +195,30 @@ def over_top(el: Element, pts: np.ndarray, grown: Optional[np.ndarray] = None) -
     return out
 
 
-def fused_plane(el: Element, cloud: RoomCloud) -> np.ndarray:
-    """The top's plane h = c0 a + c1 b + c2 in the fused cloud: least squares over its points
-    over its grown footprint (`over_top`) within SURFACE_SLAB_M of its level, then again
-    FUSED_ITERATIONS times within SURFACE_SLAB_M of the plane fitted (a top tilted in the
-    gravity frame leaves the level's slab at its ends: cut so, it fits too level); level at its
-    height when too few points."""
-    band = np.abs(cloud.points[:, 2] - el.height) <= 3 * SURFACE_SLAB_M
-    idx = np.flatnonzero(band)
-    idx = idx[over_top(el, cloud.points[idx])]
-    pts = cloud.points[idx]
+def top_points(el: Element, cloud: RoomCloud) -> np.ndarray:
+    """Indices of the cloud's points over the top's grown footprint (`over_top`) within
+    3 SURFACE_SLAB_M of its level: where its plane is looked for."""
+    p = cloud.points
+    lo, hi = el.lo[:2] - SURFACE_CELL_M, el.hi[:2] + SURFACE_CELL_M
+    idx = np.flatnonzero((np.abs(p[:, 2] - el.height) <= 3 * SURFACE_SLAB_M) & (p[:, 0] >= lo[0]) & (p[:, 0] <= hi[0])
+                         & (p[:, 1] >= lo[1]) & (p[:, 1] <= hi[1]))
+    return idx[over_top(el, p[idx])]
+
+
+def fused_plane(el: Element, pts: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The top's plane h = c0 a + c1 b + c2 in the fused cloud (`pts`: its `top_points`): least
+    squares over those within SURFACE_SLAB_M of its level, then again FUSED_ITERATIONS times
+    within SURFACE_SLAB_M of the plane fitted (a top tilted in the gravity frame leaves the
+    level's slab at its ends: cut so, it fits too level); level at its height when too few
+    points. Returns the plane and the mask of the points within SURFACE_SLAB_M of it."""
     coef = np.array([0.0, 0.0, el.height])
+    near = np.abs(pts[:, 2] - el.height) <= SURFACE_SLAB_M
     for _ in range(FUSED_ITERATIONS + 1):
-        near = pts[np.abs(pts[:, 2] - plane_height(coef, pts)) <= SURFACE_SLAB_M]
-        if len(near) < MIN_TOP_PIXELS:
+        if int(near.sum()) < MIN_TOP_PIXELS:
             break
-        coef = np.linalg.lstsq(np.c_[near[:, :2], np.ones(len(near))], near[:, 2], rcond=None)[0]
-    return coef
+        coef = np.linalg.lstsq(np.c_[pts[near, :2], np.ones(int(near.sum()))], pts[near, 2], rcond=None)[0]
+        near = np.abs(pts[:, 2] - plane_height(coef, pts)) <= SURFACE_SLAB_M
+    return coef, near
 
 
 def plane_height(plane: np.ndarray, ab: np.ndarray) -> np.ndarray:
@@ -224,24 +226,13 @@ def plane_height(plane: np.ndarray, ab: np.ndarray) -> np.ndarray:
     return ab[..., 0] * plane[0] + ab[..., 1] * plane[1] + plane[2]
 
 
-def top_views(el: Element, grids: Sequence[ViewGrid], plane: np.ndarray) -> list[tuple[ViewGrid, np.ndarray]]:
-    """Rule "seen well": the views with at least MIN_TOP_PIXELS pixels over the top's footprint
-    within SURFACE_SLAB_M of its fused plane (`fused_plane`), most first, at most MAX_TOP_VIEWS; each with its mask
-    of the pixels over the footprint."""
-    ranked = []
-    grown = grown_footprint(el)
-    for g in grids:
-        if (g.hi < el.lo[:2] - SURFACE_CELL_M).any() or (g.lo > el.hi[:2] + SURFACE_CELL_M).any():
-            continue                  # the view looks elsewhere
-        # counted on every other pixel each way: a quarter of them
-        sub = g.points[::2, ::2]
-        on = over_top(el, sub, grown) & (np.abs(np.nan_to_num(sub[..., 2] - plane_height(plane, sub), nan=1e6))
-                                         <= SURFACE_SLAB_M)
-        n = 4 * int(on.sum())
-        if n >= MIN_TOP_PIXELS:
-            ranked.append((n, g.k, g))
-    ranked.sort(key=lambda t: (-t[0], t[1]))
-    return [(g, over_top(el, g.points, grown)) for _, _, g in ranked[:MAX_TOP_VIEWS]]
+def top_views(frames: np.ndarray, n_views: int) -> list[int]:
+    """Rule "seen well": the views (positions) with at least MIN_TOP_PIXELS of their small-grid
+    points on the top (`frames`: the view of each of the top's fused points within
+    SURFACE_SLAB_M of its plane), most first, at most MAX_TOP_VIEWS."""
+    counts = np.bincount(frames, minlength=n_views)
+    ranked = sorted((int(-c), k) for k, c in enumerate(counts) if c >= MIN_TOP_PIXELS)
+    return [k for _, k in ranked[:MAX_TOP_VIEWS]]
 
 
 def plane_hypotheses(pts: np.ndarray, z: np.ndarray, tilt: np.ndarray) -> list[tuple[np.ndarray, np.ndarray]]:
@@ -491,19 +482,25 @@ def stands_on(lo: np.ndarray, hi: np.ndarray, el: Element) -> bool:
             and area < TOP_SHARE * top)
 
 
-def things_on_top(el: Element, cloud: RoomCloud, grids: Sequence[ViewGrid],
-                  lab_of: Callable[[int], Optional[np.ndarray]],
+def things_on_top(el: Element, cloud: RoomCloud, lab_of: Callable[[int], Optional[np.ndarray]],
                   taken: Sequence[tuple[np.ndarray, np.ndarray]]) -> list[Segment]:
     """The flat things lying on one top: each view that sees it well (`top_views`) gives its
-    verdict (`lying_pixels`), the verdicts are fused on the top's cells (`fused_cells`) and cut
-    into regions (`flat_regions`). Only `taken` boxes standing on this top count (`stands_on`).
-    `lab_of(k)`: view k's colour on its small grid in CIELAB (`small_lab`), or None."""
+    verdict (`lying_pixels`) on its small grid (`view_grid`), the verdicts are fused on the
+    top's cells (`fused_cells`) and cut into regions (`flat_regions`). Only `taken` boxes
+    standing on this top count (`stands_on`). `lab_of(k)`: view k's colour on its small grid
+    in CIELAB (`small_lab`), or None."""
+    idx = top_points(el, cloud)
+    plane, near = fused_plane(el, cloud.points[idx])
+    grown = grown_footprint(el)
     verdicts = []
-    plane = fused_plane(el, cloud)
-    for g, over in top_views(el, grids, plane):
-        v = lying_pixels(plane, g, over, lab_of(g.k))
+    for k in top_views(cloud.frame[idx[near]], len(cloud.views)):
+        if not np.any(cloud.views[k].depth > 0):
+            continue                  # a view without depth shows no top
+        g = view_grid(k, cloud)
+        over = over_top(el, g.points, grown)
+        v = lying_pixels(plane, g, over, lab_of(k))
         if v is not None:
-            verdicts.append((g.k, g.points, v, pixel_footprint(cloud.views[g.k], g.z[over & (g.z > 0)])))
+            verdicts.append((k, g.points, v, pixel_footprint(cloud.views[k], g.z[over & (g.z > 0)])))
     if len(verdicts) < MIN_LYING_VIEWS:
         return []
     on_top = [(lo, hi) for lo, hi in taken if stands_on(lo, hi, el)]
@@ -513,10 +510,6 @@ def things_on_top(el: Element, cloud: RoomCloud, grids: Sequence[ViewGrid],
 def flat_things(tops: Sequence[Element], cloud: RoomCloud, colour_image: Callable[[int], Optional[np.ndarray]],
                 taken: Sequence[tuple[np.ndarray, np.ndarray]]) -> list[Segment]:
     """The flat things lying on every top (`things_on_top`), from the views' own depth and colour."""
-    if not tops:
-        return []
-    # a view without depth shows no top
-    grids = [view_grid(k, cloud) for k, view in enumerate(cloud.views) if np.any(view.depth > 0)]
     labs: dict[int, Optional[np.ndarray]] = {}        # each view's colour is read once for all tops
 
     def lab_of(k: int) -> Optional[np.ndarray]:
@@ -524,4 +517,4 @@ def flat_things(tops: Sequence[Element], cloud: RoomCloud, colour_image: Callabl
             labs[k] = small_lab(colour_image(cloud.views[k].index), cloud.views[k].depth.shape)
         return labs[k]
 
-    return [seg for el in tops if el.footprint is not None for seg in things_on_top(el, cloud, grids, lab_of, taken)]
+    return [seg for el in tops if el.footprint is not None for seg in things_on_top(el, cloud, lab_of, taken)]

@@ -55,9 +55,7 @@ def _things_found(things, centres, offsets=None, taken=()):
     rendered = [_view(k, c, things, off, seed=k) for k, (c, off) in enumerate(zip(centres, offsets))]
     views = [v for v, _ in rendered]
     cloud = room_cloud(views, (0.0, 0.0, 1.0), 0.0)
-    grids = [ft.view_grid(k, cloud) for k in range(len(views))]
-    return ft.things_on_top(_top(), cloud, grids, lambda k: ft.small_lab(rendered[k][1], views[k].depth.shape),
-                            list(taken))
+    return ft.things_on_top(_top(), cloud, lambda k: ft.small_lab(rendered[k][1], views[k].depth.shape), list(taken))
 
 
 CENTRES = [(0.45, 0.3), (0.55, 0.3), (0.65, 0.3), (0.5, 0.25), (0.6, 0.35), (0.55, 0.28)]
