@@ -47,7 +47,7 @@ import numpy as np
 
 from sg3d.core.geometry import FLOOR_STANDING_LABELS
 from sg3d.core.model import HIST_SIZE, UNNAMED_LABEL, ObjectObservation, vec3
-from sg3d.ingest.discover import furniture, outside
+from sg3d.ingest.discover import flat_things, furniture, outside
 from sg3d.ingest.discover.room_cloud import RoomCloud
 from sg3d.ingest.discover.segments import (
     GOOD_VIEWS,
@@ -725,6 +725,9 @@ def discover(named: list[ObjectObservation], cloud: RoomCloud, structure: Sequen
             if part is seg or not part_of_another(part, whole=False):
                 pieces.append((part, unnamed_object("u", part, cloud, colour_image, screens)))
     pieces = rejoin_sheets(pieces, lambda seg: unnamed_object("u", seg, cloud, colour_image, screens))
+    found = boxes + [(seg.lo, seg.hi) for seg, _ in pieces]
+    pieces += [(seg, unnamed_object("u", seg, cloud, colour_image, screens))
+               for seg in flat_things.flat_things(surfaces, cloud, colour_image, found)]
     for _, obj in pieces:
         unnamed.append(replace(obj, local_id=f"u{len(unnamed)}"))
     left = [e for e in structure if e.label != "front" and id(e) not in owned]

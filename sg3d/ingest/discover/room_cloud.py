@@ -47,9 +47,8 @@ class RoomCloud:
         return q @ self.basis
 
 
-def view_points(view, basis: np.ndarray, floor: float) -> tuple[np.ndarray, np.ndarray]:
-    """Eq. 8 on a view's small depth grid: gravity-frame points and unit normals (zero where a
-    neighbour lies across a depth jump or has no depth)."""
+def camera_grid(view) -> tuple[np.ndarray, np.ndarray]:
+    """Eq. 8 on a view's small depth grid: camera-frame points (H x W x 3) and the depth (H x W)."""
     d = view.depth.astype(np.float64)
     h, w = d.shape
     fx = view.size[0] / w
@@ -58,11 +57,30 @@ def view_points(view, basis: np.ndarray, floor: float) -> tuple[np.ndarray, np.n
     v, u = np.mgrid[0:h, 0:w]
     uu = (u + 0.5) * fx - 0.5
     vv = (v + 0.5) * fy - 0.5
-    cam = np.stack([(uu - K[0, 2]) / K[0, 0] * d, (vv - K[1, 2]) / K[1, 1] * d, d], axis=-1)
+    return np.stack([(uu - K[0, 2]) / K[0, 0] * d, (vv - K[1, 2]) / K[1, 1] * d, d], axis=-1), d
+
+
+def grid_points(view, basis: np.ndarray, floor: float) -> tuple[np.ndarray, np.ndarray]:
+    """A view's small depth grid as gravity-frame points (H x W x 3, h above `floor`; garbage
+    where the depth is 0) and its depth (H x W)."""
+    cam, d = camera_grid(view)
+    return to_gravity(cam, view, basis, floor), d
+
+
+def to_gravity(cam: np.ndarray, view, basis: np.ndarray, floor: float) -> np.ndarray:
+    """Camera-frame points of a view -> gravity-frame points (h above `floor`)."""
     R, t = view.pose[:3, :3], view.pose[:3, 3]
-    world = cam @ R.T + t
-    local = world @ basis.T
+    local = (cam @ R.T + t) @ basis.T
     local[..., 2] -= floor
+    return local
+
+
+def view_points(view, basis: np.ndarray, floor: float) -> tuple[np.ndarray, np.ndarray]:
+    """Eq. 8 on a view's small depth grid: gravity-frame points and unit normals (zero where a
+    neighbour lies across a depth jump or has no depth)."""
+    cam, d = camera_grid(view)
+    R = view.pose[:3, :3]
+    local = to_gravity(cam, view, basis, floor)
     normals = np.zeros_like(local)
     dx = cam[1:-1, 2:] - cam[1:-1, :-2]
     dy = cam[2:, 1:-1] - cam[:-2, 1:-1]
