@@ -377,10 +377,11 @@ def _structure_relations(objects: list[ObjectObservation], up) -> list[RelationO
 
 
 def sequence_colour(seq) -> Callable[[int], Optional[np.ndarray]]:
-    """Frame index -> its colour image read again from `seq` (None when it cannot be read)."""
+    """Frame index -> its colour image read again from `seq` (None when it cannot be read): the
+    colour file only, its depth left undecoded (discovery reads colour again for tens of views)."""
     def colour(index: int) -> Optional[np.ndarray]:
         try:
-            return seq.frame(index).color
+            return seq.frame(index, lazy=True).color
         except FrameError:
             return None
     return colour
