@@ -47,10 +47,10 @@ MAX_WALLS = 10
 # A wall's face is a large flat area, however many pixels saw it: the fitted plane's points
 # cover at least WALL_FIT_MIN_AREA_M2 of FILL_CELL_M cells (a metre square: a wall the camera
 # walked past shows metres of it, a strip of furniture front seen between things far less).
-# Point normals from noisy depth spread a wall's votes over many angle bins; their mean direction agrees with the fitted plane within
-# WALL_NORMAL_AGREE_DEG (a line crossing a wall at a slant does not). A fitted plane within
-# WALL_SAME_DEG and WALL_SAME_M of a wall found before is that wall (walls of one room are
-# never parallel and this close).
+# Point normals from noisy depth spread a wall's votes over many angle bins; their mean
+# direction agrees with the fitted plane within WALL_NORMAL_AGREE_DEG (a line crossing a wall at
+# a slant does not). A fitted plane within WALL_SAME_DEG and WALL_SAME_M of a wall found before
+# is that wall (walls of one room are never parallel and this close).
 WALL_FIT_MIN_AREA_M2 = 1.0
 WALL_FIT_MIN_VOTES = 30
 WALL_FIT_CANDIDATES = 40
@@ -215,6 +215,21 @@ def plane_fill(along: np.ndarray, height: np.ndarray) -> float:
     return float(len(np.unique(cells.astype(int), axis=0)) / max(total, 1.0))
 
 
+def plane_votes(q: np.ndarray, nq: np.ndarray) -> tuple[np.ndarray, float]:
+    """The Hough vote of vertical points for the planes through them: each point votes for the
+    plane of its own normal's horizontal direction (WALL_ANGLE_BIN_DEG bins) through it (offset
+    in WALL_OFFSET_BIN_M bins from the least offset, returned), summed over 3 x 3 bins."""
+    theta = np.mod(np.arctan2(nq[:, 1], nq[:, 0]), np.pi)
+    rho = q[:, 0] * np.cos(theta) + q[:, 1] * np.sin(theta)
+    tbin = np.floor(np.degrees(theta) / WALL_ANGLE_BIN_DEG).astype(int)
+    rmin = float(rho.min())
+    rbin = np.floor((rho - rmin) / WALL_OFFSET_BIN_M).astype(int)
+    nt = int(180 / WALL_ANGLE_BIN_DEG)
+    acc = np.zeros((nt, rbin.max() + 3))
+    np.add.at(acc, (tbin % nt, rbin), 1)
+    return ndimage.uniform_filter(acc, size=(3, 3), mode=("wrap", "constant")) * 9, rmin
+
+
 def walls(cloud: RoomCloud) -> list[Element]:
     """Rule "wall": the strongest vertical planes of a Hough vote (horizontal normal angle in
     WALL_ANGLE_BIN_DEG bins, offset in WALL_OFFSET_BIN_M bins) whose points span at least
@@ -226,15 +241,7 @@ def walls(cloud: RoomCloud) -> list[Element]:
     if np.count_nonzero(vert) < 500:
         return []
     q, nq = p[vert], n[vert]
-    theta = np.mod(np.arctan2(nq[:, 1], nq[:, 0]), np.pi)
-    rho = q[:, 0] * np.cos(theta) + q[:, 1] * np.sin(theta)
-    tbin = np.floor(np.degrees(theta) / WALL_ANGLE_BIN_DEG).astype(int)
-    rmin = float(rho.min())
-    rbin = np.floor((rho - rmin) / WALL_OFFSET_BIN_M).astype(int)
-    nt = int(180 / WALL_ANGLE_BIN_DEG)
-    acc = np.zeros((nt, rbin.max() + 3))
-    np.add.at(acc, (tbin % nt, rbin), 1)
-    acc = ndimage.uniform_filter(acc, size=(3, 3), mode=("wrap", "constant")) * 9
+    acc, rmin = plane_votes(q, nq)
     cams = np.array([v.pose[:3, 3] @ cloud.basis.T for v in cloud.views])
     out: list[Element] = []
     taken = np.zeros(len(q), bool)
@@ -315,18 +322,6 @@ def seen_face_area(along: np.ndarray, height: np.ndarray) -> float:
     return len(np.unique(cells, axis=0)) * FILL_CELL_M ** 2
 
 
-def _vote(q: np.ndarray, nq: np.ndarray) -> tuple[np.ndarray, float]:
-    theta = np.mod(np.arctan2(nq[:, 1], nq[:, 0]), np.pi)
-    rho = q[:, 0] * np.cos(theta) + q[:, 1] * np.sin(theta)
-    tbin = np.floor(np.degrees(theta) / WALL_ANGLE_BIN_DEG).astype(int)
-    rmin = float(rho.min())
-    rbin = np.floor((rho - rmin) / WALL_OFFSET_BIN_M).astype(int)
-    nt = int(180 / WALL_ANGLE_BIN_DEG)
-    acc = np.zeros((nt, rbin.max() + 3))
-    np.add.at(acc, (tbin % nt, rbin), 1)
-    return ndimage.uniform_filter(acc, size=(3, 3), mode=("wrap", "constant")) * 9, rmin
-
-
 def fitted_walls(cloud: RoomCloud, found: list[Element]) -> list[Element]:
     """Rule "a wall is a large bounding face" for the walls the vote missed: depth noise spreads
     a wall's normals, so its votes never reach the vote rule's count. Vote bins (at least
@@ -348,7 +343,7 @@ def fitted_walls(cloud: RoomCloud, found: list[Element]) -> list[Element]:
     out: list[Element] = []
     tried: list[tuple[int, float]] = []
     while len(found) + len(out) < MAX_WALLS and np.count_nonzero(~taken) >= WALL_FIT_MIN_VOTES:
-        acc, rmin = _vote(q[~taken], nq[~taken])
+        acc, rmin = plane_votes(q[~taken], nq[~taken])
         for tb, r in tried:
             rb = int(np.floor((r - rmin) / WALL_OFFSET_BIN_M))
             acc[max(0, tb - 3):tb + 4, max(0, rb - 3):max(0, rb + 4)] = 0
