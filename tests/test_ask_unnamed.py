@@ -97,3 +97,34 @@ def test_a_desk_top_no_one_named_is_a_surface(store):
     a = answer(store, "is there a keyboard?", room="scan")
     assert a.text == ("I have not named a keyboard; an unnamed thing of its size and shape: a flat black object "
                       "45x14 cm on a brown object 130x70 cm"), a.text
+
+
+def _desk_scan():
+    """A desk scanned from above: no floor, no desk named; its top an unnamed flat object with a
+    cup and an unnamed box ON it, and a small flat sheet with nothing on it."""
+    return graph([
+        obj("top", "object", (0, 0, 0.0), size=(1.2, 0.55, 0.03), colour="black", hist=hist_of({0: 100})),
+        obj("cup", "cup", (0.2, 0.1, 0.06), size=(0.08, 0.08, 0.10), colour="red", hist=hist_of({11: 100})),
+        obj("box", "object", (-0.3, 0.0, 0.09), size=(0.25, 0.20, 0.15), colour="blue", hist=hist_of({20: 100})),
+        obj("sheet", "object", (1.0, 1.0, 0.0), size=(0.30, 0.21, 0.01), colour="white", hist=hist_of({9: 100})),
+    ], relations=[("cup", "ON", "top", 0.9), ("box", "ON", "top", 0.9)], room="scan", building="home")
+
+
+@pytest.fixture
+def desk_scan(store):
+    g = _desk_scan()
+    g.up = (0.0, 0.0, 1.0)
+    return merge_local_graph(store, g).node_ids
+
+
+def test_what_is_on_the_desk_lists_what_stands_on_an_unnamed_top(desk_scan, store, embedded_home):
+    out = sg3d(embedded_home, "ask", "what is on the desk?", "--room", "scan")
+    assert out.returncode == 0, out.stderr
+    text = out.stdout.strip()
+    assert text.startswith("I have not named a desk in the scan; on an unnamed flat black object 120x55 cm "
+                           "that could be its top: "), text
+    assert "the cup" in text and "box-shaped" in text, text
+    assert "white" not in text, text                    # the sheet stands on nothing
+    rows = [r["o"] for r in store.read("object_all", room=room_id("home", "scan"))]
+    top = [r for r in rows if r["id"] == desk_scan["top"]][0]
+    assert top["label"] == "object"                     # the top keeps no guessed name

@@ -201,10 +201,39 @@ def op_list(a: Answerer, form: Form):
     n = len(rows)
     what = a.phrase(np, n, form.filters)
     if not rows:
+        on_top = on_unnamed_top(a, np, form)
+        if on_top is not None:
+            return on_top
         return (a.absence() or f"nothing found: I have not found {_what_not_found(a, np, form)}{a.where} "
                                f"({ABSENT})"), [], rows
     named = a.names(rows)
     return f"{n} {what}{a.where}: {a.listing(rows)}", [row_value(o, named[o["id"]]) for o in rows], rows
+
+
+def on_unnamed_top(a: Answerer, np: NP, form: Form) -> Optional[tuple[str, list, list[dict]]]:
+    """"What is on the desk?" where no desk or table is named in scope: what stands ON an unnamed
+    object that could be its top (`unnamed.could_be_top`: a desk scanned from above), said as
+    unnamed (`unnamed.on_unnamed_top`); the value stays empty, as for any absence. None when the
+    question is not "what is on <a worktop>" or no such top is stored."""
+    from sg3d.queries import unnamed
+
+    if not a.ev.absent or np.words or np.alternatives:
+        return None
+    r = a.ev.absent[0]
+    on = [f for f in list(np.filters) + list(form.filters)
+          if f.kind == "rel" and f.relation == "on" and not f.negated and not f.reverse and f.other is r.np]
+    if not on or not set(r.labels or []) & unnamed.WORKTOPS:
+        return None
+    tops = unnamed.tops(a.run, a.scene.rooms)
+    if not tops:
+        return None
+    top = tops[0]
+    linked = a.run.read("vqa_scene_linked", ids=[top["id"]], types=["ON"], rooms=a.scene.rooms or [top["room"]])
+    things = sorted((o for o in linked if not o["outgoing"]), key=lambda o: o["id"])
+    if not things:
+        return None
+    what = " or ".join(r.names) if r.names else r.np.text()
+    return unnamed.on_unnamed_top(what, a.where, top, a.listing(things)), [], things
 
 
 def op_where(a: Answerer, form: Form):

@@ -26,6 +26,12 @@ Rule "could be one" (`could_be`): an unnamed object could be an object of a clas
   is part of what makes it a candidate.
 
 Classes without a typical entry are never guessed (the plain "I have not found" answer stays).
+
+Rule "could be its top" (`could_be_top`): "what is on the desk?" with no desk or table named in
+scope, but an unnamed object that things stand ON (a desk scanned from above, its legs never in
+view: its top is an object of its own) lists what stands on that object, said as on an unnamed
+object that could be the desk's top, when it is flat and at least TOP_MIN_AREA_M2 across
+(`sg3d.ingest.discover.furniture.DESK_MIN_AREA`: a desk top has room for a person's work).
 """
 from __future__ import annotations
 
@@ -44,6 +50,7 @@ SURFACES = frozenset(ACTIVITIES["put things down"]) | {"surface"}
 WORKTOPS = frozenset(ACTIVITIES["work"])
 SUPPORT_TYPES = ("ON", "IN")
 READ_LIMIT = 5_000     # unnamed objects read per answer
+TOP_MIN_AREA_M2 = 0.15     # = sg3d.ingest.discover.furniture.DESK_MIN_AREA (tests/unit pins both)
 
 
 def typical(label: str) -> Optional[dict]:
@@ -177,3 +184,28 @@ def none_named(plural_what: str, where: str, found: list[dict]) -> str:
     n = len(found)
     return (f"0 named {plural_what}{where}; {n} unnamed {'thing' if n == 1 else 'things'} could be one: "
             f"{_listing(found)}")
+
+
+def could_be_top(size: Optional[Sequence[float]], shape: Optional[str]) -> bool:
+    """Rule "could be its top" (module docstring): flat, its two horizontal sides spanning at
+    least TOP_MIN_AREA_M2."""
+    if not size or len(size) != 3 or shape != "flat":
+        return False
+    return float(size[0]) * float(size[1]) >= TOP_MIN_AREA_M2
+
+
+def tops(run, rooms: Optional[list[str]]) -> list[dict]:
+    """The unnamed objects in `rooms` (None: all) that things stand ON and could be a desk's or a
+    table's top (`could_be_top`), the most laden first."""
+    rows = run.read("vqa_unnamed_tops", unnamed=UNNAMED_LABEL, rooms=rooms, limit=READ_LIMIT)
+    out = [r for r in rows if could_be_top(r.get("size"), r.get("shape"))]
+    run.rows_by_id.update((r["id"], r) for r in out)
+    return sorted(out, key=lambda r: (-int(r["things"]), r["id"]))
+
+
+def on_unnamed_top(what: str, where: str, top: dict, listing: str) -> str:
+    """"I have not named a desk; on an unnamed flat black object 120x55 cm that could be its
+    top: ...": what stands on the unnamed top (`listing`, already said)."""
+    article = "an" if what[:1] in "aeiou" else "a"
+    top_said = describe({**top, "support": None}).split(" ", 1)[1]       # without its article
+    return f"I have not named {article} {what}{where}; on an unnamed {top_said} that could be its top: {listing}"

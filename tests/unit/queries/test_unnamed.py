@@ -114,3 +114,13 @@ def test_an_unnamed_support_is_said_by_its_looks():
     assert unnamed.support_phrase(row) == "on a grey object 215x85 cm"
     assert unnamed.support_phrase({**row, "support_colour": "orange"}) == "on an orange object 215x85 cm"
     assert unnamed.support_phrase({"support_label": "sink", "support_type": "IN"}) == "in the sink"
+
+
+def test_a_top_is_flat_and_spans_a_desk_top_of_work():                  # TOP_MIN_AREA_M2
+    from sg3d.ingest.discover.furniture import DESK_MIN_AREA
+    from sg3d.queries.unnamed import TOP_MIN_AREA_M2, could_be_top
+
+    assert TOP_MIN_AREA_M2 == DESK_MIN_AREA
+    assert could_be_top((0.5, 0.31, 0.03), "flat")                     # 0.155 m^2
+    assert not could_be_top((0.5, 0.29, 0.03), "flat")                 # 0.145 m^2
+    assert not could_be_top((1.2, 0.6, 0.75), "box-shaped")            # a cabinet is no top seen alone
