@@ -99,7 +99,7 @@ def _poses_text(poses: dict) -> str:
 def _room_name(room: Optional[str], rooms: Optional[str], sequence: Path) -> str:
     """--room, or with --rooms auto and no --room the recording's folder name."""
     if room is None and rooms is None:
-        raise UserError("give --room NAME, or --rooms auto to find the rooms of the walk")
+        raise click.UsageError("give --room NAME, or --rooms auto to find the rooms of the walk")
     return room or Path(sequence).resolve().name
 
 
