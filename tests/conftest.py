@@ -11,6 +11,15 @@ SHARED = Path(os.environ.get("SG3D_SHARED", REPO.parent / "shared"))
 KITCHEN = SHARED / "data" / "7scenes-redkitchen"
 
 
+def need_shared(path: Path, what: str) -> Path:
+    """`path` under ../shared, or a skip naming it (a failure in CI, which always has ../shared)."""
+    if not path.exists():
+        if os.environ.get("CI", "").lower() == "true":
+            pytest.fail(f"{what} not found at {path} in CI")
+        pytest.skip(f"{what} not found at {path} (set SG3D_SHARED to the shared data folder)")
+    return path
+
+
 @pytest.fixture(scope="session")
 def kitchen_dir() -> Path:
     """The real 7-Scenes red kitchen; skips (with the reason) where ../shared is absent."""

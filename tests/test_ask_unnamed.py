@@ -35,11 +35,15 @@ def _desk_room():
                   ("mat", "ON", "floor", 0.9), ("board", "ON", "desk", 0.8)], room=ROOM, building="home")
 
 
-@pytest.fixture
-def desk_room(store):
-    g = _desk_room()
+def _merged(store, g):
+    """The local graph merged into the store (up: +z); its local ids -> node ids."""
     g.up = (0.0, 0.0, 1.0)
     return merge_local_graph(store, g).node_ids
+
+
+@pytest.fixture
+def desk_room(store):
+    return _merged(store, _desk_room())
 
 
 def test_is_there_a_keyboard_lists_the_unnamed_slab(desk_room, store, embedded_home):
@@ -112,9 +116,7 @@ def _desk_scan():
 
 @pytest.fixture
 def desk_scan(store):
-    g = _desk_scan()
-    g.up = (0.0, 0.0, 1.0)
-    return merge_local_graph(store, g).node_ids
+    return _merged(store, _desk_scan())
 
 
 def test_what_is_on_the_desk_lists_what_stands_on_an_unnamed_top(desk_scan, store, embedded_home):

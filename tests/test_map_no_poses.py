@@ -10,26 +10,16 @@
 """
 from __future__ import annotations
 
-import os
 import threading
 from pathlib import Path
 
 import numpy as np
-import pytest
 
 from benchmarks.live_writer import write_live
-from tests.conftest import SHARED
+from tests.conftest import SHARED, need_shared
 
 KITCHEN = SHARED / "data" / "7scenes-redkitchen"
 LIVING = SHARED / "data" / "open3d-livingroom1-micro"
-
-
-def _need(path: Path, what: str) -> Path:
-    if not path.exists():
-        if os.environ.get("CI", "").lower() == "true":
-            pytest.fail(f"{what} not found at {path} in CI")
-        pytest.skip(f"{what} not found at {path} (set SG3D_SHARED to the shared data folder)")
-    return path
 
 
 def _writer(src: Path, dst: Path, n: int, fps: float = 30.0, skip: frozenset = frozenset()) -> threading.Thread:
@@ -67,7 +57,7 @@ KITCHEN_LIVE_ATE_M = 0.05
 def test_kitchen_written_without_poses_is_tracked_and_mapped_live(store, tmp_path):
     from sg3d.ingest.readers import open_sequence
 
-    src = _need(KITCHEN, "7-Scenes kitchen")
+    src = need_shared(KITCHEN, "7-Scenes kitchen")
     folder, trajectory = tmp_path / "frames", tmp_path / "live.tum"
     # a camera at 15 frames/s (a RealSense mode): on 2 cores busy with other work (load ~12) the
     # tracker took 1 frame in 9 at 30 frames/s, gaps past what it bridges (the 30 frames/s figures
@@ -89,7 +79,7 @@ def test_kitchen_written_without_poses_is_tracked_and_mapped_live(store, tmp_pat
 
 
 def test_living_room_without_trajectory_log_is_mapped(store, tmp_path):
-    src = _need(LIVING / "trajectory.log", "living room").parent
+    src = need_shared(LIVING / "trajectory.log", "living room").parent
     folder, trajectory = tmp_path / "frames", tmp_path / "live.tum"
     writer = _writer(src, folder, 120)
     seen: list = []
@@ -134,7 +124,7 @@ def test_a_gap_of_20_frames_is_bridged():
     from sg3d.ingest.poses.tracking import motion_gap
     from sg3d.ingest.readers import open_sequence
 
-    seq = open_sequence(_need(KITCHEN, "7-Scenes kitchen"))
+    seq = open_sequence(need_shared(KITCHEN, "7-Scenes kitchen"))
     whole, gapped = OnlinePoses(_Bare(seq, 90)), OnlinePoses(_Bare(seq, 90))
     for i in range(90):
         whole.frame(i)

@@ -10,7 +10,6 @@
 """
 from __future__ import annotations
 
-import os
 import threading
 import time
 from pathlib import Path
@@ -21,18 +20,10 @@ import numpy as np
 import pytest
 
 from benchmarks.realsense_recording import record_realsense
-from tests.conftest import SHARED
+from tests.conftest import SHARED, need_shared
 
 LIVING = SHARED / "data" / "open3d-livingroom1-micro"
 KITCHEN = SHARED / "data" / "7scenes-redkitchen"
-
-
-def _need(path: Path, what: str) -> Path:
-    if not path.exists():
-        if os.environ.get("CI", "").lower() == "true":
-            pytest.fail(f"{what} not found at {path} in CI")
-        pytest.skip(f"{what} not found at {path} (set SG3D_SHARED to the shared data folder)")
-    return path
 
 
 def _realsense():
@@ -82,7 +73,7 @@ def test_online_poses_track_the_kitchen_and_name_a_lost_track():
     from sg3d.ingest.readers import open_sequence
     from sg3d.ingest.readers.frames import FrameError
 
-    seq = open_sequence(_need(KITCHEN, "7-Scenes kitchen"))
+    seq = open_sequence(need_shared(KITCHEN, "7-Scenes kitchen"))
     tracked = OnlinePoses(_Unposed(seq, 100, blank=frozenset({50})))
     lost = {}
     for i in range(100):
@@ -106,7 +97,7 @@ def test_online_poses_track_the_kitchen_and_name_a_lost_track():
 @pytest.fixture(scope="module")
 def realsense_recording(tmp_path_factory) -> Path:
     _realsense()
-    folder = _need(LIVING, "living-room data")
+    folder = need_shared(LIVING, "living-room data")
     # 15 frames/s: online odometry on 2 busy cores tracks ~10-20 frames/s, so at 30 the mapper
     # jumps over half the frames (as it should behind a camera) and the short recording gets thin
     return record_realsense(tmp_path_factory.mktemp("rs") / "livingroom.db3", folder, 120, fps=15)
@@ -273,7 +264,7 @@ def test_mcap_follower_reads_a_growing_file_and_pairs_by_stamp(tmp_path):
     from sg3d.ingest.readers import open_sequence
     from sg3d.ingest.readers.mcap_follow import McapFollower
 
-    folder = _need(LIVING, "living-room data")
+    folder = need_shared(LIVING, "living-room data")
     path = tmp_path / "growing.mcap"
     thread, done, errors = _start_writer(path, folder, 40, 20.0, "tf")
     follower = McapFollower(path)
@@ -302,7 +293,7 @@ def test_an_mcap_depth_image_of_another_size_is_skipped_and_a_smaller_depth_came
     from sg3d.ingest.readers.frames import FrameError
     from sg3d.ingest.readers.mcap_follow import McapFollower
 
-    folder = _need(LIVING, "living-room data")
+    folder = need_shared(LIVING, "living-room data")
     for name, sizes in (("odd", {7: (320, 240)}), ("small", {None: (320, 240)})):
         path = tmp_path / f"{name}.mcap"
         thread, done, errors = _start_writer(path, folder, 12, 200.0, "tf", sizes)
@@ -326,7 +317,7 @@ def test_map_follows_an_mcap_being_recorded(store, tmp_path):
     from sg3d.app.mapping import MapRequest, map_room
     from sg3d.ingest.pipeline import Settings
 
-    folder = _need(LIVING, "living-room data")
+    folder = need_shared(LIVING, "living-room data")
     path = tmp_path / "rec" / "rosbag2_0.mcap"       # a ROS 2 bag folder being recorded
     path.parent.mkdir()
     thread, done, errors = _start_writer(path, folder, 150, 15.0, "tf")
@@ -352,7 +343,7 @@ def test_an_mcap_without_poses_is_tracked_online(tmp_path):
     from sg3d.ingest.poses.trajectory import ate_rmse
     from sg3d.ingest.readers import open_sequence
 
-    folder = _need(LIVING, "living-room data")
+    folder = need_shared(LIVING, "living-room data")
     path = tmp_path / "unposed.mcap"
     thread, done, errors = _start_writer(path, folder, 45, 200.0, "none")
     thread.join()

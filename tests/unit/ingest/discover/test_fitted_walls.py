@@ -2,14 +2,13 @@
 resolution camera sees them. Each threshold on both sides."""
 from __future__ import annotations
 
-from types import SimpleNamespace
-
 import numpy as np
 import pytest
 
 from sg3d.ingest.discover.room_cloud import RoomCloud
 from sg3d.ingest.discover.structure import (Element, fitted_plane, fitted_walls, normals_agree, seen_face_area,
                                             walls)
+from tests.unit.ingest.discover.clouds import room_of
 
 
 def _sparse_wall(x: float, length: float, height: float, jitter_deg: float = 8.0, seed: int = 0):
@@ -24,14 +23,7 @@ def _sparse_wall(x: float, length: float, height: float, jitter_deg: float = 8.0
 
 
 def _room(*planes) -> RoomCloud:
-    a, b = np.meshgrid(np.arange(-1.0, 1.5, 0.05), np.arange(-1.0, 1.0, 0.05))
-    points = [np.stack([a.ravel(), b.ravel(), np.zeros(a.size)], axis=1)]
-    normals = [np.tile([0.0, 0.0, 1.0], (a.size, 1))]
-    for pts, nrm in planes:
-        points.append(pts)
-        normals.append(nrm)
-    p = np.vstack(points)
-    return RoomCloud(p, np.vstack(normals), np.zeros(len(p), int), np.eye(3), 0.0, [SimpleNamespace(pose=np.eye(4))])
+    return room_of(*planes, floor_step=0.05)
 
 
 def _found_x(cloud, found=()) -> list[float]:

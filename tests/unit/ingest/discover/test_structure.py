@@ -8,6 +8,7 @@ import pytest
 
 from sg3d.ingest.discover.room_cloud import RoomCloud
 from sg3d.ingest.discover.structure import floor_element, horizontal_surfaces, plane_fill, surface_name, walls
+from tests.unit.ingest.discover.clouds import room_of
 
 
 def _plane(start, direction, length: float, height: float, normal) -> tuple[np.ndarray, np.ndarray]:
@@ -20,14 +21,7 @@ def _plane(start, direction, length: float, height: float, normal) -> tuple[np.n
 
 def _room(*planes) -> RoomCloud:
     """A floor seen from a camera at the origin, and the given vertical planes."""
-    a, b = np.meshgrid(np.arange(-1.0, 1.5, 0.02), np.arange(-1.0, 1.0, 0.02))
-    points = [np.stack([a.ravel(), b.ravel(), np.zeros(a.size)], axis=1)]
-    normals = [np.tile([0.0, 0.0, 1.0], (a.size, 1))]
-    for pts, nrm in planes:
-        points.append(pts)
-        normals.append(nrm)
-    p = np.vstack(points)
-    return RoomCloud(p, np.vstack(normals), np.zeros(len(p), int), np.eye(3), 0.0, [SimpleNamespace(pose=np.eye(4))])
+    return room_of(*planes)
 
 
 def test_a_wall_keeps_its_length_where_a_stronger_wall_took_its_end():
