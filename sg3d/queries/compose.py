@@ -23,7 +23,7 @@ from __future__ import annotations
 
 import functools
 from dataclasses import dataclass, field
-from typing import Callable, Optional
+from typing import Callable, Iterator, Optional
 
 from sg3d.core.model import SHAPE_WORDS
 from sg3d.core.relation_rules import VIEWPOINT
@@ -166,18 +166,24 @@ def labels_read(form: Form, ev: Evaluator) -> Optional[list[str]]:
     if form.op in ("affordance", "room_count", "rooms_next_to") or not form.sets or neighbours(form):
         return None         # no set named: "what is on the table" asks about any object
     labels: set[str] = {"floor"}
-    pending = list(form.sets) + [f.other for f in form.filters] + list(form.lacking)
+    for r in _resolved_sets(list(form.sets) + [f.other for f in form.filters] + list(form.lacking), ev):
+        if r.kind == "any":
+            return None
+        labels |= set(r.labels or [])
+    return sorted(labels)
+
+
+def _resolved_sets(nps: list[NP], ev: Evaluator) -> Iterator[Resolved]:
+    """Each set the noun phrases name, resolved: their alternatives apart, and the sets their own
+    filters and "toward" name in turn (last named first)."""
+    pending = list(nps)
     while pending:
         np = pending.pop()
         if np.alternatives:
             pending += np.alternatives
             continue
-        r = ev.resolved(np)
-        if r.kind == "any":
-            return None
-        labels |= set(r.labels or [])
+        yield ev.resolved(np)
         pending += [f.other for f in np.filters] + ([np.toward] if np.toward is not None else [])
-    return sorted(labels)
 
 
 # The forms whose answer is the set of objects asked about, as it is (no object outside it is read).
@@ -204,17 +210,10 @@ def _any_head(form: Form, ev: Evaluator):
 def _named_labels(filters: list[Filter], ev: Evaluator) -> Optional[set[str]]:
     """The labels of every set the filters name, the floor too; None when one is not a named kind."""
     labels: set[str] = {"floor"}
-    pending = [f.other for f in filters]
-    while pending:
-        np = pending.pop()
-        if np.alternatives:
-            pending += np.alternatives
-            continue
-        other = ev.resolved(np)
+    for other in _resolved_sets([f.other for f in filters], ev):
         if other.kind not in ("named", "structure", "unknown"):
             return None
         labels |= set(other.labels or [])
-        pending += [f.other for f in np.filters] + ([np.toward] if np.toward is not None else [])
     return labels
 
 
