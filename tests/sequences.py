@@ -78,3 +78,26 @@ def write_walk(root: Path, n: int = 12, blurry: tuple[int, ...] = (6,)) -> Path:
         pose[0, 3] = 0.25 * i        # 0.25 m per frame = 37.5 px of image motion
         np.savetxt(root / f"frame-{i:06d}.pose.txt", pose)
     return root
+
+
+class UnposedSource:
+    """A LiveSource over frames of a sequence on disk, with their poses removed (the frames'
+    pixels are the reader's; `blank`: frames whose depth is replaced by zeros)."""
+
+    seq = None
+
+    def __init__(self, seq, n: int, blank: frozenset = frozenset()):
+        self.source, self.n, self.blank = seq, n, blank
+
+    def poll(self) -> int:
+        return self.n
+
+    def written_at(self, i: int) -> float:
+        return 0.0
+
+    def frame(self, i: int):
+        from sg3d.ingest.readers.frames import Frame
+
+        f = self.source.frame(i)
+        depth = np.zeros_like(f.depth) if i in self.blank else f.depth
+        return Frame(i, f.color, depth, f.K, np.full((4, 4), np.nan), f.timestamp, f.name)

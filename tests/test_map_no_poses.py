@@ -17,6 +17,7 @@ import numpy as np
 
 from benchmarks.live_writer import write_live
 from tests.conftest import SHARED, need_shared
+from tests.sequences import UnposedSource
 
 KITCHEN = SHARED / "data" / "7scenes-redkitchen"
 LIVING = SHARED / "data" / "open3d-livingroom1-micro"
@@ -98,34 +99,13 @@ GAP = range(40, 60)          # 20 frames (0.67 s at 30 frames/s; ~8 cm of the ki
 GAP_M, GAP_DEG = 0.05, 3.0
 
 
-class _Bare:
-    """A LiveSource over the first `n` frames of a recording, their poses removed."""
-
-    seq = None
-
-    def __init__(self, seq, n: int):
-        self.source, self.n = seq, n
-
-    def poll(self) -> int:
-        return self.n
-
-    def written_at(self, i: int) -> float:
-        return 0.0
-
-    def frame(self, i: int):
-        from sg3d.ingest.readers.frames import Frame
-
-        f = self.source.frame(i)
-        return Frame(i, f.color, f.depth, f.K, np.full((4, 4), np.nan), f.timestamp, f.name)
-
-
 def test_a_gap_of_20_frames_is_bridged():
     from sg3d.ingest.poses.online import OnlinePoses
     from sg3d.ingest.poses.tracking import motion_gap
     from sg3d.ingest.readers import open_sequence
 
     seq = open_sequence(need_shared(KITCHEN, "7-Scenes kitchen"))
-    whole, gapped = OnlinePoses(_Bare(seq, 90)), OnlinePoses(_Bare(seq, 90))
+    whole, gapped = OnlinePoses(UnposedSource(seq, 90)), OnlinePoses(UnposedSource(seq, 90))
     for i in range(90):
         whole.frame(i)
         if i not in GAP:           # never asked for: as a mapper that jumped over them

@@ -21,6 +21,7 @@ import pytest
 
 from benchmarks.realsense_recording import record_realsense
 from tests.conftest import SHARED, need_shared
+from tests.sequences import UnposedSource
 
 LIVING = SHARED / "data" / "open3d-livingroom1-micro"
 KITCHEN = SHARED / "data" / "7scenes-redkitchen"
@@ -34,29 +35,6 @@ def _realsense():
         pytest.skip(f"pyrealsense2 is not usable here ({exc}): pip install 'sg3d[live]' "
                     f"(and apt-get install libusb-1.0-0)")
     return rs
-
-
-class _Unposed:
-    """A LiveSource over frames of a sequence on disk, with their poses removed (the frames'
-    pixels are the reader's; `blank`: frames whose depth is replaced by zeros)."""
-
-    seq = None
-
-    def __init__(self, seq, n: int, blank: frozenset = frozenset()):
-        self.source, self.n, self.blank = seq, n, blank
-
-    def poll(self) -> int:
-        return self.n
-
-    def written_at(self, i: int) -> float:
-        return 0.0
-
-    def frame(self, i: int):
-        from sg3d.ingest.readers.frames import Frame
-
-        f = self.source.frame(i)
-        depth = np.zeros_like(f.depth) if i in self.blank else f.depth
-        return Frame(i, f.color, depth, f.K, np.full((4, 4), np.nan), f.timestamp, f.name)
 
 
 # -- online poses -----------------------------------------------------------------------------------
@@ -74,7 +52,7 @@ def test_online_poses_track_the_kitchen_and_name_a_lost_track():
     from sg3d.ingest.readers.frames import FrameError
 
     seq = open_sequence(need_shared(KITCHEN, "7-Scenes kitchen"))
-    tracked = OnlinePoses(_Unposed(seq, 100, blank=frozenset({50})))
+    tracked = OnlinePoses(UnposedSource(seq, 100, blank=frozenset({50})))
     lost = {}
     for i in range(100):
         try:
