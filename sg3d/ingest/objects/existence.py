@@ -21,9 +21,21 @@ import numpy as np
 
 from sg3d.ingest.objects.attributes import BOX_HIGH_PERCENTILE, BOX_LOW_PERCENTILE
 
-# A frame's depth is kept at 1/DEPTH_FACTOR resolution for the visibility test (the objects are
-# tens of pixels wide; 160x120 is plenty and costs 77 KB a frame).
+# A frame's depth is kept at 1/DEPTH_FACTOR resolution for the visibility test and the room's
+# cloud (objects are tens of pixels wide at 640x480; 160x120 is plenty and costs 77 KB a frame),
+# but never on a grid narrower than MIN_GRID_WIDTH: a 320x240 camera's depth is halved, not
+# quartered, so a desk top seen from across a room keeps the pixels a 640x480 camera gives it.
 DEPTH_FACTOR = 4
+MIN_GRID_WIDTH = 160
+
+
+def depth_factor(width: int) -> int:
+    """Rule "a grid fine enough": shrink a `width`-pixel depth image by DEPTH_FACTOR, or by the
+    largest whole factor that keeps it at least MIN_GRID_WIDTH pixels wide (1 for an image no
+    wider)."""
+    return max(1, min(DEPTH_FACTOR, width // MIN_GRID_WIDTH))
+
+
 # Visible: the centre projects this far inside the image border (fraction of width/height) ...
 BORDER_MARGIN = 0.05
 # ... at least this many pixels across (SSD300 sees little below ~20 px at 640x480) ...
@@ -146,12 +158,18 @@ class View:
     K: np.ndarray
     pose: np.ndarray               # camera-to-world
     size: tuple[int, int]          # full-resolution (width, height)
-    depth: np.ndarray              # metres at 1/DEPTH_FACTOR resolution, 0 = unknown
+    depth: np.ndarray              # metres on the small grid (`depth_factor`), 0 = unknown
+
+    @property
+    def factor(self) -> float:
+        """Full-resolution pixels per small-grid pixel."""
+        return self.size[0] / self.depth.shape[1]
 
     @classmethod
     def of(cls, frame) -> "View":
         w, h = frame.size
-        small = cv2.resize(frame.depth, (max(1, w // DEPTH_FACTOR), max(1, h // DEPTH_FACTOR)),
+        f = depth_factor(w)
+        small = cv2.resize(frame.depth, (max(1, w // f), max(1, h // f)),
                            interpolation=cv2.INTER_NEAREST)
         return cls(frame.index, frame.K, frame.pose, (w, h), small)
 
@@ -176,7 +194,7 @@ def expected_in_view(centre, extent: float, view: View) -> Optional[float]:
     pixels = K[0, 0] * extent / z
     if pixels < MIN_PIXELS:
         return 0.0
-    du, dv = int(u / DEPTH_FACTOR), int(v / DEPTH_FACTOR)
+    du, dv = int(u / view.factor), int(v / view.factor)
     patch = view.depth[max(0, dv - 1):dv + 2, max(0, du - 1):du + 2]
     seen = patch[patch > 0]
     if seen.size == 0:

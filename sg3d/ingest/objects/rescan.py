@@ -16,7 +16,6 @@ import numpy as np
 from sg3d.core.model import KnownObject
 from sg3d.ingest.objects.existence import (
     BORDER_MARGIN,
-    DEPTH_FACTOR,
     MAX_RANGE_M,
     OCCLUSION_TOLERANCE_M,
     View,
@@ -78,8 +77,8 @@ def surface_seen_empty(obj: KnownObject, view: View) -> Optional[bool]:
     v = K[1, 1] * cam[:, 1] / zs + K[1, 2]
     ok &= (u >= 0) & (u < w) & (v >= 0) & (v < h)
     dh, dw = view.depth.shape
-    du = np.clip((u[ok] / DEPTH_FACTOR).astype(int), 0, dw - 1)
-    dv = np.clip((v[ok] / DEPTH_FACTOR).astype(int), 0, dh - 1)
+    du = np.clip((u[ok] / view.factor).astype(int), 0, dw - 1)
+    dv = np.clip((v[ok] / view.factor).astype(int), 0, dh - 1)
     d = view.depth[dv, du].astype(float)
     zi = z[ok]
     tol = PASS_TOLERANCE_M + SURFACE_NOISE_REL * zi
@@ -129,14 +128,14 @@ def place_seen_empty(obj: KnownObject, basis: np.ndarray, view: View) -> Optiona
         return None
     us, vs = K[0, 0] * cam[:, 0] / cam[:, 2] + K[0, 2], K[1, 1] * cam[:, 1] / cam[:, 2] + K[1, 2]
     dh, dw = view.depth.shape
-    a0, a1 = max(0, int(us.min() / DEPTH_FACTOR)), min(dw - 1, int(us.max() / DEPTH_FACTOR))
-    b0, b1 = max(0, int(vs.min() / DEPTH_FACTOR)), min(dh - 1, int(vs.max() / DEPTH_FACTOR))
+    a0, a1 = max(0, int(us.min() / view.factor)), min(dw - 1, int(us.max() / view.factor))
+    b0, b1 = max(0, int(vs.min() / view.factor)), min(dh - 1, int(vs.max() / view.factor))
     if a1 < a0 or b1 < b0:
         return None
     gu, gv = np.meshgrid(np.arange(a0, a1 + 1), np.arange(b0, b1 + 1))
     d = view.depth[gv, gu].ravel().astype(float)
-    u = gu.ravel() * DEPTH_FACTOR
-    v = gv.ravel() * DEPTH_FACTOR
+    u = gu.ravel() * view.factor
+    v = gv.ravel() * view.factor
     # rays with unit camera depth, so ray parameters are camera depths; in the box's own axes
     rays_cam = np.stack([(u - K[0, 2]) / K[0, 0], (v - K[1, 2]) / K[1, 1], np.ones_like(u, dtype=float)], axis=1)
     dirs = rays_cam @ view.pose[:3, :3].T @ basis.T

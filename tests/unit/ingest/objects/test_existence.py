@@ -95,12 +95,23 @@ def test_a_surface_15_cm_before_the_objects_front_occludes_it():    # OCCLUSION_
     assert _weight((0, 0, 2.0), 0.4, depth_m=1.8 - 0.16) == 0.0
 
 
-def test_a_views_depth_is_kept_at_a_quarter_resolution():           # DEPTH_FACTOR
+def test_a_views_depth_is_kept_at_a_quarter_resolution_down_to_160_pixels():   # DEPTH_FACTOR, MIN_GRID_WIDTH
     from types import SimpleNamespace
 
-    frame = SimpleNamespace(index=3, K=_view().K, pose=np.eye(4), size=(640, 480),
-                            depth=np.ones((480, 640), np.float32))
-    assert existence.View.of(frame).depth.shape == (120, 160)
+    def grid(w, h):
+        frame = SimpleNamespace(index=3, K=_view().K, pose=np.eye(4), size=(w, h), depth=np.ones((h, w), np.float32))
+        return existence.View.of(frame).depth.shape
+
+    assert grid(640, 480) == (120, 160)
+    assert grid(1280, 720) == (180, 320)
+    assert grid(320, 240) == (120, 160)
+    assert grid(160, 120) == (120, 160)
+
+
+def test_the_grid_shrinks_by_less_than_four_below_640_pixels():     # depth_factor
+    assert existence.depth_factor(640) == 4 and existence.depth_factor(639) == 3
+    assert existence.depth_factor(320) == 2 and existence.depth_factor(319) == 1
+    assert existence.depth_factor(100) == 1
 
 
 def test_only_tiles_naming_a_box_of_120_pixels_is_an_artefact():    # TILE_ONLY_MAX_PIXELS
