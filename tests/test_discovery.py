@@ -94,6 +94,11 @@ def test_a_table_box_reaches_the_floor_and_ends_at_its_own_top():
     assert discovery.whole_object_box(table, cloud, [top]) is top
     lo, hi = discovery.gravity_box(table, cloud)
     assert abs(lo[2]) < 1e-6 and abs(hi[2] - 0.73) < 1e-6
+    # a desk boxed from two frames over a third of its top spans the whole top
+    desk = _obj("dining table", (0.6, 0.2, 0.60), (0.6, 0.5, 0.40))
+    assert discovery.whole_object_box(desk, cloud, [top]) is top
+    lo, hi = discovery.gravity_box(desk, cloud)
+    assert np.allclose(lo, (-1.0, -0.5, 0.0)) and np.allclose(hi, (1.0, 0.5, 0.73))
     # a chair tucked under that table reaches the floor but keeps its own back's top
     chair = _obj("chair", (0.5, 0.4, 0.70), (0.4, 0.4, 0.30))
     assert discovery.whole_object_box(chair, cloud, [top]) is None

@@ -29,3 +29,12 @@ def test_a_walk_around_a_room_finds_its_floor_and_its_walls(store, tmp_path):
 def test_a_robot_camera_a_foot_above_the_floor_finds_the_floor(store, tmp_path):
     row = build_generated(store, "robot", 2, tmp_path, frames=60)
     assert row["floor_seen"] and row["floor_right"], row["floor_said"]
+
+
+def test_a_shelf_sweep_finds_the_things_on_the_boards_apart_from_the_bookcase(store, tmp_path):
+    """Things standing on a bookcase's boards touch its sides and back; cut from it at the boards
+    (`shelves.split_frame`), they are objects of their own, ON the bookcase."""
+    row = build_generated(store, "shelf", 3, tmp_path, frames=60)
+    assert row["focus_object"] is not False, row
+    assert row["tall_found"] >= row["tall"] // 2 + 1, row["missing"]
+    assert row["matched"] >= 0.6 * row["nodes"], row

@@ -47,7 +47,7 @@ import numpy as np
 
 from sg3d.core.geometry import FLOOR_STANDING_LABELS
 from sg3d.core.model import HIST_SIZE, UNNAMED_LABEL, ObjectObservation, vec3
-from sg3d.ingest.discover import flat_things, furniture, outside
+from sg3d.ingest.discover import flat_things, furniture, outside, shelves
 from sg3d.ingest.discover.room_cloud import RoomCloud
 from sg3d.ingest.discover.segments import (
     GOOD_VIEWS,
@@ -161,8 +161,10 @@ def whole_object_box(obj: ObjectObservation, cloud: RoomCloud, surfaces: Sequenc
     """Rules "stands on the floor" and "owns its top": floor-standing furniture
     (FLOOR_STANDING_LABELS: tables, chairs, couches ...) reaches down to the floor, and a
     table, desk, bench or bed (TOP_OWNERS) whose footprint a horizontal surface covers has
-    that surface as its top (what stands on a table does not make it taller). Updates `obj.size`/`box_centre`
-    and returns the surface it owns (None when it owns none)."""
+    that surface as its top: the top ends it in height (what stands on a table does not make it
+    taller) and spans it (one rigid board: a detector that boxed the part of a desk it saw from
+    two frames saw part of the desk). Updates `obj.size`/`box_centre` and returns the surface it
+    owns (None when it owns none)."""
     if obj.label not in FLOOR_STANDING_LABELS:
         return None
     lo, hi = gravity_box(obj, cloud)
@@ -170,6 +172,8 @@ def whole_object_box(obj: ObjectObservation, cloud: RoomCloud, surfaces: Sequenc
     top = owned_surface(lo, hi, surfaces) if obj.label in TOP_OWNERS else None
     if top is not None:
         hi[2] = top.height
+        lo[:2] = np.minimum(lo[:2], top.lo[:2])
+        hi[:2] = np.maximum(hi[:2], top.hi[:2])
     hi[2] = max(hi[2], lo[2] + 0.05)
     obj.size = vec3(hi - lo)
     obj.box_centre = vec3(cloud.to_world((lo + hi) / 2))
@@ -306,9 +310,25 @@ def separate_resting(segments: Sequence[Segment], surfaces: Sequence[Element], c
             parts = split_at_colour_edge(seg, voxel_chroma(seg, cloud, colour_image))
         for part in parts:
             if part is not seg:
+                part.on_board = seg.on_board
                 depth_evidence(part, cloud)
             if exists(part):
                 out.append(part)
+    return out
+
+
+def separate_shelf_contents(segments: Sequence[Segment], surfaces: Sequence[Element], cloud: RoomCloud) -> list[Segment]:
+    """What stands on a bookcase's boards comes off the bookcase (`shelves.split_frame`); each
+    part carries its own depth evidence (`depth_evidence`) and is judged by it later."""
+    out: list[Segment] = []
+    cams = np.array([v.pose[:3, 3] for v in cloud.views]) @ cloud.basis.T
+    toward = cams[:, :2].mean(axis=0) if len(cams) else np.zeros(2)
+    for seg in segments:
+        parts = shelves.split_frame(seg, surfaces, toward)
+        if len(parts) > 1:
+            for part in parts:
+                depth_evidence(part, cloud)
+        out.extend(parts)
     return out
 
 
@@ -515,7 +535,7 @@ def unnamed_object(local_id: str, seg: Segment, cloud: RoomCloud,
     return ObjectObservation(
         local_id=local_id, labels=[UNNAMED_LABEL], scores=[round(seg.hit_ratio, 3)],
         mean=vec3(mean), var=vec3(var), n_points=len(seg.voxels),
-        size=vec3(seg.size), hist=hist, colour=colour, colour2=colour2, thumbnail=thumb,
+        size=vec3(seg.measured_size), hist=hist, colour=colour, colour2=colour2, thumbnail=thumb,
         first_frame=min(frames) if frames else 0, last_frame=max(frames) if frames else 0,
         n_frames=max(1, seg.seen_views), box_centre=vec3(cloud.to_world((seg.lo + seg.hi) / 2)),
         shape=shape_word(seg.size), surface=surface_sample(world))
@@ -588,7 +608,7 @@ def points_object(local_id: str, lo: np.ndarray, hi: np.ndarray, idx: np.ndarray
     frames, counts = np.unique(cloud.frame[idx], return_counts=True)
     order = frames[np.argsort(-counts)]
     seg = Segment(pts[first], lo, hi, frames, best_view=int(order[0]) if len(order) else -1,
-                  good_views=tuple(int(k) for k in order[:GOOD_VIEWS]))
+                  good_views=tuple(int(k) for k in order[:GOOD_VIEWS]), cell=0.0)
     seg.seen_views = len(frames)
     return unnamed_object(local_id, seg, cloud, colour_image)
 
@@ -605,6 +625,22 @@ def _desks(surfaces: Sequence[Element], cloud: RoomCloud,
             for part in furniture.split_at_panels(e, cloud):
                 out.append((e, furniture.desk_node(f"d{len(out)}", part, cloud, as_object)))
     return out
+
+
+def _whole_named(named: list[ObjectObservation], cloud: RoomCloud, surfaces: Sequence[Element]) -> set[int]:
+    """The named objects made whole (`whole_object_box`; in place): a detection of a kind solid
+    to the floor with the floor seen under it leaves `named` (`furniture.open_below`), and a
+    table-named object with a low solid top becomes a cabinet (`furniture.low_solid_top`).
+    Returns the ids of the surfaces they own."""
+    named[:] = [o for o in named if not furniture.open_below(o.label, *gravity_box(o, cloud), cloud)]
+    tops = [whole_object_box(o, cloud, surfaces) for o in named]
+    for k, (o, top) in enumerate(zip(named, tops)):
+        if top is not None and furniture.low_solid_top(o, top, cloud):
+            named[k] = furniture.renamed_by_shape(o, furniture.CABINET_LABEL)
+            lo, hi = furniture.box_with_top(*gravity_box(o, cloud), top)
+            named[k].size = vec3(hi - lo)
+            named[k].box_centre = vec3(cloud.to_world((lo + hi) / 2))
+    return {id(e) for e in tops if e is not None}
 
 
 def hovering_seat(seg: Segment) -> bool:
@@ -674,15 +710,7 @@ def discover(named: list[ObjectObservation], cloud: RoomCloud, structure: Sequen
     detection of a kind solid to the floor with the floor seen under it (`furniture.open_below`)
     is no object: it leaves `named` (in place), and its points are segmented like any others."""
     surfaces = [e for e in structure if e.footprint is not None]
-    named[:] = [o for o in named if not furniture.open_below(o.label, *gravity_box(o, cloud), cloud)]
-    tops = [whole_object_box(o, cloud, surfaces) for o in named]
-    for k, (o, top) in enumerate(zip(named, tops)):
-        if top is not None and furniture.low_solid_top(o, top, cloud):
-            named[k] = furniture.renamed_by_shape(o, furniture.CABINET_LABEL)
-            lo, hi = furniture.box_with_top(*gravity_box(o, cloud), top)
-            named[k].size = vec3(hi - lo)
-            named[k].box_centre = vec3(cloud.to_world((lo + hi) / 2))
-    owned = {id(e) for e in tops if e is not None}
+    owned = _whole_named(named, cloud, surfaces)
     boxes = [gravity_box(o, cloud) for o in named]
     desks = _desks([e for e in surfaces if id(e) not in owned], cloud, colour_image)
     owned |= {id(e) for e, _ in desks}
@@ -696,7 +724,7 @@ def discover(named: list[ObjectObservation], cloud: RoomCloud, structure: Sequen
     claims = [b for o, b in zip(named, boxes) if o.label not in FLOOR_STANDING_LABELS]
     bounding = outside.bounding_walls(structure, cloud)
     inside = [s for s in room_candidates(cloud, structure, claims) if not outside.seen_through_wall(s, bounding, cloud)]
-    segments = separate_resting(inside, surfaces, cloud, colour_image)
+    segments = separate_resting(separate_shelf_contents(inside, surfaces, cloud), surfaces, cloud, colour_image)
     couches, segments = _couches([e for e in surfaces if id(e) not in owned], segments, cloud, colour_image)
     segments, found_walls = separate_at_walls(segments, cloud)
     couch_boxes = [box for _, box, _ in couches]
@@ -712,7 +740,7 @@ def discover(named: list[ObjectObservation], cloud: RoomCloud, structure: Sequen
     def part_of_another(seg: Segment, whole: bool = True) -> bool:
         return (named_by(seg, boxes) or own_edge(seg, claims) or cloud.floor_seen and floor_remnant(seg)
                 or board_of_surface(seg, surfaces) or cloud.floor_seen and holds_up_top(seg, surfaces)
-                or whole and (plane_remnant(seg, planes) or relief_of_found_wall(seg, found_walls))
+                or whole and not seg.on_board and (plane_remnant(seg, planes) or relief_of_found_wall(seg, found_walls))
                 or furniture.base_under_seat(seg.lo, seg.hi, seats)
                 or any(furniture.carrel_panel(seg.lo, seg.hi, *top) for top in worktops))
 
