@@ -93,7 +93,7 @@ def top_is_an_object(gt: dict, furniture: dict, objects) -> bool:
     for n in objects:
         if not n.size:
             continue
-        c = T[:3, :3].T @ (np.asarray(n.position, float) - T[:3, 3])
+        c = T[:3, :3].T @ (np.asarray(n.box_centre or n.position, float) - T[:3, 3])
         half_h, reach = n.size[2] / 2, max(n.size[:2]) / 2
         if (abs(c[2] + half_h - centre[2]) <= TOP_HEIGHT_TOL_M
                 and np.linalg.norm(c[:2] - centre[:2]) <= reach and max(n.size[:2]) >= 0.5 * max(hi[:2] - lo[:2])):

@@ -43,8 +43,9 @@ def read_nodes(store, room_id: str) -> list[Node]:
         if r["x"] is None:
             continue
         size = tuple(r["size"]) if r.get("size") else None
+        box = tuple(r["box_centre"]) if r.get("box_centre") else None
         nodes.append(Node(r["id"], r["label"] or "", (r["x"], r["y"], r["z"]), size, r.get("colour"),
-                          r.get("layer") or "object"))
+                          r.get("layer") or "object", box))
     return nodes
 
 

@@ -34,6 +34,7 @@ class Node:
     size: Optional[tuple[float, float, float]] = None
     colour: Optional[str] = None
     layer: str = "object"
+    box_centre: Optional[tuple[float, float, float]] = None     # its box's centre (position: its Gaussian's mean)
 
 
 @dataclass

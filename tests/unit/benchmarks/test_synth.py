@@ -163,3 +163,18 @@ def test_an_apartment_renders_the_same_bytes_and_its_truth_places_every_object(t
     assert 2 <= len(rooms) <= 6
     assert all(o["room"] in rooms for o in one["objects"])
     assert all(set(d["rooms"]) <= rooms and d["width"] > 0.7 for d in one["apartment"]["doorways"])
+
+
+def test_the_focus_top_is_judged_at_the_upper_face_of_the_nodes_box():   # TOP_HEIGHT_TOL_M
+    """A desk node runs from the floor to its top; its Gaussian's mean lies on the top it was
+    measured on, its box's centre half way down: the upper face is the box's."""
+    from benchmarks.synth.judge import top_is_an_object
+    from sg3d.evaluation.matching import Node
+
+    gt = {"room_to_world": np.eye(4).tolist()}
+    desk = {"box_gravity": {"min": [0.0, 0.0, 0.0], "max": [1.4, 0.7, 0.74]}}
+
+    def node(top):
+        return Node("d", "desk", (0.7, 0.35, top), (1.4, 0.7, top), box_centre=(0.7, 0.35, top / 2))
+    assert top_is_an_object(gt, desk, [node(0.78)])
+    assert not top_is_an_object(gt, desk, [node(0.80)])
