@@ -7,6 +7,7 @@ from typing import Optional
 
 import numpy as np
 
+from sg3d.app.errors import AppError, NotFound
 from sg3d.graphdb.protocol import GraphStore
 
 MAX_FRAMES = 300          # frames of the recording the floor map reads (evenly spread)
@@ -17,7 +18,7 @@ KIND_EVIDENCE = (
     ("kitchen", frozenset({"refrigerator", "sink", "oven", "microwave", "toaster"})),
     ("bedroom", frozenset({"bed"})),
     ("living room", frozenset({"couch", "tv"})),
-    ("office", frozenset({"desk", "keyboard", "laptop", "mouse"})),
+    ("office", frozenset({"desk", "monitor", "keyboard", "laptop", "mouse"})),
     ("bathroom", frozenset({"toilet"})),
 )
 
@@ -109,3 +110,31 @@ def write_walk_rooms(store: GraphStore, rid: str, seq, start: int, stop: int, up
     return {"rooms": [{"name": r["name"], "area": r["area"], "objects": held[r["id"]], "kind_guess": r["kind_guess"]}
                       for r in rooms],
             "doorways": len(doorways), "objects_placed": len(pairs)}
+
+
+def rename_walk_room(store: GraphStore, building: str, old: str, new: str, room: Optional[str] = None) -> dict:
+    """Give the room found in a walk (`sg3d build --rooms auto`) called `old` in `building` the
+    name `new` (`sg3d rooms rename`); `room`: the recording it was found in, needed only when two
+    recordings of the building each found a room called `old`. AppError for a name that cannot
+    name a room (`bounds.name_problem`) or is taken in the building, NotFound when no such room;
+    returns {room: the recording's id, id, old, new}."""
+    from sg3d.app.bounds import name_problem
+    from sg3d.graphdb.places import rename_place
+
+    problem = name_problem(new, "the new name")
+    if problem:
+        raise AppError(problem)
+    rows = store.read("places_building_rooms", building=building.lower())
+    hits = [r for r in rows if r["name"] == old and (room is None or r["walk_name"] == room)]
+    if not hits:
+        said = f" of recording {room!r}" if room else ""
+        known = ", ".join(sorted({r["name"] for r in rows})) or "none: build with --rooms auto"
+        raise NotFound(f"no room {old!r}{said} found in a walk of building {building!r} (rooms: {known})")
+    if len(hits) > 1:
+        raise AppError(f"{len(hits)} recordings of building {building!r} found a room {old!r} "
+                       f"({', '.join(sorted(h['walk_name'] for h in hits))}): give --room RECORDING")
+    hit = hits[0]
+    if new != old and any(r["name"] == new for r in rows):
+        raise AppError(f"building {building!r} already has a room called {new!r}")
+    rename_place(store, hit["walk"], hit["id"], new)
+    return {"room": hit["walk"], "id": hit["id"], "old": old, "new": new}
