@@ -74,17 +74,27 @@ def test_every_real_recording_is_one_room(name):
     assert places.doorways == []
 
 
-def test_a_real_room_built_without_a_name_is_one_room_holding_all_its_objects(store):
-    seq = DATA / "open3d-livingroom1-micro"
+@pytest.mark.parametrize("name", REAL)
+def test_a_real_recording_built_without_a_name_is_one_room_holding_all_its_objects(name, store, embedded_home):
+    """`sg3d build SEQ --rooms auto` (no --room) of each real recording: the whole build (slow: the
+    kitchen's 1000 frames take about a minute on a quiet machine)."""
+    from click.testing import CliRunner
+
+    from sg3d.cli import cli
+
+    seq = DATA / name
     if not seq.exists():
         pytest.skip(f"{seq} is not there")
-    build_room(store, BuildRequest(sequence=seq, room=seq.name, rooms="auto"), Settings())
+    r = CliRunner().invoke(cli, ["--home", str(embedded_home), "build", str(seq), "--rooms", "auto", "--json"])
+    assert r.exit_code == 0, r.output[-2000:]
+    found = json.loads(r.output)["rooms_found"]
     rid = room_id("default", seq.name)
     rooms = read_places(store, rid)
-    assert len(rooms) == 1
+    assert len(rooms) == 1 and len(found["rooms"]) == 1, found
     rows = _every_object_in_one_room(store, rid)
     assert {r["rooms"][0] for r in rows} == {"room 1"}
     assert sorted(rooms[0]["objects"]) == sorted(r["id"] for r in rows)
+    assert found["objects_placed"] == len(rows) == store.read("object_count", room=rid)[0]["n"]
 
 
 def test_build_without_room_or_rooms_auto_is_one_error_line(tmp_path):
@@ -125,3 +135,5 @@ def test_questions_over_the_rooms_of_a_walk(store, house):
     assert "living room" in text
     where = answer(store, "where is the sink?", building="home").text
     assert "room 1 (looks like a kitchen: sink) of the kitchen" in where, where
+    which = answer(store, "which room is the sink in?", building="home").text
+    assert which.startswith("room 1 (looks like a kitchen: sink) of the kitchen (1 sink)"), which
