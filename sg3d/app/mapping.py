@@ -209,7 +209,10 @@ def _map_held(req: MapRequest, detector, follower, mapper, publisher: "_Publishe
                  "publish_mean": round(publisher.mean_seconds(), 3),
                  "graph_mean": round(float(np.mean(publisher.graph_seconds)) if publisher.graph_seconds else 0.0, 3),
                  "discoveries": discoverer.runs,
-                 "discovery_mean": round(float(np.mean(discoverer.seconds)) if discoverer.seconds else 0.0, 3)},
+                 "discovery_mean": round(float(np.mean(discoverer.seconds)) if discoverer.seconds else 0.0, 3),
+                 **({"walk_rooms": len(publisher.rooms_seconds),
+                     "walk_rooms_mean": round(float(np.mean(publisher.rooms_seconds)), 3)}
+                    if publisher.rooms_seconds else {})},
         peak_memory_mib=round(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024, 1),
         final=final, tracking=_tracking(follower, req),
         stages=_stages(mapper, follower, publisher, discoverer))
@@ -350,6 +353,7 @@ class _Publisher(_Worker):
         self.recording = None                # the last publish: the whole recording (its rooms as a build finds them)
         self.rooms_at = -float("inf")        # when the rooms of the walk were last found (`_walk_rooms`)
         self.rooms_found: Optional[dict] = None
+        self.rooms_seconds: list[float] = []     # each time the rooms of the walk were found and written
 
     def announce(self) -> None:
         """The room exists and says it is being mapped before the first frame is in."""
@@ -413,13 +417,14 @@ class _Publisher(_Worker):
         gravity = self.mapper.gravity
         if gravity is None or (state == "live" and time.monotonic() - self.rooms_at < ROOMS_EVERY_S):
             return
-        self.rooms_at = time.monotonic()
+        self.rooms_at = t0 = time.monotonic()
         whole = self.recording if state != "live" and self.recording is not None else None
         frames = whole if whole is not None else self.mapper.source
         n = len(whole) if whole is not None else self.mapper.source.poll()
         self.rooms_found = write_walk_rooms(self.store, room_id(self.req.building, self.req.room), frames, 0, n,
                                             gravity.up, gravity.floor_height, keep=True,
                                             most=MAX_FRAMES if whole is not None else LIVE_FRAMES)
+        self.rooms_seconds.append(time.monotonic() - t0)
 
     def latency(self) -> dict:
         values = np.array(list(self.latencies.values()), float)
