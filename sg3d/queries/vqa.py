@@ -741,7 +741,7 @@ def _composed(question: str, o, notes: list[str], run: _Run) -> Answer:
     return a
 
 
-ABSENT_FORMS = ("count", "exists", "where", "list", "attribute", "show")
+ABSENT_FORMS = ("count", "exists", "where", "list", "attribute", "show", "rooms")
 
 
 def _honest_absence(run: _Run, a: Answer, q: Query, rooms) -> None:
@@ -774,7 +774,7 @@ def _could_be(run: _Run, a: Answer, q: Query, rooms, place: str) -> None:
 
     t = q.target
     labels = t.labels or []
-    if a.form not in ("exists", "count", "where") or q.anchor is not None or q.size or len(labels) != 1 \
+    if a.form not in ("exists", "count", "where", "rooms") or q.anchor is not None or q.size or len(labels) != 1 \
             or len(t.names) != 1:
         return
     found = unnamed.candidates(run, labels[0], rooms, q.colour)
@@ -785,6 +785,11 @@ def _could_be(run: _Run, a: Answer, q: Query, rooms, place: str) -> None:
         a.text = unnamed.none_named(plural(what), place, found)
     else:
         a.text = unnamed.not_named(what, place, found)
+    if a.form == "rooms":       # "which room is the fridge in": the room of each thing that could be one
+        walked = {w["id"]: w for w in run.read("places_rooms_of", ids=[o["id"] for o in found[:LIST_SHOWN]])}
+        said = [f"the {found_room(walked.get(o['id']))}{(o.get('room') or '?').split('/', 1)[-1]}"
+                for o in found[:LIST_SHOWN]]
+        a.text += f"; it is in {said[0]}" if len(said) == 1 else f"; they are in {', '.join(said)} (in that order)"
     a.objects = [cast(AnswerObject, {**_brief(o), "shape": o.get("shape"), "size": o.get("size"),
                                      "support": o["support"], "could_be": o["could_be"]}) for o in found[:LIST_SHOWN]]
 
