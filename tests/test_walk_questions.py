@@ -161,6 +161,22 @@ def test_rename_then_the_way_from_the_kitchen_to_the_bedroom(apartment, embedded
                                  "--building", "home"])
 
 
+def test_rooms_named_by_their_numbers(apartment, embedded_home, served):
+    """"room 3" is two words the grammar reads as one name (a multi-word room name)."""
+    gt, found = apartment
+    office, corridor = found[_true(gt, "office")], found[_true(gt, "corridor")]
+    true_bed, bedroom = _guessed(found, "bedroom")
+    a = both(embedded_home, served, f"how do I get from {office['name']} to {bedroom['name']}?")
+    assert a["answer"].startswith(f"from {office['name']} (looks like an office: desk): through the doorway"), \
+        a["answer"]
+    assert [v["into"] for v in a["value"]] == [corridor["name"], bedroom["name"]]
+    assert len(a["value"]) == len(_true_way(gt, _true(gt, "office"), true_bed))
+    nxt = both(embedded_home, served, f"what rooms are next to {corridor['name']}?")
+    assert sorted(v["room"] for v in nxt["value"]) == sorted(w["name"] for w in found.values() if w is not corridor)
+    here = both(embedded_home, served, f"how do I get from {office['name']} to the office?")
+    assert here["answer"].startswith("you are already there"), here["answer"]
+
+
 def test_which_rooms_have_no_window_says_windows_are_not_detected(apartment, embedded_home, served):
     a = both(embedded_home, served, "which rooms have no window?")
     assert a["answer"].startswith("I cannot tell: sg3d does not detect windows"), a["answer"]

@@ -150,7 +150,7 @@ def op_walk_route(a, start: NP, goal: NP, layer: list[dict]):
     doors = {d["doorway"]: d for r in layer for d in r["doorways"]}
     if {r["id"] for r in starts} & {r["id"] for r in goals}:
         shared = next(r for r in starts if r in goals)
-        return f"you are there: {room_words(shared, s_guess or g_guess)} is both", [], []
+        return f"you are already there: {room_words(shared, s_guess or g_guess)} is where you start and end", [], []
     found = shortest_way(layer, starts, goals)
     said_from = " or ".join(room_words(r, s_guess) for r in starts)
     said_to = " or ".join(room_words(r, g_guess) for r in goals)
