@@ -128,6 +128,7 @@ rooms_next: WHAT "rooms" be (_next_to | "near" | "beside") np_one
           | WHAT _do _det? _rooms (_next_to | "near" | "beside") np_one _have   -> rooms_next_hold
 // "how do I get from the kitchen to the bedroom": the verb is an open word (checked in `route`)
 route: "how" (_do | _modal) ("i" | "we" | "you") WORD "from" np_one "to" np_one
+     | "how" (_do | _modal) ("i" | "we" | "you") WORD "to" np_one "from" np_one   -> route_back
 _modal: "can" | "could" | "should" | "might" | "may"
 afford: "where" ("can" | "could" | "should" | "might" | "may") "i" verb preds
       | WHAT ("can" | "could" | "should" | "might" | "may") "i" verb preds
@@ -753,6 +754,12 @@ class _ToForm(Transformer):
         if verb not in ROUTE_VERBS:
             raise GrammarError(f"I could not read '{verb}' in this question", verb)
         return Form("route", sets=[i for i in items if isinstance(i, NP)])
+
+    def route_back(self, items):
+        """"how do I get to the bedroom from the kitchen": the same way, said goal first."""
+        form = self.route(items)
+        form.sets.reverse()
+        return form
 
     def afford(self, items):
         verb = _one(i for i in items if isinstance(i, str) and not isinstance(i, Token))

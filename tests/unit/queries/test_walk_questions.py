@@ -22,6 +22,8 @@ def form(question: str) -> dict:
     ("what rooms are next to the kitchen?", "rooms_next_to", ["kitchen"]),
     ("how do I get from the kitchen to the bedroom?", "route", ["kitchen", "bedroom"]),
     ("how can we walk from the office to the kitchen", "route", ["office", "kitchen"]),
+    ("how do I get to the bedroom from the kitchen?", "route", ["kitchen", "bedroom"]),
+    ("which rooms don't have a window?", "rooms", []),
     ("which room is the fridge in?", "rooms", ["fridge"]),
 ])
 def test_walk_questions_are_read(question, op, nouns):
