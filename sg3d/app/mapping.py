@@ -50,6 +50,7 @@ class MapRequest:
     resume: bool = False
     wait: bool = False                        # wait for another writer of the room instead of refusing
     trajectory_out: Optional[Path] = None     # the poses tracked online, as a TUM file (pose-less sources)
+    rooms: Optional[str] = None               # "auto": the rooms of the walk grow with it (`sg3d.app.places`)
 
 
 @dataclass
@@ -173,8 +174,10 @@ def _map_held(req: MapRequest, detector, follower, mapper, publisher: "_Publishe
     t0 = time.perf_counter()
     final: dict[str, Any] = {}
     if state == "done" and follower.seq is not None:
-        frames = mapper.finish(follower.whole())    # the recording as a build reads it
+        whole = follower.whole()                    # the recording as a build reads it
+        frames = mapper.finish(whole)
         final = {"frames": len(frames), "as_build": True}
+        publisher.recording = whole                 # its rooms too, as a build finds them
         publisher.unseen = frozenset()    # a build's frames saw all there is: what they miss is gone
     elif state == "done" and getattr(follower, "posed", True) is False and mapper.gravity is not None:
         # a source tracked live: the tracked frames the budget left undetected are detected now
@@ -185,6 +188,8 @@ def _map_held(req: MapRequest, detector, follower, mapper, publisher: "_Publishe
         frames = mapper.detected_frames()
         final = {"frames": len(frames), "as_build": False}
     report = publisher.publish_now(frames, state)
+    if req.rooms == "auto":
+        final["rooms_found"] = publisher.rooms_found
     t_final = time.perf_counter() - t0
     if mapper.gravity is None and follower.seq is None:
         raise MapError(f"no frame arrived in {req.source} ({follower.waiting_for})")
@@ -204,7 +209,10 @@ def _map_held(req: MapRequest, detector, follower, mapper, publisher: "_Publishe
                  "publish_mean": round(publisher.mean_seconds(), 3),
                  "graph_mean": round(float(np.mean(publisher.graph_seconds)) if publisher.graph_seconds else 0.0, 3),
                  "discoveries": discoverer.runs,
-                 "discovery_mean": round(float(np.mean(discoverer.seconds)) if discoverer.seconds else 0.0, 3)},
+                 "discovery_mean": round(float(np.mean(discoverer.seconds)) if discoverer.seconds else 0.0, 3),
+                 **({"walk_rooms": len(publisher.rooms_seconds),
+                     "walk_rooms_mean": round(float(np.mean(publisher.rooms_seconds)), 3)}
+                    if publisher.rooms_seconds else {})},
         peak_memory_mib=round(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024, 1),
         final=final, tracking=_tracking(follower, req),
         stages=_stages(mapper, follower, publisher, discoverer))
@@ -342,6 +350,10 @@ class _Publisher(_Worker):
         self.publish_seconds: list[float] = []
         self.graph_seconds: list[float] = []
         self._lock = threading.Lock()        # one publish at a time (the last one runs after the thread)
+        self.recording = None                # the last publish: the whole recording (its rooms as a build finds them)
+        self.rooms_at = -float("inf")        # when the rooms of the walk were last found (`_walk_rooms`)
+        self.rooms_found: Optional[dict] = None
+        self.rooms_seconds: list[float] = []     # each time the rooms of the walk were found and written
 
     def announce(self) -> None:
         """The room exists and says it is being mapped before the first frame is in."""
@@ -378,6 +390,8 @@ class _Publisher(_Worker):
             status = {"state": state, "since": self.since, "frames": self.mapper.counts.received,
                       "source": str(self.req.source)}
             report = publish(self.store, graph, self.scan, status, self.embedding, self.fence, self.unseen)
+            if self.req.rooms == "auto":
+                self._walk_rooms(state)
             self.publish_seconds.append(time.perf_counter() - t0)
             self.published_version = version
             self.publishes += 1
@@ -391,6 +405,26 @@ class _Publisher(_Worker):
                                 "objects": report.objects, "created": report.created, "removed": report.removed,
                                 "latency_p50": self.latency().get("p50"), "state": state})
             return report
+
+    def _walk_rooms(self, state: str) -> None:
+        """The rooms of the walk so far written after a publish (`sg3d.app.places.write_walk_rooms`,
+        rooms found again keep their ids and names): live at most every ROOMS_EVERY_S from
+        LIVE_FRAMES of the frames so far; the last publish of a recording read whole from its
+        frames as a build reads them, so its rooms are the build's."""
+        from sg3d.app.places import LIVE_FRAMES, MAX_FRAMES, ROOMS_EVERY_S, write_walk_rooms
+        from sg3d.graphdb.values import room_id
+
+        gravity = self.mapper.gravity
+        if gravity is None or (state == "live" and time.monotonic() - self.rooms_at < ROOMS_EVERY_S):
+            return
+        self.rooms_at = t0 = time.monotonic()
+        whole = self.recording if state != "live" and self.recording is not None else None
+        frames = whole if whole is not None else self.mapper.source
+        n = len(whole) if whole is not None else self.mapper.source.poll()
+        self.rooms_found = write_walk_rooms(self.store, room_id(self.req.building, self.req.room), frames, 0, n,
+                                            gravity.up, gravity.floor_height, keep=True,
+                                            most=MAX_FRAMES if whole is not None else LIVE_FRAMES)
+        self.rooms_seconds.append(time.monotonic() - t0)
 
     def latency(self) -> dict:
         values = np.array(list(self.latencies.values()), float)

@@ -30,11 +30,14 @@ from sg3d.errors import UserError
               help="Detector: ssd-mobilenet-v2-coco (default) or your own ONNX model (labels file beside it).")
 @click.option("--trajectory-out", type=click.Path(path_type=Path, dir_okay=False), default=None,
               help="A source without poses: write the camera poses tracked online here (TUM format).")
+@click.option("--rooms", type=click.Choice(["auto"]), default=None,
+              help="auto: also find the rooms the walk goes through, as `sg3d build --rooms auto` does; they "
+                   "grow with the walk and keep their ids and names across publishes.")
 @click.option("--json", "as_json", is_flag=True, help="Print the summary as JSON at the end (no live line).")
 @click.pass_obj
 def map_cmd(settings, source: Path, room: str, building: str, layout: Optional[str], publish_every: float,
             stop_when_idle: Optional[float], resume: bool, wait: bool, detector: Optional[str],
-            trajectory_out: Optional[Path], as_json: bool) -> None:
+            trajectory_out: Optional[Path], rooms: Optional[str], as_json: bool) -> None:
     """Follow SOURCE and keep ROOM's scene graph in the store current while frames arrive. SOURCE
     is a folder that frames are being written into (any layout `sg3d build` reads), `realsense`,
     `realsense:SERIAL` or `realsense:FILE.bag|.db3` (a RealSense camera or recording; pip install
@@ -62,7 +65,8 @@ def map_cmd(settings, source: Path, room: str, building: str, layout: Optional[s
         if not as_json:
             print_update(console, u)
 
-    req = MapRequest(source, room, building, layout, publish_every, stop_when_idle, resume, wait, trajectory_out)
+    req = MapRequest(source, room, building, layout, publish_every, stop_when_idle, resume, wait, trajectory_out,
+                     rooms)
     try:
         summary = map_room(settings.store(), req, options, on_update=on_update).as_dict()
     except (MapError, BuildError) as exc:

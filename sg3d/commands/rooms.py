@@ -1,5 +1,6 @@
 """`sg3d rooms`: a building's rooms; `sg3d rooms link A B`: align two rooms and link them;
-`sg3d rooms unlink A B`: remove that link; `sg3d rooms delete ROOM`: remove one room."""
+`sg3d rooms unlink A B`: remove that link; `sg3d rooms delete ROOM`: remove one room; `sg3d rooms
+rename OLD NEW`: name a room found in a walk."""
 from __future__ import annotations
 
 import json
@@ -19,7 +20,7 @@ from sg3d.errors import UserError
 def rooms(ctx: click.Context, building: str, as_json: bool) -> None:
     """List the building's rooms: object counts, the frame each is in, adjacent rooms.
 
-    With a subcommand (`link`, `unlink`, `delete`), that subcommand runs instead.
+    With a subcommand (`link`, `unlink`, `delete`, `rename`), that subcommand runs instead.
     """
     if ctx.invoked_subcommand is not None:
         return
@@ -165,6 +166,29 @@ def delete(ctx: click.Context, room: str, building: Optional[str], yes: bool) ->
     except NotFound as exc:
         raise UserError(str(exc)) from None
     click.echo(f"deleted room {done['room']} ({done['objects']} objects)")
+
+
+@rooms.command("rename")
+@click.argument("old")
+@click.argument("new")
+@click.option("--building", default=None,
+              help="Building of the room (default: `sg3d rooms --building`, else 'default').")
+@click.option("--room", "recording", default=None,
+              help="The recording the room was found in (only when two recordings of the building found "
+                   "a room called OLD).")
+@click.pass_context
+def rename(ctx: click.Context, old: str, new: str, building: Optional[str], recording: Optional[str]) -> None:
+    """Call the room found in a walk (`sg3d build --rooms auto`: "room 1", "room 2", ...) OLD by
+    the name NEW from now on; questions then know it by NEW ("what is in the room next to NEW?")."""
+    from sg3d.app.errors import AppError
+    from sg3d.app.places import rename_walk_room
+
+    building = _building(ctx, building, "rename")
+    try:
+        done = rename_walk_room(ctx.obj.store(), building, old, new, recording)
+    except AppError as exc:
+        raise UserError(str(exc)) from None
+    click.echo(f"renamed {done['old']!r} to {done['new']!r} (found in the walk of {done['room']})")
 
 
 commands = [rooms]

@@ -31,3 +31,9 @@ def read_places(store: GraphStore, room: str) -> list[dict]:
 def object_rooms(store: GraphStore, room: str) -> list[dict]:
     """Every object of recorded room `room` with the names of the found rooms it is IN."""
     return store.read("places_object_rooms", room=room)
+
+
+def rename_place(store: GraphStore, room: str, place: str, name: str) -> None:
+    """The found room `place` (its id) of recorded room `room` is called `name` from now on; the
+    recorded room's revision goes up in the same transaction."""
+    store.execute_write(lambda tx: tx.run(cypher.load("places_rename"), room=room, id=place, name=name).consume())

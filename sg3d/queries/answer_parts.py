@@ -20,6 +20,7 @@ class AnswerObject(TypedDict, total=False):
     volume: float
     room: str
     n: int
+    found_room: str         # the room of a walk (`sg3d build --rooms auto`) a per-room count is of
     anchor_id: str
     anchor_label: str
     distance: float

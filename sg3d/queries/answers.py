@@ -9,6 +9,7 @@ from typing import Optional, Sequence
 
 from sg3d.core.model import UNNAMED_LABEL
 from sg3d.core.relation_rules import SYMMETRIC
+from sg3d.queries import walk
 from sg3d.queries.lexicon import lemma
 from sg3d.queries.logic import NP, Filter, Form
 from sg3d.queries.sets import Evaluator, Unanswerable, activity, same_as_roots
@@ -475,10 +476,13 @@ def _rooms_holding_all(a: Answerer, form: Form):
     """"which rooms have a chair and a tv" (every kind said with "and"), "which rooms have no
     fridge", "which rooms have a chair but no fridge": the rooms in scope holding each wanted kind
     and none of the lacking ones; only those rooms are named."""
+    wanted = [n for s in form.sets for n in (s.alternatives if s.joined == "and" and s.alternatives else [s])]
+    layer = walk.walk_layer(a) if form.lacking else []
+    if layer:           # a walk split into rooms: those rooms, not the recording
+        return walk.op_walk_rooms_lacking(a, wanted, form.lacking, layer)
     rooms = {r["id"]: r for r in a.run.read("vqa_rooms_all", building=a.ev.building)}
     if a.scene.rooms is not None:
         rooms = {k: v for k, v in rooms.items() if k in a.scene.rooms}
-    wanted = [n for s in form.sets for n in (s.alternatives if s.joined == "and" and s.alternatives else [s])]
     per: dict[str, dict[int, int]] = {rid: {} for rid in rooms}
     rows: list[dict] = []
     for i, np in enumerate(wanted):
@@ -561,6 +565,12 @@ def op_room_most(a: Answerer, form: Form):
 
 
 def op_rooms_next_to(a: Answerer, form: Form):
+    """"what rooms are next to the kitchen": the rooms of a walk a doorway joins to it (the places
+    layer, sg3d/queries/walk.py) when the room is one found in a walk; else the recorded rooms
+    linked by ADJACENT_TO (a scan saw into both)."""
+    layer = walk.walk_layer(a)
+    if layer and walk.named(layer, walk.said_name(a, _head(form)))[0]:
+        return walk.op_walk_next(a, _head(form), layer, hold=False)
     r = a.ev.resolved(_head(form), may_be_room=True)
     if r.kind != "room":
         raise Unanswerable(f"'{_head(form).text()}' is not a room in the store")
@@ -570,6 +580,25 @@ def op_rooms_next_to(a: Answerer, form: Form):
     if not names:
         return f"none: no room shares objects with the {r.room} (rooms are linked when a scan sees into both)", [], []
     return f"{_join(names)} (rooms that share objects with the {r.room})", names, []
+
+
+def op_rooms_next_hold(a: Answerer, form: Form):
+    """"what is in the room next to the kitchen": the rooms of a walk a doorway joins to the named
+    one and what each holds."""
+    layer = walk.walk_layer(a)
+    if not layer:
+        raise Unanswerable("no recording in scope was split into rooms (build it with --rooms auto): "
+                           "I know no doorways between rooms")
+    return walk.op_walk_next(a, _head(form), layer, hold=True)
+
+
+def op_route(a: Answerer, form: Form):
+    """"how do I get from the kitchen to the bedroom": the doorways on the way (sg3d/queries/walk.py)."""
+    layer = walk.walk_layer(a)
+    if not layer:
+        raise Unanswerable("no recording in scope was split into rooms (build it with --rooms auto): "
+                           "I know no doorways between rooms")
+    return walk.op_walk_route(a, form.sets[0], form.sets[1], layer)
 
 
 def op_room_count(a: Answerer, form: Form):
@@ -621,6 +650,7 @@ OPS = {"count": op_count, "exists": op_exists, "at_least": op_at_least, "compare
        "list": op_list, "where": op_where, "attribute": op_attribute, "extreme": op_extreme,
        "distance": op_distance, "rooms": op_rooms, "room_most": op_room_most,
        "rooms_next_to": op_rooms_next_to, "room_count": op_room_count, "affordance": op_affordance,
-       "rooms_counted": op_rooms_counted, "size_compare": op_size_compare, "size_which": op_size_compare}
+       "rooms_counted": op_rooms_counted, "size_compare": op_size_compare, "size_which": op_size_compare,
+       "rooms_next_hold": op_rooms_next_hold, "route": op_route}
 
 

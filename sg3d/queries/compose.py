@@ -159,10 +159,16 @@ def neighbours(form: Form) -> bool:
         " ".join(lemma(w) for w in form.sets[0].words) in NEIGHBOUR_WORDS
 
 
+# the forms over the rooms of a walk alone (sg3d/queries/walk.py): no object set is evaluated
+WALK_OPS = frozenset({"rooms_next_hold", "route"})
+
+
 def labels_read(form: Form, ev: Evaluator) -> Optional[list[str]]:
     """The labels whose objects the form needs (the floor too: "how high" stands on it); None
     when a set is any object ("what is on the table") or the form is about rooms or
     affordances."""
+    if form.op in WALK_OPS:
+        return []           # the rooms of a walk and what they hold are read by their own template
     if form.op in ("affordance", "room_count", "rooms_next_to") or not form.sets or neighbours(form):
         return None         # no set named: "what is on the table" asks about any object
     labels: set[str] = {"floor"}
@@ -378,10 +384,23 @@ def read_question(text: str, room_rows: Callable[[str], list], all_room_names: C
         except GrammarError:
             raise first from None
 
-        def rows(name: str) -> list:
-            return room_rows(placeholders.get(name.split()[-1], name)) if name.split() and \
-                name.split()[-1] in placeholders else room_rows(name)
-        return form, rows
+        return form, _PlacedRooms(room_rows, placeholders)
+
+
+class _PlacedRooms:
+    """The room look-up of a question whose multi-word room names the reader replaced by one word
+    each: a placeholder is looked up as the name said; `said` gives that name back (the rooms
+    found in a walk are matched by it, sg3d/queries/walk.py)."""
+
+    def __init__(self, room_rows: Callable[[str], list], placeholders: dict[str, str]):
+        self.room_rows, self.placeholders = room_rows, placeholders
+
+    def said(self, name: str) -> str:
+        words = name.split()
+        return self.placeholders.get(words[-1], name) if words else name
+
+    def __call__(self, name: str) -> list:
+        return self.room_rows(self.said(name))
 
 
 def _room_placeholders(text: str, stored: list) -> tuple[str, dict[str, str]]:

@@ -33,7 +33,7 @@ start: fronted? question seen?
 // "apart from the sink, what is on the counter": the exception said first
 fronted: EXCEPT np_or
 ?question: count | exists | at_least | compare | listing | where | attribute | extreme | distance
-     | room_count | rooms_with | room_most | rooms_next | afford | size_compare | changes | gone | before
+     | room_count | rooms_with | room_most | rooms_next | afford | size_compare | changes | gone | before | route
 
 be: "is" | "are"
 _there: "there"
@@ -125,6 +125,10 @@ room_most: WHAT NUMBER? _rooms _have _det? MOSTFEW np preds
          | "in" WHAT NUMBER? _rooms be _there? _det? MOSTFEW np preds
          | LIST _det? NUMBER? _rooms "with" _det? MOSTFEW np preds
 rooms_next: WHAT "rooms" be (_next_to | "near" | "beside") np_one
+          | WHAT _do _det? _rooms (_next_to | "near" | "beside") np_one _have   -> rooms_next_hold
+// "how do I get from the kitchen to the bedroom": the verb is an open word (checked in `route`)
+route: "how" (_do | _modal) ("i" | "we" | "you") WORD "from" np_one "to" np_one
+     | "how" (_do | _modal) ("i" | "we" | "you") WORD "to" np_one "from" np_one   -> route_back
 _modal: "can" | "could" | "should" | "might" | "may"
 afford: "where" ("can" | "could" | "should" | "might" | "may") "i" verb preds
       | WHAT ("can" | "could" | "should" | "might" | "may") "i" verb preds
@@ -230,6 +234,8 @@ def _reserved() -> list[str]:
 
 
 RESERVED = _reserved()
+# "how do I get / go / walk from A to B": the verbs that ask for the way between two rooms
+ROUTE_VERBS = frozenset({"get", "go", "walk", "move"})
 log = logging.getLogger("sg3d.queries")
 _T = TypeVar("_T")
 
@@ -739,6 +745,21 @@ class _ToForm(Transformer):
 
     def rooms_next(self, items):
         return self._op("rooms_next_to", items)
+
+    def rooms_next_hold(self, items):
+        return self._op("rooms_next_hold", items)
+
+    def route(self, items):
+        verb = next(str(t) for t in items if isinstance(t, Token) and t.type == "WORD")
+        if verb not in ROUTE_VERBS:
+            raise GrammarError(f"I could not read '{verb}' in this question", verb)
+        return Form("route", sets=[i for i in items if isinstance(i, NP)])
+
+    def route_back(self, items):
+        """"how do I get to the bedroom from the kitchen": the same way, said goal first."""
+        form = self.route(items)
+        form.sets.reverse()
+        return form
 
     def afford(self, items):
         verb = _one(i for i in items if isinstance(i, str) and not isinstance(i, Token))

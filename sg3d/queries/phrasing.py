@@ -64,6 +64,10 @@ _EMBEDDED_THERE = re.compile(r"^how many (.+?) there (?:is|are)\b(.*)$")
 # "in the room", "here": the scope given by --room (or the whole store); "my room" may be a
 # room's name and is left to the room look-up
 HERE = re.compile(r"\b(?:(?:in|inside|within) (?:the|this|our) (?:room|place|space|area)|in here|here)\b")
+# "what is in the room next to the kitchen": what the rooms a doorway joins to it hold (the
+# grammar's `rooms_next_hold`), never "in the room" as the scope
+_ROOM_NEXT = re.compile(r"^(?:what|which things?|what things?) (?:is|are) (?:there )?(?:in|inside) the rooms? "
+                        r"(next to|adjacent to|beside|near) (.+)$")
 
 CONTRACTIONS = {
     "what's": "what is", "whats": "what is", "where's": "where is", "wheres": "where is",
@@ -949,7 +953,7 @@ def tidy(question: str) -> Phrased:
     prev = None
     while prev != text:         # "any books lying around here at all"
         prev, text = text, _TRAILING.sub("", text).strip()
-    text = this_place(reorder_embedded(text))
+    text = _ROOM_NEXT.sub(r"what do the rooms \1 \2 hold", this_place(reorder_embedded(text)))
     text = " ".join(HERE.sub(" ", text).split())
     text, more = the_n(_numbers(text))
     notes += more

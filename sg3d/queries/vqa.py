@@ -446,18 +446,26 @@ def show(run: _Run, q: Query, rooms) -> Answer:
 def rooms_with(run: _Run, q: Query, rooms) -> Answer:
     """Which rooms hold at least one matching object; the total counts each SAME_AS group once."""
     rows = _candidates(run, q, rooms)
-    per_room: dict[str, int] = {}
+    walked = {w["id"]: w for w in run.read("places_rooms_of", ids=[r["id"] for r in rows])} if rows else {}
+    per_room: dict[tuple[str, str], int] = {}
     for r in rows:
-        per_room[r["room"]] = per_room.get(r["room"], 0) + 1
+        # a walk split into rooms (`sg3d build --rooms auto`): the room found in it, then the recording
+        key = (r["room"], walked[r["id"]]["name"] if r["id"] in walked else "")
+        per_room[key] = per_room.get(key, 0) + 1
     if not per_room:
         return Answer("", True, f"none: no room holds a {_what(q, 1)}{_where(q, False)}", "rooms", [], query=q)
-    extra = sum(_same_as_excess(run, q, rooms).values()) if len(per_room) > 1 else 0
+    extra = sum(_same_as_excess(run, q, rooms).values()) if len({rid for rid, _ in per_room}) > 1 else 0
     n = len(rows) - extra
-    names = ", ".join(f"{rid.split('/', 1)[-1]} ({k} {_what(q, k)})" for rid, k in sorted(per_room.items()))
+    said = {key: found_room(walked[r["id"]]) for r in rows if r["id"] in walked
+            for key in [(r["room"], walked[r["id"]]["name"])]}
+    names = ", ".join(f"{said.get(key, '')}{key[0].split('/', 1)[-1]} ({k} {_what(q, k)})"
+                      for key, k in sorted(per_room.items()))
     text = f"{names}; {n} {_what(q, n)} in all"
     if extra:
         text += f" [{extra} seen from two rooms counted once]"
-    value: list[AnswerObject] = [{"room": rid, "n": k} for rid, k in sorted(per_room.items())]
+    value: list[AnswerObject] = []
+    for (rid, found), k in sorted(per_room.items()):
+        value.append({"room": rid, "n": k, "found_room": found} if found else {"room": rid, "n": k})
     return Answer("", True, text, "rooms", value, value, q)
 
 
@@ -691,8 +699,13 @@ def _reader_failed(text: str, step: str, exc: Exception):
 
 
 def _room_names(store, building: Optional[str], with_buildings: bool = False) -> list[str]:
-    rows = store.read("vqa_room_names", building=building.lower() if building else None)
-    return [r["name"] for r in rows] + ([r["building"] for r in rows] if with_buildings else [])
+    """The names a question may call a room by: the recorded rooms', and the names and guessed
+    kinds of the rooms found in their walks ("room 2", "living room"; sg3d/queries/walk.py)."""
+    b = building.lower() if building else None
+    rows = store.read("vqa_room_names", building=b)
+    walked = store.read("vqa_walk_room_names", building=b) if rows else []
+    found = sorted({w["name"] for w in walked} | {w["kind_guess"] for w in walked if w.get("kind_guess")})
+    return [r["name"] for r in rows] + found + ([r["building"] for r in rows] if with_buildings else [])
 
 
 def _in_unit(a: Answer, question: str) -> Answer:
@@ -728,7 +741,7 @@ def _composed(question: str, o, notes: list[str], run: _Run) -> Answer:
     return a
 
 
-ABSENT_FORMS = ("count", "exists", "where", "list", "attribute", "show")
+ABSENT_FORMS = ("count", "exists", "where", "list", "attribute", "show", "rooms")
 
 
 def _honest_absence(run: _Run, a: Answer, q: Query, rooms) -> None:
@@ -761,7 +774,7 @@ def _could_be(run: _Run, a: Answer, q: Query, rooms, place: str) -> None:
 
     t = q.target
     labels = t.labels or []
-    if a.form not in ("exists", "count", "where") or q.anchor is not None or q.size or len(labels) != 1 \
+    if a.form not in ("exists", "count", "where", "rooms") or q.anchor is not None or q.size or len(labels) != 1 \
             or len(t.names) != 1:
         return
     found = unnamed.candidates(run, labels[0], rooms, q.colour)
@@ -772,6 +785,11 @@ def _could_be(run: _Run, a: Answer, q: Query, rooms, place: str) -> None:
         a.text = unnamed.none_named(plural(what), place, found)
     else:
         a.text = unnamed.not_named(what, place, found)
+    if a.form == "rooms":       # "which room is the fridge in": the room of each thing that could be one
+        walked = {w["id"]: w for w in run.read("places_rooms_of", ids=[o["id"] for o in found[:LIST_SHOWN]])}
+        said = [f"the {found_room(walked.get(o['id']))}{(o.get('room') or '?').split('/', 1)[-1]}"
+                for o in found[:LIST_SHOWN]]
+        a.text += f"; it is in {said[0]}" if len(said) == 1 else f"; they are in {', '.join(said)} (in that order)"
     a.objects = [cast(AnswerObject, {**_brief(o), "shape": o.get("shape"), "size": o.get("size"),
                                      "support": o["support"], "could_be": o["could_be"]}) for o in found[:LIST_SHOWN]]
 
