@@ -15,7 +15,7 @@ import re
 import shutil
 import time
 from pathlib import Path
-from typing import Optional
+from typing import Callable, Optional
 
 SEVEN = re.compile(r"^(frame-\d+)\.color\.(jpg|jpeg|png)$", re.IGNORECASE)
 
@@ -46,10 +46,17 @@ def seven_scenes_frames(src: Path, poses: bool = True) -> list[list[tuple[Path, 
     return out
 
 
+# A frame held back (`write_live`'s `hold`) waits this much longer: well under any idle stop.
+HOLD_S = 0.5
+
+
 def write_live(src: Path, dst: Path, fps: float = 30.0, stop: Optional[int] = None, start_delay: float = 0.0,
-               poses: bool = True, skip: frozenset = frozenset()) -> int:
+               poses: bool = True, skip: frozenset = frozenset(),
+               hold: Optional[Callable[[int], bool]] = None) -> int:
     """Write SRC's frames into DST at `fps` frames per second (without pose files unless `poses`;
-    the frames numbered in `skip` are left out, as a camera drops them); returns the frames written."""
+    the frames numbered in `skip` are left out, as a camera drops them); returns the frames written.
+    `hold(k)` True: frame k and those after it come HOLD_S later (a test lets a reader that a
+    loaded machine slowed catch up, without a pause it would take for the end of the recording)."""
     src, dst = Path(src), Path(dst)
     dst.mkdir(parents=True, exist_ok=True)
     if start_delay:
@@ -61,8 +68,12 @@ def write_live(src: Path, dst: Path, fps: float = 30.0, stop: Optional[int] = No
         if (src / name).is_file():
             _put(src / name, dst / name)
     frames = seven_scenes_frames(src, poses)[:stop]
+    held = 0.0
     for k, files in enumerate(frames):
-        _wait(t0 + k / fps)
+        _wait(t0 + k / fps + held)
+        if hold is not None and hold(k):
+            held += HOLD_S
+            _wait(t0 + k / fps + held)
         if k in skip:
             continue
         for s, name in files:
