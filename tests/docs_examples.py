@@ -62,7 +62,7 @@ def examples(path: Path) -> list[Example]:
 
 def normalise(text: str) -> str:
     lines = [ln for ln in text.splitlines() if "━" not in ln]       # progress bars
-    text = BOX_DRAWING.sub(" ", "\n".join(lines))
+    text = " ".join(BOX_DRAWING.sub(" ", "\n".join(lines)).split())     # a name wrapped at a line end too
     text = UNNAMED.sub("object #", OBJECT_ID.sub("o-ID", text))
     return " ".join(text.split())
 
