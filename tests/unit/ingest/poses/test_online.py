@@ -94,12 +94,14 @@ class _Odometry:
         pass
 
     def view(self, index, depth, gray):
-        return SimpleNamespace(index=index)
+        return SimpleNamespace(index=index, depth=depth, gray=gray)
 
     def fit(self, view, target, min_inliers):
         from sg3d.ingest.poses.tracking import Fit
 
         return Fit(view.index not in self.bad, np.eye(4), 0.9, 0.01, "no fit")
+
+    fit_depth = fit
 
     def fit_from(self, view, target, guess, min_overlap, min_agreement):
         from sg3d.ingest.poses.tracking import Fit
