@@ -18,7 +18,7 @@ tracked camera; the live mapper estimates up and floor from the frames themselve
   frame's time), which OpenCV's odometry cannot take as a guess but `Odometry.fit_from` can;
 - when that fit fails, the frame is fitted to the last placed frame, then re-localised against
   `RELOCALISE_TRIES` older keyframes, starting from the predicted pose (else the last known one;
-  `Odometry.fit_from`);
+  `Odometry.fit_from`), as far as `LOSS_BUDGET_S` allows;
 - a frame none of them places is skipped with the reason "lost track: ..." (`FrameError`, so
   the mapper lists it and goes on); the next placeable frame continues from the last known pose.
   After `MAX_LOST` unplaceable frames in a row (that still show enough depth), `MAX_LOST_S`
@@ -68,10 +68,13 @@ RELOCALISE_KEYFRAMES = 5     # recent keyframes held for relocalisation
 RELOCALISE_TRIES = 2         # older keyframes a lost frame is tried against (the time budget of a loss:
 RELOCALISE_ROUNDS = 2        # each try is up to this many fits from a guess, ~55 ms each)
 RELOCALISE_OVERLAP, RELOCALISE_AGREEMENT = 0.4, 0.8
-MAX_LOST = 3                 # unplaceable frames in a row before the track restarts at the last pose,
-MAX_LOST_S = 2.0             # and at least this long without a pose: a tracker that takes one frame in
-                             # 10 on a busy machine met 3 in 1 s, and a restart puts the rest of the map
-                             # in another frame (the kitchen's live ATE 0.57 m after 6 restarts)
+MAX_LOST = 2                 # unplaceable frames in a row before the track restarts at the last pose,
+MAX_LOST_S = 0.7             # and at least this long without a pose: never lost for much more than this
+                             # (a restart's frame is offered to loop closure, which can place it again
+                             # against the keyframes around)
+LOSS_BUDGET_S = 0.3          # tracking time a frame may take in fits from a guess beyond the first round
+                             # of each bridge (at a load of 9, ten fits from a guess took 2-3 s: three
+                             # lost frames kept the track lost for 4.8 s)
 VELOCITY_WINDOW_S = 0.3      # the camera's velocity: its motion over about this long before the last frame
 TRACK_POLL_S = 0.01          # how often the tracking thread looks for a new frame
 HELD_FRAMES = 4              # decoded frames kept for the mapper after tracking (a few turns' worth)
@@ -321,6 +324,7 @@ class OnlinePoses:
         a direct fit costs ~20 ms at 320x240, one from a guess ~55 ms (it renders the view)."""
         assert self._odometry is not None and self._last is not None
         odo = self._odometry
+        self._deadline = time.perf_counter() + LOSS_BUDGET_S
         key = self._keyframes[-1]
         fits = [(odo.fit(view, key, TRACK_MIN_INLIERS), key)]
         if fits[0][0].inliers < TRACK_TRUST:     # a weak fit: depth alone, or the last frame, may do better
@@ -340,6 +344,8 @@ class OnlinePoses:
                     return self.poses[ref.index] @ fit.motion, fit.inliers if ref is key else 0.0
         start = predicted if predicted is not None else self.poses[self._last.index]
         for kf in list(reversed(self._keyframes))[1:1 + RELOCALISE_TRIES]:
+            if time.perf_counter() > self._deadline:
+                break
             fit = self._bridge(view, kf, np.linalg.inv(self.poses[kf.index]) @ start, rounds=RELOCALISE_ROUNDS)
             if fit.ok:
                 return self.poses[kf.index] @ fit.motion, 0.0
@@ -348,6 +354,7 @@ class OnlinePoses:
         return None
 
     _why = ""
+    _deadline = float("inf")
 
     def _bridge(self, view: View, target: View, guess: np.ndarray, min_share: Optional[float] = None,
                 rounds: int = BRIDGE_ROUNDS) -> Fit:
@@ -358,7 +365,9 @@ class OnlinePoses:
         share of the view's depth confirmed."""
         assert self._odometry is not None
         fit = guessed = Fit(False, guess, 0.0, float("inf"))
-        for _ in range(rounds):
+        for k in range(rounds):
+            if k and time.perf_counter() > self._deadline:     # the first round always runs
+                break
             fit = self._odometry.fit_from(view, target, guessed.motion, RELOCALISE_OVERLAP, RELOCALISE_AGREEMENT)
             if min_share is not None and not fit.ok and fit.inliers >= min_share and np.all(np.isfinite(fit.motion)):
                 fit = Fit(True, fit.motion, fit.inliers, fit.rms)
