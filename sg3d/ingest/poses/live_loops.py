@@ -92,7 +92,7 @@ class LoopCloser:
 
     def _run(self) -> None:
         try:
-            _lower_priority()
+            lower_thread_priority(NICE)
             while not self._stop.is_set():
                 if not self._queue:
                     self._wake.wait(0.1)
@@ -134,9 +134,11 @@ class LoopCloser:
         self._since_optimised = 0
 
 
-def _lower_priority() -> None:
-    """This thread at `NICE` below the process (Linux gives threads their own nice value)."""
+def lower_thread_priority(nice: int) -> None:
+    """The calling thread at `nice` below the process (Linux gives threads their own nice value;
+    elsewhere the thread keeps the process's priority). For threads that end with their work:
+    a thread cannot take its priority back."""
     try:
-        os.setpriority(os.PRIO_PROCESS, threading.get_native_id(), NICE)
+        os.setpriority(os.PRIO_PROCESS, threading.get_native_id(), os.getpriority(os.PRIO_PROCESS, 0) + nice)
     except (AttributeError, OSError):   # another system: the thread runs at the process's priority
         pass

@@ -18,7 +18,7 @@ tracked camera; the live mapper estimates up and floor from the frames themselve
   frame's time), which OpenCV's odometry cannot take as a guess but `Odometry.fit_from` can;
 - when that fit fails, the frame is fitted to the last placed frame, then re-localised against
   `RELOCALISE_TRIES` older keyframes, starting from the predicted pose (else the last known one;
-  `Odometry.fit_from`), as far as `LOSS_BUDGET_S` allows;
+  `Odometry.fit_from`), as far as `LOSS_BUDGET_S` allows after the bridges;
 - a frame none of them places is skipped with the reason "lost track: ..." (`FrameError`, so
   the mapper lists it and goes on); the next placeable frame continues from the last known pose.
   After `MAX_LOST` unplaceable frames in a row (that still show enough depth), `MAX_LOST_S`
@@ -72,9 +72,9 @@ MAX_LOST = 2                 # unplaceable frames in a row before the track rest
 MAX_LOST_S = 0.7             # and at least this long without a pose: never lost for much more than this
                              # (a restart's frame is offered to loop closure, which can place it again
                              # against the keyframes around)
-LOSS_BUDGET_S = 0.3          # tracking time a frame may take in fits from a guess beyond the first round
-                             # of each bridge (at a load of 9, ten fits from a guess took 2-3 s: three
-                             # lost frames kept the track lost for 4.8 s)
+LOSS_BUDGET_S = 0.3          # tracking time a frame may take in relocalising after the bridges from the
+                             # prediction failed (at a load of 9, ten fits from a guess took 2-3 s a
+                             # frame: three lost frames kept the track lost for 4.8 s)
 VELOCITY_WINDOW_S = 0.3      # the camera's velocity: its motion over about this long before the last frame
 TRACK_POLL_S = 0.01          # how often the tracking thread looks for a new frame
 HELD_FRAMES = 4              # decoded frames kept for the mapper after tracking (a few turns' worth)
@@ -317,20 +317,19 @@ class OnlinePoses:
 
     def _fit(self, view: View) -> Optional[tuple[np.ndarray, float]]:
         """(pose, share of its depth confirmed) from the last keyframe (directly; when that fit
-        confirms less than `TRACK_TRUST`, the best of it, a depth-only fit to the keyframe and a
-        fit to the last placed frame), then from the constant-velocity prediction (to the keyframe,
+        confirms less than `TRACK_TRUST`, the best of it, a fit to the last placed frame and, when
+        that confirms less too, a depth-only fit to the keyframe), then from the constant-velocity prediction (to the keyframe,
         then the last placed frame), or the recent keyframes starting
         from the prediction (else the last known pose); None (reason in `_why`). Cheapest first:
         a direct fit costs ~20 ms at 320x240, one from a guess ~55 ms (it renders the view)."""
         assert self._odometry is not None and self._last is not None
         odo = self._odometry
-        self._deadline = time.perf_counter() + LOSS_BUDGET_S
         key = self._keyframes[-1]
         fits = [(odo.fit(view, key, TRACK_MIN_INLIERS), key)]
-        if fits[0][0].inliers < TRACK_TRUST:     # a weak fit: depth alone, or the last frame, may do better
+        if fits[0][0].inliers < TRACK_TRUST and self._last.index != key.index:   # a weak fit: the last frame
+            fits.append((odo.fit(view, self._last, TRACK_MIN_INLIERS), self._last))
+        if max(f.inliers for f, _ in fits) < TRACK_TRUST:                          # still weak: depth alone
             fits.append((odo.fit_depth(view, key, TRACK_MIN_INLIERS), key))
-            if self._last.index != key.index:
-                fits.append((odo.fit(view, self._last, TRACK_MIN_INLIERS), self._last))
         placed = [(f, ref) for f, ref in fits if f.ok]
         if placed:                                # the fit confirming the most
             best, ref = max(placed, key=lambda fr: fr[0].inliers)
@@ -343,10 +342,12 @@ class OnlinePoses:
                 if fit.ok:
                     return self.poses[ref.index] @ fit.motion, fit.inliers if ref is key else 0.0
         start = predicted if predicted is not None else self.poses[self._last.index]
+        deadline = time.perf_counter() + LOSS_BUDGET_S
         for kf in list(reversed(self._keyframes))[1:1 + RELOCALISE_TRIES]:
-            if time.perf_counter() > self._deadline:
+            if time.perf_counter() > deadline:
                 break
-            fit = self._bridge(view, kf, np.linalg.inv(self.poses[kf.index]) @ start, rounds=RELOCALISE_ROUNDS)
+            fit = self._bridge(view, kf, np.linalg.inv(self.poses[kf.index]) @ start, rounds=RELOCALISE_ROUNDS,
+                               deadline=deadline)
             if fit.ok:
                 return self.poses[kf.index] @ fit.motion, 0.0
         self._why = (f"lost track: not placed by odometry ({why}; nor from the predicted pose, the last frame or "
@@ -354,19 +355,18 @@ class OnlinePoses:
         return None
 
     _why = ""
-    _deadline = float("inf")
 
     def _bridge(self, view: View, target: View, guess: np.ndarray, min_share: Optional[float] = None,
-                rounds: int = BRIDGE_ROUNDS) -> Fit:
+                rounds: int = BRIDGE_ROUNDS, deadline: float = float("inf")) -> Fit:
         """The motion of `view` into `target` from a `guess`: up to `rounds` fits
         (`Odometry.fit_from`), each starting from the motion the last one reached, until one is
         accepted: overlap `RELOCALISE_OVERLAP` and agreement `RELOCALISE_AGREEMENT` (an older
         keyframe), or, with `min_share` (the last keyframe, as a direct fit is judged), that
-        share of the view's depth confirmed."""
+        share of the view's depth confirmed; no round after the first starts past `deadline`."""
         assert self._odometry is not None
         fit = guessed = Fit(False, guess, 0.0, float("inf"))
         for k in range(rounds):
-            if k and time.perf_counter() > self._deadline:     # the first round always runs
+            if k and time.perf_counter() > deadline:
                 break
             fit = self._odometry.fit_from(view, target, guessed.motion, RELOCALISE_OVERLAP, RELOCALISE_AGREEMENT)
             if min_share is not None and not fit.ok and fit.inliers >= min_share and np.all(np.isfinite(fit.motion)):

@@ -57,10 +57,11 @@ def test_a_fit_to_the_keyframe_confirming_85_percent_is_taken_alone():    # TRAC
 def test_a_weaker_fit_gets_a_second_opinion_and_the_best_confirmed_wins():  # TRACK_TRUST
     t, odo = _tracker({"key": 0.84, "depth": 0.80, "last": 0.90})
     pose, share = t._fit(SimpleNamespace(index=9))
-    assert odo.calls == ["key", "depth", "last"]
+    assert odo.calls == ["key", "last"]
     assert abs(pose[0, 3] - 0.30) < 1e-9 and share == 0.0      # from the last frame: a keyframe from here on
-    t, _ = _tracker({"key": 0.70, "depth": 0.88, "last": 0.60})
+    t, odo = _tracker({"key": 0.70, "depth": 0.88, "last": 0.60})
     pose, share = t._fit(SimpleNamespace(index=9))
+    assert odo.calls == ["key", "last", "depth"]
     assert abs(pose[0, 3] - 0.20) < 1e-9 and share == 0.88
 
 
@@ -156,3 +157,9 @@ def test_loop_closure_takes_out_the_drift_of_a_walk_round_a_table():
     assert closer.loops > 0 and drift > 0.08
     after = max(float(np.linalg.norm(estimate[i][:3, 3] - truth[i][:3, 3])) for i in range(16))
     assert after < drift / 3, (drift, after)
+
+
+def test_discovery_runs_below_tracking_and_publishing_at_its_priority():   # DISCOVER_NICE
+    from sg3d.app import mapping
+
+    assert mapping.DISCOVER_NICE == 5 and mapping._Discoverer.nice == 5 and mapping._Publisher.nice == 0
