@@ -2,7 +2,9 @@
 
 Tracking chains frame-to-keyframe motions, so its error grows with the path (the kitchen's 1,000
 frames drift ~40 cm). A `LoopCloser` runs on a thread of its own at a lower CPU priority
-(`NICE`: it runs when the cores are free, never ahead of tracking) and does what the offline
+(`NICE`), and only while tracking waits for a frame (`may_run`: a lower CPU priority does not keep
+its Python from holding the interpreter lock: closing loops beside a busy tracker slowed a kitchen
+frame from 109 to 169 ms at a load of 10), and does what the offline
 estimate does (`sg3d.ingest.poses.closure`, `sg3d.ingest.poses.graph`):
 
 - tracking offers it a keyframe every `estimate.KEYFRAME_M` / `estimate.KEYFRAME_DEG` (the offline
@@ -32,6 +34,7 @@ from sg3d.ingest.poses.tracking import Odometry, View
 
 NICE = 10                    # the closer's CPU priority below tracking's (Linux threads; 0 elsewhere)
 OPTIMISE_EVERY = 10          # loop keyframes between optimisations when no loop was closed
+IDLE_POLL_S = 0.02           # how often a closer waiting for tracking to be idle looks again
 
 
 @dataclass
@@ -51,9 +54,10 @@ class LoopCloser:
     `snapshot(indices)` gives the current poses of those frames; `correct(before, after)` moves
     the placed frames from the `before` poses of the loop keyframes to the optimised `after`."""
 
-    def __init__(self, odometry: Odometry, snapshot: Snapshot, correct: Correct):
+    def __init__(self, odometry: Odometry, snapshot: Snapshot, correct: Correct,
+                 may_run: Callable[[], bool] = lambda: True):
         self.odometry = odometry
-        self.snapshot, self.correct = snapshot, correct
+        self.snapshot, self.correct, self.may_run = snapshot, correct, may_run
         self.views: list[View] = []
         self.edges: list[Edge] = []
         self.loops = 0
@@ -94,8 +98,8 @@ class LoopCloser:
         try:
             lower_thread_priority(NICE)
             while not self._stop.is_set():
-                if not self._queue:
-                    self._wake.wait(0.1)
+                if not self._queue or not self.may_run():
+                    self._wake.wait(IDLE_POLL_S)
                     self._wake.clear()
                     continue
                 self._close(self._queue.popleft())

@@ -148,6 +148,7 @@ class OnlinePoses:
         self._lock = threading.Lock()
         self._thread: Optional[threading.Thread] = None
         self._stop = threading.Event()
+        self._idle = threading.Event()                # the tracking thread waits for a frame (loop closure may run)
         self._ready = 0                               # frames the tracking thread has dealt with
         self.error: Optional[BaseException] = None
         self.seconds: deque[float] = deque(maxlen=10_000)   # per frame the tracking thread took (read + fit)
@@ -191,12 +192,14 @@ class OnlinePoses:
                         return                        # nothing to track: poll() passes through
                     fresh = n - 1 >= self._next
                     if fresh:
+                        self._idle.clear()
                         t0 = time.perf_counter()
                         self._track(n - 1)
                         self._next = n
                         self.seconds.append(time.perf_counter() - t0)
                     self._ready = n
                 if not fresh:
+                    self._idle.set()
                     self._stop.wait(TRACK_POLL_S)
         except Exception as exc:   # noqa: BLE001 - raised again on the mapping thread by stop()
             self.error = exc
@@ -310,7 +313,8 @@ class OnlinePoses:
             K, size = seq.depth_K, (depth.shape[1], depth.shape[0])
         if self._odometry is None:
             self._odometry = Odometry(K, size, self.max_depth, ONLINE_WIDTH)
-            self._closer = LoopCloser(Odometry(K, size, self.max_depth, ONLINE_WIDTH), self._snapshot, self.correct)
+            self._closer = LoopCloser(Odometry(K, size, self.max_depth, ONLINE_WIDTH), self._snapshot, self.correct,
+                                      self._idle.is_set)
             if self._thread is not None:
                 self._closer.start()
         return self._odometry.view(frame.index, depth, grey)

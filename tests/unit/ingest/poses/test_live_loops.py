@@ -4,6 +4,7 @@
 real frames: tests/test_map_no_poses.py)."""
 from __future__ import annotations
 
+import time
 from types import SimpleNamespace
 
 import numpy as np
@@ -163,3 +164,22 @@ def test_discovery_runs_below_tracking_and_publishing_at_its_priority():   # DIS
     from sg3d.app import mapping
 
     assert mapping.DISCOVER_NICE == 5 and mapping._Discoverer.nice == 5 and mapping._Publisher.nice == 0
+
+
+def test_the_closer_waits_while_tracking_is_busy_and_closes_the_rest_at_the_end():
+    busy = [True]
+    closer = live_loops.LoopCloser(_NoLoops(), lambda idx: {i: shift(0.2 * i) for i in idx}, lambda b, a: None,
+                                   lambda: not busy[0])
+    closer.start()
+    closer.offer(0, np.ones((2, 2)), np.zeros((2, 2)), None)
+    time.sleep(0.2)
+    assert closer.views == []                      # tracking busy: nothing closed
+    busy[0] = False
+    deadline = time.monotonic() + 5
+    while not closer.views and time.monotonic() < deadline:
+        time.sleep(0.01)
+    assert [v.index for v in closer.views] == [0]  # tracking idle: closed
+    busy[0] = True
+    closer.offer(1, np.ones((2, 2)), np.zeros((2, 2)), (0, 1, shift(0.2), False))
+    closer.stop(drain=True)                        # the source ended: closed whatever tracking does
+    assert [v.index for v in closer.views] == [0, 1]
