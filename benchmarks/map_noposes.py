@@ -6,7 +6,8 @@ and maps it, each room in a scratch store:
 - with `--realsense`, also through the RealSense source: the frames recorded first into a .db3 by
   librealsense's own recorder (pyrealsense2's software device: `benchmarks.realsense_recording`), then played back by `sg3d map realsense:FILE` at the recorded rate.
 
-Per room and source it prints: first objects after the first frame (s), latency p50/p95 (s),
+Per room and source it reports (one JSON line per room on stderr as it ends, then one table on
+stdout with the load of each row; `--json`: the reports as one list): first objects after the first frame (s), latency p50/p95 (s),
 tracking (frames tracked / skipped, lost, restarts, longest time without a pose, ms per frame),
 ATE RMSE of the live trajectory (`--trajectory-out`) against the recording's given poses (evo's
 APE when evo is installed, and the project's `ate_rmse`), per-stage counts, and the end graph's
@@ -138,6 +139,7 @@ def _row(summary: dict, traj: dict) -> dict:
             "latency_p50_s": summary["latency_s"].get("p50"), "latency_p95_s": summary["latency_s"].get("p95"),
             "tracked": t.get("ran"), "tracking_skipped": t.get("skipped"), "lost": t.get("lost"),
             "restarts": t.get("restarts"), "longest_loss_s": t.get("longest_loss_s"),
+            "loop_closures": t.get("loop_closures"),
             "track_ms_mean": t.get("ms_mean"), "track_ms_p95": t.get("ms_p95"),
             "ate_m": traj["ate_m"], "evo_ate_m": traj["evo_ate_m"], "ate_poses": traj["poses"],
             "objects": summary["objects"], "stages": summary.get("stages"), "load_avg": summary.get("load_avg")}
@@ -184,12 +186,42 @@ def run_room(name: str, load: int, realsense: bool) -> dict:
     return report
 
 
+TABLE_HEAD = ("| room | source | --load | load avg | first objects | latency p95 | tracked / lost / restarts "
+              "| longest loss | loop closures | ATE live | ATE offline | recall live / offline |")
+
+
+def _cell(v, unit: str = "", scale: float = 1.0, digits: int = 2) -> str:
+    return "-" if v is None else f"{v * scale:.{digits}f}{unit}"
+
+
+def table(reports: list[dict]) -> str:
+    """One markdown row per room and source: the figures the issue asks for, with the load."""
+    rows = [TABLE_HEAD, "|" + "---|" * (TABLE_HEAD.count("|") - 1)]
+    for r in reports:
+        built = r.get("offline_build", {})
+        for source in ("folder", "realsense"):
+            row = r.get(source)
+            if row is None:
+                continue
+            if "not_run" in row:
+                rows.append(f"| {r['room']} | {source} | {r['load']} | not run: {row['not_run']} |")
+                continue
+            rows.append(
+                f"| {r['room']} | {source} | {r['load']} | {_cell(row.get('load_avg'), digits=1)} "
+                f"| {_cell(row['first_objects_after_s'], ' s')} | {_cell(row['latency_p95_s'], ' s')} "
+                f"| {row['tracked']} / {row['lost']} / {row['restarts']} | {_cell(row['longest_loss_s'], ' s')} "
+                f"| {row.get('loop_closures')} | {_cell(row['ate_m'], ' cm', 100, 1)} "
+                f"| {_cell(built.get('ate_m'), ' cm', 100, 1)} "
+                f"| {_cell(row.get('recall_any_label'))} / {_cell(built.get('recall_any_label'))} |")
+    return "\n".join(rows)
+
+
 def main(rooms: list[str], load: int, realsense: bool, as_json: bool) -> None:
+    """Each room in turn (its JSON line on stderr as it ends), then one table on stdout (or, with
+    `as_json`, the reports as one JSON list)."""
     reports = []
     for name in rooms:
         r = run_room(name, load, realsense)
         reports.append(r)
-        if not as_json:
-            print(json.dumps(r), flush=True)
-    if as_json:
-        print(json.dumps(reports))
+        print(json.dumps(r), file=sys.stderr, flush=True)
+    print(json.dumps(reports) if as_json else table(reports))

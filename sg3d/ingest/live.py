@@ -178,11 +178,13 @@ class LiveMapper:
         self.discovered: Optional[Discovered] = None
         self.live = True                      # False once the source ended: every frame is judged
         self._last_detect = 0.0               # monotonic time of the last detection
+        self._revision = 0                    # the source's pose revision the evidence follows
 
     # -- frames arriving -----------------------------------------------------------------------
     def look(self, limit: Optional[int] = None) -> int:
         """Judge the frames that arrived since the last call (ABIR, then KGE on the sharp ones),
         at most `limit`; returns how many were judged."""
+        self.follow_corrections()
         ready = self.source.poll()
         if self.live and ready - self.next_frame > self.max_backlog():
             self.counts.jumped += ready - 1 - self.next_frame
@@ -254,6 +256,28 @@ class LiveMapper:
         self.grouper.completed.clear()        # groups matter to a build's reports only
         if self.gravity is None and len(self._gravity_frames) >= GRAVITY_FRAMES:
             self._estimate_gravity()
+
+    def follow_corrections(self) -> None:
+        """When the source's poses were corrected (loop closure of online tracking: its `revision`
+        moved on), move the evidence with them: each detected frame's sightings and visibility
+        view by the frame's correction (`Sighting.moved`), and the judged frames' poses the
+        frame choice uses, so the next graph is made from the corrected poses."""
+        revision = getattr(self.source, "revision", 0)
+        if revision == self._revision or self.gravity is None:
+            return
+        self._revision = revision
+        pose_of = self.source.pose_of  # type: ignore[attr-defined]  # a source whose poses move (a revision)
+        basis = horizontal_frame(self.gravity.up)
+        with self._lock:
+            for i, ev in list(self._evidence.items()):
+                pose = pose_of(i)
+                if pose is None or np.allclose(pose, ev.view.pose, atol=1e-4):
+                    continue
+                move = pose @ np.linalg.inv(ev.view.pose)
+                self._evidence[i] = _Evidence(ev.dets, [s.moved(move, basis) for s in ev.sightings],
+                                              replace(ev.view, pose=pose))
+            self.version += 1
+        self.candidates = [replace(c, pose=p) if (p := pose_of(c.index)) is not None else c for c in self.candidates]
 
     def _estimate_gravity(self, wait_for_more: bool = True) -> None:
         """Gravity from the frames kept for it (then released); when their depth gives none,
@@ -386,6 +410,7 @@ class LiveMapper:
         again under it when it differs), the coverage choice over all sharp frames, the chosen
         frames not yet detected detected now. Returns the frames the final graph is made of."""
         self.live = False
+        self.follow_corrections()
         while self.look():
             pass
         if seq is not None and self.counts.jumped:

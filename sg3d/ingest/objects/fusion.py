@@ -26,7 +26,7 @@ over the views that see it well (and a second colour) and the best-scored view's
 from __future__ import annotations
 
 from collections import defaultdict
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from functools import cached_property
 from typing import Iterable, Optional, Sequence
 
@@ -122,6 +122,16 @@ class Sighting:
     @property
     def extent(self) -> float:
         return float(max(self.attrs.size))
+
+    def moved(self, motion: np.ndarray, basis: np.ndarray) -> "Sighting":
+        """The sighting as a camera moved by the rigid world motion `motion` (4x4) saw it: its
+        centres moved, its size and spread kept (loop closure corrects a pose by centimetres and
+        a degree or two, so the box's axes in the gravity frame stay as measured)."""
+        R, t = motion[:3, :3], motion[:3, 3]
+        mx, my, mz = (float(x) for x in R @ np.asarray(self.attrs.mean, float) + t)
+        cx, cy, cz = (float(x) for x in R @ np.asarray(self.attrs.centre, float) + t)
+        mean, centre = (mx, my, mz), (cx, cy, cz)
+        return Sighting.of(self.frame, self.detection, replace(self.attrs, mean=mean, centre=centre), basis)
 
 
 def box_overlap(lo_a, hi_a, lo_b, hi_b) -> float:

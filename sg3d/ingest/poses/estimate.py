@@ -23,6 +23,7 @@ from typing import Callable, Optional
 import numpy as np
 from scipy.spatial.transform import Rotation
 
+from sg3d.ingest.poses.closure import LOOP_MIN_AGREEMENT, LOOP_MIN_OVERLAP, loop_edges, neighbour_edges
 from sg3d.ingest.poses.graph import optimise_pose_graph
 from sg3d.ingest.poses.tracking import Odometry, View, motion_gap, similarity
 from sg3d.ingest.poses.trajectory import interpolate_poses, path_length
@@ -31,17 +32,10 @@ from sg3d.ingest.readers.frames import FrameError
 DEFAULT_STEP = 4             # odometry on every 4th frame (measured: benchmarks/bench_poses.py)
 TRACK_MIN_INLIERS = 0.5      # share of depth a frame-to-frame fit must confirm
 LOOP_MIN_INLIERS = 0.6       # stricter for segment links
-LOOP_MIN_OVERLAP = 0.5       # a loop closure sees at least this share of the other keyframe's depth
-LOOP_MIN_AGREEMENT = 0.85    # and this share of that agrees within 3 cm
 MAX_MISSES = 6               # unplaced frames in a row that end a segment
 MIN_SEGMENT_FRAMES = 10      # a shorter segment is not trusted on its own
 KEYFRAME_M, KEYFRAME_DEG = 0.15, 12.0
-LOOP_RADIUS_M, LOOP_AXIS_DEG = 0.6, 35.0
-LOOP_SKIP_KEYFRAMES = 3      # the newest keyframes are neighbours, not loops
-LOOP_CANDIDATES = 2
-LOOP_MAX_GAP_M, LOOP_MAX_GAP_DEG = 0.3, 15.0
 LINK_CANDIDATES = 4
-KEYFRAME_NEIGHBOURS = 2      # a new keyframe is fitted to this many previous ones
 
 Loader = Callable[[int], tuple[np.ndarray, np.ndarray]]   # index -> (depth metres, grey image)
 
@@ -164,39 +158,14 @@ class _Estimator:
             self._close_loops(seg, view)
             seg.keyframes.append(view)
 
-    # -- 2. keyframe edges and loop closures --------------------------------------------------------
+    # -- 2. keyframe edges and loop closures (`sg3d.ingest.poses.closure`) ---------------------------
     def _link_keyframes(self, seg: _Segment, view: View) -> None:
-        """Fit a new keyframe straight to the last few keyframes (from the chained estimate): one
-        measurement over the span of several odometry steps, so drift grows per keyframe, not per
-        tracked frame."""
-        pose = self.poses[view.index]
-        for kf in seg.keyframes[-KEYFRAME_NEIGHBOURS:]:
-            predicted = np.linalg.inv(self.poses[kf.index]) @ pose
-            fit = self.odometry.fit_from(view, kf, predicted, LOOP_MIN_OVERLAP, LOOP_MIN_AGREEMENT)
-            if fit.ok:
-                gap_m, gap_deg = motion_gap(predicted, fit.motion)
-                if gap_m < LOOP_MAX_GAP_M and gap_deg < LOOP_MAX_GAP_DEG:
-                    self.edges.append((kf.index, view.index, fit.motion, True))
+        self.edges.extend(neighbour_edges(self.odometry, view, self.poses, seg.keyframes))
 
     def _close_loops(self, seg: _Segment, view: View) -> None:
-        pose = self.poses[view.index]
-        old = seg.keyframes[:-LOOP_SKIP_KEYFRAMES] if len(seg.keyframes) > LOOP_SKIP_KEYFRAMES else []
-        near = []
-        for kf in old:
-            T = self.poses[kf.index]
-            dist = float(np.linalg.norm(T[:3, 3] - pose[:3, 3]))
-            axis = float(np.degrees(np.arccos(np.clip(T[:3, 2] @ pose[:3, 2], -1, 1))))
-            if dist < LOOP_RADIUS_M and axis < LOOP_AXIS_DEG:
-                near.append((dist, kf))
-        for _, kf in sorted(near, key=lambda x: x[0])[:LOOP_CANDIDATES]:
-            predicted = np.linalg.inv(self.poses[kf.index]) @ pose
-            fit = self.odometry.fit_from(view, kf, predicted, LOOP_MIN_OVERLAP, LOOP_MIN_AGREEMENT)
-            if not fit.ok:
-                continue
-            gap_m, gap_deg = motion_gap(predicted, fit.motion)
-            if gap_m < LOOP_MAX_GAP_M and gap_deg < LOOP_MAX_GAP_DEG:
-                self.edges.append((kf.index, view.index, fit.motion, True))
-                self.loops += 1
+        found = loop_edges(self.odometry, view, self.poses, seg.keyframes)
+        self.edges.extend(found)
+        self.loops += len(found)
 
     # -- 3. segments -----------------------------------------------------------------------------
     def link_segments(self) -> list[_Segment]:

@@ -6,7 +6,9 @@ and gives each frame, the first time it is read, a camera-to-world pose (world =
 tracked camera; the live mapper estimates up and floor from the frames themselves):
 
 - the frame is fitted to the last keyframe (`Odometry.fit`, trust check: `TRACK_MIN_INLIERS`
-  of its depth confirmed), and its pose is the keyframe's pose chained with that motion;
+  of its depth confirmed), and its pose is the keyframe's pose chained with that motion; a fit
+  confirming less than `TRACK_TRUST` gets a second opinion (a depth-only fit to the keyframe, a
+  fit to the last placed frame) and the fit confirming most is taken;
   it becomes the next keyframe when it lies `KEYFRAME_M` / `KEYFRAME_DEG` away from the last one
   or shows less than `KEYFRAME_INLIERS` in common with it (drift grows per keyframe, not per
   frame);
@@ -16,12 +18,18 @@ tracked camera; the live mapper estimates up and floor from the frames themselve
   frame's time), which OpenCV's odometry cannot take as a guess but `Odometry.fit_from` can;
 - when that fit fails, the frame is fitted to the last placed frame, then re-localised against
   `RELOCALISE_TRIES` older keyframes, starting from the predicted pose (else the last known one;
-  `Odometry.fit_from`);
+  `Odometry.fit_from`), as far as `LOSS_BUDGET_S` allows after the bridges;
 - a frame none of them places is skipped with the reason "lost track: ..." (`FrameError`, so
   the mapper lists it and goes on); the next placeable frame continues from the last known pose.
   After `MAX_LOST` unplaceable frames in a row (that still show enough depth), `MAX_LOST_S`
   after the last placed one, the track restarts:
   the next such frame becomes a keyframe at the last known pose (counted in `restarts`).
+
+Loop closure runs off the tracking path (`sg3d.ingest.poses.live_loops.LoopCloser`, the offline
+estimate's closures and GTSAM pose graph): every `LOOP_KEYFRAME_M` / `LOOP_KEYFRAME_DEG` a keyframe
+is offered to it, and an optimised graph moves every placed frame with the loop keyframe it was
+placed after (`correct`; `revision` counts the corrections, `pose_of` gives a frame's pose now, and
+the live mapper moves its evidence with them).
 
 A frame that already carries a finite pose passes through untouched, and so does every frame of
 a source that says it carries poses (`posed` True: a folder with pose files); such a source is
@@ -39,6 +47,10 @@ from typing import Optional
 
 import numpy as np
 
+from sg3d.ingest.poses.estimate import KEYFRAME_DEG as LOOP_KEYFRAME_DEG
+from sg3d.ingest.poses.estimate import KEYFRAME_M as LOOP_KEYFRAME_M
+from sg3d.ingest.poses.live_loops import LoopCloser
+from sg3d.ingest.poses.sequence import DepthCameraImages
 from sg3d.ingest.poses.tracking import Fit, Odometry, View, motion_gap
 from sg3d.ingest.readers.frames import Frame, FrameError
 
@@ -47,16 +59,22 @@ from sg3d.ingest.readers.frames import Frame, FrameError
 # gave ATE 6.8 cm against 3.7 cm and a gap of 20 frames was no longer bridged.
 ONLINE_WIDTH = 320
 TRACK_MIN_INLIERS = 0.5      # share of a frame's depth the keyframe must confirm (as `estimate`)
+TRACK_TRUST = 0.85           # a fit confirming less gets a second opinion (`_fit`): on the kitchen, RGB-D
+                             # fits to a keyframe 6-9 frames back that confirmed 0.65-0.8 slid 4-14 cm
+                             # (the true motion confirms 0.8-0.9), fits 2-3 frames apart confirm 0.9+
 KEYFRAME_M, KEYFRAME_DEG = 0.05, 5.0   # measured on the kitchen: 0.05 m / 5 deg ATE 6 mm, 0.1 m / 10 deg 37 mm
 KEYFRAME_INLIERS = 0.7       # a frame sharing less than this with the keyframe becomes the next one
 RELOCALISE_KEYFRAMES = 5     # recent keyframes held for relocalisation
 RELOCALISE_TRIES = 2         # older keyframes a lost frame is tried against (the time budget of a loss:
 RELOCALISE_ROUNDS = 2        # each try is up to this many fits from a guess, ~55 ms each)
 RELOCALISE_OVERLAP, RELOCALISE_AGREEMENT = 0.4, 0.8
-MAX_LOST = 3                 # unplaceable frames in a row before the track restarts at the last pose,
-MAX_LOST_S = 2.0             # and at least this long without a pose: a tracker that takes one frame in
-                             # 10 on a busy machine met 3 in 1 s, and a restart puts the rest of the map
-                             # in another frame (the kitchen's live ATE 0.57 m after 6 restarts)
+MAX_LOST = 2                 # unplaceable frames in a row before the track restarts at the last pose,
+MAX_LOST_S = 0.7             # and at least this long without a pose: never lost for much more than this
+                             # (a restart's frame is offered to loop closure, which can place it again
+                             # against the keyframes around)
+LOSS_BUDGET_S = 0.3          # tracking time a frame may take in relocalising after the bridges from the
+                             # prediction failed (at a load of 9, ten fits from a guess took 2-3 s a
+                             # frame: three lost frames kept the track lost for 4.8 s)
 VELOCITY_WINDOW_S = 0.3      # the camera's velocity: its motion over about this long before the last frame
 TRACK_POLL_S = 0.01          # how often the tracking thread looks for a new frame
 HELD_FRAMES = 4              # decoded frames kept for the mapper after tracking (a few turns' worth)
@@ -130,9 +148,15 @@ class OnlinePoses:
         self._lock = threading.Lock()
         self._thread: Optional[threading.Thread] = None
         self._stop = threading.Event()
+        self._idle = threading.Event()                # the tracking thread waits for a frame (loop closure may run)
         self._ready = 0                               # frames the tracking thread has dealt with
         self.error: Optional[BaseException] = None
         self.seconds: deque[float] = deque(maxlen=10_000)   # per frame the tracking thread took (read + fit)
+        self._closer: Optional[LoopCloser] = None
+        self._images: Optional[DepthCameraImages] = None   # a recording on disk: odometry's own images
+        self._anchor: dict[int, int] = {}             # placed frame -> the loop keyframe it was placed after
+        self._loop_last: Optional[int] = None         # the newest loop keyframe
+        self.revision = 0                             # bumps whenever loop closure moved the placed frames
 
     # -- tracking on its own thread ------------------------------------------------------------------
     def start(self) -> None:
@@ -144,12 +168,20 @@ class OnlinePoses:
         self._thread.start()
 
     def stop(self) -> None:
+        """Stop tracking; the loop keyframes still waiting are closed and the graph optimised once
+        more (the source ended), so the poses read from now on are the corrected ones."""
         self._stop.set()
         if self._thread is not None:
             self._thread.join()
             self._thread = None
         if self.error is not None:
             raise self.error
+        self.close_loops()
+
+    def close_loops(self) -> None:
+        """Close the loop keyframes offered so far (and stop the closer's thread, if running)."""
+        if self._closer is not None:
+            self._closer.stop(drain=True)
 
     def _follow(self) -> None:
         try:
@@ -160,12 +192,14 @@ class OnlinePoses:
                         return                        # nothing to track: poll() passes through
                     fresh = n - 1 >= self._next
                     if fresh:
+                        self._idle.clear()
                         t0 = time.perf_counter()
                         self._track(n - 1)
                         self._next = n
                         self.seconds.append(time.perf_counter() - t0)
                     self._ready = n
                 if not fresh:
+                    self._idle.set()
                     self._stop.wait(TRACK_POLL_S)
         except Exception as exc:   # noqa: BLE001 - raised again on the mapping thread by stop()
             self.error = exc
@@ -198,6 +232,11 @@ class OnlinePoses:
 
     def written_at(self, i: int) -> float:
         return self.source.written_at(i)
+
+    def pose_of(self, i: int) -> Optional[np.ndarray]:
+        """Frame i's current pose (loop closure moves placed frames: `revision`), None if unplaced."""
+        pose = self.poses.get(i)
+        return None if pose is None else pose.copy()
 
     def frame(self, i: int) -> Frame:
         """Frame i with its pose, tracked from the last placed frame when i is new (frames the mapper
@@ -255,39 +294,64 @@ class OnlinePoses:
         if self._lost_in_row >= MAX_LOST and lost_for >= MAX_LOST_S:   # a new track from the last known pose
             self.restarts += 1
             self._keyframes.clear()
-            self._place(view, self.poses[self._last.index], keyframe=True)
+            self._place(view, self.poses[self._last.index], keyframe=True, restart=True)
             return
         self._lose(i, self._why)
 
     def _view(self, frame: Frame) -> View:
+        """The frame reduced for odometry: in the depth camera's own pixels when the source is a
+        recording on disk that says how its depth is registered (`DepthCameraImages`, as the
+        offline estimate reads it: registered depth bends the geometry ICP relies on; kitchen
+        played live, 40 cm ATE against 31 cm before `TRACK_TRUST`), else the frame's
+        colour-registered depth."""
+        depth, grey, K, size = frame.depth, frame.gray, frame.K, frame.size
+        seq = getattr(self.source, "seq", None)
+        if seq is not None and hasattr(seq, "pixels") and hasattr(seq, "registration"):
+            if self._images is None or self._images.seq is not seq:     # a folder listed again
+                self._images = DepthCameraImages(seq)
+            depth, grey = self._images(frame.index)
+            K, size = seq.depth_K, (depth.shape[1], depth.shape[0])
         if self._odometry is None:
-            self._odometry = Odometry(frame.K, frame.size, self.max_depth, ONLINE_WIDTH)
-        return self._odometry.view(frame.index, frame.depth, frame.gray)
+            self._odometry = Odometry(K, size, self.max_depth, ONLINE_WIDTH)
+            self._closer = LoopCloser(Odometry(K, size, self.max_depth, ONLINE_WIDTH), self._snapshot, self.correct,
+                                      self._idle.is_set)
+            if self._thread is not None:
+                self._closer.start()
+        return self._odometry.view(frame.index, depth, grey)
 
     def _fit(self, view: View) -> Optional[tuple[np.ndarray, float]]:
-        """(pose, share of its depth confirmed) from the last keyframe (directly, then from the
-        constant-velocity prediction), the last placed frame, or the recent keyframes starting
+        """(pose, share of its depth confirmed) from the last keyframe (directly; when that fit
+        confirms less than `TRACK_TRUST`, the best of it, a fit to the last placed frame and, when
+        that confirms less too, a depth-only fit to the keyframe), then from the constant-velocity prediction (to the keyframe,
+        then the last placed frame), or the recent keyframes starting
         from the prediction (else the last known pose); None (reason in `_why`). Cheapest first:
         a direct fit costs ~20 ms at 320x240, one from a guess ~55 ms (it renders the view)."""
         assert self._odometry is not None and self._last is not None
         odo = self._odometry
         key = self._keyframes[-1]
-        fit = odo.fit(view, key, TRACK_MIN_INLIERS)
-        if fit.ok:
-            return self.poses[key.index] @ fit.motion, fit.inliers
-        why = f"against keyframe {key.index}: {fit.why}"
+        fits = [(odo.fit(view, key, TRACK_MIN_INLIERS), key)]
+        if fits[0][0].inliers < TRACK_TRUST and self._last.index != key.index:   # a weak fit: the last frame
+            fits.append((odo.fit(view, self._last, TRACK_MIN_INLIERS), self._last))
+        if max(f.inliers for f, _ in fits) < TRACK_TRUST:                          # still weak: depth alone
+            fits.append((odo.fit_depth(view, key, TRACK_MIN_INLIERS), key))
+        placed = [(f, ref) for f, ref in fits if f.ok]
+        if placed:                                # the fit confirming the most
+            best, ref = max(placed, key=lambda fr: fr[0].inliers)
+            return self.poses[ref.index] @ best.motion, best.inliers if ref is key else 0.0
+        why = f"against keyframe {key.index}: {fits[0][0].why}"
         predicted = predict_pose(list(self._history), self.times[view.index])
         if predicted is not None:        # a gap or a fast turn: start where the camera should be
-            fit = self._bridge(view, key, np.linalg.inv(self.poses[key.index]) @ predicted, TRACK_MIN_INLIERS)
-            if fit.ok:
-                return self.poses[key.index] @ fit.motion, fit.inliers
-        if self._last.index != key.index:
-            fit = odo.fit(view, self._last, TRACK_MIN_INLIERS)
-            if fit.ok:
-                return self.poses[self._last.index] @ fit.motion, 0.0   # a keyframe from here on
+            for ref in (key, self._last) if self._last.index != key.index else (key,):
+                fit = self._bridge(view, ref, np.linalg.inv(self.poses[ref.index]) @ predicted, TRACK_MIN_INLIERS)
+                if fit.ok:
+                    return self.poses[ref.index] @ fit.motion, fit.inliers if ref is key else 0.0
         start = predicted if predicted is not None else self.poses[self._last.index]
+        deadline = time.perf_counter() + LOSS_BUDGET_S
         for kf in list(reversed(self._keyframes))[1:1 + RELOCALISE_TRIES]:
-            fit = self._bridge(view, kf, np.linalg.inv(self.poses[kf.index]) @ start, rounds=RELOCALISE_ROUNDS)
+            if time.perf_counter() > deadline:
+                break
+            fit = self._bridge(view, kf, np.linalg.inv(self.poses[kf.index]) @ start, rounds=RELOCALISE_ROUNDS,
+                               deadline=deadline)
             if fit.ok:
                 return self.poses[kf.index] @ fit.motion, 0.0
         self._why = (f"lost track: not placed by odometry ({why}; nor from the predicted pose, the last frame or "
@@ -297,15 +361,17 @@ class OnlinePoses:
     _why = ""
 
     def _bridge(self, view: View, target: View, guess: np.ndarray, min_share: Optional[float] = None,
-                rounds: int = BRIDGE_ROUNDS) -> Fit:
+                rounds: int = BRIDGE_ROUNDS, deadline: float = float("inf")) -> Fit:
         """The motion of `view` into `target` from a `guess`: up to `rounds` fits
         (`Odometry.fit_from`), each starting from the motion the last one reached, until one is
         accepted: overlap `RELOCALISE_OVERLAP` and agreement `RELOCALISE_AGREEMENT` (an older
         keyframe), or, with `min_share` (the last keyframe, as a direct fit is judged), that
-        share of the view's depth confirmed."""
+        share of the view's depth confirmed; no round after the first starts past `deadline`."""
         assert self._odometry is not None
         fit = guessed = Fit(False, guess, 0.0, float("inf"))
-        for _ in range(rounds):
+        for k in range(rounds):
+            if k and time.perf_counter() > deadline:
+                break
             fit = self._odometry.fit_from(view, target, guessed.motion, RELOCALISE_OVERLAP, RELOCALISE_AGREEMENT)
             if min_share is not None and not fit.ok and fit.inliers >= min_share and np.all(np.isfinite(fit.motion)):
                 fit = Fit(True, fit.motion, fit.inliers, fit.rms)
@@ -331,6 +397,8 @@ class OnlinePoses:
         return {"ran": self.tracked, "placed": len(placed),
                 "lost": sum(1 for r in self.lost.values() if r.startswith("lost track")),
                 "skipped": max(0, self._next - len(self._names)), "restarts": self.restarts,
+                "loop_closures": self._closer.loops if self._closer is not None else 0,
+                "optimisations": self._closer.optimisations if self._closer is not None else 0,
                 "longest_loss_s": round(float(gaps.max()), 3) if gaps.size else 0.0,
                 "ms_mean": round(1000 * float(np.mean(self.seconds)), 1) if self.seconds else None,
                 "ms_p95": round(1000 * float(np.percentile(self.seconds, 95)), 1) if self.seconds else None}
@@ -340,13 +408,49 @@ class OnlinePoses:
         placed = [i for i in sorted(self.poses) if i in self.times]
         return [self.times[i] for i in placed], np.array([self.poses[i] for i in placed]).reshape(-1, 4, 4)
 
-    def _place(self, view: View, pose: np.ndarray, keyframe: bool) -> None:
+    def _place(self, view: View, pose: np.ndarray, keyframe: bool, restart: bool = False) -> None:
         self.poses[view.index] = pose
         self._history.append((self.times[view.index], pose))
         self._last = view
         self._lost_in_row = 0
         if keyframe:
             self._keyframes.append(view)
+            self._offer_loop_keyframe(view, pose, restart)
+        if self._loop_last is not None:
+            self._anchor[view.index] = self._loop_last
+
+    def _offer_loop_keyframe(self, view: View, pose: np.ndarray, restart: bool) -> None:
+        """A keyframe `LOOP_KEYFRAME_M` / `LOOP_KEYFRAME_DEG` from the last loop keyframe (the
+        offline estimate's spacing), or the first after a restart, goes to the loop closer with
+        the chained motion from the last one (after a restart: "where tracking was", a robust
+        edge loop closures may overrule)."""
+        last = self._loop_last
+        if last is not None and not restart:
+            gap_m, gap_deg = motion_gap(self.poses[last], pose)
+            if gap_m < LOOP_KEYFRAME_M and gap_deg < LOOP_KEYFRAME_DEG:
+                return
+        edge = None if last is None else (last, view.index, np.linalg.inv(self.poses[last]) @ pose, restart)
+        self._loop_last = view.index
+        if self._closer is not None:
+            self._closer.offer(view.index, view.depth, view.gray, edge)
+
+    # -- loop closure's corrections ----------------------------------------------------------------
+    def _snapshot(self, indices: list[int]) -> dict[int, np.ndarray]:
+        """The current poses of the loop keyframes `indices` (only `correct` changes them)."""
+        return {i: self.poses[i].copy() for i in indices if i in self.poses}
+
+    def correct(self, before: dict[int, np.ndarray], after: dict[int, np.ndarray]) -> None:
+        """Move every placed frame with the loop keyframe it was placed after, from its pose in
+        `before` to the optimised one in `after`: P <- after[a] before[a]^-1 P. Frames placed after
+        the newest keyframe of `before` (tracking went on while the graph was optimised) move
+        with that newest one, and so does the velocity history."""
+        moves = {k: after[k] @ np.linalg.inv(before[k]) for k in before}
+        newest = moves[max(moves)]
+        with self._lock:
+            for i, a in self._anchor.items():
+                self.poses[i] = moves.get(a, newest) @ self.poses[i]
+            self._history = deque(((t, newest @ P) for t, P in self._history), maxlen=self._history.maxlen)
+            self.revision += 1
 
     def _lose(self, i: int, reason: str, counts: bool = True) -> None:
         self.lost[i] = reason

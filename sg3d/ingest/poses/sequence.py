@@ -28,6 +28,30 @@ def _grey_into_depth_pixels(seq, factor: int, depth_size: tuple[int, int]):
     return mx, my
 
 
+class DepthCameraImages:
+    """Frame `start + i` of `seq` as odometry reads it (`estimate_sequence_poses`): (raw depth in
+    metres in the depth camera's pixels, grey image at 1/`factor` of the colour size resampled into
+    those pixels); FrameError for a bad frame."""
+
+    def __init__(self, seq, start: int = 0):
+        self.seq, self.start = seq, start
+        self.factor = reduce_factor(seq.image_size[0])
+        self._maps: dict = {}
+
+    def __call__(self, i: int) -> tuple[np.ndarray, np.ndarray]:
+        source = self.seq.pixels(self.start + i, registered=False)
+        depth = source.depth()
+        f = self.factor
+        grey = cv2.cvtColor(source.preview(f) if f > 1 else source.color(), cv2.COLOR_BGR2GRAY)
+        size = (depth.shape[1] // f, depth.shape[0] // f)
+        if size not in self._maps:
+            self._maps[size] = _grey_into_depth_pixels(self.seq, f, size)
+        if self._maps[size] is not None:
+            mx, my = self._maps[size]
+            grey = cv2.remap(grey, mx, my, cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE)
+        return depth, grey
+
+
 def estimate_sequence_poses(seq, start: int = 0, stop: Optional[int] = None, step: int = DEFAULT_STEP,
                             progress: Optional[Callable[[int, int], None]] = None) -> PoseEstimate:
     """Estimate camera poses of frames [start, stop) of `seq` from their pixels alone, ignoring
@@ -39,20 +63,7 @@ def estimate_sequence_poses(seq, start: int = 0, stop: Optional[int] = None, ste
     map, which bends the geometry ICP relies on (kitchen: ATE 0.034 m this way, 0.082 m on the
     registered depth)."""
     stop = len(seq) if stop is None else min(stop, len(seq))
-    factor = reduce_factor(seq.image_size[0])
-    maps: dict = {}
-
-    def load(i: int) -> tuple[np.ndarray, np.ndarray]:
-        source = seq.pixels(start + i, registered=False)
-        depth = source.depth()
-        grey = cv2.cvtColor(source.preview(factor) if factor > 1 else source.color(), cv2.COLOR_BGR2GRAY)
-        size = (depth.shape[1] // factor, depth.shape[0] // factor)
-        if size not in maps:
-            maps[size] = _grey_into_depth_pixels(seq, factor, size)
-        if maps[size] is not None:
-            grey = cv2.remap(grey, maps[size][0], maps[size][1], cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE)
-        return depth, grey
-
+    load = DepthCameraImages(seq, start)
     probe = seq.pixels(start, registered=False)
     try:
         depth_size = probe.depth().shape[::-1]

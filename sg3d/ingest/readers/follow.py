@@ -26,9 +26,22 @@ from sg3d.ingest.readers.pose_check import MotionRuns, causal_motion_problem
 
 # A frame with no later frame is taken as complete after the folder was this long unchanged.
 DEFAULT_SETTLE_S = 0.5
+# Listing a folder costs more the more frames it holds (the kitchen's 1,000 frames: ~40 ms for the
+# signature with pose files, ~90 ms to list them again on 2 busy cores), and every layout lists
+# its own way: rather than list incrementally, the follower lists again at most so often that
+# listing takes `LISTING_SHARE` of a core, and never waits more than `MAX_LISTING_WAIT_S`.
+LISTING_SHARE = 0.2
+MAX_LISTING_WAIT_S = 0.5
 # Runs of poses kept while following (`pose_check.MotionRuns`): a recording with more separate
 # jumps than this lets its oldest runs go (the path so far is always kept).
 MOTION_RUNS_HELD = 32
+
+
+def listing_interval(cost_s: float) -> float:
+    """Seconds until the folder is listed again after a listing (signature and, when it changed,
+    re-opening) that took `cost_s`: cost / `LISTING_SHARE` (listing takes at most that share of a
+    core), at most `MAX_LISTING_WAIT_S`."""
+    return min(MAX_LISTING_WAIT_S, cost_s / LISTING_SHARE)
 
 
 def folder_signature(path: Path) -> tuple:
@@ -70,20 +83,26 @@ class FolderFollower:
         self._judged = 0                       # frames before this one had their motion judged
         self._ended = False                    # `whole()` was called
         self.posed: Optional[bool] = None      # whether the frames carry poses (decided on the first ones)
+        self._next_listing = 0.0               # monotonic time before which the folder is not listed again
+        self._listed_at = 0.0                  # monotonic time of the last listing
 
     def poll(self) -> int:
         """The number of complete frames (0 while the folder holds no readable sequence yet)."""
         if not self.path.is_dir():
             raise SequenceError(f"sequence folder not found: {self.path}")
-        sig = folder_signature(self.path)
         now = time.monotonic()
-        if sig != self._signature:
-            self._signature, self._changed_at = sig, now
-            self._reopen()
+        if now >= self._next_listing:
+            t0 = time.perf_counter()
+            sig = folder_signature(self.path)
+            if sig != self._signature:
+                self._signature, self._changed_at = sig, now
+                self._reopen()
+            self._next_listing = now + listing_interval(time.perf_counter() - t0)
+            self._listed_at = now
         if self.seq is None:
             return 0
         n = len(self.seq)
-        if now - self._changed_at >= self.settle_s:
+        if self._listed_at - self._changed_at >= self.settle_s:     # seen unchanged by a listing that long after
             ready = n
         else:
             ready = max(0, n - 1) if self._sizes_known(self.seq) else 0

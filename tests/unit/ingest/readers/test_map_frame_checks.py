@@ -114,3 +114,11 @@ def test_the_map_summary_counts_every_bad_frame_and_lists_a_few_per_reason():
     assert second == {"reason": "color.jpg is truncated (no JPEG end marker)", "count": 1,
                       "frames": [{"frame": "frame-000100", "reason": skipped["frame-000100"]}]}
     assert skipped_by_reason({}) == {"skipped": 0, "skipped_by_reason": []}
+
+
+def test_a_followed_folder_is_listed_again_when_listing_took_a_fifth_of_the_time_since():
+    # LISTING_SHARE, MAX_LISTING_WAIT_S
+    from sg3d.ingest.readers.follow import listing_interval
+
+    assert abs(listing_interval(0.01) - 0.05) < 1e-9 and abs(listing_interval(0.09) - 0.45) < 1e-9
+    assert listing_interval(0.11) == 0.5 and listing_interval(2.0) == 0.5
