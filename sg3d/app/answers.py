@@ -282,18 +282,42 @@ class AnswerCache:
                 self._read.popitem(last=False)
 
 
-def ask_kept(store: GraphStore, cache: AnswerCache, question: str, room: Optional[str] = None,
-             building: Optional[str] = None, viewpoint: Optional[dict] = None) -> tuple[dict, bool]:
-    """(the JSON of `ask` with the picture inline, whether it came from `cache`). A refusal is kept
-    under the question as asked (its text may quote it); an answer under the normalised question."""
-    snapshot = cache.revisions.read(store)   # before the answer: the answer is at least this new
+def _bases(question: str, room: Optional[str], building: Optional[str],
+           viewpoint: Optional[dict]) -> tuple[tuple, tuple]:
+    """(the key part of an answer: the normalised question and the options; that of a refusal:
+    the question as asked)."""
     options = (room, building, json.dumps(viewpoint, sort_keys=True) if viewpoint else None)
-    base = (normalised(question), options)
-    kept = cache.get(snapshot, base, (question, *options, "as asked"))
-    if kept is not None:
-        return {**kept, "question": question}, True
+    return (normalised(question), options), (question, *options, "as asked")
+
+
+def kept_answer(cache: AnswerCache, snapshot: Snapshot, question: str, room: Optional[str] = None,
+                building: Optional[str] = None, viewpoint: Optional[dict] = None) -> Optional[dict]:
+    """The JSON of `ask` kept in `cache` for this question and these options at the revisions of
+    `snapshot` (read before this call, see `store_revision`), or None (one hit or one miss)."""
+    kept = cache.get(snapshot, *_bases(question, room, building, viewpoint))
+    return None if kept is None else {**kept, "question": question}
+
+
+def answer_and_keep(store: GraphStore, cache: AnswerCache, snapshot: Snapshot, question: str,
+                    room: Optional[str] = None, building: Optional[str] = None,
+                    viewpoint: Optional[dict] = None) -> dict:
+    """The JSON of `ask` with the picture inline, kept in `cache` under `snapshot` (read before
+    this call: the answer is at least this new). A refusal is kept under the question as asked
+    (its text may quote it); an answer under the normalised question."""
     seen = _Recorder(store, snapshot)
     data: dict[str, Any] = ask(seen, question, room=room, building=building,
                                viewpoint=viewpoint).to_json(inline_thumbnail=True)
-    cache.put(snapshot, seen.rooms, base if data.get("ok") else (question, *options, "as asked"), data)
-    return data, False
+    base, as_asked = _bases(question, room, building, viewpoint)
+    cache.put(snapshot, seen.rooms, base if data.get("ok") else as_asked, data)
+    return data
+
+
+def ask_kept(store: GraphStore, cache: AnswerCache, question: str, room: Optional[str] = None,
+             building: Optional[str] = None, viewpoint: Optional[dict] = None) -> tuple[dict, bool]:
+    """(the JSON of `ask` with the picture inline, whether it came from `cache`): the revisions
+    read (`cache.revisions`, shared by concurrent asks), then `kept_answer`, else `answer_and_keep`."""
+    snapshot = cache.revisions.read(store)   # before the answer: the answer is at least this new
+    kept = kept_answer(cache, snapshot, question, room, building, viewpoint)
+    if kept is not None:
+        return kept, True
+    return answer_and_keep(store, cache, snapshot, question, room, building, viewpoint), False
