@@ -75,9 +75,11 @@ def sg3d(home: Path, *args: str, **kw) -> subprocess.CompletedProcess:
     return subprocess.run([sys.executable, "-m", "sg3d", "--home", str(home), *args], check=True, **kw)
 
 
-def start_server(home: Path, port: int, workers: int = 1, tree: Path = REPO) -> subprocess.Popen:
+def start_server(home: Path, port: int, workers: int = 1, tree: Path = REPO,
+                 threads: Optional[int] = None) -> subprocess.Popen:
     """`sg3d serve` of the `sg3d` package in `tree` (this checkout, or another revision's)."""
     more = ["--workers", str(workers)] if workers > 1 else []
+    more += ["--threads", str(threads)] if threads else []
     env = {**os.environ, "PYTHONPATH": os.pathsep.join(filter(None, [str(tree), os.environ.get("PYTHONPATH")]))}
     proc = subprocess.Popen([sys.executable, "-m", "sg3d", "--home", str(home), "serve", "--port", str(port), *more],
                             stderr=subprocess.DEVNULL, cwd=tree, env=env)
@@ -446,6 +448,7 @@ def arguments() -> argparse.Namespace:
     ap.add_argument("--clients", type=int, default=100)
     ap.add_argument("--per-client", type=int, default=20)
     ap.add_argument("--workers", type=int, default=1, help="sg3d serve --workers")
+    ap.add_argument("--threads", type=int, help="sg3d serve --threads (default: its own)")
     ap.add_argument("--crowd-only", action="store_true", help="only the two crowds, not the one-client latency rounds")
     ap.add_argument("--client", choices=["aiohttp", "httpx"],
                     default="aiohttp" if importlib.util.find_spec("aiohttp") else "httpx",
@@ -493,7 +496,7 @@ def main() -> None:
             trees = [("this tree", REPO)]
         for label, tree in trees:
             port = free_port()
-            proc = start_server(home, port, args.workers, tree)
+            proc = start_server(home, port, args.workers, tree, args.threads)
             stack.callback(stop, proc)
             servers.append(Served(label, proc, f"http://127.0.0.1:{port}"))
         from sg3d.server.auth import token_path
