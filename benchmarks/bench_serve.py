@@ -150,7 +150,9 @@ def latencies(url: str, token: str, home: Path, room: str, repeat: int) -> dict[
 
 
 async def crowd(url: str, token: str, room: str, clients: int, per_client: int,
-                distinct: bool = False) -> tuple[int, int, float, list[float]]:
+                distinct: bool = False, salt: int = 0) -> tuple[int, int, float, list[float]]:
+    """`clients` httpx clients asking `per_client` questions each; with `distinct`, each request
+    its own viewpoint (`salt` tells one run's from another's: a server's cache keeps them all)."""
     errors, done, ms = 0, 0, []
 
     async def robot(i: int) -> None:
@@ -161,7 +163,7 @@ async def crowd(url: str, token: str, room: str, clients: int, per_client: int,
                 try:
                     body: dict = {"question": QUESTIONS[(i + k) % len(QUESTIONS)], "room": room}
                     if distinct:
-                        body["viewpoint"] = {"position": [float(i), float(k), 0.0]}
+                        body["viewpoint"] = {"position": [float(i), float(k), float(salt)]}
                     r = await c.post("/ask", json=body)
                     ok = r.status_code == 200 and "answer" in r.json()
                 except httpx.HTTPError:
@@ -176,7 +178,7 @@ async def crowd(url: str, token: str, room: str, clients: int, per_client: int,
 
 
 async def crowd_aiohttp(url: str, token: str, room: str, clients: int, per_client: int,
-                        distinct: bool = False) -> tuple[int, int, float, list[float]]:
+                        distinct: bool = False, salt: int = 0) -> tuple[int, int, float, list[float]]:
     """`crowd` with aiohttp's client (its HTTP parser in C): a seventh of httpx's CPU per request,
     which on a small machine is CPU the service under test does not have to share."""
     import aiohttp
@@ -193,7 +195,7 @@ async def crowd_aiohttp(url: str, token: str, room: str, clients: int, per_clien
                 try:
                     body: dict = {"question": QUESTIONS[(i + k) % len(QUESTIONS)], "room": room}
                     if distinct:
-                        body["viewpoint"] = {"position": [float(i), float(k), 0.0]}
+                        body["viewpoint"] = {"position": [float(i), float(k), float(salt)]}
                     async with c.post("/ask", json=body) as r:
                         ok = r.status == 200 and "answer" in await r.json()
                 except (aiohttp.ClientError, asyncio.TimeoutError):
@@ -350,7 +352,7 @@ class Served:
 
 
 def one_crowd(server: Served, token: str, room: str, clients: int, per_client: int, distinct: bool,
-              client: str, home: Path) -> dict:
+              client: str, home: Path, salt: int = 0) -> dict:
     """One crowd against `server`: requests/s, p50, p95, errors, cache hits and misses, the CPU
     each process spent per request (client: this process; server: every worker; store: the
     embedded daemon) and the 1-minute load before and after."""
@@ -358,7 +360,7 @@ def one_crowd(server: Served, token: str, room: str, clients: int, per_client: i
     before, load = cache_counts(server.url), os.getloadavg()[0]
     pids = (os.getpid(), server.proc.pid, store_pid(home))
     cpu0 = [cpu_seconds(p, tree=i == 1) for i, p in enumerate(pids)]
-    done, errors, wall, ms = asyncio.run(run(server.url, token, room, clients, per_client, distinct))
+    done, errors, wall, ms = asyncio.run(run(server.url, token, room, clients, per_client, distinct, salt))
     cpu1 = [cpu_seconds(p, tree=i == 1) for i, p in enumerate(pids)]
     after = cache_counts(server.url)
     hits, misses = (f"{after.get(k, 0) - before.get(k, 0):.0f}" if after else "-" for k in ("hit", "miss"))
@@ -377,7 +379,7 @@ def crowds(servers: list[Served], token: str, room: str, clients: int, per_clien
         for distinct in (False, True):
             for server in (servers if r % 2 == 0 else servers[::-1]):
                 results.setdefault((distinct, server.label), []).append(
-                    one_crowd(server, token, room, clients, per_client, distinct, client, home or Path(".")))
+                    one_crowd(server, token, room, clients, per_client, distinct, client, home or Path("."), r))
     print(f"{clients} clients x {per_client} questions each, the {client} client, {rounds} round(s); "
           f"CPU ms per request of this client / the server (all workers) / the store daemon")
     if len(servers) == 1:
@@ -408,7 +410,8 @@ def print_compared(results: dict, labels: list[str]) -> None:
     """One row per crowd and measure, one column per server (the median of the rounds), and the
     load range over the crowd's runs."""
     measures = (("requests/s", "rate", "{:.1f}"), ("p50 ms", "p50", "{:.0f}"), ("p95 ms", "p95", "{:.0f}"),
-                ("errors", "errors", "{:.0f}"), ("server CPU ms/request", 1, "{:.2f}"),
+                ("errors", "errors", "{:.0f}"), ("cache hits", "hits", "{}"), ("cache misses", "misses", "{}"),
+                ("server CPU ms/request", 1, "{:.2f}"),
                 ("store CPU ms/request", 2, "{:.2f}"), ("client CPU ms/request", 0, "{:.2f}"))
     print("| crowd | measure | " + " | ".join(labels) + " | load (1 min) over the runs |")
     print("|---|---|" + "---|" * len(labels) + "---|")
@@ -418,7 +421,8 @@ def print_compared(results: dict, labels: list[str]) -> None:
             cells = []
             for label in labels:
                 values = [x["cpu"][key] if isinstance(key, int) else x[key] for x in results[(distinct, label)]]
-                cells.append(fmt.format(statistics.median(values)))
+                numbers = all(isinstance(v, (int, float)) for v in values)
+                cells.append(fmt.format(statistics.median(values)) if numbers else " / ".join(map(str, values)))
             print(f"| {_mode(distinct)} | {name} | " + " | ".join(cells) + f" | {min(loads):.2f}–{max(loads):.2f} |")
     sys.stdout.flush()
 
