@@ -6,7 +6,17 @@ the questions drawn from the docs' question list (every `sg3d ask "..." --room k
 README and docs/asking.md), then again with every request distinct (each its own `viewpoint`
 position, which only left/right questions read: the same work, no answer-cache hit); one table of
 both crowds: requests/s, p50, p95, errors, the server's answer-cache hits and misses (its
-/metrics) and the machine's 1-minute load average before and after each.
+/metrics), the CPU each process spent per request (the clients, the server's workers, the store
+daemon) and the machine's 1-minute load average before and after each. The crowd's clients are
+aiohttp's where it is installed (`--client httpx` for httpx's, which cost about seven times the
+CPU per request, 2.2 ms against 0.3: on a 2-core machine the client's CPU is taken from the
+service under test).
+
+    python -m benchmarks.bench_serve --home DIR --crowd-only --compare REV [--rounds 2]
+
+--compare: the same crowds against `sg3d serve` of git revision REV (its `sg3d` package, from `git
+archive`) and of this tree, both serving the one store, taking turns crowd by crowd (the order
+alternating from round to round): one table with a column for each and the load over the runs.
 
     python -m benchmarks.bench_serve --home DIR --crowd-only --workers 2   # the crowds only, 2 workers
 
@@ -26,7 +36,9 @@ from __future__ import annotations
 
 import argparse
 import asyncio
+import contextlib
 import http.client
+import importlib.util
 import json
 import os
 import re
@@ -37,7 +49,9 @@ import sys
 import tempfile
 import threading
 import time
+from dataclasses import dataclass
 from pathlib import Path
+from typing import Optional
 
 import httpx
 
@@ -61,10 +75,14 @@ def sg3d(home: Path, *args: str, **kw) -> subprocess.CompletedProcess:
     return subprocess.run([sys.executable, "-m", "sg3d", "--home", str(home), *args], check=True, **kw)
 
 
-def start_server(home: Path, port: int, workers: int = 1) -> subprocess.Popen:
+def start_server(home: Path, port: int, workers: int = 1, tree: Path = REPO,
+                 threads: Optional[int] = None) -> subprocess.Popen:
+    """`sg3d serve` of the `sg3d` package in `tree` (this checkout, or another revision's)."""
     more = ["--workers", str(workers)] if workers > 1 else []
+    more += ["--threads", str(threads)] if threads else []
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join(filter(None, [str(tree), os.environ.get("PYTHONPATH")]))}
     proc = subprocess.Popen([sys.executable, "-m", "sg3d", "--home", str(home), "serve", "--port", str(port), *more],
-                            stderr=subprocess.DEVNULL)
+                            stderr=subprocess.DEVNULL, cwd=tree, env=env)
     deadline = time.monotonic() + 120
     while time.monotonic() < deadline:
         try:
@@ -132,7 +150,9 @@ def latencies(url: str, token: str, home: Path, room: str, repeat: int) -> dict[
 
 
 async def crowd(url: str, token: str, room: str, clients: int, per_client: int,
-                distinct: bool = False) -> tuple[int, int, float, list[float]]:
+                distinct: bool = False, salt: int = 0) -> tuple[int, int, float, list[float]]:
+    """`clients` httpx clients asking `per_client` questions each; with `distinct`, each request
+    its own viewpoint (`salt` tells one run's from another's: a server's cache keeps them all)."""
     errors, done, ms = 0, 0, []
 
     async def robot(i: int) -> None:
@@ -143,10 +163,42 @@ async def crowd(url: str, token: str, room: str, clients: int, per_client: int,
                 try:
                     body: dict = {"question": QUESTIONS[(i + k) % len(QUESTIONS)], "room": room}
                     if distinct:
-                        body["viewpoint"] = {"position": [float(i), float(k), 0.0]}
+                        body["viewpoint"] = {"position": [float(i), float(k), float(salt)]}
                     r = await c.post("/ask", json=body)
                     ok = r.status_code == 200 and "answer" in r.json()
                 except httpx.HTTPError:
+                    ok = False
+                ms.append((time.perf_counter() - t0) * 1000)
+                done += 1
+                errors += 0 if ok else 1
+
+    t0 = time.perf_counter()
+    await asyncio.gather(*(robot(i) for i in range(clients)))
+    return done, errors, time.perf_counter() - t0, ms
+
+
+async def crowd_aiohttp(url: str, token: str, room: str, clients: int, per_client: int,
+                        distinct: bool = False, salt: int = 0) -> tuple[int, int, float, list[float]]:
+    """`crowd` with aiohttp's client (its HTTP parser in C): a seventh of httpx's CPU per request,
+    which on a small machine is CPU the service under test does not have to share."""
+    import aiohttp
+
+    errors, done, ms = 0, 0, []
+
+    async def robot(i: int) -> None:
+        nonlocal errors, done
+        async with aiohttp.ClientSession(url, headers={"Authorization": f"Bearer {token}"},
+                                         connector=aiohttp.TCPConnector(limit=1),
+                                         timeout=aiohttp.ClientTimeout(total=120)) as c:
+            for k in range(per_client):
+                t0 = time.perf_counter()
+                try:
+                    body: dict = {"question": QUESTIONS[(i + k) % len(QUESTIONS)], "room": room}
+                    if distinct:
+                        body["viewpoint"] = {"position": [float(i), float(k), float(salt)]}
+                    async with c.post("/ask", json=body) as r:
+                        ok = r.status == 200 and "answer" in await r.json()
+                except (aiohttp.ClientError, asyncio.TimeoutError):
                     ok = False
                 ms.append((time.perf_counter() - t0) * 1000)
                 done += 1
@@ -263,22 +315,123 @@ def cache_counts(url: str) -> dict[str, float]:
             if f.name == "sg3d_answer_cache" for s in f.samples if s.name.endswith("_total")}
 
 
-def crowds(url: str, token: str, room: str, clients: int, per_client: int) -> int:
-    """The crowd with the docs' questions, then with every request distinct: one table (errors of both)."""
-    errors_all, lines = 0, []
+def cpu_seconds(pid: Optional[int], tree: bool = False) -> float:
+    """User + system CPU seconds of process `pid` (with `tree`, and of its children: the worker
+    processes of `sg3d serve --workers N`); 0 where /proc does not say."""
+    def one(p: int) -> float:
+        try:
+            fields = Path(f"/proc/{p}/stat").read_text().rsplit(")", 1)[1].split()
+        except OSError:
+            return 0.0
+        return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+
+    if pid is None:
+        return 0.0
+    total = one(pid)
+    if tree:
+        for child in Path(f"/proc/{pid}/task/{pid}/children").read_text().split() if Path(
+                f"/proc/{pid}/task/{pid}/children").exists() else ():
+            total += cpu_seconds(int(child), tree=True)
+    return total
+
+
+def store_pid(home: Path) -> Optional[int]:
+    """The embedded store daemon's process (its server.json), or None."""
+    try:
+        return int(json.loads((home / "server.json").read_text())["pid"])
+    except (OSError, ValueError, KeyError):
+        return None
+
+
+@dataclass
+class Served:
+    """One `sg3d serve` under test: its label in the table, its process and address."""
+    label: str
+    proc: subprocess.Popen
+    url: str
+
+
+def one_crowd(server: Served, token: str, room: str, clients: int, per_client: int, distinct: bool,
+              client: str, home: Path, salt: int = 0) -> dict:
+    """One crowd against `server`: requests/s, p50, p95, errors, cache hits and misses, the CPU
+    each process spent per request (client: this process; server: every worker; store: the
+    embedded daemon) and the 1-minute load before and after."""
+    run = crowd_aiohttp if client == "aiohttp" else crowd
+    before, load = cache_counts(server.url), os.getloadavg()[0]
+    pids = (os.getpid(), server.proc.pid, store_pid(home))
+    cpu0 = [cpu_seconds(p, tree=i == 1) for i, p in enumerate(pids)]
+    done, errors, wall, ms = asyncio.run(run(server.url, token, room, clients, per_client, distinct, salt))
+    cpu1 = [cpu_seconds(p, tree=i == 1) for i, p in enumerate(pids)]
+    after = cache_counts(server.url)
+    hits, misses = (f"{after.get(k, 0) - before.get(k, 0):.0f}" if after else "-" for k in ("hit", "miss"))
+    return {"done": done, "errors": errors, "rate": done / wall, "p50": pct(ms, 50), "p95": pct(ms, 95),
+            "hits": hits, "misses": misses, "load": (load, os.getloadavg()[0]),
+            "cpu": [(b - a) / max(done, 1) * 1000 for a, b in zip(cpu0, cpu1)]}
+
+
+def crowds(servers: list[Served], token: str, room: str, clients: int, per_client: int, client: str = "aiohttp",
+           home: Optional[Path] = None, rounds: int = 1) -> int:
+    """The crowd with the docs' questions, then with every request distinct, against each server in
+    turn (with two, their order alternating from round to round, so load that drifts meets both
+    alike): one table; the errors of all."""
+    results: dict[tuple[bool, str], list[dict]] = {}
+    for r in range(rounds):
+        for distinct in (False, True):
+            for server in (servers if r % 2 == 0 else servers[::-1]):
+                results.setdefault((distinct, server.label), []).append(
+                    one_crowd(server, token, room, clients, per_client, distinct, client, home or Path("."), r))
+    print(f"{clients} clients x {per_client} questions each, the {client} client, {rounds} round(s); "
+          f"CPU ms per request of this client / the server (all workers) / the store daemon")
+    if len(servers) == 1:
+        print_crowds(results, servers[0].label, clients, per_client)
+    else:
+        print_compared(results, [s.label for s in servers])
+    return sum(x["errors"] for rows in results.values() for x in rows)
+
+
+def _mode(distinct: bool) -> str:
+    return "every question distinct" if distinct else f"the docs' {len(QUESTIONS)} questions"
+
+
+def print_crowds(results: dict, label: str, clients: int, per_client: int) -> None:
+    print("| crowd | requests | errors | requests/s | p50 | p95 | cache hits | cache misses | CPU ms/request "
+          "client / server / store | load (1 min) |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
+    for (distinct, _), rows in results.items():
+        for x in rows:
+            cpu = " / ".join(f"{c:.2f}" for c in x["cpu"])
+            print(f"| {clients} x {per_client}, {_mode(distinct)} | {x['done']} | {x['errors']} | {x['rate']:.1f} "
+                  f"| {x['p50']:.0f} ms | {x['p95']:.0f} ms | {x['hits']} | {x['misses']} | {cpu} "
+                  f"| {x['load'][0]:.2f} → {x['load'][1]:.2f} |")
+    sys.stdout.flush()
+
+
+def print_compared(results: dict, labels: list[str]) -> None:
+    """One row per crowd and measure, one column per server (the median of the rounds), and the
+    load range over the crowd's runs."""
+    measures = (("requests/s", "rate", "{:.1f}"), ("p50 ms", "p50", "{:.0f}"), ("p95 ms", "p95", "{:.0f}"),
+                ("errors", "errors", "{:.0f}"), ("cache hits", "hits", "{}"), ("cache misses", "misses", "{}"),
+                ("server CPU ms/request", 1, "{:.2f}"),
+                ("store CPU ms/request", 2, "{:.2f}"), ("client CPU ms/request", 0, "{:.2f}"))
+    print("| crowd | measure | " + " | ".join(labels) + " | load (1 min) over the runs |")
+    print("|---|---|" + "---|" * len(labels) + "---|")
     for distinct in (False, True):
-        before, load = cache_counts(url), os.getloadavg()[0]
-        done, errors, wall, cms = asyncio.run(crowd(url, token, room, clients, per_client, distinct))
-        after = cache_counts(url)
-        hits, misses = (f"{after.get(k, 0) - before.get(k, 0):.0f}" if after else "-" for k in ("hit", "miss"))
-        mode = "every question distinct" if distinct else f"the docs' {len(QUESTIONS)} questions"
-        lines.append(f"| {clients} x {per_client}, {mode} | {done} | {errors} | {done / wall:.1f} | {pct(cms, 50):.0f} ms "
-                     f"| {pct(cms, 95):.0f} ms | {hits} | {misses} | {load:.2f} → {os.getloadavg()[0]:.2f} |")
-        errors_all += errors
-    print("| crowd | requests | errors | requests/s | p50 | p95 | cache hits | cache misses | load (1 min) |")
-    print("|---|---|---|---|---|---|---|---|---|")
-    print("\n".join(lines), flush=True)
-    return errors_all
+        loads = [v for label in labels for x in results[(distinct, label)] for v in x["load"]]
+        for name, key, fmt in measures:
+            cells = []
+            for label in labels:
+                values = [x["cpu"][key] if isinstance(key, int) else x[key] for x in results[(distinct, label)]]
+                numbers = all(isinstance(v, (int, float)) for v in values)
+                cells.append(fmt.format(statistics.median(values)) if numbers else " / ".join(map(str, values)))
+            print(f"| {_mode(distinct)} | {name} | " + " | ".join(cells) + f" | {min(loads):.2f}–{max(loads):.2f} |")
+    sys.stdout.flush()
+
+
+def tree_of(rev: str, into: Path) -> Path:
+    """The `sg3d` package of git revision `rev` of this checkout, written under `into`."""
+    archive = subprocess.run(["git", "-C", str(REPO), "archive", rev, "sg3d"], check=True, capture_output=True).stdout
+    subprocess.run(["tar", "-x", "-C", str(into)], input=archive, check=True)
+    return into
 
 
 def pct(values: list[float], p: float) -> float:
@@ -290,7 +443,7 @@ def spread(ms: list[float]) -> str:
     return f"p10 {pct(ms, 10):.1f} ms, p50 {pct(ms, 50):.1f} ms, p95 {pct(ms, 95):.1f} ms"
 
 
-def main() -> None:
+def arguments() -> argparse.Namespace:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--home", type=Path, help="an existing store's home (default: a scratch store)")
     ap.add_argument("--room", default="kitchen")
@@ -299,7 +452,14 @@ def main() -> None:
     ap.add_argument("--clients", type=int, default=100)
     ap.add_argument("--per-client", type=int, default=20)
     ap.add_argument("--workers", type=int, default=1, help="sg3d serve --workers")
+    ap.add_argument("--threads", type=int, help="sg3d serve --threads (default: its own)")
     ap.add_argument("--crowd-only", action="store_true", help="only the two crowds, not the one-client latency rounds")
+    ap.add_argument("--client", choices=["aiohttp", "httpx"],
+                    default="aiohttp" if importlib.util.find_spec("aiohttp") else "httpx",
+                    help="the crowd's HTTP client (aiohttp, where installed: a seventh of httpx's CPU per request)")
+    ap.add_argument("--compare", metavar="REV", help="the crowds against `sg3d serve` of git revision REV too "
+                    "(before) and of this tree (after), alternating: one table with a column each")
+    ap.add_argument("--rounds", type=int, default=1, help="times each crowd runs against each server")
     ap.add_argument("--trust", action="store_true", help="only the burst/quiet and /health-under-flood figures")
     ap.add_argument("--burst", type=int, default=200, help="--trust: concurrent calls in the burst (0: none, only the /health figures)")
     ap.add_argument("--quiet-s", type=float, default=65.0, help="--trust: seconds of quiet after the burst")
@@ -311,42 +471,67 @@ def main() -> None:
     args = ap.parse_args()
     if args.tiny and args.home:
         ap.error("--tiny ingests a hand-made kitchen into the store: use it without --home (a scratch store)")
+    if args.compare and (args.trust or not args.crowd_only):
+        ap.error("--compare runs the crowds only: use it with --crowd-only")
+    return args
 
+
+def main() -> None:
+    args = arguments()
     from sg3d.graphdb.embedded import EmbeddedServer, free_port
 
     scratch = None if args.home else tempfile.TemporaryDirectory(prefix="sg3d-bench-serve-")
     home = Path(scratch.name) if scratch is not None else args.home
-    port = free_port()
-    server = None
-    try:
+    servers: list[Served] = []
+    with contextlib.ExitStack() as stack:
+        if scratch is not None:
+            stack.callback(scratch.cleanup)
+            stack.callback(lambda: EmbeddedServer(home).stop())
         if not args.home and not args.tiny:
             if not KITCHEN.exists():
                 raise SystemExit(f"no kitchen at {KITCHEN}: use --tiny or --home")
             print("building the kitchen into a scratch store ...", flush=True)
             sg3d(home, "build", str(KITCHEN), "--room", args.room, "--json", stdout=subprocess.DEVNULL)
-        server = start_server(home, port, args.workers)
+        trees = [("after (this tree)", REPO)]
+        if args.compare:
+            old = Path(stack.enter_context(tempfile.TemporaryDirectory(prefix="sg3d-bench-before-")))
+            trees.insert(0, (f"before ({args.compare})", tree_of(args.compare, old)))
+        else:
+            trees = [("this tree", REPO)]
+        for label, tree in trees:
+            port = free_port()
+            proc = start_server(home, port, args.workers, tree, args.threads)
+            stack.callback(stop, proc)
+            servers.append(Served(label, proc, f"http://127.0.0.1:{port}"))
         from sg3d.server.auth import token_path
 
-        url, token = f"http://127.0.0.1:{port}", token_path(home).read_text().strip()
-        if args.tiny:
-            from sg3d.testing import kitchen_body
+        token = token_path(home).read_text().strip()
+        if not measure(args, home, token, servers):
+            raise SystemExit(1)
 
-            httpx.post(url + "/ingest", json=kitchen_body(building="default", room=args.room),
-                       headers={"Authorization": f"Bearer {token}"}, timeout=120).raise_for_status()
-        if args.trust:
-            print(f"load average (1 min) {os.getloadavg()[0]:.2f} at the start", flush=True)
-            ok = args.burst == 0 or burst_then_quiet(url, token, args.room, args.burst, args.quiet_s, args.after,
-                                                     args.call)
-            health_under_flood(url, args.flood_s, args.flood_mb)
-            print(f"load average (1 min) {os.getloadavg()[0]:.2f} at the end")
-            if not ok:
-                raise SystemExit(1)
-            return
-        if args.crowd_only:
-            asyncio.run(calls_at_once(url, token, args.room, 8))     # warm-up: the label model, taxonomy, connections
-            if crowds(url, token, args.room, args.clients, args.per_client):
-                raise SystemExit(1)
-            return
+
+def stop(proc: subprocess.Popen) -> None:
+    proc.terminate()
+    proc.wait(20)
+
+
+def measure(args: argparse.Namespace, home: Path, token: str, servers: list[Served]) -> bool:
+    """The figures the arguments ask for, against `servers` (one, or before and after with
+    --compare); False when a call failed."""
+    url = servers[0].url
+    if args.tiny:
+        from sg3d.testing import kitchen_body
+
+        httpx.post(url + "/ingest", json=kitchen_body(building="default", room=args.room),
+                   headers={"Authorization": f"Bearer {token}"}, timeout=120).raise_for_status()
+    if args.trust:
+        print(f"load average (1 min) {os.getloadavg()[0]:.2f} at the start", flush=True)
+        ok = args.burst == 0 or burst_then_quiet(url, token, args.room, args.burst, args.quiet_s, args.after,
+                                                 args.call)
+        health_under_flood(url, args.flood_s, args.flood_mb)
+        print(f"load average (1 min) {os.getloadavg()[0]:.2f} at the end")
+        return ok
+    if not args.crowd_only:
         load_before = os.getloadavg()[0]
         ms = latencies(url, token, home, args.room, args.repeat)
         print(f"load average (1 min) {load_before:.2f} before the latency rounds, {os.getloadavg()[0]:.2f} after")
@@ -355,15 +540,9 @@ def main() -> None:
         for client in ("httpx", "stdlib"):
             print(f"POST /ask, room-scoped, one {client} client: {spread(ms[client])}; "
                   f"service / in-process p50 = {pct(ms[client], 50) / local:.2f}")
-        if crowds(url, token, args.room, args.clients, args.per_client):
-            raise SystemExit(1)
-    finally:
-        if server is not None:
-            server.terminate()
-            server.wait(20)
-        if scratch is not None:
-            EmbeddedServer(home).stop()
-            scratch.cleanup()
+    for server in servers:          # warm-up: the label model, taxonomy, connections
+        asyncio.run(calls_at_once(server.url, token, args.room, 8))
+    return crowds(servers, token, args.room, args.clients, args.per_client, args.client, home, args.rounds) == 0
 
 
 if __name__ == "__main__":

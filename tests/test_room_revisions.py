@@ -146,3 +146,58 @@ def test_a_cached_answer_over_one_room_outlives_writes_to_another_and_not_to_its
     assert ask_kept(store, cache, question)[1]
     _merge(store, "living room", "bottle", x=25.0)
     assert not ask_kept(store, cache, question)[1]
+
+
+ROOM_LIST_PARAMS = [
+    ("vqa_room_named", {"names": ["kitchen", "Kitchen", "KITCHEN"], "building": None}),
+    ("vqa_room_named", {"names": ["kitchen"], "building": "home"}),
+    ("vqa_room_named", {"names": ["Kitchen"], "building": "barn"}),
+    ("vqa_room_named", {"names": ["hall"], "building": None}),
+    ("vqa_rooms", {"room": "kitchen", "building": None}),
+    ("vqa_rooms", {"room": None, "building": "barn"}),
+    ("vqa_rooms", {"room": None, "building": None}),
+    ("vqa_rooms", {"room": "living room", "building": "home"}),
+    ("vqa_room_names", {"building": None}),
+    ("vqa_room_names", {"building": "barn"}),
+]
+
+
+@pytest.mark.parametrize("name,params", ROOM_LIST_PARAMS, ids=[f"{n}-{i}" for i, (n, _) in enumerate(ROOM_LIST_PARAMS)])
+def test_a_room_list_read_answered_from_the_revision_read_equals_the_store_s(house, store, name, params):
+    from sg3d.app.answers import room_list_rows, store_revision
+    from sg3d.graphdb.merge import create_room
+
+    create_room(store, "Barn", "Kitchen")           # another case, another building
+    create_room(store, "barn", "loft")
+    assert room_list_rows(name, params, store_revision(store).listing) == store.read(name, **params)
+
+
+def test_an_answer_reads_in_one_transaction_and_answers_as_one_per_read(house, store, monkeypatch):
+    """`ask` sends every read of an answer in one read transaction (`Store.reading`): one
+    transaction function of the driver per answer, and the same answer as with one transaction per read."""
+    from neo4j import Session
+
+    from sg3d.app.ask import ask
+
+    class EachRead:                  # the store, every read in its own transaction
+        def __init__(self, s):
+            self._s = s
+
+        def reading(self, fn):
+            return fn()
+
+        def __getattr__(self, name):
+            return getattr(self._s, name)
+
+    transactions = []
+    real = Session.execute_read
+    monkeypatch.setattr(Session, "execute_read", lambda self, fn, *a, **kw: transactions.append(1) or real(
+        self, fn, *a, **kw))
+    for question in ("what is on the table?", "how many chairs are there?", "where is the red chair?"):
+        transactions.clear()
+        one = ask(store, question, room="kitchen").to_json()
+        assert len(transactions) == 1, (question, len(transactions))
+        transactions.clear()
+        each = ask(EachRead(store), question, room="kitchen").to_json()
+        assert len(transactions) > 1, question
+        assert one == each, question

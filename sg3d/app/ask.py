@@ -80,10 +80,12 @@ def ask(store: GraphStore, question: str, room: Optional[str] = None, building: 
     from sg3d.queries.picture import write_picture
     from sg3d.queries.vqa import answer
 
-    # the question is read once; one about re-scans is answered from the scans' history
+    # the question is read once; one about re-scans is answered from the scans' history. Every
+    # read of the answer goes in one read transaction (`GraphStore.reading`)
     try:
-        result = answer(store, question, room=room, building=building, embedding=embedding, viewpoint=viewpoint,
-                        on_change=lambda cq: change_answer(store, question, cq, room=room, building=building))
+        result = store.reading(lambda: answer(
+            store, question, room=room, building=building, embedding=embedding, viewpoint=viewpoint,
+            on_change=lambda cq: change_answer(store, question, cq, room=room, building=building)))
     except Exception as exc:
         if not _question_failure(exc):
             raise

@@ -39,6 +39,16 @@ def load(name: str) -> str:
     return "\n".join(lines).strip()
 
 
+_COLLECTED = re.compile(r"\bRETURN\s+collect\(\{.*\}\)\s+AS\s+rows\s*$", re.S)
+
+
+@functools.cache
+def collected(name: str) -> bool:
+    """Whether template `name` returns its rows as ONE row holding `rows`, a list of maps (its
+    statement ends `RETURN collect({...}) AS rows`): a read hands back those maps as the rows."""
+    return _COLLECTED.search(load(name)) is not None
+
+
 def statements(name: str) -> list[str]:
     """A file of several statements separated by ';' (schema files)."""
     return [s.strip() for s in load(name).split(";") if s.strip()]

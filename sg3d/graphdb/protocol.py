@@ -6,10 +6,13 @@ one, a recording one) fits without being a `Store`.
 """
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any, Callable, Optional, Protocol
+from typing import TYPE_CHECKING, Any, Callable, Optional, Protocol, TypeVar
 
 if TYPE_CHECKING:                  # the driver's types only: importing this module stays cheap
     from neo4j import ManagedTransaction, Session
+
+
+_T = TypeVar("_T")
 
 
 class GraphStore(Protocol):
@@ -21,6 +24,10 @@ class GraphStore(Protocol):
 
     def read(self, name: str, **params: Any) -> list[dict]:
         """Run template `name` in a read transaction; its rows as dicts."""
+        ...
+
+    def reading(self, fn: Callable[[], _T]) -> _T:
+        """`fn()` with every read of this handle within it sent in one read transaction."""
         ...
 
     def read_latest(self, name: str, **params: Any) -> list[dict]:

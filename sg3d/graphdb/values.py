@@ -44,10 +44,14 @@ def _finite_value(value: Any) -> bool:
     return True
 
 
+# values of these types hold no float: nothing to check
+_NO_FLOATS = frozenset({str, int, bool, type(None), bytes})
+
+
 def has_bad_number(row: dict) -> bool:
     """Whether a stored row holds a number no reader can use: NaN, +-Infinity (written around the
     ingest bounds, e.g. by a user's own Cypher); rows of such values are skipped, see `finite_rows`."""
-    return not all(_finite_value(v) for v in row.values())
+    return not all(type(v) in _NO_FLOATS or _finite_value(v) for v in row.values())
 
 
 def finite_rows(rows: list[dict], source: str) -> list[dict]:

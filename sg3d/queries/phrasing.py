@@ -912,7 +912,15 @@ def afford_place(text: str) -> str:
 
 def tidy(question: str) -> Phrased:
     """Question -> normalised words (no typo fixing yet): lower case, asides dropped,
-    contractions and frames undone, numbers and units read, punctuation gone."""
+    contractions and frames undone, numbers and units read, punctuation gone. A function of the
+    text alone (no store, no room names): the last questions' results are kept (`_tidied`), a
+    fresh copy for each caller."""
+    kept = _tidied(question)
+    return Phrased(kept.text, dropped=list(kept.dropped), notes=list(kept.notes))
+
+
+@functools.lru_cache(maxsize=1024)
+def _tidied(question: str) -> Phrased:
     dropped: list[str] = []
     text = polite_tail(tag_question(context_clause(interjection(fold(question)))))
     while True:

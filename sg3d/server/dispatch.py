@@ -25,7 +25,7 @@ import asyncio
 import concurrent.futures
 import threading
 from queue import SimpleQueue
-from typing import Callable, Optional, TypeVar
+from typing import Awaitable, Callable, Generic, Optional, TypeVar
 
 from sg3d.app.bounds import DEFAULT_THREADS
 from sg3d.core.errors import Sg3dError
@@ -185,3 +185,61 @@ class Dispatcher:
         self.threads.abandon(job)
         # the call's eventual exception is nobody's: read it so asyncio does not log it
         waiting.add_done_callback(lambda f: f.cancelled() or f.exception())
+
+
+class SharedRead(Generic[T]):
+    """One call (`run`, awaited on the event loop: a `Dispatcher` call, with its deadline and its
+    503 while the store is down) shared by the requests that arrive together. Rule "a read that
+    began after the request arrived", as `sg3d.app.answers.Revisions` keeps it for threads: a
+    request that finds no read running starts one; one that arrives while a read runs waits for
+    the next read, which starts as soon as the running one ends. So every request gets a result
+    begun after it arrived, and a crowd's requests cost one worker-thread hop per read, not one
+    each (the event loop runs this class alone: no lock)."""
+
+    def __init__(self, run: Callable[[], Awaitable[T]]):
+        self._run = run
+        self._running: Optional[asyncio.Future] = None
+        self._next: Optional[asyncio.Future] = None
+        self.reads = 0
+
+    async def get(self) -> T:
+        if self._running is None:
+            shared = self._start()
+        else:
+            if self._next is None:
+                self._next = asyncio.get_running_loop().create_future()
+                self._next.add_done_callback(_retrieved)
+            shared = self._next
+        return await asyncio.shield(shared)     # a request that goes away leaves the read to the others
+
+    def _start(self) -> asyncio.Future:
+        self.reads += 1
+        task = asyncio.ensure_future(self._run())
+        task.add_done_callback(self._ended)
+        self._running = task
+        return task
+
+    def _ended(self, task: asyncio.Future) -> None:
+        _retrieved(task)
+        self._running = None
+        waiting, self._next = self._next, None
+        if waiting is not None:
+            self._start().add_done_callback(lambda done: _hand_over(done, waiting))
+
+
+def _retrieved(future: asyncio.Future) -> None:
+    """Read a shared future's exception: every request waiting on it has it raised; when none is
+    left, asyncio must not log it as never retrieved."""
+    if not future.cancelled():
+        future.exception()
+
+
+def _hand_over(done: asyncio.Future, waiting: asyncio.Future) -> None:
+    if waiting.done():
+        return
+    if done.cancelled():
+        waiting.cancel()
+    elif done.exception() is not None:
+        waiting.set_exception(done.exception())     # type: ignore[arg-type]
+    else:
+        waiting.set_result(done.result())

@@ -5,10 +5,10 @@ read; a body larger than `max_body` is refused with 413 without being kept; and 
 be strict JSON (no NaN/Infinity literals) nested at most `bounds.MAX_JSON_DEPTH` deep.
 
 A pure ASGI middleware: it buffers at most `max_body` bytes, then hands the same bytes to the
-application, so routes see the body unchanged. The JSON is parsed and its depth walked in a
-worker thread, never on the event loop (a 15 MB body took 8-10 s there, and every other request
-waited); the parsed value rides in the request's scope (`PARSED`) so that the route reads it
-without parsing it again (`sg3d.server.http`'s request class).
+application, so routes see the body unchanged. The JSON of a body over INLINE_PARSE_BYTES is
+parsed and its depth walked in a worker thread, never on the event loop (a 15 MB body took
+8-10 s there, and every other request waited); the parsed value rides in the request's scope
+(`PARSED`) so that the route reads it without parsing it again (`sg3d.server.http`'s request class).
 """
 from __future__ import annotations
 
@@ -21,6 +21,9 @@ from sg3d.app import bounds
 from sg3d.server.auth import token_matches
 
 PARSED = "sg3d.json"          # the scope key of a body the door parsed already
+# A body this small is parsed on the event loop (tens of microseconds, less than the hop to a
+# worker thread and back, which a question's body would otherwise pay on every request)
+INLINE_PARSE_BYTES = 16 * 1024
 OPEN_PATHS = frozenset({"/health", "/metrics", "/openapi.json", "/docs", "/docs/oauth2-redirect", "/redoc"})
 TOKEN_HINT = ("missing or wrong token: send Authorization: Bearer <token> "
               "(the token is in $SG3D_HOME/api-token; `sg3d serve` prints where)")
@@ -90,7 +93,10 @@ class Guard:
             if not message.get("more_body", False):
                 break
         if size and "json" in headers.get("content-type", "json"):
-            body, value, problem = await anyio.to_thread.run_sync(_joined_and_parsed, chunks)
+            if size <= INLINE_PARSE_BYTES:
+                body, value, problem = _joined_and_parsed(chunks)
+            else:
+                body, value, problem = await anyio.to_thread.run_sync(_joined_and_parsed, chunks)
             if problem:
                 return await _reply(send, 422, problem)
             scope[PARSED] = value

@@ -45,6 +45,7 @@ from sg3d.server.dispatch import (
     QUICK_TIMEOUT_S,
     RETRY_AFTER_S,
     Dispatcher,
+    SharedRead,
     StoreUnavailable,
     CallThreads,
 )
@@ -363,6 +364,7 @@ def _add_read_routes(api: FastAPI, stores: StoreHandle, calls: Dispatcher, auth:
                      answers: app_answers.AnswerCache) -> None:
     read = stores.call
     opts: dict[str, Any] = {"dependencies": auth, "tags": ["read"], "responses": ROUTE_ERRORS}
+    revisions: SharedRead[app_answers.Snapshot] = SharedRead(lambda: calls.quick(lambda: read(app_answers.store_revision)))
 
     @api.post("/ask", response_model=schemas.AskAnswer, **opts)
     async def ask(body: AskBody):
@@ -371,13 +373,15 @@ def _add_read_routes(api: FastAPI, stores: StoreHandle, calls: Dispatcher, auth:
         viewpoint = body.viewpoint.model_dump(exclude_none=True) if body.viewpoint else None
         if viewpoint is not None and len(viewpoint) != 1:
             raise AppError("viewpoint takes exactly one of pose, position and object")
-
-        def answer() -> Response:
-            data, hit = read(lambda s: app_answers.ask_kept(s, answers, body.question, room=body.room,
-                                                            building=body.building, viewpoint=viewpoint))
-            metrics.count_cache(hit)
-            return json_response(data)
-        return await calls.quick(answer)
+        # the revisions first (one read for the asks that arrive together), then a kept answer is
+        # looked up on the event loop: only a miss takes a worker thread
+        snapshot = await revisions.get()
+        kept = app_answers.kept_answer(answers, snapshot, body.question, body.room, body.building, viewpoint)
+        metrics.count_cache(kept is not None)
+        if kept is not None:
+            return json_response(kept)
+        return await calls.quick(lambda: json_response(read(lambda s: app_answers.answer_and_keep(
+            s, answers, snapshot, body.question, room=body.room, building=body.building, viewpoint=viewpoint))))
 
     @api.post("/plan", response_model=schemas.Plan, **opts)
     async def plan(body: PlanBody):

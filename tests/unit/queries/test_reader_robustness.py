@@ -103,6 +103,9 @@ class _Store:
     def read(self, name, **params):
         return []
 
+    def reading(self, fn):
+        return fn()
+
 
 def test_ask_refuses_when_reading_fails_with_any_exception(monkeypatch, caplog):
     from sg3d.app import ask as app_ask
