@@ -535,7 +535,7 @@ def unnamed_object(local_id: str, seg: Segment, cloud: RoomCloud,
     return ObjectObservation(
         local_id=local_id, labels=[UNNAMED_LABEL], scores=[round(seg.hit_ratio, 3)],
         mean=vec3(mean), var=vec3(var), n_points=len(seg.voxels),
-        size=vec3(seg.measured_size), hist=hist, colour=colour, colour2=colour2, thumbnail=thumb,
+        size=vec3(seg.size), hist=hist, colour=colour, colour2=colour2, thumbnail=thumb,
         first_frame=min(frames) if frames else 0, last_frame=max(frames) if frames else 0,
         n_frames=max(1, seg.seen_views), box_centre=vec3(cloud.to_world((seg.lo + seg.hi) / 2)),
         shape=shape_word(seg.size), surface=surface_sample(world))
@@ -608,7 +608,7 @@ def points_object(local_id: str, lo: np.ndarray, hi: np.ndarray, idx: np.ndarray
     frames, counts = np.unique(cloud.frame[idx], return_counts=True)
     order = frames[np.argsort(-counts)]
     seg = Segment(pts[first], lo, hi, frames, best_view=int(order[0]) if len(order) else -1,
-                  good_views=tuple(int(k) for k in order[:GOOD_VIEWS]), cell=0.0)
+                  good_views=tuple(int(k) for k in order[:GOOD_VIEWS]))
     seg.seen_views = len(frames)
     return unnamed_object(local_id, seg, cloud, colour_image)
 

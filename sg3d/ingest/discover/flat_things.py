@@ -444,7 +444,7 @@ def region_segment(plane: np.ndarray, cells: TopCells, member: np.ndarray) -> Op
     hits = int(cells.lying.reshape(-1)[flat].sum())
     seg = Segment(voxels, lo, hi, np.array(sorted(order)), hits=hits,
                   free=int(cells.seen.reshape(-1)[flat].sum()) - hits, seen_views=len(order),
-                  looked_views=len(order), best_view=order[0], good_views=tuple(order[:3]), cell=0.0)
+                  looked_views=len(order), best_view=order[0], good_views=tuple(order[:3]))
     return seg
 
 

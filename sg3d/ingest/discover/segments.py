@@ -92,15 +92,6 @@ class Segment:
     best_view: int = -1       # the view that saw most of it, whole and near
     good_views: tuple[int, ...] = ()   # up to GOOD_VIEWS views that saw most of it, best first
     on_board: bool = False    # cut from a bookcase as standing on one of its boards (`shelves`)
-    cell: float = VOXEL_M     # its box is drawn around cells this wide (0: a box measured as it is)
-
-    @property
-    def measured_size(self) -> np.ndarray:
-        """Rule "a cell's centre, not its edge": a surface of extent L covers L / v + 1 cells of
-        width v on average, so the centres of the cells it occupies span L, and the box drawn
-        around the whole cells (`size`) is one cell too big in each direction. At least one
-        cell."""
-        return np.maximum(self.size - self.cell, self.cell) if self.cell else self.size
 
     @property
     def size(self) -> np.ndarray:

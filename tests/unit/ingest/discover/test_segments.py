@@ -288,13 +288,3 @@ def test_a_board_scattered_6_cm_by_depth_noise_stays_one_piece(rows, one):      
     wall = seg.voxels[:, 1] < 0
     assert bool(on[wall].all()) is one
 
-
-def test_a_voxel_segment_measures_its_cells_centres_and_a_measured_box_itself():   # measured_size
-    from sg3d.ingest.discover.segments import VOXEL_M, Segment
-
-    centres = np.array([[0.0125 + VOXEL_M * k, 0.0125, 0.0125] for k in range(4)])    # 4 cells along a
-    seg = Segment(centres, centres.min(axis=0) - VOXEL_M / 2, centres.max(axis=0) + VOXEL_M / 2, np.arange(3))
-    assert np.allclose(seg.size, (0.1, VOXEL_M, VOXEL_M))
-    assert np.allclose(seg.measured_size, (0.075, VOXEL_M, VOXEL_M))       # one cell: at least a cell
-    measured = Segment(centres, np.zeros(3), np.array([0.1, 0.02, 0.01]), np.arange(3), cell=0.0)
-    assert np.allclose(measured.measured_size, (0.1, 0.02, 0.01))
