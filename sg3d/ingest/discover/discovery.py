@@ -51,6 +51,7 @@ from sg3d.ingest.discover import flat_things, furniture, outside, shelves
 from sg3d.ingest.discover.room_cloud import RoomCloud
 from sg3d.ingest.discover.segments import (
     GOOD_VIEWS,
+    RESTING_M,
     VOXEL_M,
     WELD_MIN_EXTENT_M,
     WELD_PLANE_SLAB_M,
@@ -98,8 +99,6 @@ FLOOR_REMNANT_THICKNESS_M = 0.06
 # A segment hovering with its bottom up to this high is a seat (chairs' and couches' seats stand
 # at 0.35-0.50 m; with its cushion's underside hidden a seat's bottom shows a little lower).
 SEAT_MAX_BOTTOM_M = 0.60
-# A segment rests on a surface when its bottom is this close to the surface's level.
-RESTING_M = 0.05
 # What holds a top up stands on the floor (its foot at most LEG_FOOT_M above it: a leg's glide,
 # a plinth) and reaches the top's underside: its highest voxel at most LEG_REACH_M below the
 # top's level (the board's thickness, 2-4 cm, the surface slab cut away with it, SURFACE_SLAB_M,

@@ -36,6 +36,9 @@ VOXEL_M = 0.025
 PLANE_CUT_M = 0.03
 MIN_VOXEL_FRAMES = 2
 MIN_VOXELS = 12
+# A segment rests on a surface when its bottom is this close to the surface's level (discovery's
+# rules and a bookcase's boards, `shelves`).
+RESTING_M = 0.05
 MIN_EXTENT_M = 0.05
 MAX_EXTENT_M = 2.5
 MAX_HEIGHT_M = 2.6            # above that: ceiling fittings, not the room's objects

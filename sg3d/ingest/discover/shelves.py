@@ -24,7 +24,7 @@ from typing import Sequence
 import numpy as np
 from scipy import ndimage
 
-from sg3d.ingest.discover.segments import MIN_VOXELS, VOXEL_M, Segment
+from sg3d.ingest.discover.segments import MIN_VOXELS, RESTING_M, VOXEL_M, Segment
 from sg3d.ingest.discover.structure import Element
 
 # A board lies inside a segment's height by at least this (its foot on the floor and its own top
@@ -47,9 +47,6 @@ BOARD_EDGE_COVER = 0.7
 # A board's own slab: its front edge and the voxels that straddle its level, from its
 # thickness (2-4 cm) below the level up to it (what lies above it is on it).
 BOARD_BELOW_M = 0.05
-# A piece rests on a board when its bottom lies this close to the board's level
-# (`discovery.RESTING_M`, repeated here to keep this module below discovery).
-RESTING_M = 0.05
 
 
 def boards_inside(seg: Segment, surfaces: Sequence[Element]) -> list[Element]:
@@ -76,16 +73,22 @@ def _panel_at(x: np.ndarray, lo: float, hi: float) -> float:
     return float((values[np.argmax(counts)] + 0.5) * VOXEL_M)
 
 
+def _plan_axes(seg: Segment) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The segment's voxels' (a, b) centre and their coordinates along its long horizontal axis
+    and across it (principal axes), with the axes."""
+    ab = seg.voxels[:, :2]
+    centre = ab.mean(axis=0)
+    _, _, axes = np.linalg.svd(ab - centre, full_matrices=False)
+    return centre, (ab - centre) @ axes.T, axes
+
+
 def frame_faces(seg: Segment, toward: np.ndarray) -> np.ndarray:
     """Rule "the frame's panels": per voxel, whether it lies within FACE_SLAB_M of a panel: the
     fullest voxel slice in the outer PANEL_SEARCH_SHARE of the segment's long horizontal axis at
     each end (the sides; a panel is a dense sheet, depth noise around it a sparse fringe) and on
     its long side away from `toward` (the cameras' mean (a, b): the back)."""
-    ab = seg.voxels[:, :2]
-    centre = ab.mean(axis=0)
-    _, _, axes = np.linalg.svd(ab - centre, full_matrices=False)
-    s = (ab - centre) @ axes[0]
-    t = (ab - centre) @ axes[1]
+    centre, st, axes = _plan_axes(seg)
+    s, t = st[:, 0], st[:, 1]
     reach_s = PANEL_SEARCH_SHARE * float(np.ptp(s))
     reach_t = PANEL_SEARCH_SHARE * float(np.ptp(t))
     sides = (_panel_at(s, s.min(), s.min() + reach_s), _panel_at(s, s.max() - reach_s, s.max()))
@@ -100,10 +103,8 @@ def frame_faces(seg: Segment, toward: np.ndarray) -> np.ndarray:
 def board_edges(seg: Segment, faces: np.ndarray) -> list[float]:
     """Rule "a board seen edge-on": the levels (the top of each run of consecutive voxel layers)
     where the voxels off the panels cover BOARD_EDGE_COVER of the frame's long axis."""
-    ab = seg.voxels[:, :2]
-    centre = ab.mean(axis=0)
-    _, _, axes = np.linalg.svd(ab - centre, full_matrices=False)
-    along = np.floor(((ab - centre) @ axes[0] - ((ab - centre) @ axes[0]).min()) / VOXEL_M).astype(int)
+    s = _plan_axes(seg)[1][:, 0]
+    along = np.floor((s - s.min()) / VOXEL_M).astype(int)
     layer = np.floor((seg.voxels[:, 2] - seg.lo[2]) / VOXEL_M).astype(int)
     cells = np.unique(np.c_[layer[~faces], along[~faces]], axis=0)
     cover = np.bincount(cells[:, 0], minlength=int(layer.max()) + 1) / (int(along.max()) + 1)
