@@ -161,9 +161,7 @@ async def crowd(url: str, token: str, room: str, clients: int, per_client: int,
             for k in range(per_client):
                 t0 = time.perf_counter()
                 try:
-                    body: dict = {"question": QUESTIONS[(i + k) % len(QUESTIONS)], "room": room}
-                    if distinct:
-                        body["viewpoint"] = {"position": [float(i), float(k), float(salt)]}
+                    body = _crowd_body(i, k, room, distinct, salt)
                     r = await c.post("/ask", json=body)
                     ok = r.status_code == 200 and "answer" in r.json()
                 except httpx.HTTPError:
@@ -175,6 +173,15 @@ async def crowd(url: str, token: str, room: str, clients: int, per_client: int,
     t0 = time.perf_counter()
     await asyncio.gather(*(robot(i) for i in range(clients)))
     return done, errors, time.perf_counter() - t0, ms
+
+
+def _crowd_body(i: int, k: int, room: str, distinct: bool, salt: int) -> dict:
+    """Robot i's k-th POST /ask body: the docs' questions in turn, each made distinct (a viewpoint
+    no other ask has: no cache hit) when `distinct`."""
+    body: dict = {"question": QUESTIONS[(i + k) % len(QUESTIONS)], "room": room}
+    if distinct:
+        body["viewpoint"] = {"position": [float(i), float(k), float(salt)]}
+    return body
 
 
 async def crowd_aiohttp(url: str, token: str, room: str, clients: int, per_client: int,
@@ -193,9 +200,7 @@ async def crowd_aiohttp(url: str, token: str, room: str, clients: int, per_clien
             for k in range(per_client):
                 t0 = time.perf_counter()
                 try:
-                    body: dict = {"question": QUESTIONS[(i + k) % len(QUESTIONS)], "room": room}
-                    if distinct:
-                        body["viewpoint"] = {"position": [float(i), float(k), float(salt)]}
+                    body = _crowd_body(i, k, room, distinct, salt)
                     async with c.post("/ask", json=body) as r:
                         ok = r.status == 200 and "answer" in await r.json()
                 except (aiohttp.ClientError, asyncio.TimeoutError):
