@@ -8,8 +8,9 @@ from sg3d.core.model import ScanInfo
 from sg3d.graphdb import store as store_module
 from sg3d.graphdb.export import fetch_graph
 from sg3d.graphdb.merge import merge_local_graph
-from sg3d.graphdb.merge_plan import _new_props
-from sg3d.graphdb.values import pack_hist, room_id, unpack_hist
+from sg3d.merge.plan import _new_props
+from sg3d.graphdb.values import room_id
+from sg3d.merge.histograms import pack_hist, unpack_hist
 from sg3d.queries.vqa import answer
 from tests.factories import graph, hist_of, obj
 

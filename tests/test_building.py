@@ -7,14 +7,9 @@ import numpy as np
 import pytest
 from click.testing import CliRunner
 
-from sg3d.graphdb.align import (
-    AlignmentError,
-    align_rooms,
-    estimate_rigid_transform,
-    ransac_rigid,
-)
-from sg3d.graphdb.building import TransformError, link_rooms, list_rooms, load_transform
+from sg3d.graphdb.building import TransformError, align_rooms, link_rooms, list_rooms, load_transform
 from sg3d.graphdb.merge import merge_local_graph
+from sg3d.merge.align import AlignmentError, estimate_rigid_transform, ransac_rigid
 from tests.factories import graph, hist_of, obj
 
 ANGLE = np.radians(30.0)

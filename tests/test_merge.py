@@ -6,7 +6,8 @@ import pytest
 
 from sg3d.core.model import RELATION_TYPES
 from sg3d.graphdb.merge import merge_in_tx, merge_local_graph
-from sg3d.graphdb.values import room_id, unpack_hist
+from sg3d.graphdb.values import room_id
+from sg3d.merge.histograms import unpack_hist
 from tests.factories import graph, hist_of, obj
 
 ROOM = room_id("home", "kitchen")
@@ -43,7 +44,7 @@ def test_two_views_of_one_cup_become_one_node_with_the_papers_update(store):
     report = merge_local_graph(store, graph([second]))
     assert (report.created, report.updated) == (0, 1)
     [node] = objects(store)
-    # moments of the union of both point sets, computed independently of sg3d.graphdb.update
+    # moments of the union of both point sets, computed independently of sg3d.merge.update
     m1, m2 = np.array(first.mean), np.array(second.mean)
     v1, v2 = np.array(first.var), np.array(second.var)
     mean = (100 * m1 + 300 * m2) / 400

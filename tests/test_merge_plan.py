@@ -1,5 +1,5 @@
 """The merge's decisions without a store: hand-made local graphs against hand-made stored nodes
-(the rows cypher/merge_candidates returns), planned by `sg3d.graphdb.merge_plan.plan_merge`."""
+(the rows cypher/merge_candidates returns), planned by `sg3d.merge.plan.plan_merge`."""
 from __future__ import annotations
 
 import numpy as np
@@ -8,13 +8,13 @@ import pytest
 from sg3d.core.embedding import shipped_vectors
 from sg3d.core.geometry import gravity_basis
 from sg3d.core.model import ScanInfo
-from sg3d.graphdb.merge_plan import (
+from sg3d.merge.plan import (
     _new_props,
     plan_merge,
     position_scores,
 )
-from sg3d.graphdb.similarity import SimilarityParams
-from sg3d.graphdb.values import unpack_hist
+from sg3d.merge.similarity import SimilarityParams
+from sg3d.merge.histograms import unpack_hist
 from tests.factories import graph, hist_of, obj
 
 ROOM = "home/kitchen"

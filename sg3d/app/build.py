@@ -180,7 +180,7 @@ def run_build(store: GraphStore, prepared: PreparedBuild, embedding=None, progre
 def _run_held(store: GraphStore, prepared: PreparedBuild, seq, stop: int, lease, embedding,
               progress: Optional[ProgressFn], disk_check: Optional[DiskCheck]) -> BuildSummary:
     from sg3d.core.embedding import default_embedding
-    from sg3d.graphdb.similarity import SimilarityParams
+    from sg3d.merge.similarity import SimilarityParams
     from sg3d.graphdb.values import room_id
     from sg3d.ingest.pipeline import PipelineStats, run_key
 
@@ -400,7 +400,7 @@ def place_room(store: GraphStore, req: BuildRequest, transform):
     """Give the room its room-to-building transform; a building's first room is its reference."""
     import numpy as np
 
-    from sg3d.graphdb.align import AlignmentError
+    from sg3d.merge.align import AlignmentError
     from sg3d.graphdb.building import link_rooms, list_rooms, set_room_transform
     from sg3d.graphdb.values import room_id
 

@@ -1,7 +1,7 @@
 """What re-scans changed in a room: objects moved, added and removed (`sg3d changes`, ask's
 "what changed in the kitchen", "what is gone", "where was the cup before").
 
-Scans are recorded by the merge (sg3d.graphdb.rescan); this composes the room's scans and the objects
+Scans are recorded by the merge (sg3d.merge.rescan, sg3d.graphdb.rescan); this composes the room's scans and the objects
 they touched. The window is the scans after `since` (a scan id), by default the room's last scan.
 """
 from __future__ import annotations

@@ -248,7 +248,7 @@ def ingest_graph(store: GraphStore, req: IngestRequest, embedding=None) -> dict:
     disk, a store that went away, a statement refused) leaves no room and no building behind."""
     from sg3d.app.writers import INGEST_WAIT_S, writing
     from sg3d.graphdb.merge import merge_local_graph
-    from sg3d.graphdb.similarity import SimilarityParams
+    from sg3d.merge.similarity import SimilarityParams
     from sg3d.graphdb.values import room_id
 
     rid = room_id(req.building, req.room)

@@ -65,7 +65,7 @@ def link(ctx: click.Context, room_a: str, room_b: str, building: Optional[str], 
     --force stores it anyway, `sg3d rooms unlink` removes a link."""
     settings = ctx.obj
     building = _building(ctx, building, "link")
-    from sg3d.graphdb.align import AlignmentError
+    from sg3d.merge.align import AlignmentError
     from sg3d.graphdb.building import (
         LINK_TOL_M,
         TransformError,
@@ -122,7 +122,7 @@ def _building(ctx: click.Context, building: Optional[str], command: str) -> str:
 def unlink(ctx: click.Context, room_a: str, room_b: str, building: Optional[str], as_json: bool) -> None:
     """Remove the link between ROOM_A and ROOM_B: their ADJACENT_TO edges and the SAME_AS links
     between their objects (one transaction). The rooms keep their building transforms."""
-    from sg3d.graphdb.align import AlignmentError
+    from sg3d.merge.align import AlignmentError
     from sg3d.graphdb.building import unlink_rooms
     from sg3d.graphdb.values import room_id
 

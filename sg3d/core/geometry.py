@@ -1,6 +1,6 @@
 """Geometry every layer shares: the gravity-aligned frame boxes are measured in, the kinds of
 furniture that stand on the floor, and the part-of-furniture rules both a build
-(`sg3d.ingest.discover`) and the merge of a later scan (`sg3d.graphdb.merge_plan`) apply."""
+(`sg3d.ingest.discover`) and the merge of a later scan (`sg3d.merge.plan`) apply."""
 from __future__ import annotations
 
 import math

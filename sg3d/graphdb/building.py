@@ -17,7 +17,9 @@ import numpy as np
 
 from sg3d.core.errors import Sg3dError
 from sg3d.graphdb import cypher
-from sg3d.graphdb.align import (
+from sg3d.merge.align import (
+    INLIER_M,
+    RANSAC_ITERS,
     Alignment,
     AlignmentError,
     WeakAlignment,
@@ -27,7 +29,6 @@ from sg3d.graphdb.align import (
     one_to_one,
     evidence_problem,
     positions,
-    room_objects,
     up_angle_deg,
 )
 
@@ -36,6 +37,21 @@ from sg3d.graphdb.align import (
 LINK_TOL_M = 0.3
 # A user's transform must be rigid: scale or shear would change every distance in the room.
 RIGID_TOL = 1e-3
+
+
+def room_objects(store, room_id: str) -> list[dict]:
+    """A room's objects as an alignment reads them (`sg3d.merge.align.align_objects`)."""
+    return store.read("align_room_objects", room=room_id)
+
+
+def align_rooms(store, room_a_id: str, room_b_id: str, embedding=None, iters: int = RANSAC_ITERS,
+                inlier_m: float = INLIER_M, seed: int = 0) -> Alignment:
+    """The rigid transform taking room B's frame into room A's, from their shared objects."""
+    objs_a, objs_b = room_objects(store, room_a_id), room_objects(store, room_b_id)
+    for rid, objs in ((room_a_id, objs_a), (room_b_id, objs_b)):
+        if not objs:
+            raise AlignmentError(f"room {rid!r} holds no objects")
+    return align_objects(objs_a, objs_b, embedding, iters, inlier_m, seed)
 
 
 class TransformError(Sg3dError, ValueError):

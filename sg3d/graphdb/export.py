@@ -6,7 +6,7 @@ import base64
 from typing import Optional
 
 from sg3d.core.model import RELATION_TYPES
-from sg3d.graphdb.values import unpack_hist
+from sg3d.merge.histograms import unpack_hist
 
 NODE_FIELDS = ("id", "room", "label", "labels", "scores", "x", "y", "z", "var", "n_points", "size",
                "volume", "colour", "first_frame", "last_frame", "observations", "n_frames",

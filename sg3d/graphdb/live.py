@@ -8,7 +8,7 @@ current answer. The diff keeps what readers hold on to: an object that is still 
 id (`stable_ids`: same label and layer, nearest place), gains its new attributes and evidence;
 a new one is created; one that evidence no longer supports is removed, so a rejected
 hypothesis never lingers as a duplicate. The properties are those a build's merge gives a new
-node (`merge_plan.plan_merge` on an empty room), so the last publish is the graph `sg3d build`
+node (`sg3d.merge.plan.plan_merge` on an empty room), so the last publish is the graph `sg3d build`
 makes of the same frames. The room lock (cypher/room_ensure) serialises publishes with every
 other writer of the room; readers see the last committed publish and never wait for one.
 """
@@ -24,12 +24,13 @@ from neo4j import ManagedTransaction
 from sg3d.core.embedding import LabelEmbedding, default_embedding
 from sg3d.core.model import RELATION_TYPES, LocalGraph, ScanInfo
 from sg3d.graphdb import cypher
-from sg3d.graphdb.consistency import canonical_rows, resolve_pairs
+from sg3d.graphdb.consistency import resolve_pairs
 from sg3d.graphdb.merge import Fence, ensure_room
-from sg3d.graphdb.merge_plan import plan_merge
 from sg3d.graphdb.store import size_batches
 from sg3d.graphdb.tally import create_objects_and_tallies
 from sg3d.graphdb.values import room_id
+from sg3d.merge.consistency import canonical_rows
+from sg3d.merge.plan import plan_merge
 
 # An object of the new graph keeps a published node's id when it has the node's label and layer
 # and lies within this distance of it: farther than a fused object's centre moves while evidence

@@ -4,13 +4,13 @@ The whole merge of one local graph is ONE write transaction (`session.execute_wr
 on transient errors): a failure anywhere inside, in Python or in Cypher, rolls everything back.
 Inside it: lock the room, read the candidates (same room, inside a spatial window around the
 local graph) and the nodes a re-scan saw gone, plan the merge without the store
-(`sg3d.graphdb.merge_plan`: scores, one-to-one pairing, folds, moves, properties, tally changes), then
+(`sg3d.merge.plan`: scores, one-to-one pairing, folds, moves, properties, tally changes), then
 `apply` the plan: update the matched nodes, create the rest (each Object with its Appearance
 node: histogram and thumbnail), adjust the room's tallies (`sg3d.graphdb.tally`), merge the edges,
 and log the merge under the graph's key so that a re-run or `--resume` skips it.
 
-Re-scans (`sg3d.graphdb.rescan`): every merge belongs to a scan; nodes keep first/last seen and the
-scans that saw them. A new observation that matches no node but matches by label and colour a
+Re-scans (the rules `sg3d.merge.rescan`, their reads and writes `sg3d.graphdb.rescan`): every merge
+belongs to a scan; nodes keep first/last seen and the scans that saw them. A new observation that matches no node but matches by label and colour a
 node whose place this scan saw empty moves that node (history kept). The scan's last merge
 marks removed the nodes whose place it saw empty and that it did not re-observe.
 """
@@ -28,16 +28,17 @@ from sg3d.core.geometry import gravity_basis
 from sg3d.core.model import RELATION_TYPES, LocalGraph, ObjectObservation
 from sg3d.graphdb import cypher, rescan
 from sg3d.graphdb.consistency import resolve_pairs
-from sg3d.graphdb.merge_plan import (
+from sg3d.graphdb.store import size_batches
+from sg3d.graphdb.tally import create_objects_and_tallies
+from sg3d.graphdb.values import room_id
+from sg3d.merge.plan import (
     MergePlan,
     may_pass,
     plan_merge,
     position_scores,
 )
-from sg3d.graphdb.similarity import MAX_EXTENT_M, SimilarityParams
-from sg3d.graphdb.store import size_batches
-from sg3d.graphdb.tally import create_objects_and_tallies
-from sg3d.graphdb.values import room_id
+from sg3d.merge.rescan import scan_of
+from sg3d.merge.similarity import MAX_EXTENT_M, SimilarityParams
 
 # A writer's check, run first in each of its transactions (`sg3d.graphdb.lease.RoomLease.fence`).
 Fence = Callable[[ManagedTransaction], None]
@@ -124,7 +125,7 @@ def merge_in_tx(tx: ManagedTransaction, graph: LocalGraph, embedding: Optional[L
     embedding = embedding or default_embedding()
     rid = room_id(graph.building, graph.room)
     now = time.time()
-    scan = rescan.scan_of(graph, now)
+    scan = scan_of(graph, now)
     # first write of the transaction: the room lock (see cypher/room_ensure.cypher)
     tx.run(cypher.load("room_ensure"), building=graph.building, room=rid, name=graph.room,
            up=[float(v) for v in graph.up] if graph.up is not None else None).consume()

@@ -1,14 +1,10 @@
-"""Store values: their JSON form (the one conversion the Cypher front ends and the eval report share),
-room ids, and the packed form of colour histograms."""
+"""Store values: their JSON form (the one conversion the Cypher front ends and the eval report share)
+and room ids (colour histograms' packed form: `sg3d.merge.histograms`)."""
 from __future__ import annotations
 
 import logging
 import math
 from typing import Any
-
-import numpy as np
-
-from sg3d.core.model import HIST_SIZE
 
 
 def jsonable(value: Any) -> Any:
@@ -80,18 +76,3 @@ def room_id(building: str, room: str) -> str:
     """A room's id, 'building/room'; a room given as a full id ('home/kitchen') is kept as is
     (room and building names never contain '/': build and the HTTP ingest refuse them)."""
     return room if "/" in room else f"{building}/{room}"
-
-
-def pack_hist(hist) -> bytes:
-    """The 512-bin histogram as little-endian float32 bytes: one Bolt value instead of a
-    512-element list, which the driver would pack element by element (5x slower upserts)."""
-    return np.asarray(hist, dtype="<f4").tobytes()
-
-
-def unpack_hist(value) -> np.ndarray:
-    """A stored histogram (float32 bytes, or a list of floats) as a float array."""
-    if value is None:       # a node without an Appearance (not written by sg3d): no colour seen
-        return np.zeros(HIST_SIZE)
-    if isinstance(value, (bytes, bytearray)):
-        return np.frombuffer(value, dtype="<f4").astype(float)
-    return np.asarray(value, dtype=float)  # stores written as lists stay readable

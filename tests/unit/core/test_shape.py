@@ -9,7 +9,7 @@ import pytest
 
 from sg3d.core import shape
 from sg3d.core.shape import shape_class
-from sg3d.graphdb.merge_plan import stored_shape
+from sg3d.merge.plan import stored_shape
 
 BASIS = np.eye(3)          # rows e1, e2, up
 CENTRE = (0.0, 0.0, 0.2)

@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from sg3d.core.model import UNNAMED_LABEL, ObjectObservation
-from sg3d.graphdb.merge_plan import box_inside_share, claimed_by_stored_box
+from sg3d.merge.plan import box_inside_share, claimed_by_stored_box
 
 BASIS = np.eye(3)
 
@@ -44,7 +44,7 @@ def test_only_unnamed_objects_and_only_by_floor_standing_named_objects():
 
 
 def test_a_new_chair_takes_over_the_stored_piece_inside_its_box():
-    from sg3d.graphdb.merge_plan import stored_pieces_named
+    from sg3d.merge.plan import stored_pieces_named
 
     chair = piece((0, 0, 0.4), (0.6, 0.6, 0.8), label="chair")
     base = {**stored(UNNAMED_LABEL, (0, 0, 0.15), (0.5, 0.5, 0.3)), "id": "o-base"}
@@ -58,7 +58,7 @@ def test_a_new_chair_takes_over_the_stored_piece_inside_its_box():
 def test_a_new_chair_takes_over_a_stored_blob_wider_than_its_box():
     """The earlier scan saw the chair as an unnamed blob with its base spread wider than the chair's
     box: the overlap is judged on the smaller box (`box_overlap_share`)."""
-    from sg3d.graphdb.merge_plan import stored_pieces_named
+    from sg3d.merge.plan import stored_pieces_named
 
     chair = piece((0, 0, 0.4), (0.88, 0.55, 0.8), label="chair")
     blob = {**stored(UNNAMED_LABEL, (-0.1, 0.1, 0.42), (0.8, 0.98, 0.84)), "id": "o-blob"}
@@ -69,7 +69,7 @@ def test_a_new_chair_takes_over_a_stored_blob_wider_than_its_box():
 @pytest.mark.parametrize("shift,candidate", [(0.0, True), (0.3, True), (0.55, False)])
 def test_pairs_a_stored_box_may_claim_stay_candidates(shift, candidate):
     """The Gaussians of a chair and of its base seen alone lie apart; the claim rules still see them."""
-    from sg3d.graphdb.merge_plan import box_claims
+    from sg3d.merge.plan import box_claims
 
     chair = stored("chair", (0, 0, 0.4), (0.6, 0.6, 0.8))
     cup = stored("cup", (0, 0, 0.4), (0.6, 0.6, 0.8))
@@ -87,7 +87,7 @@ DESK = stored("desk", (0.5, 0.35, 0.35), (1.0, 0.7, 0.7))        # from the floo
 
 @pytest.mark.parametrize("gap,claimed", [(0.05, True), (0.35, True), (0.45, False)])
 def test_a_panel_before_a_stored_desk_is_that_desk(gap, claimed):     # CARREL_REACH_M
-    from sg3d.graphdb.merge_plan import box_claims, claimed_by_stored_desk
+    from sg3d.merge.plan import box_claims, claimed_by_stored_desk
 
     panel = piece((0.6, 0.7 + gap + 0.15, 0.7), (0.15, 0.3, 1.4))     # 0.15 thick, up to 1.4 m
     assert (claimed_by_stored_desk(panel, [DESK], BASIS) == "o-desk") is claimed
@@ -96,14 +96,14 @@ def test_a_panel_before_a_stored_desk_is_that_desk(gap, claimed):     # CARREL_R
 
 @pytest.mark.parametrize("thickness,claimed", [(0.20, True), (0.25, False)])
 def test_a_stored_desks_panel_is_thin(thickness, claimed):            # CARREL_PANEL_MAX_THICKNESS_M
-    from sg3d.graphdb.merge_plan import claimed_by_stored_desk
+    from sg3d.merge.plan import claimed_by_stored_desk
 
     panel = piece((1.1, 0.35, 0.7), (thickness, 0.6, 1.4))           # beside the desk's end
     assert (claimed_by_stored_desk(panel, [DESK], BASIS) == "o-desk") is claimed
 
 
 def test_only_unnamed_pieces_rising_above_a_stored_desk_are_its_panels():
-    from sg3d.graphdb.merge_plan import claimed_by_stored_desk
+    from sg3d.merge.plan import claimed_by_stored_desk
 
     low = piece((1.1, 0.35, 0.3), (0.15, 0.6, 0.6))                  # tops out under the desk top
     named = piece((1.1, 0.35, 0.7), (0.15, 0.6, 1.4), label="book")
@@ -121,7 +121,7 @@ SHAPE_DESK = {**DESK, "named_by": "shape"}
 
 @pytest.mark.parametrize("shift,claimed", [(0.0, True), (0.55, True), (0.65, False)])
 def test_a_refrigerator_holding_half_a_stored_desk_is_that_desk(shift, claimed):   # CLAIM_SHARE
-    from sg3d.graphdb.merge_plan import desk_named_solid
+    from sg3d.merge.plan import desk_named_solid
 
     # the desk spans a 0..1; the refrigerator's box a shift-0.1 .. shift+0.9: it holds 1.1 - shift of it
     fridge = piece((0.4 + shift, 0.35, 0.6), (1.0, 1.1, 1.2), label="refrigerator")
@@ -129,7 +129,7 @@ def test_a_refrigerator_holding_half_a_stored_desk_is_that_desk(shift, claimed):
 
 
 def test_only_solid_kinds_over_a_desk_named_by_its_shape():
-    from sg3d.graphdb.merge_plan import desk_named_solid
+    from sg3d.merge.plan import desk_named_solid
 
     over = ((0.5, 0.35, 0.6), (1.2, 1.1, 1.2))
     assert desk_named_solid(piece(*over, label="oven"), [SHAPE_DESK], BASIS) == "o-desk"

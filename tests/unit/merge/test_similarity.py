@@ -5,7 +5,7 @@ import math
 
 import numpy as np
 
-from sg3d.graphdb.similarity import (
+from sg3d.merge.similarity import (
     SimilarityParams,
     histogram_intersection,
     label_score,
@@ -13,7 +13,7 @@ from sg3d.graphdb.similarity import (
     position_similarity,
     total_similarity,
 )
-from sg3d.graphdb.update import combine_gaussians, combine_labels
+from sg3d.merge.update import combine_gaussians, combine_labels
 
 
 def phi(z):  # standard normal CDF, written out so the test does not share SciPy's path
@@ -78,7 +78,7 @@ def test_combine_gaussians_equals_recomputing_over_all_points():
 
 def test_label_similarity_matrix_matches_the_pairwise_equation():
     from sg3d.core.embedding import default_embedding, similarity
-    from sg3d.graphdb.similarity import label_similarity_matrix
+    from sg3d.merge.similarity import label_similarity_matrix
 
     emb = default_embedding()
     new = [(["cup", "bowl"], [0.8, 0.1]), (["couch"], [0.6])]
@@ -92,7 +92,7 @@ def test_label_similarity_matrix_matches_the_pairwise_equation():
 
 
 def test_box_similarity_is_one_for_overlapping_boxes_and_falls_off_with_the_gap():
-    from sg3d.graphdb.similarity import box_position_similarity
+    from sg3d.merge.similarity import box_position_similarity
 
     basis = np.eye(3)
     # two halves of a 2 m table, centres 1 m apart: overlapping boxes
@@ -107,7 +107,7 @@ def test_box_similarity_is_one_for_overlapping_boxes_and_falls_off_with_the_gap(
 
 
 def test_combine_boxes_covers_both_boxes():
-    from sg3d.graphdb.update import combine_boxes
+    from sg3d.merge.update import combine_boxes
 
     centre, size = combine_boxes((0, 0, 0), (1, 1, 1), (1.5, 0, 0), (1, 1, 1), np.eye(3))
     assert np.allclose(centre, (0.75, 0, 0)) and np.allclose(size, (2.5, 1, 1))
@@ -116,7 +116,7 @@ def test_combine_boxes_covers_both_boxes():
 def test_the_cheap_position_tests_never_drop_a_pair_that_reaches_the_threshold():
     """position_may_pass / box_may_pass let a batched merge skip the normal tails of far pairs:
     they must be True wherever the exact similarity is ≥ p_min, and False for most far pairs."""
-    from sg3d.graphdb.similarity import (
+    from sg3d.merge.similarity import (
         box_may_pass,
         box_position_similarity,
         position_may_pass,

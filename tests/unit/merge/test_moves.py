@@ -1,4 +1,4 @@
-"""Rule "a move keeps its size" (sg3d.graphdb.rescan.same_size): both sides of its factor, and the
+"""Rule "a move keeps its size" (sg3d.merge.rescan.same_size): both sides of its factor, and the
 gate it puts on pairing an unmatched observation with a node whose place was seen empty."""
 from __future__ import annotations
 
@@ -6,8 +6,8 @@ import numpy as np
 
 from sg3d.core.embedding import default_embedding
 from sg3d.core.model import ObjectObservation
-from sg3d.graphdb.rescan import MOVE_MIN_EXTENT_M, MOVE_SIZE_RATIO, pair_moves, same_size
-from sg3d.graphdb.values import pack_hist
+from sg3d.merge.rescan import MOVE_MIN_EXTENT_M, MOVE_SIZE_RATIO, pair_moves, same_size
+from sg3d.merge.histograms import pack_hist
 
 
 def test_a_box_measured_from_other_views_is_the_same_size_a_sheet_is_not():

@@ -6,7 +6,7 @@ transaction and writes the plan with `apply`.
 
 Same-node detection is Eq. 10-15: s_total = w_label s_label (Eq. 10-11) + w_colour s_colour
 (Eq. 14) + w_position s_position (Eq. 12-13), paired one-to-one; a matched node is updated with
-the paper's rules (`sg3d.graphdb.update`).
+the paper's rules (`sg3d.merge.update`).
 """
 from __future__ import annotations
 
@@ -27,9 +27,9 @@ from sg3d.core.geometry import (
 )
 from sg3d.core.model import UNNAMED_LABEL, LocalGraph, ObjectObservation, ScanInfo
 from sg3d.core.shape import shape_class
-from sg3d.graphdb import rescan
-from sg3d.graphdb.consistency import canonical_rows
-from sg3d.graphdb.similarity import (
+from sg3d.merge import rescan
+from sg3d.merge.consistency import canonical_rows
+from sg3d.merge.similarity import (
     SimilarityParams,
     box_may_pass,
     box_position_similarity,
@@ -40,14 +40,14 @@ from sg3d.graphdb.similarity import (
     shared_labels,
     total_similarity,
 )
-from sg3d.graphdb.update import (
+from sg3d.merge.update import (
     combine_boxes,
     combine_gaussians,
     combine_histograms,
     combine_labels,
     incoming_has_best_label,
 )
-from sg3d.graphdb.values import pack_hist, unpack_hist
+from sg3d.merge.histograms import pack_hist, unpack_hist
 
 T = TypeVar("T")
 Label = tuple[str, Optional[str]]       # (label, colour) of an object entering or leaving the tallies
@@ -488,7 +488,7 @@ def stored_pieces_named(objects: list[ObjectObservation], candidates: list[dict]
 
 def _plan_moves(plan: MergePlan, graph: LocalGraph, matches: dict[int, int], seen: set[str],
                 moved_from: list[dict], embedding: LabelEmbedding, basis: np.ndarray) -> set[int]:
-    """Rule "moved" (`sg3d.graphdb.rescan.is_move`) for the observations that matched no node: each
+    """Rule "moved" (`sg3d.merge.rescan.is_move`) for the observations that matched no node: each
     move updates the stored node in place; returns the local indices that moved a node."""
     objects = graph.objects
     unmatched = [i for i in range(len(objects)) if i not in matches]

@@ -1,11 +1,11 @@
-"""The evidence an alignment needs before `sg3d rooms link` stores it (`sg3d.graphdb.align`), on
+"""The evidence an alignment needs before `sg3d rooms link` stores it (`sg3d.merge.align`), on
 hand-made alignments: both sides of every rule."""
 from __future__ import annotations
 
 import numpy as np
 from scipy.spatial.transform import Rotation
 
-from sg3d.graphdb.align import (
+from sg3d.merge.align import (
     MAX_RESIDUAL_M,
     MAX_UP_ANGLE_DEG,
     MIN_EVIDENCE_PAIRS,

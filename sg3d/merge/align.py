@@ -16,8 +16,8 @@ import numpy as np
 from scipy.optimize import linear_sum_assignment
 
 from sg3d.core.errors import Sg3dError
-from sg3d.graphdb.similarity import histogram_intersection, label_similarity_matrix
-from sg3d.graphdb.values import unpack_hist
+from sg3d.merge.similarity import histogram_intersection, label_similarity_matrix
+from sg3d.merge.histograms import unpack_hist
 
 # A pair needs labels at least this similar (1 = a shared label; word-vector cosine else) ...
 LABEL_MIN = 0.8
@@ -153,10 +153,6 @@ def ransac_rigid(src, dst, iters: int = RANSAC_ITERS, inlier_m: float = INLIER_M
     return estimate_rigid_transform(src[mask], dst[mask]), mask
 
 
-def room_objects(store, room_id: str) -> list[dict]:
-    return store.read("align_room_objects", room=room_id)
-
-
 def candidate_pairs(objs_a: list[dict], objs_b: list[dict], embedding=None,
                     label_min: float = LABEL_MIN, colour_min: float = COLOUR_MIN) -> list[tuple[int, int]]:
     """Index pairs (i in A, j in B) whose labels and colours agree (position is not used:
@@ -281,13 +277,3 @@ def evidence_problem(al: Alignment, up_angle: Optional[float] = None) -> Optiona
         return (f"it tilts one room's floor {up_angle:.0f} deg against the other's (at most "
                 f"{MAX_UP_ANGLE_DEG:g} deg)")
     return None
-
-
-def align_rooms(store, room_a_id: str, room_b_id: str, embedding=None, iters: int = RANSAC_ITERS,
-                inlier_m: float = INLIER_M, seed: int = 0) -> Alignment:
-    """The rigid transform taking room B's frame into room A's, from their shared objects."""
-    objs_a, objs_b = room_objects(store, room_a_id), room_objects(store, room_b_id)
-    for rid, objs in ((room_a_id, objs_a), (room_b_id, objs_b)):
-        if not objs:
-            raise AlignmentError(f"room {rid!r} holds no objects")
-    return align_objects(objs_a, objs_b, embedding, iters, inlier_m, seed)
