@@ -206,6 +206,6 @@ def test_ask_plan_show_and_export_use_the_same_names(store, house, embedded_home
     r = CliRunner().invoke(cli, ["--home", str(embedded_home), "export", "--building", "home", "--room", "kitchen"])
     assert r.exit_code == 0, r.output
     exported = {n["id"]: n["name"] for n in json.loads(r.output)["nodes"]}
-    shown = {n["id"]: n["name"] for n in fetch_scene(store, "home", "kitchen")["nodes"]}   # what show draws
+    shown = {n.id: n.name for n in fetch_scene(store, "home", "kitchen").nodes}   # what show draws
     assert asked and all(exported[i] == shown[i] == name for i, name in asked.items())
     assert len(set(exported.values())) == len(exported)          # one name per object in a room

@@ -50,7 +50,7 @@ def test_report_has_edge_and_vqa_tables_with_the_names_ask_prints(store, embedde
     from sg3d.app.scene import fetch_scene
 
     _, md, page = _report(store, embedded_home, tmp_path)
-    names = {n["id"]: n["name"] for n in fetch_scene(store, BUILDING, ROOM)["nodes"]}
+    names = {n.id: n.name for n in fetch_scene(store, BUILDING, ROOM).nodes}
     for text in (md, page):
         assert "Edges by type" in text and "VQA (sure questions)" in text
         assert not re.search(r"o-[0-9a-f]{8,}", text)                 # no node id anywhere

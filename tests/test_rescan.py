@@ -150,7 +150,7 @@ def test_a_mug_whose_place_is_seen_empty_is_removed_kept_out_of_counts_and_a_rer
     from sg3d.app.graph import fetch_named_graph, render_graph
 
     exported = fetch_named_graph(store, "home", "kitchen")
-    assert mug_id in {n["id"] for n in exported["nodes"]}
+    assert mug_id in {n.id for n in exported.nodes}
     assert '"label": "cup"' not in render_graph(exported, "3dssg")
     assert "cup" not in render_graph(exported, "spark-dsg") and "book" in render_graph(exported, "spark-dsg")
 

@@ -14,6 +14,7 @@ import pytest
 from click.testing import CliRunner
 
 from sg3d.cli import cli
+from sg3d.core.stored import RoomFrame, Scene, StoredGraph, StoredObject, StoredRelation
 from sg3d.graphdb.merge import merge_local_graph
 from tests.factories import graph, obj
 from tests.scenes import PLACES, UP, world
@@ -50,7 +51,7 @@ def svg_scale(root) -> tuple[float, float]:
 def ids_by_label(store, room=ROOM):
     from sg3d.app.scene import fetch_scene
 
-    return {n["label"]: n["id"] for n in fetch_scene(store, BUILDING, room)["nodes"]}
+    return {n.label: n.id for n in fetch_scene(store, BUILDING, room).nodes}
 
 
 def test_topdown_positions_are_the_objects_floor_positions(store, embedded_home, tmp_path):
@@ -129,7 +130,7 @@ def test_many_crowded_objects_get_labels_that_never_overlap(store):
     g.up = tuple(UP)
     merge_local_graph(store, g)
     scene = fetch_scene(store, BUILDING, "crowd")
-    assert len(scene["nodes"]) == 50
+    assert len(scene.nodes) == 50
     d = draw(scene, size=(1600, 1200))
     renderer = d.figure.canvas.get_renderer()
     ax_box = d.ax.get_window_extent(renderer)
@@ -140,10 +141,10 @@ def test_many_crowded_objects_get_labels_that_never_overlap(store):
     for b in boxes:      # inside the map
         assert ax_box.x0 - 1 <= b.x0 and b.x1 <= ax_box.x1 + 1 and ax_box.y0 - 1 <= b.y0 and b.y1 <= ax_box.y1 + 1
     named = {t.get_gid()[6:] for t in on_map if (t.get_gid() or "").startswith("label-")}
-    assert named == {n["id"] for n in scene["nodes"]}            # every node labelled (a name or a number)
+    assert named == {n.id for n in scene.nodes}            # every node labelled (a name or a number)
     numbered = [t for t in on_map if (t.get_gid() or "").startswith("label-") and t.get_text().isdigit()]
     assert len(d.listed_nodes) >= len(numbered)
-    assert sum(t.get_text().replace("\n", " ") in {n["name"] for n in scene["nodes"]} for t in on_map) >= 25
+    assert sum(t.get_text().replace("\n", " ") in {n.name for n in scene.nodes} for t in on_map) >= 25
 
 
 def test_building_outlines_and_names_its_rooms_in_the_building_frame(store, embedded_home, tmp_path):
@@ -177,12 +178,12 @@ def test_building_outlines_and_names_its_rooms_in_the_building_frame(store, embe
     metres, units = svg_scale(root)
     from sg3d.app.scene import fetch_scene
 
-    nodes = fetch_scene(store, BUILDING)["nodes"]
-    chairs = [n["id"] for n in nodes if n["label"] == "chair"]
+    nodes = fetch_scene(store, BUILDING).nodes
+    chairs = [n.id for n in nodes if n.label == "chair"]
     assert len(chairs) == 2
     assert np.linalg.norm(pos[chairs[0]] - pos[chairs[1]]) / (units / metres) < 0.01
-    couch = next(n["id"] for n in nodes if n["label"] == "couch")
-    table = next(n["id"] for n in nodes if n["label"] == "dining table")
+    couch = next(n.id for n in nodes if n.label == "couch")
+    table = next(n.id for n in nodes if n.label == "dining table")
     assert np.linalg.norm(pos[couch] - pos[table]) / (units / metres) == pytest.approx(np.hypot(1.0, 3.0), abs=0.01)
 
 
@@ -305,14 +306,15 @@ def plotly_layout(page: str) -> dict:
     return dec.raw_decode(page, page.index("{", end))[0]
 
 
-def made_scene(nodes: list[tuple], edges=()) -> dict:
+def made_scene(nodes: list[tuple], edges=()) -> Scene:
     """A scene as sg3d.app.scene.fetch_scene returns it, from (id, label, layer, name, (x, y, z),
     (w, d, h)) tuples in a room whose up is z."""
-    return {"building": "b", "room": "r", "rooms": {"r": {"id": "b/r", "up": [0, 0, 1], "to_building": None}},
-            "nodes": [{"id": i, "label": label, "layer": layer, "name": name, "room_name": "r", "colour": "white",
-                       "x": p[0], "y": p[1], "z": p[2], "box_centre": list(p), "size": list(size)}
-                      for i, label, layer, name, p, size in nodes],
-            "edges": [{"s": a, "type": t, "o": b, "score": 0.9} for a, t, b in edges]}
+    stored = StoredGraph("b", "r",
+                         [StoredObject(id=i, label=label, layer=layer, name=name, room_name="r", colour="white",
+                                       x=p[0], y=p[1], z=p[2], box_centre=list(p), size=list(size))
+                          for i, label, layer, name, p, size in nodes],
+                         [StoredRelation(a, t, b, 0.9) for a, t, b in edges])
+    return Scene(stored, {"r": RoomFrame("b/r", [0, 0, 1], None)})
 
 
 def test_html_names_named_objects_on_the_page_others_on_demand_never_overlapping():
@@ -337,7 +339,7 @@ def test_html_names_named_objects_on_the_page_others_on_demand_never_overlapping
     assert sorted(others.text) == sorted([n[3] for n in walls + unnamed] + ["floor"])
     # every box still names its object on hover
     hovered = {re.search(r"<b>(.*?)</b>", h).group(1) for t in fig.data if t.type == "mesh3d" for h in t.hovertext}
-    assert hovered == {n["name"] for n in scene["nodes"]}
+    assert hovered == {n.name for n in scene.nodes}
     scn = fig.layout.scene
     lo = np.array([scn.xaxis.range[0], scn.yaxis.range[0], scn.zaxis.range[0]])
     hi = np.array([scn.xaxis.range[1], scn.yaxis.range[1], scn.zaxis.range[1]])
@@ -347,8 +349,8 @@ def test_html_names_named_objects_on_the_page_others_on_demand_never_overlapping
     assert not [(names.text[i], names.text[j]) for (i, a), (j, b) in itertools.combinations(enumerate(boxes), 2)
                 if a[0] < b[2] and b[0] < a[2] and a[1] < b[3] and b[1] < a[3]]
     # names stay over their objects: only raised, and the raised ones have leaders
-    centre = {n["name"]: n["box_centre"] for n in scene["nodes"]}
-    top = {n["name"]: n["box_centre"][2] + n["size"][2] / 2 for n in scene["nodes"]}
+    centre = {n.name: n.box_centre for n in scene.nodes}
+    top = {n.name: n.box_centre[2] + n.size[2] / 2 for n in scene.nodes}
     for text, p in zip(names.text, spots):
         if text != "dining table":                   # a large object is named at its corner
             assert p[:2] == pytest.approx(centre[text][:2])
@@ -434,7 +436,7 @@ def test_real_kitchen_png_has_scale_bar_legend_and_labels_that_never_overlap(sto
         r = show(embedded_home, "--out", str(f), room="kitchen")
         assert r.exit_code == 0, r.output
     scene = fetch_scene(store, BUILDING, "kitchen")
-    assert len(scene["nodes"]) >= 4
+    assert len(scene.nodes) >= 4
     img = cv2.imread(str(out))
     assert img.shape == (1200, 1600, 3)
     # the scale bar: a black bar at least 50 px long in the right-hand column, labelled in the SVG
@@ -447,8 +449,8 @@ def test_real_kitchen_png_has_scale_bar_legend_and_labels_that_never_overlap(sto
     # the legend names each object's category
     texts = {"".join(t.itertext()) for t in root.iter(NS + "text")}
     tax = Taxonomy.load()
-    for n in scene["nodes"]:
-        assert (tax.parent(n["label"]) or n["label"]) in texts, n["label"]
+    for n in scene.nodes:
+        assert (tax.parent(n.label) or n.label) in texts, n.label
     # labels: every node named (or numbered) on the map, no two texts overlapping
     d = draw(scene, title="default/kitchen")
     renderer = d.figure.canvas.get_renderer()
@@ -457,7 +459,7 @@ def test_real_kitchen_png_has_scale_bar_legend_and_labels_that_never_overlap(sto
     assert not [(on_map[i].get_text(), on_map[j].get_text())
                 for (i, a), (j, b) in itertools.combinations(enumerate(boxes), 2) if a.overlaps(b)]
     assert {t.get_gid()[6:] for t in on_map if (t.get_gid() or "").startswith("label-")} == \
-        {n["id"] for n in scene["nodes"]}
+        {n.id for n in scene.nodes}
 
 
 def test_what_show_wrote_is_its_result_on_stdout(store, embedded_home, tmp_path):

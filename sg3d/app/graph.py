@@ -3,9 +3,11 @@ tool) and the read-only Cypher path (the MCP `cypher` tool)."""
 from __future__ import annotations
 
 import re
+from dataclasses import replace
 from typing import Optional
 
 from sg3d.app.errors import AppError, NotFound, Refused
+from sg3d.core.stored import Row, StoredGraph
 from sg3d.graphdb.protocol import GraphStore
 from sg3d.graphdb.values import jsonable
 
@@ -16,36 +18,25 @@ CYPHER_TIMEOUT_S = 10.0
 
 # -- export -----------------------------------------------------------------------------------
 def fetch_named_graph(store: GraphStore, building: str, room: Optional[str] = None, thumbnails: bool = False,
-                      histograms: bool = False, room_transforms: bool = False) -> dict:
-    """The room's (or building's) graph {building, room, nodes, edges}, each node with its readable
-    name (and with `room_transforms`, {room name: 4x4 room-to-building or None}, which the
-    spark-dsg form needs); NotFound when it holds no objects."""
+                      histograms: bool = False, room_transforms: bool = False) -> StoredGraph:
+    """The room's (or building's) graph, each node with its readable name (and with
+    `room_transforms`, {room name: 4x4 room-to-building or None}, which the spark-dsg form needs);
+    NotFound when it holds no objects."""
     from sg3d.graphdb.export import fetch_graph
     from sg3d.queries.naming import name_graph
 
     graph = fetch_graph(store, building, room, thumbnails, histograms)
-    if not graph["nodes"]:
+    if not graph.nodes:
         where = f"room {room!r} of building {building!r}" if room else f"building {building!r}"
         raise NotFound(f"nothing to export: {where} holds no objects (`sg3d rooms` lists the rooms)")
     if room_transforms:
         from sg3d.graphdb.building import list_rooms
 
-        graph["room_transforms"] = {r["name"]: r["to_building"] for r in list_rooms(store, building)}
+        graph = replace(graph, room_transforms={r["name"]: r["to_building"] for r in list_rooms(store, building)})
     return name_graph(graph)     # each node's readable name, as ask, plan and show print it
 
 
-def present_only(graph: dict) -> dict:
-    """The graph without the objects a re-scan marked removed (`removed_at`) and their edges: the
-    scene as it stands now, for formats that describe one (spark-dsg, 3DSSG). The JSON and
-    GraphML exports keep them, with `removed_at`, as the store does."""
-    gone = {n["id"] for n in graph["nodes"] if n.get("removed_at") is not None}
-    if not gone:
-        return graph
-    return {**graph, "nodes": [n for n in graph["nodes"] if n["id"] not in gone],
-            "edges": [e for e in graph["edges"] if e["s"] not in gone and e["o"] not in gone]}
-
-
-def render_graph(graph: dict, fmt: str) -> str:
+def render_graph(graph: StoredGraph, fmt: str) -> str:
     """The graph as text: the paper's JSON form, GraphML or spark_dsg's JSON (Hydra's format,
     `sg3d.formats.spark_dsg`; positions in the building frame when `graph` has "room_transforms")."""
     from sg3d.formats.graphml import to_graphml
@@ -56,18 +47,19 @@ def render_graph(graph: dict, fmt: str) -> str:
     if fmt == "spark-dsg":
         from sg3d.formats.spark_dsg import to_spark_json
 
-        return to_spark_json(present_only(graph), graph.get("room_transforms"))
+        # spark-dsg and 3DSSG describe the scene as it stands now: without the removed objects
+        return to_spark_json(graph.present(), graph.room_transforms)
     if fmt == "3dssg":  # both files in one document; `sg3d export --out DIR` writes them apart
         import json
 
         from sg3d.formats.threedssg import to_3dssg
 
-        objects, relationships = to_3dssg(present_only(graph))
+        objects, relationships = to_3dssg(graph.present())
         return json.dumps({"objects": objects, "relationships": relationships}, indent=1)
     return to_json(graph) if fmt == "json" else to_graphml(graph)
 
 
-def write_3dssg(graph: dict, folder) -> tuple[int, int]:
+def write_3dssg(graph: StoredGraph, folder) -> tuple[int, int]:
     """objects.json and relationships.json (3DSSG/3RScan form) into `folder`; (objects, relationships)."""
     import json
     from pathlib import Path
@@ -78,11 +70,11 @@ def write_3dssg(graph: dict, folder) -> tuple[int, int]:
     if folder.exists() and not folder.is_dir():
         raise Refused(f"{folder}: 3dssg writes objects.json and relationships.json into a folder, not a file")
     folder.mkdir(parents=True, exist_ok=True)
-    graph = present_only(graph)
+    graph = graph.present()
     objects, relationships = to_3dssg(graph)
     (folder / "objects.json").write_text(json.dumps(objects, indent=1))
     (folder / "relationships.json").write_text(json.dumps(relationships, indent=1))
-    return len(graph["nodes"]), sum(len(s["relationships"]) for s in relationships["scans"])
+    return len(graph.nodes), sum(len(s["relationships"]) for s in relationships["scans"])
 
 
 # -- schema ------------------------------------------------------------------------------------
@@ -90,7 +82,7 @@ def graph_schema(store: GraphStore) -> dict:
     """What a Cypher author needs: node labels with their properties, relationship types (the
     whitelist) and how many of each the store holds now."""
     from sg3d.core.model import COLOUR_NAMES, RELATION_TYPES
-    from sg3d.graphdb.export import NODE_FIELDS
+    from sg3d.core.stored import NODE_FIELDS
 
     nodes = {
         "Building": ["id"],
@@ -267,7 +259,7 @@ def run_rolled_back(store: GraphStore, statement: str, params: dict, limit: int 
         try:
             result = tx.run(statement, params)
             keys = list(result.keys())
-            rows: list[dict] = []
+            rows: list[Row] = []
             for record in result:
                 if len(rows) == limit:
                     return {"keys": keys, "rows": rows, "truncated": True}

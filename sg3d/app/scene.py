@@ -1,23 +1,24 @@
 """What the pictures draw (`sg3d show`, `sg3d eval --report`): the named graph of a room or a
 building with each room's up direction and building transform, and a coloured point cloud
-back-projected from a sequence. Plain data (dicts, NumPy arrays); the drawing is in `render/`."""
+back-projected from a sequence (`sg3d.core.stored.Scene`, NumPy arrays); the drawing is in `render/`."""
 from __future__ import annotations
 
+from dataclasses import replace
 from typing import Callable, Optional
 
 import numpy as np
 
 from sg3d.app.errors import AppError, NotFound
+from sg3d.core.stored import RoomFrame, Scene
 from sg3d.graphdb.protocol import GraphStore
 
 VOXEL_M = 0.01            # one cloud point per centimetre cube: frames overlap, so most are repeats
 MAX_DEPTH_M = 4.0         # farther depth is noisy on a Kinect-class sensor
 
 
-def fetch_scene(store: GraphStore, building: str, room: Optional[str] = None) -> dict:
-    """{building, room, nodes, edges, rooms}: the graph of `fetch_named_graph` (every node with its
-    readable name, as ask prints it), each node with `box_centre` (its 3-D box centre, or null),
-    and rooms {name: {id, up, to_building}} (up: 3 floats or None; to_building: 4x4 list or None).
+def fetch_scene(store: GraphStore, building: str, room: Optional[str] = None) -> Scene:
+    """The graph of `fetch_named_graph` (every node with its readable name, as ask prints it), each
+    node with its box centre (or None), and each room's frame (up, room-to-building as a 4x4 list).
     NotFound ("nothing to show ...") when it holds no objects."""
     from sg3d.app.graph import fetch_named_graph
 
@@ -27,14 +28,13 @@ def fetch_scene(store: GraphStore, building: str, room: Optional[str] = None) ->
         where = f"room {room!r} of building {building!r}" if room else f"building {building!r}"
         raise NotFound(f"nothing to show: {where} holds no objects") from None
     centres = {r["id"]: r["box_centre"] for r in store.read("show_boxes", building=building, room=room)}
-    for n in graph["nodes"]:
-        n["box_centre"] = centres.get(n["id"])
-    graph["rooms"] = {
-        r["room"]: {"id": r["id"], "up": list(r["up"]) if r.get("up") else None,
-                    "to_building": (np.asarray(r["to_building"], dtype=float).reshape(4, 4).tolist()
-                                    if r.get("to_building") else None)}
+    graph = replace(graph, nodes=[replace(n, box_centre=centres.get(n.id)) for n in graph.nodes])
+    rooms = {
+        r["room"]: RoomFrame(r["id"], list(r["up"]) if r.get("up") else None,
+                             (np.asarray(r["to_building"], dtype=float).reshape(4, 4).tolist()
+                              if r.get("to_building") else None))
         for r in store.read("show_rooms", building=building, room=room)}
-    return graph
+    return Scene(graph, rooms)
 
 
 def sequence_cloud(sequence_path, frames: int = 8, max_points: int = 20000, stride: int = 4,

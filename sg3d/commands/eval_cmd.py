@@ -119,7 +119,7 @@ def eval_command(settings, gt_path: Path, room: str, building: str, tolerance: O
         from sg3d.app.graph import fetch_named_graph
 
         try:
-            names = {n["id"]: n["name"] for n in fetch_named_graph(store, building, room)["nodes"]}
+            names = {n.id: n.name or n.id for n in fetch_named_graph(store, building, room).nodes}
         except NotFound:
             names = {}
         _render(report, names, gt)

@@ -54,11 +54,11 @@ def export(settings, room: Optional[str], building: str, fmt: str, out: Optional
     text = render_graph(graph, fmt)
     if out:
         out.write_text(text)
-        click.echo(f"wrote {len(graph['nodes'])} nodes and {len(graph['edges'])} edges to {out}")
+        click.echo(f"wrote {len(graph.nodes)} nodes and {len(graph.edges)} edges to {out}")
     elif to_stdout or not sys.stdout.isatty():
         click.echo(text)
     else:   # a terminal would get one line of many kilobytes
-        click.echo(f"{len(graph['nodes'])} nodes and {len(graph['edges'])} edges ({fmt}, {len(text):,} characters); "
+        click.echo(f"{len(graph.nodes)} nodes and {len(graph.edges)} edges ({fmt}, {len(text):,} characters); "
                    f"add --out FILE to write them, or --out - to print them here")
 
 

@@ -77,7 +77,7 @@ def show(settings, room: Optional[str], building: str, out: Path, layout: str, a
             out.write_text(data, encoding="utf-8")
     except OSError as exc:
         raise UserError(f"--out {out}: cannot write it ({exc.strerror or exc})") from None
-    click.echo(f"wrote {out} ({len(scene['nodes'])} nodes, {len(scene['edges'])} edges)")
+    click.echo(f"wrote {out} ({len(scene.nodes)} nodes, {len(scene.edges)} edges)")
 
 
 def _cloud_with_progress(sequence: Path, frames: int, max_points: int):

@@ -3,7 +3,9 @@ from __future__ import annotations
 
 import json
 
+from sg3d.core.stored import StoredGraph
 
-def to_json(graph: dict) -> str:
+
+def to_json(graph: StoredGraph) -> str:
     """The exported graph ({building, room, nodes, edges}) as indented JSON."""
-    return json.dumps(graph, indent=1)
+    return json.dumps(graph.as_json(), indent=1)

@@ -31,6 +31,7 @@ import numpy as np
 
 from sg3d.core.errors import Sg3dError
 from sg3d.core.model import COLOUR_NAMES, HIST_SIZE, RELATION_TYPES
+from sg3d.core.stored import Row, StoredGraph
 
 OBJECTS, PLACES, ROOMS, BUILDINGS = 2, 3, 4, 5
 # The room's structure (floor, walls, counters, shelves) is a layer of its own, below the
@@ -61,46 +62,46 @@ def _apply(T: Optional[np.ndarray], p) -> np.ndarray:
     return p if T is None else T[:3, :3] @ p + T[:3, 3]
 
 
-def to_spark(graph: dict, room_transforms: Optional[dict] = None):
-    """The exported graph {building, nodes, edges} (sg3d.graphdb.export.fetch_graph, named) as a
+def to_spark(graph: StoredGraph, room_transforms: Optional[dict] = None):
+    """The exported graph {building, nodes, edges} (`sg3d.graphdb.export.fetch_graph`, named) as a
     DynamicSceneGraph; `room_transforms`: room name -> 4x4 room-to-building (or None)."""
     dsg = _spark()
     G = dsg.DynamicSceneGraph()
-    labels = sorted({n.get("label") or "object" for n in graph["nodes"]})
+    labels = sorted({n.label or "object" for n in graph.nodes})
     label_id = {name: i for i, name in enumerate(labels)}
-    rooms = sorted({n.get("room_name") or "" for n in graph["nodes"]})
+    rooms = sorted({n.room_name or "" for n in graph.nodes})
     given = room_transforms or {}
     transforms = {r: (None if given.get(r) is None else np.asarray(given[r], dtype=float))
                   for r in rooms}
     symbols = {}
     by_room: dict[str, list[np.ndarray]] = {r: [] for r in rooms}
     boxes: dict[str, list[tuple[np.ndarray, np.ndarray]]] = {r: [] for r in rooms}
-    for k, n in enumerate(graph["nodes"]):
-        room = n.get("room_name") or ""
+    for k, n in enumerate(graph.nodes):
+        room = n.room_name or ""
         a = dsg.ObjectNodeAttributes()
-        a.semantic_label = label_id[n.get("label") or "object"]
-        a.name = n.get("name") or n["id"]
-        p = _apply(transforms[room], (n["x"], n["y"], n["z"]))
+        a.semantic_label = label_id[n.label or "object"]
+        a.name = n.name or n.id
+        p = _apply(transforms[room], (n.x, n.y, n.z))
         a.position = p
-        size = np.asarray(n.get("size") or (0.0, 0.0, 0.0), dtype=np.float32)
+        size = np.asarray(n.size or (0.0, 0.0, 0.0), dtype=np.float32)
         a.bounding_box = dsg.BoundingBox(size, p.astype(np.float32))
-        a.color = np.array(COLOUR_RGB.get(n.get("colour") or "grey", COLOUR_RGB["grey"]), dtype=np.uint8)
-        meta = {"id": n["id"], "room": room, "labels": n.get("labels") or [n.get("label")],
-                "scores": n.get("scores") or [], "var": n.get("var"), "n_points": n.get("n_points"),
-                "colour": n.get("colour"), "observations": n.get("observations"),
-                "first_frame": n.get("first_frame"), "last_frame": n.get("last_frame"),
-                "layer": n.get("layer"), "shape": n.get("shape"), "colour2": n.get("colour2")}
-        if n.get("hist") is not None:
-            meta["hist"] = [float(v) for v in n["hist"]]
+        a.color = np.array(COLOUR_RGB.get(n.colour or "grey", COLOUR_RGB["grey"]), dtype=np.uint8)
+        meta: Row = {"id": n.id, "room": room, "labels": n.labels or [n.label],
+                "scores": n.scores or [], "var": n.var, "n_points": n.n_points,
+                "colour": n.colour, "observations": n.observations,
+                "first_frame": n.first_frame, "last_frame": n.last_frame,
+                "layer": n.layer, "shape": n.shape, "colour2": n.colour2}
+        if n.hist is not None:
+            meta["hist"] = [float(v) for v in n.hist]
         a.metadata.set({"sg3d": {k2: v for k2, v in meta.items() if v is not None}})
-        structure = n.get("layer") == "structure"
+        structure = n.layer == "structure"
         sym = dsg.NodeSymbol("S" if structure else "O", k)
         G.add_node(STRUCTURE if structure else OBJECTS, sym, a)
-        symbols[n["id"]] = sym
+        symbols[n.id] = sym
         by_room[room].append(p)
         boxes[room].append((p - size / 2, p + size / 2))
     building = dsg.SemanticNodeAttributes()
-    building.name = graph["building"]
+    building.name = graph.building
     centres = []
     for k, room in enumerate(rooms):
         r = dsg.RoomNodeAttributes()
@@ -110,22 +111,22 @@ def to_spark(graph: dict, room_transforms: Optional[dict] = None):
         lo = np.min([b[0] for b in boxes[room]], axis=0)
         hi = np.max([b[1] for b in boxes[room]], axis=0)
         r.bounding_box = dsg.BoundingBox((hi - lo).astype(np.float32), ((hi + lo) / 2).astype(np.float32))
-        r.metadata.set({"sg3d": {"room": room, "building": graph["building"]}})
+        r.metadata.set({"sg3d": {"room": room, "building": graph.building}})
         G.add_node(ROOMS, dsg.NodeSymbol("R", k), r)
         centres.append(centre)
     building.position = np.mean(centres, axis=0) if centres else np.zeros(3)
-    building.metadata.set({"sg3d": {"building": graph["building"]}})
+    building.metadata.set({"sg3d": {"building": graph.building}})
     G.add_node(BUILDINGS, dsg.NodeSymbol("B", 0), building)
     for k, room in enumerate(rooms):
         G.insert_edge(dsg.NodeSymbol("B", 0), dsg.NodeSymbol("R", k))
     room_sym = {room: dsg.NodeSymbol("R", k) for k, room in enumerate(rooms)}
-    for n in graph["nodes"]:
-        G.insert_edge(room_sym[n.get("room_name") or ""], symbols[n["id"]])
-    pairs: dict[tuple[str, str], list[dict]] = {}
-    for e in graph["edges"]:
-        if e["s"] in symbols and e["o"] in symbols:
-            pairs.setdefault(tuple(sorted((e["s"], e["o"]))), []).append(
-                {"subject": e["s"], "predicate": e["type"], "object": e["o"], "score": e.get("score")})
+    for n in graph.nodes:
+        G.insert_edge(room_sym[n.room_name or ""], symbols[n.id])
+    pairs: dict[tuple[str, ...], list[Row]] = {}
+    for e in graph.edges:
+        if e.s in symbols and e.o in symbols:
+            pairs.setdefault(tuple(sorted((e.s, e.o))), []).append(
+                {"subject": e.s, "predicate": e.type, "object": e.o, "score": e.score})
     for (a_id, b_id), rels in pairs.items():
         info = dsg.EdgeAttributes()
         info.weighted = True
@@ -133,12 +134,12 @@ def to_spark(graph: dict, room_transforms: Optional[dict] = None):
         info.metadata.set({"relations": rels})
         G.insert_edge(symbols[a_id], symbols[b_id], info)
     G.set_labelspace(dsg.Labelspace(dict(enumerate(labels))), OBJECTS)
-    G.metadata.add({"sg3d": {"building": graph["building"], "room": graph.get("room"),
+    G.metadata.add({"sg3d": {"building": graph.building, "room": graph.room,
                              "labelspace": {str(i): name for i, name in enumerate(labels)}}})
     return G
 
 
-def to_spark_json(graph: dict, room_transforms: Optional[dict] = None) -> str:
+def to_spark_json(graph: StoredGraph, room_transforms: Optional[dict] = None) -> str:
     """The graph as spark_dsg's JSON text (what `DynamicSceneGraph.save("x.json")` writes)."""
     G = to_spark(graph, room_transforms)
     fd, tmp = tempfile.mkstemp(suffix=".json")

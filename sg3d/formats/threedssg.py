@@ -13,6 +13,8 @@ UNDER and CONTAINS_OBJ have no 3DSSG predicate (their inverse, ON and IN, is exp
 """
 from __future__ import annotations
 
+from sg3d.core.stored import StoredGraph
+
 RELATIONSHIPS = (
     "none", "supported by", "left", "right", "front", "behind", "close by", "inside", "bigger than",
     "smaller than", "higher than", "lower than", "same symmetry as", "same as", "attached to", "standing on",
@@ -26,26 +28,26 @@ PREDICATE = {"ON": "standing on", "IN": "inside", "ABOVE": "higher than", "BELOW
              "LEFT_OF": "left", "RIGHT_OF": "right", "BIGGER_THAN": "bigger than", "SMALLER_THAN": "smaller than"}
 
 
-def to_3dssg(graph: dict) -> tuple[dict, dict]:
-    """The exported graph {building, nodes, edges} as 3DSSG's (objects.json, relationships.json)."""
+def to_3dssg(graph: StoredGraph) -> tuple[dict, dict]:
+    """The exported graph as 3DSSG's (objects.json, relationships.json)."""
     scans: dict[str, dict] = {}
     numbers: dict[str, tuple[str, int]] = {}
-    for n in graph["nodes"]:
-        scan = f"{graph['building']}/{n.get('room_name') or ''}"
+    for n in graph.nodes:
+        scan = f"{graph.building}/{n.room_name or ''}"
         s = scans.setdefault(scan, {"objects": [], "relationships": [], "names": {}})
         k = len(s["objects"]) + 1
-        numbers[n["id"]] = (scan, k)
-        s["objects"].append({"id": str(k), "label": n.get("label") or "object",
-                             "attributes": {"color": [n["colour"]] if n.get("colour") else []},
-                             "affordances": [], "sg3d_id": n["id"], "name": n.get("name"),
-                             "position": [n["x"], n["y"], n["z"]], "size": n.get("size")})
-        s["names"][str(k)] = n.get("label") or "object"
+        numbers[n.id] = (scan, k)
+        s["objects"].append({"id": str(k), "label": n.label or "object",
+                             "attributes": {"color": [n.colour] if n.colour else []},
+                             "affordances": [], "sg3d_id": n.id, "name": n.name,
+                             "position": [n.x, n.y, n.z], "size": n.size})
+        s["names"][str(k)] = n.label or "object"
     seen = set()
-    for e in graph["edges"]:
-        if e["type"] not in PREDICATE or e["s"] not in numbers or e["o"] not in numbers:
+    for e in graph.edges:
+        if e.type not in PREDICATE or e.s not in numbers or e.o not in numbers:
             continue
-        (scan, a), (scan_b, b) = numbers[e["s"]], numbers[e["o"]]
-        name = PREDICATE[e["type"]]
+        (scan, a), (scan_b, b) = numbers[e.s], numbers[e.o]
+        name = PREDICATE[e.type]
         if scan != scan_b or (scan, a, b, name) in seen:  # NEXT_TO and NEAR both give "close by"
             continue
         seen.add((scan, a, b, name))

@@ -25,6 +25,7 @@ from __future__ import annotations
 from typing import Iterable, Optional
 
 from sg3d.core.shape import SAID
+from sg3d.core.stored import Row, StoredGraph
 
 SUPPORT_TYPES = ("ON", "IN")
 
@@ -86,7 +87,7 @@ def object_names(objects: Iterable[dict], supports: Optional[dict[str, str]] = N
     for o in objs:
         if o.get("support") and o["id"] not in supports:
             supports[o["id"]] = o["support"]
-    groups: dict[tuple[str, str], list[dict]] = {}
+    groups: dict[tuple[str, str], list[Row]] = {}
     for o in objs:
         groups.setdefault((o.get("room") or "", _kind(o)), []).append(o)
     names: dict[str, str] = {}
@@ -143,11 +144,9 @@ def names_in_store(read, objects: Iterable[dict]) -> dict[str, str]:
     return {o["id"]: names[o["id"]] for o in objs}
 
 
-def name_graph(graph: dict) -> dict:
-    """Add each node's readable name ("name") to an exported graph {nodes, edges} in place."""
-    objs = [{**n, "room": n.get("room") or n.get("room_name") or ""} for n in graph["nodes"]]
-    labels = {n["id"]: n.get("label") or "object" for n in graph["nodes"]}
-    names = object_names(objs, supports_from_edges(graph.get("edges", ()), labels))
-    for n in graph["nodes"]:
-        n["name"] = names[n["id"]]
-    return graph
+def name_graph(graph: StoredGraph) -> StoredGraph:
+    """The exported graph with each node's readable name."""
+    objs = [{**n.as_json(), "room": n.room or n.room_name or ""} for n in graph.nodes]
+    labels = {n.id: n.label or "object" for n in graph.nodes}
+    names = object_names(objs, supports_from_edges([e.as_json() for e in graph.edges], labels))
+    return graph.named(names)

@@ -17,6 +17,7 @@ from typing import TYPE_CHECKING, Optional, Sequence
 
 import numpy as np
 
+from sg3d.core.stored import Scene, StoredObject
 from sg3d.render import labels as L
 from sg3d.render.geometry import drawing_frame, room_outlines
 from sg3d.render.style import (
@@ -91,13 +92,13 @@ def label_lines(name: str) -> str:
     return name
 
 
-def node_colour(node: dict, status: Optional[dict]) -> str:
+def node_colour(node: StoredObject, status: Optional[dict]) -> str:
     if status is not None:
-        return STATUS_COLOURS.get(status.get(node["id"], ""), "#aaaaaa")
-    return category_colour(category_of(node.get("label") or "?"))
+        return STATUS_COLOURS.get(status.get(node.id, ""), "#aaaaaa")
+    return category_colour(category_of(node.label or "?"))
 
 
-def spring_positions(scene: dict, seed: int = 0) -> dict[str, np.ndarray]:
+def spring_positions(scene: Scene, seed: int = 0) -> dict[str, np.ndarray]:
     """networkx's spring layout (seeded: the same graph gives the same picture) over the spatial
     edges only (size statements link nearly every pair and would squash it into a ball), one
     connected component at a time, the components packed in rows, largest first: a force layout
@@ -105,10 +106,10 @@ def spring_positions(scene: dict, seed: int = 0) -> dict[str, np.ndarray]:
     import networkx as nx
 
     g = nx.Graph()
-    g.add_nodes_from(sorted(n["id"] for n in scene["nodes"]))
-    for e in visible_edges(scene["edges"], all_edges=False):
-        if e["s"] in g and e["o"] in g and e["s"] != e["o"]:
-            g.add_edge(e["s"], e["o"])
+    g.add_nodes_from(sorted(n.id for n in scene.nodes))
+    for e in visible_edges(scene.edges, all_edges=False):
+        if e.s in g and e.o in g and e.s != e.o:
+            g.add_edge(e.s, e.o)
     comps = sorted((sorted(c) for c in nx.connected_components(g)), key=lambda c: (-len(c), c[0]))
     blocks = []
     for comp in comps:
@@ -202,14 +203,14 @@ class _Labels:
     listed_edges: list[str] = field(default_factory=list)
 
 
-def draw(scene: dict, *, layout: str = "topdown", all_edges: bool = False, size=(1600, 1200),
+def draw(scene: Scene, *, layout: str = "topdown", all_edges: bool = False, size=(1600, 1200),
          status: Optional[dict] = None, markers: Sequence[Marker] = (), title: str = "") -> Diagram:
     """The diagram of `scene` (sg3d.app.scene.fetch_scene). `status`: node id -> matched / spurious /
     duplicate (the eval report colours nodes by it instead of by category)."""
     if layout not in LAYOUTS:
         raise ValueError(f"unknown layout {layout!r}")
     width, height = size
-    nodes = sorted(scene["nodes"], key=lambda n: n["id"])
+    nodes = sorted(scene.nodes, key=lambda n: n.id)
     topdown = layout == "topdown"
     frame = drawing_frame(scene) if topdown else None
     if topdown:
@@ -222,16 +223,16 @@ def draw(scene: dict, *, layout: str = "topdown", all_edges: bool = False, size=
     fig, ax = _map_axes(size, pos, outlines, marker_xy, topdown)
     canvas = _Canvas(fig, ax)
     _draw_rooms(ax, outlines)
-    pairs = [p for p in pair_edges(visible_edges(scene["edges"], all_edges)) if p.s in pos and p.o in pos]
+    pairs = [p for p in pair_edges(visible_edges(scene.edges, all_edges)) if p.s in pos and p.o in pos]
     _draw_edges(ax, pos, pairs, topdown)
     node_px = _draw_nodes(canvas, nodes, pos, status, markers, marker_xy)
-    names = {n["id"]: n.get("name") or n.get("label") or n["id"] for n in nodes}
+    names = {n.id: n.name or n.label or n.id for n in nodes}
     placed = _Labels()
     _label_rooms_and_markers(canvas, placed, outlines, markers, marker_xy)
     _label_nodes(canvas, placed, nodes, node_px, names)
     _label_edges(canvas, placed, pairs, node_px, names)
     # the right-hand column: title, legend, scale bar, then the side table
-    hidden = len(scene["edges"]) - len(visible_edges(scene["edges"], all_edges))
+    hidden = len(scene.edges) - len(visible_edges(scene.edges, all_edges))
     summary = _summary(len(nodes), len(pairs), hidden, frame, len(outlines))
     y = _panel_head(canvas, title, summary, _legend_handles(nodes, pairs, status, markers, outlines), height)
     scale_m, scale_px = _scale_bar(canvas, size) if topdown else (0.0, 0.0)
@@ -303,17 +304,17 @@ def _draw_edges(ax, pos: dict, pairs: list, topdown: bool) -> None:
         ax.tick_params(labelbottom=True, labelleft=True)
 
 
-def _draw_nodes(canvas: _Canvas, nodes: list[dict], pos: dict, status: Optional[dict],
+def _draw_nodes(canvas: _Canvas, nodes: list[StoredObject], pos: dict, status: Optional[dict],
                 markers: Sequence[Marker], marker_xy: list) -> dict[str, tuple[float, float]]:
     """One scatter per node (an SVG group with the node's id) at the object's position, then the
     missing-object markers; their pixels are taken for labels. Returns id -> display pixel."""
     ax, node_px = canvas.ax, {}
     for n in nodes:
-        x, y = pos[n["id"]]
+        x, y = pos[n.id]
         ax.scatter([x], [y], s=NODE_SIZE, c=node_colour(n, status), edgecolors="#222222", linewidths=0.8,
-                   zorder=3, gid=f"node-{n['id']}")
+                   zorder=3, gid=f"node-{n.id}")
         px = canvas.to_px((x, y))
-        node_px[n["id"]] = (float(px[0]), float(px[1]))
+        node_px[n.id] = (float(px[0]), float(px[1]))
         canvas.occ.add((px[0] - NODE_R_PX, px[1] - NODE_R_PX, px[0] + NODE_R_PX, px[1] + NODE_R_PX))
     for m, xy in zip(markers, marker_xy):
         ax.scatter([xy[0]], [xy[1]], s=NODE_SIZE * 1.6, facecolors="none", edgecolors=MISSING_COLOUR,
@@ -341,32 +342,32 @@ def _label_rooms_and_markers(canvas: _Canvas, placed: _Labels, outlines: dict, m
             placed.listed_nodes.append(f"missing: {m.text}")
 
 
-def _label_nodes(canvas: _Canvas, placed: _Labels, nodes: list[dict], node_px: dict, names: dict) -> None:
+def _label_nodes(canvas: _Canvas, placed: _Labels, nodes: list[StoredObject], node_px: dict, names: dict) -> None:
     """Node labels, the most crowded first (they need the most choices); a name with no free
     place becomes a number listed in the side table."""
     crowd = {}
-    all_px = np.array([node_px[n["id"]] for n in nodes])
+    all_px = np.array([node_px[n.id] for n in nodes])
     for n in nodes:
-        d = np.linalg.norm(all_px - np.array(node_px[n["id"]]), axis=1)
-        crowd[n["id"]] = int((d < 90).sum())
-    order = sorted(nodes, key=lambda n: (-crowd[n["id"]], n["id"]))
+        d = np.linalg.norm(all_px - np.array(node_px[n.id]), axis=1)
+        crowd[n.id] = int((d < 90).sum())
+    order = sorted(nodes, key=lambda n: (-crowd[n.id], n.id))
     numbered = []
     for n in order:
-        t = canvas.put(label_lines(names[n["id"]]), node_px[n["id"]], LABEL_FONT, "#1a1a1a",
+        t = canvas.put(label_lines(names[n.id]), node_px[n.id], LABEL_FONT, "#1a1a1a",
                        bbox=None, linespacing=1.0)
         if t is not None:
-            t.set_gid(f"label-{n['id']}")
+            t.set_gid(f"label-{n.id}")
             placed.nodes.append(t)
         else:
             numbered.append(n)
-    for k, n in enumerate(sorted(numbered, key=lambda n: names[n["id"]]), 1):
-        t = canvas.put(str(k), node_px[n["id"]], LABEL_FONT - 1, "#1a1a1a")
+    for k, n in enumerate(sorted(numbered, key=lambda n: names[n.id]), 1):
+        t = canvas.put(str(k), node_px[n.id], LABEL_FONT - 1, "#1a1a1a")
         if t is not None:
-            t.set_gid(f"label-{n['id']}")
+            t.set_gid(f"label-{n.id}")
             placed.nodes.append(t)
-            placed.listed_nodes.append(f"{k}  {names[n['id']]}")
+            placed.listed_nodes.append(f"{k}  {names[n.id]}")
         else:
-            placed.listed_nodes.append(f"·  {names[n['id']]}")
+            placed.listed_nodes.append(f"·  {names[n.id]}")
 
 
 def _label_edges(canvas: _Canvas, placed: _Labels, pairs: list, node_px: dict, names: dict) -> None:
@@ -399,7 +400,7 @@ def _summary(n_nodes: int, n_pairs: int, hidden: int, frame, n_rooms: int) -> st
     return summary
 
 
-def _legend_handles(nodes: list[dict], pairs: list, status: Optional[dict], markers: Sequence[Marker],
+def _legend_handles(nodes: list[StoredObject], pairs: list, status: Optional[dict], markers: Sequence[Marker],
                     outlines: dict) -> list:
     """Legend entries: node colours (by eval status or by category), then the line and room styles."""
     from matplotlib.lines import Line2D
@@ -413,7 +414,7 @@ def _legend_handles(nodes: list[dict], pairs: list, status: Optional[dict], mark
         handles.append(Line2D([], [], marker="o", linestyle="", markersize=9, markerfacecolor="none",
                               markeredgecolor=MISSING_COLOUR, label=f"missing ground truth ({len(markers)})"))
     else:
-        groups = sorted({category_of(n.get("label") or "?") for n in nodes})
+        groups = sorted({category_of(n.label or "?") for n in nodes})
         handles += [Line2D([], [], marker="o", linestyle="", markersize=8, markerfacecolor=category_colour(gname),
                            markeredgecolor="#222222", label=gname) for gname in groups]
     handles.append(Line2D([], [], color="#5c5c5c", linewidth=1, label="relation (label: all its statements)"))
@@ -473,7 +474,7 @@ def _clip(text: str, n: int) -> str:
     return text if len(text) <= n else text[:n - 1] + "…"
 
 
-def render_diagram(scene: dict, fmt: str, **kw) -> bytes:
+def render_diagram(scene: Scene, fmt: str, **kw) -> bytes:
     """The diagram as PNG, SVG or PDF bytes (`draw`'s keywords)."""
     if fmt not in FORMATS:
         raise ValueError(f"unknown format {fmt!r}")

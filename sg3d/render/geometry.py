@@ -13,6 +13,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from sg3d.core.geometry import gravity_basis
+from sg3d.core.stored import RoomFrame, Scene, StoredObject
 
 ROOM_GAP_M = 1.5          # between rooms drawn side by side
 OUTLINE_PAD_M = 0.25      # room outline around its objects' footprints
@@ -37,62 +38,61 @@ class Frame:
     coords: dict[str, np.ndarray] = field(default_factory=dict)     # node id -> (a, b, h) of its position
 
 
-def _room_of(node: dict) -> str:
-    return node.get("room_name") or ""
+def _room_of(node: StoredObject) -> str:
+    return node.room_name or ""
 
 
-def _pos(node: dict, key: str = "pos") -> np.ndarray:
-    if key == "box" and node.get("box_centre"):
-        return np.asarray(node["box_centre"], dtype=np.float64)
-    return np.array([node.get("x") or 0.0, node.get("y") or 0.0, node.get("z") or 0.0])
+def _pos(node: StoredObject, key: str = "pos") -> np.ndarray:
+    if key == "box" and node.box_centre:
+        return np.asarray(node.box_centre, dtype=np.float64)
+    return np.array([node.x or 0.0, node.y or 0.0, node.z or 0.0])
 
 
-def drawing_frame(scene: dict) -> Frame:
+def drawing_frame(scene: Scene) -> Frame:
     """Placements of every room of the scene, and each node's position (a, b, h)."""
-    rooms = scene.get("rooms") or {}
-    names = sorted({_room_of(n) for n in scene["nodes"]})
-    info = {r: rooms.get(r) or {} for r in names}
-    aligned = len(names) > 1 and all(info[r].get("to_building") for r in names)
+    names = sorted({_room_of(n) for n in scene.nodes})
+    info = {r: scene.rooms.get(r) or RoomFrame(r) for r in names}
+    aligned = len(names) > 1 and all(info[r].to_building for r in names)
     placements: dict[str, Placement] = {}
     if aligned:
         ref = names[0]
-        T_ref = np.asarray(info[ref]["to_building"], dtype=np.float64)
-        up_ref = info[ref].get("up") or [0.0, 0.0, 1.0]
+        T_ref = np.asarray(info[ref].to_building, dtype=np.float64)
+        up_ref = info[ref].up or [0.0, 0.0, 1.0]
         B = gravity_basis(T_ref[:3, :3] @ np.asarray(up_ref, dtype=np.float64))
         for r in names:
-            T = np.asarray(info[r]["to_building"], dtype=np.float64)
-            placements[r] = Placement(B @ T[:3, :3], B @ T[:3, 3], gravity_basis(info[r].get("up")))
+            T = np.asarray(info[r].to_building, dtype=np.float64)
+            placements[r] = Placement(B @ T[:3, :3], B @ T[:3, 3], gravity_basis(info[r].up))
     else:
         offset = 0.0
         for r in names:
-            B = gravity_basis(info[r].get("up"))
-            pts = np.array([_pos(n) for n in scene["nodes"] if _room_of(n) == r]) @ B.T
+            B = gravity_basis(info[r].up)
+            pts = np.array([_pos(n) for n in scene.nodes if _room_of(n) == r]) @ B.T
             shift = np.array([offset - pts[:, 0].min(), 0.0, 0.0]) if len(names) > 1 else np.zeros(3)
             placements[r] = Placement(B, shift, B)
             offset = pts[:, 0].max() + shift[0] + ROOM_GAP_M
     frame = Frame(placements, aligned)
-    frame.coords = {n["id"]: placements[_room_of(n)].apply(_pos(n))[0] for n in scene["nodes"]}
+    frame.coords = {n.id: placements[_room_of(n)].apply(_pos(n))[0] for n in scene.nodes}
     return frame
 
 
-def box_corners(node: dict, placement: Placement) -> np.ndarray:
+def box_corners(node: StoredObject, placement: Placement) -> np.ndarray:
     """The 8 corners (a, b, h) of a node's 3-D box: `size` (w, d, h) along its room's gravity
     axes around its box centre."""
-    size = np.maximum(np.asarray(node.get("size") or [0.1, 0.1, 0.1], dtype=np.float64), MIN_SIZE_M)
+    size = np.maximum(np.asarray(node.size or [0.1, 0.1, 0.1], dtype=np.float64), MIN_SIZE_M)
     c = placement.basis @ _pos(node, "box")
     signs = np.array([[sx, sy, sz] for sz in (-1, 1) for sy in (-1, 1) for sx in (-1, 1)], dtype=np.float64)
     local = c + signs * size / 2                    # in the room's gravity frame
     return placement.apply(local @ placement.basis)     # back to world, then to the drawing frame
 
 
-def room_outlines(scene: dict, frame: Frame) -> dict[str, np.ndarray]:
+def room_outlines(scene: Scene, frame: Frame) -> dict[str, np.ndarray]:
     """room -> closed polygon (k x 2, floor plane) around its objects' footprints (convex hull,
     padded): where the room is, as far as its objects tell."""
     from scipy.spatial import ConvexHull, QhullError
 
     out = {}
     for r, pl in frame.placements.items():
-        corners = [box_corners(n, pl)[:, :2] for n in scene["nodes"] if _room_of(n) == r]
+        corners = [box_corners(n, pl)[:, :2] for n in scene.nodes if _room_of(n) == r]
         if not corners:
             continue
         pts = np.vstack(corners)

@@ -13,6 +13,8 @@ import html
 from pathlib import Path
 from typing import Optional
 
+from sg3d.core.stored import Scene
+
 PICTURE = "graph.png"
 
 
@@ -128,7 +130,7 @@ def _md_cell(text: str) -> str:
     return str(text).replace("|", "\\|").replace("\n", " ")
 
 
-def write_report(out_dir: Path, report: dict, scene: dict, gt, room: str, *, width: int = 1600,
+def write_report(out_dir: Path, report: dict, scene: Scene, gt, room: str, *, width: int = 1600,
                  height: int = 1200) -> list[Path]:
     """Write DIR/graph.png, DIR/report.md, DIR/report.html; returns their paths. `scene`: the
     room from sg3d.app.scene.fetch_scene."""
@@ -139,7 +141,7 @@ def write_report(out_dir: Path, report: dict, scene: dict, gt, room: str, *, wid
                          markers=missing_markers(report, gt, room), title=f"eval {report['room']}")
     (out_dir / PICTURE).write_bytes(png)
     rows = metric_rows(report)
-    names = {n["id"]: n["name"] for n in scene["nodes"]}     # the names ask, plan and the picture use
+    names = {n.id: n.name or "" for n in scene.nodes}     # the names ask, plan and the picture use
     parts = tables(report, names, gt)
 
     md = [f"# sg3d eval: {report['room']}", "",

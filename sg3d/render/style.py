@@ -7,6 +7,7 @@ from functools import lru_cache
 from typing import Iterable
 
 from sg3d.core.relation_rules import SYMMETRIC
+from sg3d.core.stored import StoredRelation
 
 # matplotlib's tab20, as hex: 20 well-separated colours that plotly draws identically
 PALETTE = ["#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b", "#e377c2", "#7f7f7f",
@@ -66,8 +67,8 @@ def relation_colour(rel_type: str) -> str:
     return PALETTE[int(hashlib.sha1(rel_type.encode()).hexdigest(), 16) % len(PALETTE)]
 
 
-def visible_edges(edges: Iterable[dict], all_edges: bool) -> list[dict]:
-    return [e for e in edges if all_edges or e["type"] not in COMPARISON_TYPES]
+def visible_edges(edges: Iterable[StoredRelation], all_edges: bool) -> list[StoredRelation]:
+    return [e for e in edges if all_edges or e.type not in COMPARISON_TYPES]
 
 
 @dataclass
@@ -85,29 +86,29 @@ class PairEdge:
         return " / ".join(self.words)
 
 
-def pair_edges(edges: Iterable[dict]) -> list[PairEdge]:
+def pair_edges(edges: Iterable[StoredRelation]) -> list[PairEdge]:
     """One PairEdge per unordered pair, its statements merged into one label ("on / smaller
     than"): the direction is that of the pair's leading statement (PRIORITY), and a statement
     the other way round is said with its inverse word (table BIGGER_THAN cup, read from the cup:
     "smaller than"), so "b BEHIND a" beside "a IN_FRONT_OF b" gives one word, not two labels
     printed over each other."""
     rank = {t: i for i, t in enumerate(PRIORITY)}
-    pairs: dict[tuple[str, str], list[dict]] = {}
+    pairs: dict[tuple[str, ...], list[StoredRelation]] = {}
     for e in edges:
-        if e["s"] != e["o"]:
-            pairs.setdefault(tuple(sorted((e["s"], e["o"]))), []).append(e)
+        if e.s != e.o:
+            pairs.setdefault(tuple(sorted((e.s, e.o))), []).append(e)
     out = []
     for key in sorted(pairs):
-        facts = sorted(pairs[key], key=lambda e: (rank.get(e["type"], len(rank)), e["s"]))
-        lead = next((e for e in facts if e["type"] not in SYMMETRIC), facts[0])
-        s, o = lead["s"], lead["o"]
+        facts = sorted(pairs[key], key=lambda e: (rank.get(e.type, len(rank)), e.s))
+        lead = next((e for e in facts if e.type not in SYMMETRIC), facts[0])
+        s, o = lead.s, lead.o
         words: list[str] = []
         for e in facts:
-            w = word(e["type"]) if (e["s"] == s or e["type"] in SYMMETRIC) else \
-                INVERSE_WORDS.get(e["type"], word(e["type"]) + " (reverse)")
+            w = word(e.type) if (e.s == s or e.type in SYMMETRIC) else \
+                INVERSE_WORDS.get(e.type, word(e.type) + " (reverse)")
             if w not in words:
                 words.append(w)
-        types = sorted({e["type"] for e in facts})
+        types = sorted({e.type for e in facts})
         out.append(PairEdge(s, o, words, types, any(t not in SYMMETRIC for t in types),
                             all(t in COMPARISON_TYPES for t in types)))
     return out

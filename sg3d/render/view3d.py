@@ -26,6 +26,7 @@ from typing import Optional
 import numpy as np
 
 from sg3d.core.model import UNNAMED_LABEL
+from sg3d.core.stored import Scene, StoredObject, StoredRelation
 from sg3d.render.geometry import box_corners, drawing_frame, room_outlines
 from sg3d.render.labels import overlaps
 from sg3d.render.style import (
@@ -58,32 +59,32 @@ def _hex_rgb(c: str) -> tuple[int, int, int]:
     return int(c[0:2], 16), int(c[2:4], 16), int(c[4:6], 16)
 
 
-def figure(scene: dict, cloud: Optional[tuple] = None, all_edges: bool = False, title: str = "scene graph"):
+def figure(scene: Scene, cloud: Optional[tuple] = None, all_edges: bool = False, title: str = "scene graph"):
     """The plotly Figure. `cloud`: (points N x 3 in the first room's world frame, colours N x 3
     uint8), from sg3d.app.scene.sequence_cloud."""
     import plotly.graph_objects as go
 
     frame = drawing_frame(scene)
-    nodes = sorted(scene["nodes"], key=lambda n: n["id"])
-    names = {n["id"]: n.get("name") or n.get("label") or n["id"] for n in nodes}
-    room_of = {n["id"]: n.get("room_name") or "" for n in nodes}
-    corners = {n["id"]: box_corners(n, frame.placements[room_of[n["id"]]]) for n in nodes}
+    nodes = sorted(scene.nodes, key=lambda n: n.id)
+    names = {n.id: n.name or n.label or n.id for n in nodes}
+    room_of = {n.id: n.room_name or "" for n in nodes}
+    corners = {n.id: box_corners(n, frame.placements[room_of[n.id]]) for n in nodes}
     # the cloud first, so boxes and lines draw over it
     extent = [np.vstack(list(corners.values()))]
     traces = _cloud_traces(frame, cloud, extent)
     traces += _box_traces(nodes, corners, names, room_of)
     lo, hi = np.vstack(extent).min(axis=0) - FRAME_PAD_M, np.vstack(extent).max(axis=0) + FRAME_PAD_M
     traces += _name_traces(nodes, corners, names, (lo + hi) / 2, float((hi - lo).max()))
-    traces += _relation_traces(scene["edges"], nodes, corners, names, all_edges)
+    traces += _relation_traces(scene.edges, nodes, corners, names, all_edges)
     traces += _room_traces(room_outlines(scene, frame), corners)
     fig = go.Figure(traces)
     _lay_out(fig, lo, hi, title)
     return fig
 
 
-def is_named(node: dict) -> bool:
+def is_named(node: StoredObject) -> bool:
     """A detector named it: not the room's structure and not an unnamed object."""
-    return node.get("layer") != "structure" and (node.get("label") or UNNAMED_LABEL) != UNNAMED_LABEL
+    return node.layer != "structure" and (node.label or UNNAMED_LABEL) != UNNAMED_LABEL
 
 
 def _cloud_traces(frame, cloud: Optional[tuple], extent: list) -> list:
@@ -103,13 +104,13 @@ def _cloud_traces(frame, cloud: Optional[tuple], extent: list) -> list:
                          marker=dict(size=1.6, color=colours), hoverinfo="skip", legendgroup="cloud")]
 
 
-def _box_traces(nodes: list[dict], corners: dict, names: dict, room_of: dict) -> list:
+def _box_traces(nodes: list[StoredObject], corners: dict, names: dict, room_of: dict) -> list:
     """Boxes: one mesh + one wireframe per category, so the legend toggles a category."""
     import plotly.graph_objects as go
 
-    by_cat: dict[str, list[dict]] = {}
+    by_cat: dict[str, list[StoredObject]] = {}
     for n in nodes:
-        by_cat.setdefault(category_of(n.get("label") or "?"), []).append(n)
+        by_cat.setdefault(category_of(n.label or "?"), []).append(n)
     traces = []
     for cat in sorted(by_cat):
         colour = category_colour(cat)
@@ -117,7 +118,7 @@ def _box_traces(nodes: list[dict], corners: dict, names: dict, room_of: dict) ->
         xs, ys, zs, ii, jj, kk, text = [], [], [], [], [], [], []
         lx, ly, lz = [], [], []
         for n in by_cat[cat]:
-            c = corners[n["id"]]
+            c = corners[n.id]
             base = len(xs)
             xs += c[:, 0].tolist()
             ys += c[:, 1].tolist()
@@ -125,16 +126,16 @@ def _box_traces(nodes: list[dict], corners: dict, names: dict, room_of: dict) ->
             ii += (_TRIS[:, 0] + base).tolist()
             jj += (_TRIS[:, 1] + base).tolist()
             kk += (_TRIS[:, 2] + base).tolist()
-            size = n.get("size") or [0, 0, 0]
-            hover = (f"<b>{htmlmod.escape(names[n['id']])}</b><br>{htmlmod.escape(n.get('label') or '')}"
-                     f" · {htmlmod.escape(n.get('colour') or '')}<br>{size[0]:.2f} × {size[1]:.2f} × {size[2]:.2f} m"
-                     f"<br>room {htmlmod.escape(room_of[n['id']])}")
+            size = n.size or [0, 0, 0]
+            hover = (f"<b>{htmlmod.escape(names[n.id])}</b><br>{htmlmod.escape(n.label or '')}"
+                     f" · {htmlmod.escape(n.colour or '')}<br>{size[0]:.2f} × {size[1]:.2f} × {size[2]:.2f} m"
+                     f"<br>room {htmlmod.escape(room_of[n.id])}")
             text += [hover] * 8
             for a, b in _EDGES:
                 lx += [c[a, 0], c[b, 0], None]
                 ly += [c[a, 1], c[b, 1], None]
                 lz += [c[a, 2], c[b, 2], None]
-        structure = all(n.get("layer") == "structure" for n in by_cat[cat])
+        structure = all(n.layer == "structure" for n in by_cat[cat])
         traces.append(go.Mesh3d(x=xs, y=ys, z=zs, i=ii, j=jj, k=kk, color=colour, name=cat,
                                 opacity=STRUCTURE_OPACITY if structure else OBJECT_OPACITY,
                                 legendgroup=cat, showlegend=True, hovertext=text, hoverinfo="text",
@@ -191,15 +192,15 @@ def stack_names(spots: np.ndarray, texts: list[str], mid: np.ndarray, span: floa
     return out
 
 
-def _name_traces(nodes: list[dict], corners: dict, names: dict, mid: np.ndarray, span: float) -> list:
+def _name_traces(nodes: list[StoredObject], corners: dict, names: dict, mid: np.ndarray, span: float) -> list:
     """Names over the boxes: the named objects' ("names", shown) and the others' ("other
     names": unnamed objects and structure, legend-only, in grey), stacked where they would
     overlap (the named ones placed first), a raised name joined to its box by a leader line."""
     import plotly.graph_objects as go
 
     named = [is_named(n) for n in nodes]
-    texts = [names[n["id"]] for n in nodes]
-    base = np.array([_name_spot(corners[n["id"]]) for n in nodes]).reshape(-1, 3)
+    texts = [names[n.id] for n in nodes]
+    base = np.array([_name_spot(corners[n.id]) for n in nodes]).reshape(-1, 3)
     tops = stack_names(base, texts, mid, span, rank=[0 if k else 1 for k in named])
     traces = []
     for group, visible, colour in (("names", True, "#111111"), ("other names", "legendonly", "#555555")):
@@ -221,21 +222,21 @@ def _name_traces(nodes: list[dict], corners: dict, names: dict, mid: np.ndarray,
     return traces
 
 
-def _relation_traces(edges: list[dict], nodes: list[dict], corners: dict, names: dict, all_edges: bool) -> list:
+def _relation_traces(edges: list[StoredRelation], nodes: list[StoredObject], corners: dict, names: dict, all_edges: bool) -> list:
     """One trace per stored type (the legend toggles it), a hover point mid-line with the pair's
     merged statements ("cup 1 → dining table: on / smaller than")."""
     import plotly.graph_objects as go
 
-    centre = {n["id"]: corners[n["id"]].mean(axis=0) for n in nodes}
+    centre = {n.id: corners[n.id].mean(axis=0) for n in nodes}
     pairs = {(p.s, p.o): p for p in pair_edges(edges)}
     pairs.update({(p.o, p.s): p for p in list(pairs.values())})
     traces = []
-    for t in sorted({e["type"] for e in edges}):
+    for t in sorted({e.type for e in edges}):
         ex, ey, ez, mx, my, mz, mtext = [], [], [], [], [], [], []
         for e in edges:
-            if e["type"] != t or e["s"] not in centre or e["o"] not in centre:
+            if e.type != t or e.s not in centre or e.o not in centre:
                 continue
-            a, b = centre[e["s"]], centre[e["o"]]
+            a, b = centre[e.s], centre[e.o]
             ex += [a[0], b[0], None]
             ey += [a[1], b[1], None]
             ez += [a[2], b[2], None]
@@ -243,9 +244,9 @@ def _relation_traces(edges: list[dict], nodes: list[dict], corners: dict, names:
             mx.append(m[0])
             my.append(m[1])
             mz.append(m[2])
-            p = pairs.get((e["s"], e["o"]))
+            p = pairs.get((e.s, e.o))
             said = p.label if p else word(t)
-            s, o = (p.s, p.o) if p else (e["s"], e["o"])
+            s, o = (p.s, p.o) if p else (e.s, e.o)
             mtext.append(f"{htmlmod.escape(names[s])} → {htmlmod.escape(names[o])}: {htmlmod.escape(said)}")
         visible = True if (all_edges or t not in COMPARISON_TYPES) else "legendonly"
         colour = relation_colour(t)
@@ -298,7 +299,7 @@ def _lay_out(fig, lo: np.ndarray, hi: np.ndarray, title: str) -> None:
         hoverlabel=dict(bgcolor="white"))
 
 
-def render_html(scene: dict, cloud: Optional[tuple] = None, all_edges: bool = False,
+def render_html(scene: Scene, cloud: Optional[tuple] = None, all_edges: bool = False,
                 title: str = "scene graph") -> str:
     """The page: plotly.js inline (works offline), the plot filling the window."""
     fig = figure(scene, cloud, all_edges, title)

@@ -37,6 +37,7 @@ from sg3d.app import plan as app_plan
 from sg3d.app import rooms as app_rooms
 from sg3d.app.errors import AppError, NotFound, Refused, RoomBusy
 from sg3d.app.stores import StoreHandle
+from sg3d.core.stored import Row
 from sg3d.server import metrics, schemas
 from sg3d.server.auth import token_matches
 from sg3d.server.dispatch import (
@@ -185,7 +186,7 @@ def _near(text: Optional[str]):
         raise AppError("near must be x,y,z (three numbers, metres)") from None
 
 
-def validation_details(errors) -> list[dict]:
+def validation_details(errors) -> list[Row]:
     """Pydantic's errors naming each field and the rule it broke, never the value it was sent
     (a 100 MB question must not come back as a 100 MB answer): a value too long is named by its
     length."""
@@ -427,7 +428,7 @@ def _add_read_routes(api: FastAPI, stores: StoreHandle, calls: Dispatcher, auth:
             g = read(lambda s: app_graph.fetch_named_graph(s, building, room, thumbnails, histograms or spark,
                                                            room_transforms=spark))
             if format == "json":
-                return json_response(g)
+                return json_response(g.as_json())
             return Response(app_graph.render_graph(g, format),
                             media_type="application/graphml+xml" if format == "graphml" else "application/json")
         return await calls.pooled(fetch)

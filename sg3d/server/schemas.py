@@ -11,6 +11,8 @@ from typing import Any, Optional
 
 from pydantic import BaseModel, ConfigDict, Field
 
+from sg3d.core.stored import StoredGraph
+
 
 class _Open(BaseModel):
     model_config = ConfigDict(extra="allow")
@@ -117,30 +119,9 @@ class RoomObject(_Open):
     distance: Optional[float] = Field(None, description="metres from `near`, when given")
 
 
-class GraphNode(_Open):
-    id: str
-    room: str
-    label: str
-    name: Optional[str] = None
-    x: Optional[float] = None
-    y: Optional[float] = None
-    z: Optional[float] = None
-    layer: Optional[str] = None
-    removed_at: Optional[float] = None
-
-
-class GraphEdge(_Open):
-    s: str = Field(description="subject node id")
-    type: str = Field(description="relation type (ON, IN, NEAR, ...)")
-    o: str = Field(description="object node id")
-    score: Optional[float] = None
-
-
-class Graph(_Open):
-    building: str
-    room: Optional[str] = None
-    nodes: list[GraphNode]
-    edges: list[GraphEdge]
+# GET /graph answers `sg3d.core.stored.StoredGraph.as_json()`: the read side's one definition of
+# a node, an edge and a graph
+Graph = StoredGraph
 
 
 class PlanStep(_Open):
