@@ -26,6 +26,7 @@ from typing import Any, Mapping, Optional
 
 from sg3d.app import bounds
 from sg3d.app.ask import ask
+from sg3d.core.stored import Row
 from sg3d.graphdb.protocol import GraphStore
 
 _ENTRY_BYTES = 2048          # what an answer without a picture holds, roughly
@@ -81,7 +82,7 @@ def _lower(text: Any) -> Any:
     return text.lower() if isinstance(text, str) else None
 
 
-def room_list_rows(name: str, params: Mapping[str, Any], listing: tuple) -> Optional[list[dict]]:
+def room_list_rows(name: str, params: Mapping[str, Any], listing: tuple) -> Optional[list[Row]]:
     """Rule "a room-list read is answered from the room list the revision read brought": the
     rows cypher/vqa_room_named, vqa_rooms and vqa_room_names would return (id, name, building of
     the rooms that match, ordered by id as the listing is), taken from `listing` ((id, name,
@@ -148,7 +149,7 @@ class _Recorder:
         more = rooms_read(name, params, self._known)
         self.rooms = EVERY_ROOM if more is EVERY_ROOM else self.rooms | more
 
-    def read(self, name: str, **params: Any) -> list[dict]:
+    def read(self, name: str, **params: Any) -> list[Row]:
         self.note(name, params)
         listed = room_list_rows(name, params, self._listing)
         return listed if listed is not None else self._store.read(name, **params)

@@ -9,6 +9,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, Any, Optional, cast
 
 from sg3d.app.errors import AppError, NotFound
+from sg3d.core.stored import Row
 from sg3d.graphdb.protocol import GraphStore
 
 if TYPE_CHECKING:
@@ -16,11 +17,11 @@ if TYPE_CHECKING:
     from sg3d.queries.logic import ChangeQuery
 
 
-def _scans(store: GraphStore, rid: str) -> list[dict]:
+def _scans(store: GraphStore, rid: str) -> list[Row]:
     return store.read("scan_list", room=rid)
 
 
-def _window(scans: list[dict], since: Optional[str], every: bool = False) -> list[str]:
+def _window(scans: list[Row], since: Optional[str], every: bool = False) -> list[str]:
     ids = [s["id"] for s in scans]
     if every:
         return ids
@@ -71,7 +72,7 @@ def room_changes(store: GraphStore, room: str, building: str = "default", since:
     return {"room": rid, "scans": window, "since": since, "moved": moved, "added": added, "removed": removed}
 
 
-def places_before(store: GraphStore, labels: Optional[list[str]], room: Optional[str] = None, building: Optional[str] = None) -> list[dict]:
+def places_before(store: GraphStore, labels: Optional[list[str]], room: Optional[str] = None, building: Optional[str] = None) -> list[Row]:
     """Where objects of these labels were before they moved or went: per object its name, label,
     where it is now (None if removed) and its earlier places, oldest first."""
     from sg3d.queries.naming import names_in_store

@@ -8,6 +8,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Callable, Optional
 
+from sg3d.core.stored import Row
 from sg3d.graphdb import cypher
 from sg3d.graphdb.protocol import GraphStore
 
@@ -17,7 +18,7 @@ class CheckReport:
     objects: list[tuple[str, str]] = field(default_factory=list)   # (object id, room id)
     rooms: list[str] = field(default_factory=list)                  # rooms whose up is unusable
     # tallies that disagree with a count of the objects: {room, label, colour, stored, counted}
-    tallies: list[dict] = field(default_factory=list)
+    tallies: list[Row] = field(default_factory=list)
     repaired: bool = False
 
     @property
@@ -25,7 +26,7 @@ class CheckReport:
         return not self.objects and not self.rooms and not self.tallies
 
 
-def _raw(store: GraphStore, name: str) -> list[dict]:
+def _raw(store: GraphStore, name: str) -> list[Row]:
     """A check template's rows as stored (Store.read would skip the bad ones)."""
     text = cypher.load(name)
     with store.session() as s:
@@ -142,7 +143,7 @@ def unique_keys() -> list[tuple[str, str]]:
     return re.findall(r"FOR \(\w+:(\w+)\) REQUIRE \w+\.(\w+) IS UNIQUE", cypher.load("schema"))
 
 
-def _index_vs_records(name: str, entries: Optional[list[dict]], records: list[dict]) -> list[str]:
+def _index_vs_records(name: str, entries: Optional[list[Row]], records: list[Row]) -> list[str]:
     """What disagrees between one unique index's `entries` ({key: [k], rid}; None: the index is
     missing) and the `records` ({key, rid}) of its type: keys held by several records, records the
     index does not hold, entries that point to no such record."""
@@ -167,7 +168,7 @@ def _index_vs_records(name: str, entries: Optional[list[dict]], records: list[di
     return out
 
 
-def index_problems(sql: Callable[[str], list[dict]]) -> list[str]:
+def index_problems(sql: Callable[[str], list[Row]]) -> list[str]:
     """Every unique index of sg3d's schema compared with the records of its type (`sql`: the
     store's own SQL, `EmbeddedServer.sql`): the index is there, holds one entry per record with
     the record's key, and no key repeats among the records. One line per disagreement; empty: the

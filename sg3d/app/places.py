@@ -8,6 +8,7 @@ from typing import Optional
 import numpy as np
 
 from sg3d.app.errors import AppError, NotFound
+from sg3d.core.stored import Row
 from sg3d.graphdb.protocol import GraphStore
 
 MAX_FRAMES = 300          # frames of the recording the floor map reads (evenly spread)
@@ -75,7 +76,7 @@ def find_places(seq, start: int, stop: int, up, floor: Optional[float], most: in
     return rooms_of_walk(points, cameras), basis
 
 
-def kept_names(places, basis: np.ndarray, before: list[dict]) -> dict[int, tuple[str, str]]:
+def kept_names(places, basis: np.ndarray, before: list[Row]) -> dict[int, tuple[str, str]]:
     """Rule "a room keeps its id and name across publishes": each room found now (its label) ->
     (id, name) of the room written before whose middle lies in it (`room_at` within
     KEEP_REACH_M); of several, the one numbered first (rooms that merged), the others are gone.
@@ -117,7 +118,7 @@ def _ids(rid: str, places, kept: Optional[dict[int, tuple[str, str]]]) -> dict[i
     return out
 
 
-def layer_rows(rid: str, places, basis: np.ndarray, floor: float, objects: list[dict],
+def layer_rows(rid: str, places, basis: np.ndarray, floor: float, objects: list[Row],
                kept: Optional[dict[int, tuple[str, str]]] = None) -> tuple[list, list, list]:
     """The rows `sg3d.graphdb.places.write_places` writes: rooms "room 1..n" (or, with `kept`,
     the ids and names they had, `kept_names`; footprint and middle in world coordinates, a guessed

@@ -8,6 +8,7 @@ from typing import Optional, Sequence
 from sg3d.app import bounds
 from sg3d.app.ask import MAX_SCOPE_CHARS
 from sg3d.app.errors import AppError, NotFound
+from sg3d.core.stored import Row
 from sg3d.graphdb.protocol import GraphStore
 
 OBJECT_LIMIT = 10_000   # objects one listing returns at most
@@ -29,7 +30,7 @@ def _check_filters(**values) -> None:
         raise AppError(problem)
 
 
-def rooms_json(rows: list[dict]) -> list[dict]:
+def rooms_json(rows: list[Row]) -> list[Row]:
     """Rooms as JSON: id, name, objects, to_building (4x4 as lists or null), adjacent names."""
     return [{"id": r["id"], "name": r["name"], "objects": r["objects"],
              "to_building": None if r["to_building"] is None else r["to_building"].tolist(),
@@ -48,14 +49,14 @@ def frame_words(to_building) -> str:
     return "placed in the building's frame"
 
 
-def building_rooms(store: GraphStore, building: str) -> list[dict]:
+def building_rooms(store: GraphStore, building: str) -> list[Row]:
     """The rooms of one building (graphdb rows, transforms as arrays)."""
     from sg3d.graphdb.building import list_rooms
 
     return list_rooms(store, building)
 
 
-def list_rooms(store: GraphStore, building: Optional[str] = None) -> list[dict]:
+def list_rooms(store: GraphStore, building: Optional[str] = None) -> list[Row]:
     """Rooms as JSON (`rooms_json`) with their building: one building's, or every building's."""
     _check_filters(building=building)
     buildings = [building] if building else sorted({r["building"] for r in store.read("plan_rooms")})
@@ -76,7 +77,7 @@ def _near(near: Optional[Sequence[float]], radius: Optional[float]):
 
 def room_objects(store: GraphStore, building: str, room: str, label: Optional[str] = None, colour: Optional[str] = None,
                  near: Optional[Sequence[float]] = None, radius: Optional[float] = None,
-                 limit: int = OBJECT_LIMIT) -> list[dict]:
+                 limit: int = OBJECT_LIMIT) -> list[Row]:
     """The objects of one room with their readable names, filtered by best label, colour name and
     distance from a point (`near` x,y,z in the room's frame; `radius` metres, default: no bound,
     sorted nearest first). NotFound when the room is not in the store."""

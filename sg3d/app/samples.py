@@ -37,6 +37,7 @@ from urllib.parse import quote
 
 from sg3d.app.errors import AppError
 from sg3d.core.errors import Sg3dError
+from sg3d.core.stored import Row
 
 MANIFEST_DIR = Path(__file__).resolve().parent / "data" / "samples"
 MANIFEST_ENV = "SG3D_SAMPLE_MANIFEST"    # extra manifest files, os.pathsep-separated
@@ -207,7 +208,7 @@ def sample_url(sample: Sample, base_url: Optional[str] = None) -> str:
     return url if url.endswith("/") else url + "/"
 
 
-def sample_listing(manifests: Optional[Sequence[Path]] = None, cache: Optional[Path] = None) -> list[dict]:
+def sample_listing(manifests: Optional[Sequence[Path]] = None, cache: Optional[Path] = None) -> list[Row]:
     """The samples for `sg3d sample --list`: name, title, files, bytes, licence, source, and the
     folder a copy is already in (not verified here) or None."""
     rows = []

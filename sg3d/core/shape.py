@@ -30,7 +30,7 @@ of its shape, in one word stored on the node (`shape`) and said in answers ("a f
 """
 from __future__ import annotations
 
-from typing import Optional, Sequence
+from typing import Iterable, Optional
 
 import numpy as np
 
@@ -54,8 +54,8 @@ BOX_RATIO = 2.5
 SAID = {"panel": "thin upright"}
 
 
-def shape_class(size: Sequence[float], points: Optional[Sequence[float]] = None,
-                basis: Optional[np.ndarray] = None, centre: Optional[Sequence[float]] = None) -> Optional[str]:
+def shape_class(size: Iterable[float], points: Optional[Iterable[float]] = None,
+                basis: Optional[np.ndarray] = None, centre: Optional[Iterable[float]] = None) -> Optional[str]:
     """Rule "shape class" (module docstring) from a gravity-aligned size (w, d, h: along the
     rows e1, e2, up of `basis`, metres) and, where given, surface points (world frame, flat x, y,
     z, ...) around the box `centre` (world frame): flat, panel, round, tall, box-shaped or None."""

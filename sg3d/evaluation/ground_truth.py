@@ -14,6 +14,7 @@ from pathlib import Path
 from typing import Optional
 
 from sg3d.core.model import RELATION_TYPES
+from sg3d.core.stored import Row
 from sg3d.ingest.discover import furniture
 from sg3d.core.relation_rules import INVERSE, SYMMETRIC  # noqa: F401 - sg3d.evaluation.edges reads them here
 
@@ -156,7 +157,7 @@ def load_gt(path, coco_names: Optional[set[str]] = None) -> GroundTruth:
     return parse_gt(data, coco_names)
 
 
-def outside_extent(gt: GroundTruth, objects: list[dict], margin_m: float = 1.0) -> tuple[int, int]:
+def outside_extent(gt: GroundTruth, objects: list[Row], margin_m: float = 1.0) -> tuple[int, int]:
     """(GT objects with a position outside the room's extent, GT objects with a position). The
     extent is the axis-aligned box around the stored objects' boxes (`x, y, z, size` rows of
     cypher/eval_objects.cypher), grown by `margin_m`: ground truth of another sequence falls

@@ -11,12 +11,16 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Optional
+from typing import Any, Optional, Union
 
 import numpy as np
+from neo4j import ManagedTransaction
 
+from sg3d.core.embedding import LabelEmbedding
 from sg3d.core.errors import Sg3dError
+from sg3d.core.stored import Row
 from sg3d.graphdb import cypher
+from sg3d.graphdb.protocol import GraphStore
 from sg3d.merge.align import (
     INLIER_M,
     RANSAC_ITERS,
@@ -39,12 +43,12 @@ LINK_TOL_M = 0.3
 RIGID_TOL = 1e-3
 
 
-def room_objects(store, room_id: str) -> list[dict]:
+def room_objects(store: GraphStore, room_id: str) -> list[Row]:
     """A room's objects as an alignment reads them (`sg3d.merge.align.align_objects`)."""
     return store.read("align_room_objects", room=room_id)
 
 
-def align_rooms(store, room_a_id: str, room_b_id: str, embedding=None, iters: int = RANSAC_ITERS,
+def align_rooms(store: GraphStore, room_a_id: str, room_b_id: str, embedding: Optional[LabelEmbedding] = None, iters: int = RANSAC_ITERS,
                 inlier_m: float = INLIER_M, seed: int = 0) -> Alignment:
     """The rigid transform taking room B's frame into room A's, from their shared objects."""
     objs_a, objs_b = room_objects(store, room_a_id), room_objects(store, room_b_id)
@@ -67,7 +71,7 @@ class LinkReport:
     to_building_b: np.ndarray
     residual_rms_m: float
     pairs: int                      # correspondences the transform rests on
-    same_as: list[dict] = field(default_factory=list)   # {a, b, distance}
+    same_as: list[Row] = field(default_factory=list)   # {a, b, distance}
     from_file: bool = False
     evidence: int = 0                  # object pairs (not structure) the alignment rests on
     share: float = 0.0                 # ... over the objects that could have matched
@@ -75,7 +79,7 @@ class LinkReport:
     forced: Optional[str] = None       # the evidence rule --force overrode
 
 
-def load_transform(path) -> np.ndarray:
+def load_transform(path: Union[str, Path]) -> np.ndarray:
     """A 4x4 rigid transform from a text file: 4 lines of 4 numbers ('#' lines and blank
     lines ignored); the last row must be 0 0 0 1 and the rotation orthonormal with det +1."""
     path = Path(path)
@@ -112,32 +116,32 @@ def to_list(T: np.ndarray) -> list[float]:
     return [float(v) for v in np.asarray(T, dtype=float).reshape(16)]
 
 
-def from_list(values) -> Optional[np.ndarray]:
+def from_list(values: Optional[list[float]]) -> Optional[np.ndarray]:
     return None if values is None else np.asarray(values, dtype=float).reshape(4, 4)
 
 
-def get_room(store, rid: str) -> dict:
+def get_room(store: GraphStore, rid: str) -> Row:
     rows = store.read("building_room_get", room=rid)
     if not rows:
         raise AlignmentError(f"no room {rid!r} in the store")
     return rows[0]
 
 
-def list_rooms(store, building: str) -> list[dict]:
+def list_rooms(store: GraphStore, building: str) -> list[Row]:
     """The building's rooms: id, name, objects, transform (4x4 or None), adjacent room names."""
     rows = store.read("building_rooms", building=building)
     return [{**r, "to_building": from_list(r["to_building"]), "adjacent": sorted(set(r["adjacent"] or []))}
             for r in rows]
 
 
-def set_room_transform(store, rid: str, T: np.ndarray) -> None:
+def set_room_transform(store: GraphStore, rid: str, T: np.ndarray) -> None:
     check_rigid(T, rid)
     if not store.write("building_set_transform", room=rid, transform=to_list(T)):
         raise AlignmentError(f"no room {rid!r} in the store")
 
 
-def link_rooms(store, room_a: str, room_b: str, transform: Optional[np.ndarray] = None,
-               link_tol_m: float = LINK_TOL_M, embedding=None, seed: int = 0, force: bool = False) -> LinkReport:
+def link_rooms(store: GraphStore, room_a: str, room_b: str, transform: Optional[np.ndarray] = None,
+               link_tol_m: float = LINK_TOL_M, embedding: Optional[LabelEmbedding] = None, seed: int = 0, force: bool = False) -> LinkReport:
     """Align room B to room A (or take `transform`, B frame → A frame), store the transforms
     and replace the two rooms' SAME_AS / ADJACENT_TO links, all in one write transaction.
 
@@ -187,7 +191,7 @@ def link_rooms(store, room_a: str, room_b: str, transform: Optional[np.ndarray] 
         if same_as:
             residual = float(np.sqrt(np.mean([s["distance"] ** 2 for s in same_as])))
 
-    def work(tx):
+    def work(tx: ManagedTransaction) -> None:
         if set_a:
             tx.run(cypher.load("building_set_transform"), room=room_a, transform=to_list(T_a)).consume()
         tx.run(cypher.load("building_set_transform"), room=room_b, transform=to_list(T_b)).consume()
@@ -204,7 +208,7 @@ def link_rooms(store, room_a: str, room_b: str, transform: Optional[np.ndarray] 
     return LinkReport(room_a, room_b, T, T_a, T_b, residual, n_pairs, same_as, transform is not None, **evidence)
 
 
-def unlink_rooms(store, room_a: str, room_b: str) -> dict:
+def unlink_rooms(store: GraphStore, room_a: str, room_b: str) -> dict[str, int]:
     """Remove the link between two rooms: their ADJACENT_TO edges (both directions) and every
     SAME_AS edge between their objects, in ONE write transaction. The rooms keep their transforms
     (other links may rest on them). AlignmentError when either room is missing or they are not
@@ -214,7 +218,7 @@ def unlink_rooms(store, room_a: str, room_b: str) -> dict:
     get_room(store, room_a)
     get_room(store, room_b)
 
-    def work(tx):
+    def work(tx: ManagedTransaction) -> dict[str, int]:
         removed = {key: sum(int(r["n"] or 0) for r in tx.run(cypher.load(name), room_a=room_a, room_b=room_b).data())
                    for key, name in (("same_as", "building_unlink_same_as"), ("adjacent", "building_unlink_adjacent"))}
         tx.run(cypher.load("room_bump"), rooms=[room_a, room_b]).consume()
@@ -226,7 +230,8 @@ def unlink_rooms(store, room_a: str, room_b: str) -> dict:
     return removed
 
 
-def _coinciding(objs_a, objs_b, T_a, T_b, tol, embedding) -> list[dict]:
+def _coinciding(objs_a: list[Row], objs_b: list[Row], T_a: np.ndarray, T_b: np.ndarray, tol: float,
+                embedding: Optional[LabelEmbedding]) -> list[Row]:
     """Label/colour-compatible pairs whose building-frame centres are within `tol`, one
     partner per object (closest first)."""
     pairs = candidate_pairs(objs_a, objs_b, embedding)

@@ -3,9 +3,10 @@ from __future__ import annotations
 
 from sg3d.core.model import RELATION_TYPES
 from sg3d.core.relation_rules import VIEWPOINT, exclusive_tag_pairs, non_canonical_tags
+from sg3d.graphdb.protocol import GraphStore
 
 
-def relation_contradictions(store, room_id: str) -> dict:
+def relation_contradictions(store: GraphStore, room_id: str) -> dict:
     """How far the stored relations of one room (`building/room`) are from the stored form of
     `sg3d.core.relation_rules`: `contradictory_pairs` (a pair holding two exclusive statements,
     e.g. A ON B and B ON A, or NEXT_TO with NEAR), `non_canonical_symmetric` (NEXT_TO/NEAR

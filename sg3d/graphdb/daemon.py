@@ -13,7 +13,7 @@ import sys
 import threading
 import time
 from pathlib import Path
-from typing import Optional
+from typing import Any, Optional
 
 from sg3d.graphdb.filewatch import FileWatch
 from sg3d.graphdb.watchdog import Watchdog
@@ -63,7 +63,7 @@ def close_engine_settings() -> None:
             setting.setValue(value)
 
 
-def install_users(server, creds: Credentials) -> None:
+def install_users(server: Any, creds: Credentials) -> None:
     """(Re)create sg3d's groups and users from the credentials file, at every start: a lost or
     regenerated users.json is recovered by restarting the store."""
     import jpype

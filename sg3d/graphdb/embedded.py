@@ -35,9 +35,10 @@ import time
 from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Iterator, Optional
+from typing import Callable, Iterator, Optional
 
 from sg3d.core.errors import Sg3dError
+from sg3d.core.stored import Row
 
 DATABASE = "sg3d"
 ROOT_USER = "root"
@@ -373,7 +374,7 @@ class EmbeddedServer:
     def users_path(self) -> Path:
         return self.home / "users.json"
 
-    def _secret_file(self, path: Path, make) -> str:
+    def _secret_file(self, path: Path, make: Callable[[], str]) -> str:
         """A generated secret kept in a file only the user can read (created once, race-free),
         in the private store directory (`check_private`), never through a symbolic link."""
         check_private(self.home)
@@ -542,7 +543,7 @@ class EmbeddedServer:
             self.record_path.unlink(missing_ok=True)
         return why
 
-    def sql(self, command: str, timeout_s: float = 600.0, limit: int = -1) -> list[dict]:
+    def sql(self, command: str, timeout_s: float = 600.0, limit: int = -1) -> list[Row]:
         """The result rows of one SQL `command` of sg3d's own (never user text: the store's checks)
         on the running daemon's database, at most `limit` rows (-1: all). The Bolt plugin speaks only
         Cypher, so this goes through the daemon's HTTP API (loopback, its random port) as the store's

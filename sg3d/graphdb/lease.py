@@ -27,7 +27,10 @@ from pathlib import Path
 from typing import Callable, Optional
 
 from sg3d.core.errors import Sg3dError
+from neo4j import ManagedTransaction
+
 from sg3d.graphdb import cypher
+from sg3d.graphdb.protocol import GraphStore
 from sg3d.graphdb.values import room_id
 
 log = logging.getLogger("sg3d.lease")
@@ -112,7 +115,8 @@ def holder_gone(h: Holder, now: float, host: str) -> bool:
 class RoomLease:
     """The lease of one room for one writer (`take`, `release`, or `with lease.held(...)`)."""
 
-    def __init__(self, store, building: str, room: str, kind: str, holder: str, ttl: float = LEASE_TTL_S):
+    def __init__(self, store: GraphStore, building: str, room: str, kind: str, holder: str,
+                 ttl: float = LEASE_TTL_S) -> None:
         self.store, self.building, self.room = store, building, room
         self.rid = room_id(building, room)
         self.kind, self.holder, self.ttl = kind, holder[:200], ttl
@@ -138,7 +142,7 @@ class RoomLease:
             except ConstraintError:   # another writer created it first: it is there now
                 time.sleep(0.05 * (attempt + 1))
 
-    def _take_in_tx(self, tx) -> Optional[Holder]:
+    def _take_in_tx(self, tx: ManagedTransaction) -> Optional[Holder]:
         """One try: the holder that keeps the lease, or None when this writer has it now."""
         row = tx.run(cypher.load("lease_touch"), room=self.rid).single()
         if row is None:
@@ -193,7 +197,7 @@ class RoomLease:
                 self.lost = True
                 return
 
-    def fence(self, tx) -> None:
+    def fence(self, tx: ManagedTransaction) -> None:
         """Inside a writing transaction of the holder: LeaseLost unless the lease is still its own
         (the transaction then rolls back: a writer that lost the room writes nothing)."""
         row = tx.run(cypher.load("lease_get"), room=self.rid).single()
@@ -216,7 +220,7 @@ class RoomLease:
     def __enter__(self) -> "RoomLease":
         return self
 
-    def __exit__(self, *exc) -> None:
+    def __exit__(self, *exc: object) -> None:
         self.release()
 
 

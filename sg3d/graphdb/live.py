@@ -23,14 +23,16 @@ from neo4j import ManagedTransaction
 
 from sg3d.core.embedding import LabelEmbedding, default_embedding
 from sg3d.core.model import RELATION_TYPES, LocalGraph, ScanInfo
+from sg3d.core.stored import Row
 from sg3d.graphdb import cypher
 from sg3d.graphdb.consistency import resolve_pairs
 from sg3d.graphdb.merge import Fence, ensure_room
+from sg3d.graphdb.protocol import GraphStore
 from sg3d.graphdb.store import size_batches
 from sg3d.graphdb.tally import create_objects_and_tallies
 from sg3d.graphdb.values import room_id
 from sg3d.merge.consistency import canonical_rows
-from sg3d.merge.plan import plan_merge
+from sg3d.merge.plan import MergePlan, plan_merge
 
 # An object of the new graph keeps a published node's id when it has the node's label and layer
 # and lies within this distance of it: farther than a fused object's centre moves while evidence
@@ -50,7 +52,7 @@ class PublishReport:
     committed_at: float = 0.0   # wall clock (time.time) when the transaction committed
 
 
-def stable_ids(new: list[dict], old: list[dict], radius: float = STABLE_ID_RADIUS_M) -> dict[int, str]:
+def stable_ids(new: list[Row], old: list[Row], radius: float = STABLE_ID_RADIUS_M) -> dict[int, str]:
     """Index in `new` -> the id of the `old` node it continues: pairs of one label and layer
     within `radius` metres, nearest first, each node used once (a greedy one-to-one matching;
     ties go to the earlier row, so the same inputs always give the same ids)."""
@@ -73,7 +75,7 @@ def stable_ids(new: list[dict], old: list[dict], radius: float = STABLE_ID_RADIU
     return out
 
 
-def resumed_ids(new: list[dict], old: list[dict], unseen: frozenset,
+def resumed_ids(new: list[Row], old: list[Row], unseen: frozenset,
                 radius: float = STABLE_ID_RADIUS_M) -> dict[int, str]:
     """`stable_ids` for a resumed map: rule "a resumed map takes back the killed map's ids first".
     The rows are matched to the nodes the killed map published (`unseen`: ids) before any other,
@@ -148,7 +150,7 @@ def publish_in_tx(tx: ManagedTransaction, graph: LocalGraph, scan: ScanInfo, sta
                          objects=len(plan.creates), seconds=time.perf_counter() - t0)
 
 
-def _split_plan(plan, keep: dict[int, str], first_seen: dict) -> tuple[list[dict], list[dict]]:
+def _split_plan(plan: MergePlan, keep: dict[int, str], first_seen: dict) -> tuple[list[Row], list[Row]]:
     """The plan's node rows as updates of the published nodes they continue (`keep`: row index ->
     id; the plan's node ids follow) and creates of the rest."""
     local_of = {gid: lid for lid, gid in plan.node_ids.items()}
@@ -166,7 +168,7 @@ def _split_plan(plan, keep: dict[int, str], first_seen: dict) -> tuple[list[dict
     return updates, creates
 
 
-def publish(store, graph: LocalGraph, scan: ScanInfo, status: dict,
+def publish(store: GraphStore, graph: LocalGraph, scan: ScanInfo, status: dict,
             embedding: Optional[LabelEmbedding] = None, fence: Optional[Fence] = None,
             unseen: frozenset = frozenset()) -> PublishReport:
     """Replace the map's part of the room's graph by `graph` as ONE transaction (`publish_in_tx`);
@@ -180,12 +182,12 @@ def publish(store, graph: LocalGraph, scan: ScanInfo, status: dict,
     return report
 
 
-def map_object_ids(store, building: str, room: str) -> frozenset:
+def map_object_ids(store: GraphStore, building: str, room: str) -> frozenset:
     """The ids of the objects maps made in the room (what a resumed map has yet to see again)."""
     return frozenset(o["id"] for o in store.read("live_objects", room=room_id(building, room)) if made_by_map(o))
 
 
-def mapping_status(store, building: str, room: str) -> Optional[dict]:
+def mapping_status(store: GraphStore, building: str, room: str) -> Optional[dict]:
     """The room's live-mapping state (None: the room was never mapped live, or does not exist)."""
     rows = store.read("live_status_get", room=room_id(building, room))
     if not rows or rows[0].get("mapping") is None:

@@ -21,12 +21,14 @@ from dataclasses import dataclass, field
 from typing import Callable, Optional
 
 import numpy as np
-from neo4j import ManagedTransaction
+from neo4j import ManagedTransaction, Result
 
 from sg3d.core.embedding import LabelEmbedding, default_embedding
 from sg3d.core.geometry import gravity_basis
 from sg3d.core.model import RELATION_TYPES, LocalGraph, ObjectObservation
+from sg3d.core.stored import Row
 from sg3d.graphdb import cypher, rescan
+from sg3d.graphdb.protocol import GraphStore
 from sg3d.graphdb.consistency import resolve_pairs
 from sg3d.graphdb.store import size_batches
 from sg3d.graphdb.tally import create_objects_and_tallies
@@ -59,14 +61,14 @@ class MergeReport:
     seconds: float = 0.0
 
 
-def _rows(result) -> list[dict]:
+def _rows(result: Result) -> list[Row]:
     """Records as plain dicts (cheaper than Result.data(), which re-walks every value)."""
     keys = result.keys()
     return [dict(zip(keys, values)) for values in result.values()]
 
 
 def _fetch_candidates(tx: ManagedTransaction, rid: str, objects: list[ObjectObservation],
-                      params: SimilarityParams, basis: np.ndarray) -> tuple[list[dict], np.ndarray]:
+                      params: SimilarityParams, basis: np.ndarray) -> tuple[list[Row], np.ndarray]:
     """Candidates and the (n_local, n_cand) position similarity (Eq. 12-13) of each pair.
 
     One query for the candidates inside the window (small Object records, no bytes); the
@@ -179,7 +181,7 @@ def apply(tx: ManagedTransaction, plan: MergePlan) -> MergeReport:
     return report
 
 
-def merge_local_graph(store, graph: LocalGraph, embedding: Optional[LabelEmbedding] = None,
+def merge_local_graph(store: GraphStore, graph: LocalGraph, embedding: Optional[LabelEmbedding] = None,
                       params: SimilarityParams = SimilarityParams(), fence: Optional[Fence] = None,
                       room_in_tx: bool = False) -> MergeReport:
     """Merge one local graph as ONE transaction; the store is unchanged if anything fails.
@@ -207,7 +209,7 @@ def merge_local_graph(store, graph: LocalGraph, embedding: Optional[LabelEmbeddi
     raise AssertionError("unreachable")
 
 
-def ensure_room(store, building: str, room: str) -> None:
+def ensure_room(store: GraphStore, building: str, room: str) -> None:
     """The room exists (`create_room`); created once per store handle: later writes skip the round trip."""
     rid = room_id(building, room)
     if rid not in store.rooms_known:
@@ -215,7 +217,7 @@ def ensure_room(store, building: str, room: str) -> None:
         store.rooms_known.add(rid)
 
 
-def create_room(store, building: str, room: str, attempts: int = 4) -> None:
+def create_room(store: GraphStore, building: str, room: str, attempts: int = 4) -> None:
     """Create the room before the merge, in its own transaction. Two builds creating one new room
     at once both get here; the one whose commit hits the unique constraint retries and finds it."""
     from neo4j.exceptions import ConstraintError
@@ -230,6 +232,6 @@ def create_room(store, building: str, room: str, attempts: int = 4) -> None:
             time.sleep(0.05 * (attempt + 1))
 
 
-def merged_keys(store, prefix: str) -> set[str]:
+def merged_keys(store: GraphStore, prefix: str) -> set[str]:
     """Keys of the merges logged under `prefix` (what a resumed build may skip)."""
     return {row["key"] for row in store.read("merge_log_keys", prefix=prefix)}

@@ -3,19 +3,24 @@ parts of the recorded Room), their doorways (Doorway nodes, CONNECTED both ways)
 object IN_ROOM exactly one of them (not IN: that is the spatial relation between objects). Written whole in one transaction, replacing the last one."""
 from __future__ import annotations
 
+from typing import Any
+
+from neo4j import ManagedTransaction
+
+from sg3d.core.stored import Row
 from sg3d.graphdb import cypher
 from sg3d.graphdb.protocol import GraphStore
 
 WRITE_STEPS = ("places_rooms_create", "places_doorways_create", "places_objects_in")
 
 
-def write_places(store: GraphStore, room: str, rooms: list[dict], doorways: list[dict], pairs: list[dict]) -> None:
+def write_places(store: GraphStore, room: str, rooms: list[Row], doorways: list[Row], pairs: list[Row]) -> None:
     """Replace the places layer of recorded room `room` (its id): `rooms` rows of
     places_rooms_create, `doorways` of places_doorways_create, `pairs` {object, room}."""
-    params = {"places_rooms_create": {"rooms": rooms}, "places_doorways_create": {"doorways": doorways},
+    params: dict[str, dict[str, Any]] = {"places_rooms_create": {"rooms": rooms}, "places_doorways_create": {"doorways": doorways},
               "places_objects_in": {"pairs": pairs}}
 
-    def body(tx) -> None:
+    def body(tx: ManagedTransaction) -> None:
         tx.run(cypher.load("places_clear"), room=room).consume()
         for step in WRITE_STEPS:
             tx.run(cypher.load(step), room=room, **params[step]).consume()
@@ -23,12 +28,12 @@ def write_places(store: GraphStore, room: str, rooms: list[dict], doorways: list
     store.execute_write(body)
 
 
-def read_places(store: GraphStore, room: str) -> list[dict]:
+def read_places(store: GraphStore, room: str) -> list[Row]:
     """The rooms found in recorded room `room`'s walk, with their objects and doorways."""
     return store.read("places_rooms", room=room)
 
 
-def object_rooms(store: GraphStore, room: str) -> list[dict]:
+def object_rooms(store: GraphStore, room: str) -> list[Row]:
     """Every object of recorded room `room` with the names of the found rooms it is IN."""
     return store.read("places_object_rooms", room=room)
 

@@ -8,6 +8,8 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, Any, Callable, Optional, Protocol, TypeVar
 
+from sg3d.core.stored import Row
+
 if TYPE_CHECKING:                  # the driver's types only: importing this module stays cheap
     from neo4j import ManagedTransaction, Session
 
@@ -22,7 +24,7 @@ class GraphStore(Protocol):
     rooms_known: set[str]          # room ids this handle has created or seen created
     driver: Any                    # the neo4j driver (connectivity checks of the service)
 
-    def read(self, name: str, **params: Any) -> list[dict]:
+    def read(self, name: str, **params: Any) -> list[Row]:
         """Run template `name` in a read transaction; its rows as dicts."""
         ...
 
@@ -30,12 +32,12 @@ class GraphStore(Protocol):
         """`fn()` with every read of this handle within it sent in one read transaction."""
         ...
 
-    def read_latest(self, name: str, **params: Any) -> list[dict]:
+    def read_latest(self, name: str, **params: Any) -> list[Row]:
         """Run read template `name` where the latest commit is (a cluster's leader); later reads
         of this handle see at least as much."""
         ...
 
-    def write(self, name: str, **params: Any) -> list[dict]:
+    def write(self, name: str, **params: Any) -> list[Row]:
         """Run template `name` in a write transaction; its rows as dicts."""
         ...
 

@@ -6,12 +6,16 @@ re-scan's removal test reads the room's present boxes first (`known_objects`).
 """
 from __future__ import annotations
 
+from neo4j import ManagedTransaction
+
 from sg3d.core.model import RELATION_TYPES, KnownObject, LocalGraph, ScanInfo, vec3
+from sg3d.core.stored import Row
 from sg3d.graphdb import cypher
+from sg3d.graphdb.protocol import GraphStore
 from sg3d.merge.rescan import MIN_EMPTY_FRAMES
 
 
-def move_candidates(tx, rid: str, graph: LocalGraph) -> list[dict]:
+def move_candidates(tx: ManagedTransaction, rid: str, graph: LocalGraph) -> list[Row]:
     """The stored nodes whose place this graph's frames saw empty, with their histograms: what
     an unmatched observation may have moved from (`sg3d.merge.rescan.pair_moves`)."""
     ids = sorted(i for i, frames in graph.empty_places.items() if frames)
@@ -27,19 +31,19 @@ def move_candidates(tx, rid: str, graph: LocalGraph) -> list[dict]:
     return old
 
 
-def clear_relations(tx, node_id: str) -> None:
+def clear_relations(tx: ManagedTransaction, node_id: str) -> None:
     """A moved node's relation edges described its old place: they go (the new ones follow)."""
     for rel_type in RELATION_TYPES:
         tx.run(cypher.render("object_relations_clear", rel_type), id=node_id).consume()
 
 
-def record_empty_places(tx, scan: ScanInfo, rows: list[dict]) -> None:
+def record_empty_places(tx: ManagedTransaction, scan: ScanInfo, rows: list[Row]) -> None:
     """Write `sg3d.merge.rescan.empty_place_rows` on their nodes."""
     if rows:
         tx.run(cypher.load("object_mark_empty"), scan=scan.id, rows=rows).consume()
 
 
-def close_scan(tx, rid: str, scan: ScanInfo, now: float) -> list[dict]:
+def close_scan(tx: ManagedTransaction, rid: str, scan: ScanInfo, now: float) -> list[Row]:
     """Mark removed the nodes the scan saw gone (see module doc); returns them (id, label, colour)."""
     rows = tx.run(cypher.load("scan_close"), room=rid, scan=scan.id, at=scan.at, min_frames=MIN_EMPTY_FRAMES)
     gone = [dict(zip(rows.keys(), v)) for v in rows.values()]
@@ -47,7 +51,7 @@ def close_scan(tx, rid: str, scan: ScanInfo, now: float) -> list[dict]:
     return gone
 
 
-def known_objects(store, rid: str) -> list[KnownObject]:
+def known_objects(store: GraphStore, rid: str) -> list[KnownObject]:
     """The room's present objects (boxes) for a re-scan's removal test (`sg3d.ingest.objects.rescan`)."""
     out = []
     for r in store.read("rescan_known", room=rid):

@@ -12,6 +12,7 @@ from neo4j import GraphDatabase, ManagedTransaction, Query, RoutingControl, Sess
 from neo4j.graph import Node, Path, Relationship
 
 from sg3d.core.errors import Sg3dError
+from sg3d.core.stored import Row
 from sg3d.graphdb import cypher
 from sg3d.graphdb.values import finite_rows
 
@@ -33,7 +34,7 @@ _BOOKMARKS: dict[tuple[str, str], Any] = {}
 _BOOKMARKS_LOCK = threading.Lock()
 
 
-def shared_bookmarks(uri: str, database: str):
+def shared_bookmarks(uri: str, database: str) -> Any:
     """The one bookmark manager of this process for a database (`uri`, `database`)."""
     with _BOOKMARKS_LOCK:
         if (uri, database) not in _BOOKMARKS:
@@ -41,7 +42,7 @@ def shared_bookmarks(uri: str, database: str):
         return _BOOKMARKS[(uri, database)]
 
 
-def plain_rows(result) -> list[dict]:
+def plain_rows(result: Any) -> list[Row]:
     """The rows of `result` as dicts, what `Result.data()` gives, without its walk through every
     list element (a quarter of a scene read's time in the driver): sg3d's templates return
     numbers, texts, bytes, lists and maps, so only a row holding a node, relationship or path is
@@ -204,28 +205,28 @@ def _sent() -> None:
 class _GuardedTransaction:
     """A driver transaction whose `run` passes `check_statement` first; the rest is the driver's."""
 
-    def __init__(self, tx):
+    def __init__(self, tx: Any) -> None:
         self._tx = tx
 
-    def run(self, query, parameters=None, **kwparameters):
+    def run(self, query: Any, parameters: Optional[dict] = None, **kwparameters: Any) -> Any:
         check_statement(query, parameters, kwparameters)
         _sent()
         return self._tx.run(query, parameters, **kwparameters)
 
-    def __enter__(self):
+    def __enter__(self) -> _GuardedTransaction:
         self._tx.__enter__()
         return self
 
-    def __exit__(self, *exc):
+    def __exit__(self, *exc: Any) -> Any:
         return self._tx.__exit__(*exc)
 
-    def __getattr__(self, name):
+    def __getattr__(self, name: str) -> Any:
         return getattr(self._tx, name)
 
 
 def _guarded_work(fn: Callable) -> Callable:
     @functools.wraps(fn)     # keeps a @unit_of_work's timeout and metadata
-    def work(tx, *args, **kwargs):
+    def work(tx: Any, *args: Any, **kwargs: Any) -> Any:
         return fn(_GuardedTransaction(tx), *args, **kwargs)
     return work
 
@@ -249,7 +250,7 @@ class _GuardedSession:
         self._session = session
         self._owner = owner
 
-    def run(self, query, parameters=None, **kwargs):
+    def run(self, query: Any, parameters: Optional[dict] = None, **kwargs: Any) -> Any:
         check_statement(query, parameters, kwargs)
         seconds = _TX_TIMEOUT.get()
         if seconds is not None and isinstance(query, str):
@@ -257,29 +258,29 @@ class _GuardedSession:
         _sent()
         return self._session.run(query, parameters, **kwargs)
 
-    def begin_transaction(self, *args, **kwargs):
+    def begin_transaction(self, *args: Any, **kwargs: Any) -> _GuardedTransaction:
         seconds = _TX_TIMEOUT.get()
         if seconds is not None and not args and kwargs.get("timeout") is None:
             kwargs["timeout"] = seconds
         return _GuardedTransaction(self._session.begin_transaction(*args, **kwargs))
 
-    def execute_read(self, fn, *args, **kwargs):
+    def execute_read(self, fn: Callable[..., _T], *args: Any, **kwargs: Any) -> _T:
         shared = _shared_read(self._owner)
         if shared is not None:
             return fn(shared, *args, **kwargs)
         return self._session.execute_read(_guarded_work(_timed(fn)), *args, **kwargs)
 
-    def execute_write(self, fn, *args, **kwargs):
+    def execute_write(self, fn: Callable[..., _T], *args: Any, **kwargs: Any) -> _T:
         return self._session.execute_write(_guarded_work(_timed(fn)), *args, **kwargs)
 
-    def __enter__(self):
+    def __enter__(self) -> _GuardedSession:
         self._session.__enter__()
         return self
 
-    def __exit__(self, *exc):
+    def __exit__(self, *exc: Any) -> Any:
         return self._session.__exit__(*exc)
 
-    def __getattr__(self, name):
+    def __getattr__(self, name: str) -> Any:
         return getattr(self._session, name)
 
 
@@ -321,7 +322,7 @@ class Store:
     def __enter__(self) -> "Store":
         return self
 
-    def __exit__(self, *exc) -> None:
+    def __exit__(self, *exc: object) -> None:
         self.close()
 
     def session(self, **kw: Any) -> Session:
@@ -354,7 +355,7 @@ class Store:
             return s.execute_read(work)
 
     # -- running templates -----------------------------------------------------------------
-    def read(self, name: str, **params: Any) -> list[dict]:
+    def read(self, name: str, **params: Any) -> list[Row]:
         """Run template `name` in a read transaction; rows as dicts (of a template that collects
         them into one, `cypher.collected`, the maps it collected), without rows holding a stored
         NaN or Infinity (skipped with a warning: `sg3d.graphdb.values.finite_rows`)."""
@@ -369,7 +370,7 @@ class Store:
             rows = rows[0]["rows"] if rows else []
         return finite_rows(rows, name)
 
-    def read_latest(self, name: str, **params: Any) -> list[dict]:
+    def read_latest(self, name: str, **params: Any) -> list[Row]:
         """Run read template `name` where the latest commit is: in a write transaction, which a
         routing driver sends to the cluster's leader (it writes nothing); its bookmark then makes
         this handle's later reads, sent to replicas, wait until they hold as much. One node: `read`.
@@ -392,7 +393,7 @@ class Store:
             raise ReadOnlyStoreError("this store was opened read-only")
         return self._writes_via()
 
-    def write(self, name: str, **params: Any) -> list[dict]:
+    def write(self, name: str, **params: Any) -> list[Row]:
         if self.read_only:
             return self.writer().write(name, **params)
         text = cypher.load(name)
@@ -413,7 +414,7 @@ class Store:
         if write and self.read_only:
             raise ReadOnlyStoreError("a write was asked of a store opened read-only (use the writer)")
 
-        def work(tx: ManagedTransaction):
+        def work(tx: ManagedTransaction) -> tuple[list[str], list[list]]:
             result = tx.run(text, params or {})
             keys = list(result.keys())
             rows = [list(r.values()) for r in result]

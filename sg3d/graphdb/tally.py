@@ -14,7 +14,11 @@ from __future__ import annotations
 from collections import Counter
 from typing import Iterable, Optional
 
+from neo4j import ManagedTransaction
+
+from sg3d.core.stored import Row
 from sg3d.graphdb import cypher
+from sg3d.graphdb.protocol import GraphStore
 
 ALL_COLOURS = ""
 
@@ -40,7 +44,7 @@ def tally_deltas(plus: Iterable[tuple[str, Optional[str]]],
     return net
 
 
-def tally_rows(room: str, counts: Counter) -> list[dict]:
+def tally_rows(room: str, counts: Counter) -> list[Row]:
     return [{"key": tally_key(room, label, colour), "kind": tally_kind(label, colour), "room": room,
              "label": label, "colour": colour, "n": int(n)}
             for (label, colour), n in sorted(counts.items()) if n != 0]
@@ -51,7 +55,7 @@ def tally_rows(room: str, counts: Counter) -> list[dict]:
 CREATE_BATCH = 500
 
 
-def create_objects_and_tallies(tx, room: str, creates: list[dict], plus: Iterable[tuple[str, Optional[str]]],
+def create_objects_and_tallies(tx: ManagedTransaction, room: str, creates: list[Row], plus: Iterable[tuple[str, Optional[str]]],
                                minus: Iterable[tuple[str, Optional[str]]] = ()) -> None:
     """Inside a merge transaction: the room's new objects (cypher/object_create.cypher rows) and
     the tally changes of the whole merge, in one statement (one round trip instead of two) per
@@ -75,7 +79,7 @@ def counted_tallies(rows: Iterable[dict]) -> dict[tuple[str, str, str], int]:
     return {k: n for k, n in out.items() if n != 0}
 
 
-def stale_tallies(tally_rows_: Iterable[dict], source_rows: Iterable[dict]) -> list[dict]:
+def stale_tallies(tally_rows_: Iterable[dict], source_rows: Iterable[dict]) -> list[Row]:
     """The tallies (cypher/tally_all.cypher rows) that disagree with a count of the objects
     (cypher/tally_source.cypher rows), missing ones included: [{room, label, colour, stored,
     counted}], sorted. Empty: every tally is right."""
@@ -88,7 +92,7 @@ def stale_tallies(tally_rows_: Iterable[dict], source_rows: Iterable[dict]) -> l
             if stored.get(k, 0) != counted.get(k, 0)]
 
 
-def rebuild_tallies_in_tx(tx, batch: int = 5000) -> int:
+def rebuild_tallies_in_tx(tx: ManagedTransaction, batch: int = 5000) -> int:
     """Inside a write transaction: recount every tally from the Object records as this
     transaction sees them (one scan), replacing the old ones; returns the tallies written."""
     per_room: dict[str, Counter] = {}
@@ -102,7 +106,7 @@ def rebuild_tallies_in_tx(tx, batch: int = 5000) -> int:
     return len(rows)
 
 
-def rebuild_tallies(store, batch: int = 5000) -> int:
+def rebuild_tallies(store: GraphStore, batch: int = 5000) -> int:
     """Recount every tally from the Object records (one scan, one transaction); returns the
     tallies written."""
     return store.execute_write(lambda tx: rebuild_tallies_in_tx(tx, batch))

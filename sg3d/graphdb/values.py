@@ -6,6 +6,8 @@ import logging
 import math
 from typing import Any
 
+from sg3d.core.stored import Row
+
 
 def jsonable(value: Any) -> Any:
     """A driver or answer value as JSON: bytes as '<n bytes>', nodes and relationships as their
@@ -50,7 +52,7 @@ def has_bad_number(row: dict) -> bool:
     return not all(type(v) in _NO_FLOATS or _finite_value(v) for v in row.values())
 
 
-def finite_rows(rows: list[dict], source: str) -> list[dict]:
+def finite_rows(rows: list[Row], source: str) -> list[Row]:
     """`rows` without those holding a non-finite number, with one warning naming how many were
     skipped and how to repair the store."""
     good = [r for r in rows if not has_bad_number(r)]

@@ -14,7 +14,7 @@ from __future__ import annotations
 import ctypes
 import threading
 import time
-from typing import Optional
+from typing import Any, Callable, Optional
 
 GRACE_S = 0.5          # past the limit, before a query that ignored its termination is stopped
 LOOK_S = 0.25          # how often the watchdog looks at the running queries
@@ -29,7 +29,7 @@ class _ThreadInfo(ctypes.Structure):
                 ("thread_group", VP), ("context_class_loader", VP)]
 
 
-def _function(owner: VP, index: int, restype, *argtypes):
+def _function(owner: VP, index: int, restype: Any, *argtypes: Any) -> Any:
     """Entry `index` of the JNI/JVMTI function table `owner` points to."""
     table = ctypes.cast(owner, ctypes.POINTER(ctypes.POINTER(VP)))[0]
     return ctypes.CFUNCTYPE(restype, *argtypes)(table[index])
@@ -47,7 +47,7 @@ class Jvmti:
     """JVMTI's StopThread for the calling (JVM-attached) thread: the tables' entries used, by
     their index in jni.h / jvmti.h."""
 
-    def __init__(self):
+    def __init__(self) -> None:
         lib = _libjvm()
         vm, n = VP(), ctypes.c_int()
         lib.JNI_GetCreatedJavaVMs.argtypes = [ctypes.POINTER(VP), ctypes.c_int, ctypes.POINTER(ctypes.c_int)]
@@ -99,7 +99,7 @@ class Jvmti:
             self._pop_frame(self.env, None)
 
 
-def _committing(thread) -> bool:
+def _committing(thread: Any) -> bool:
     """Whether `thread` is inside a commit (never stopped there: the store's files would be half written)."""
     return any("commit" in str(f.getMethodName()).lower() for f in thread.getStackTrace())
 
@@ -108,7 +108,7 @@ class Watchdog(threading.Thread):
     """Stops, in the daemon, every Bolt statement running longer than `limit_s` (see the module;
     statements through the store's HTTP API, sg3d's own `db check`, keep the store's own limit)."""
 
-    def __init__(self, java_server, limit_s: float, log=print):
+    def __init__(self, java_server: Any, limit_s: float, log: Callable[[str], None] = print) -> None:
         super().__init__(name="sg3d-statement-watchdog", daemon=True)
         self.server, self.limit_s, self.log = java_server, limit_s, log
         self.stopped_queries: list = []     # stopped, waiting to end: then a GC gives their heap back
@@ -146,7 +146,7 @@ class Watchdog(threading.Thread):
             elif elapsed >= self.limit_s + GRACE_S and jvmti is not None:
                 self._stop(query, jvmti, why)
 
-    def _stop(self, query, jvmti: Jvmti, why: str) -> None:
+    def _stop(self, query: Any, jvmti: Jvmti, why: str) -> None:
         thread = self._thread_of(query)
         if thread is None or _committing(thread):
             return
@@ -162,7 +162,7 @@ class Watchdog(threading.Thread):
             thread.setName(name)
 
     @staticmethod
-    def _thread_of(query):
+    def _thread_of(query: Any) -> Any:
         """The Bolt connection thread running `query` (the query names its connection)."""
         import jpype
 

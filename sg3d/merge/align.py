@@ -13,9 +13,12 @@ from dataclasses import dataclass, field
 from typing import Optional
 
 import numpy as np
+from numpy.typing import ArrayLike
 from scipy.optimize import linear_sum_assignment
 
+from sg3d.core.embedding import LabelEmbedding
 from sg3d.core.errors import Sg3dError
+from sg3d.core.stored import Row
 from sg3d.merge.similarity import histogram_intersection, label_similarity_matrix
 from sg3d.merge.histograms import unpack_hist
 
@@ -81,7 +84,7 @@ class Alignment:
         return len(self.evidence) / self.matchable if self.matchable else 0.0
 
 
-def estimate_rigid_transform(src_points, dst_points) -> np.ndarray:
+def estimate_rigid_transform(src_points: ArrayLike, dst_points: ArrayLike) -> np.ndarray:
     """Kabsch/Umeyama without scale: the 4x4 rigid T minimising Σ‖R src + t − dst‖².
 
     Needs ≥ 3 non-collinear pairs for a unique rotation; the sign correction keeps R a
@@ -102,7 +105,7 @@ def estimate_rigid_transform(src_points, dst_points) -> np.ndarray:
     return T
 
 
-def apply(T: np.ndarray, points) -> np.ndarray:
+def apply(T: np.ndarray, points: ArrayLike) -> np.ndarray:
     pts = np.asarray(points, dtype=float).reshape(-1, 3)
     return pts @ T[:3, :3].T + T[:3, 3]
 
@@ -111,7 +114,7 @@ def _triangle_area(p: np.ndarray) -> float:
     return 0.5 * float(np.linalg.norm(np.cross(p[1] - p[0], p[2] - p[0])))
 
 
-def ransac_rigid(src, dst, iters: int = RANSAC_ITERS, inlier_m: float = INLIER_M,
+def ransac_rigid(src: np.ndarray, dst: np.ndarray, iters: int = RANSAC_ITERS, inlier_m: float = INLIER_M,
                  rng: Optional[np.random.Generator] = None) -> tuple[np.ndarray, np.ndarray]:
     """Robust `estimate_rigid_transform` over putative pairs src[k] ↔ dst[k].
 
@@ -153,7 +156,7 @@ def ransac_rigid(src, dst, iters: int = RANSAC_ITERS, inlier_m: float = INLIER_M
     return estimate_rigid_transform(src[mask], dst[mask]), mask
 
 
-def candidate_pairs(objs_a: list[dict], objs_b: list[dict], embedding=None,
+def candidate_pairs(objs_a: list[Row], objs_b: list[Row], embedding: Optional[LabelEmbedding] = None,
                     label_min: float = LABEL_MIN, colour_min: float = COLOUR_MIN) -> list[tuple[int, int]]:
     """Index pairs (i in A, j in B) whose labels and colours agree (position is not used:
     the frames differ, which is the point)."""
@@ -196,7 +199,7 @@ def sizes_compatible(a: dict, b: dict, ratio: float = SIZE_RATIO_MAX) -> bool:
     return bool(np.all(np.maximum(ea / eb, eb / ea) <= ratio))
 
 
-def positions(objs: list[dict]) -> np.ndarray:
+def positions(objs: list[Row]) -> np.ndarray:
     """Centres of the objects' 3-D boxes (steadier than the centre-patch mean for large objects
     seen in parts), the mean where a node has no box."""
     return np.array([o.get("box_centre") or [o["x"], o["y"], o["z"]] for o in objs],
@@ -219,7 +222,7 @@ def one_to_one(pairs: list[tuple[int, int]], err: np.ndarray) -> list[int]:
     return sorted(where[(r, c)] for r, c in zip(rows, cols) if (r, c) in where)
 
 
-def align_objects(objs_a: list[dict], objs_b: list[dict], embedding=None, iters: int = RANSAC_ITERS,
+def align_objects(objs_a: list[Row], objs_b: list[Row], embedding: Optional[LabelEmbedding] = None, iters: int = RANSAC_ITERS,
                   inlier_m: float = INLIER_M, seed: int = 0) -> Alignment:
     """`align_rooms` on already-fetched objects (dicts with id, label(s), x, y, z, hist)."""
     pairs = candidate_pairs(objs_a, objs_b, embedding)
@@ -248,7 +251,7 @@ def align_objects(objs_a: list[dict], objs_b: list[dict], embedding=None, iters:
                      matchable=matchable)
 
 
-def up_angle_deg(T: np.ndarray, up_a, up_b) -> Optional[float]:
+def up_angle_deg(T: np.ndarray, up_a: Optional[ArrayLike], up_b: Optional[ArrayLike]) -> Optional[float]:
     """Angle (degrees) between room A's up and room B's up carried into A's frame by T; None when
     either room has no usable up."""
     if up_a is None or up_b is None:

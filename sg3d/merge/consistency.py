@@ -16,9 +16,10 @@ from typing import Any, Iterable, Mapping
 
 from sg3d.core.model import RelationObservation
 from sg3d.core.relation_rules import SYMMETRIC, Statement, edges_of, statement_of
+from sg3d.core.stored import Row
 
 
-def canonical_rows(relations: Iterable[RelationObservation], node_ids: dict[str, str]) -> dict[str, list[dict]]:
+def canonical_rows(relations: Iterable[RelationObservation], node_ids: dict[str, str]) -> dict[str, list[Row]]:
     """Relation rows per type for `relation_merge`, in stored form between GLOBAL ids: the
     smaller global id is a symmetric edge's subject (local ids order differently), inverse
     pairs both present, viewpoint relations and self-loops dropped, one row per edge."""
@@ -30,7 +31,7 @@ def canonical_rows(relations: Iterable[RelationObservation], node_ids: dict[str,
         for e in edges_of(st, float(rel.score)):
             key = (e.subject, e.predicate, e.object)
             best[key] = max(best.get(key, 0.0), e.score)
-    rows: dict[str, list[dict]] = defaultdict(list)
+    rows: dict[str, list[Row]] = defaultdict(list)
     for (s, p, o), score in sorted(best.items()):
         rows[p].append({"s": s, "o": o, "score": score})
     return rows
@@ -51,7 +52,7 @@ def _winner(stated: dict[Statement, tuple[int, float]]) -> tuple[Statement, int]
 Edge = tuple[str, str, str]
 
 
-def resolve_edges(rows: Iterable[Mapping[str, Any]], now: float) -> tuple[dict[str, list[dict]], dict[str, list[dict]]]:
+def resolve_edges(rows: Iterable[Mapping[str, Any]], now: float) -> tuple[dict[str, list[Row]], dict[str, list[Row]]]:
     """The rule of the module docstring over the stored edges of the pairs a merge touched (rows of
     cypher/relation_pair_edges: s, type, o, count, score): the edges to delete and the edges to
     (re)write, per relation type, as rows of cypher/relation_delete and cypher/relation_set."""
@@ -71,8 +72,8 @@ def resolve_edges(rows: Iterable[Mapping[str, Any]], now: float) -> tuple[dict[s
         twin = st.form in SYMMETRIC
         stated[key][st] = (old[0] + count if twin else max(old[0], count), max(old[1], score))
         present[key][(r["s"], r["type"], r["o"])] = count
-    deletes: dict[str, list[dict]] = defaultdict(list)
-    writes: dict[str, list[dict]] = defaultdict(list)
+    deletes: dict[str, list[Row]] = defaultdict(list)
+    writes: dict[str, list[Row]] = defaultdict(list)
     for s, p, o in viewpoint:
         deletes[p].append({"s": s, "o": o})
     for key, by_statement in stated.items():

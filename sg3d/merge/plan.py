@@ -15,6 +15,7 @@ from dataclasses import dataclass, field
 from typing import Iterable, Optional, TypeVar
 
 import numpy as np
+from numpy.typing import ArrayLike
 from scipy.optimize import linear_sum_assignment
 
 from sg3d.core.embedding import LabelEmbedding
@@ -27,8 +28,10 @@ from sg3d.core.geometry import (
 )
 from sg3d.core.model import UNNAMED_LABEL, LocalGraph, ObjectObservation, ScanInfo
 from sg3d.core.shape import shape_class
+from sg3d.core.stored import Row
 from sg3d.merge import rescan
 from sg3d.merge.consistency import canonical_rows
+from sg3d.merge.histograms import pack_hist, unpack_hist
 from sg3d.merge.similarity import (
     SimilarityParams,
     box_may_pass,
@@ -47,7 +50,6 @@ from sg3d.merge.update import (
     combine_labels,
     incoming_has_best_label,
 )
-from sg3d.merge.histograms import pack_hist, unpack_hist
 
 T = TypeVar("T")
 Label = tuple[str, Optional[str]]       # (label, colour) of an object entering or leaving the tallies
@@ -65,12 +67,12 @@ class MergePlan:
     node_ids: dict[str, str] = field(default_factory=dict)      # local_id -> global id
     cleared: list[str] = field(default_factory=list)            # moved nodes: their edges go
     folds: list[tuple[str, str]] = field(default_factory=list)  # (stored node, node it folds into)
-    updates: list[dict] = field(default_factory=list)           # object_update rows
-    creates: list[dict] = field(default_factory=list)           # object_create rows
+    updates: list[Row] = field(default_factory=list)           # object_update rows
+    creates: list[Row] = field(default_factory=list)           # object_create rows
     counted: list[Label] = field(default_factory=list)          # entering the tallies
     uncounted: list[Label] = field(default_factory=list)        # leaving the tallies
-    empty_places: list[dict] = field(default_factory=list)      # object_mark_empty rows
-    relations: list[tuple[str, list[dict]]] = field(default_factory=list)  # (type, relation_merge rows)
+    empty_places: list[Row] = field(default_factory=list)      # object_mark_empty rows
+    relations: list[tuple[str, list[Row]]] = field(default_factory=list)  # (type, relation_merge rows)
     resolve: bool = False                                       # the touched pairs need resolving
     claimed: int = 0                                            # unnamed pieces of stored named objects
 
@@ -83,11 +85,11 @@ class MergePlan:
         return len(self.folds)
 
 
-def _box_centre(obj: ObjectObservation):
+def _box_centre(obj: ObjectObservation) -> tuple[float, float, float]:
     return obj.box_centre if obj.box_centre is not None else obj.mean
 
 
-def _position_arrays(objects: list[ObjectObservation], near: list[dict]) -> dict:
+def _position_arrays(objects: list[ObjectObservation], near: list[Row]) -> dict:
     """Broadcast-ready (n_local, n_cand, 3) operands of the position tests."""
     return {
         "mean_c": np.array([o.mean for o in objects], float)[:, None, :],
@@ -109,7 +111,7 @@ def _wide_floor(a: dict, params: SimilarityParams) -> np.ndarray:
     return np.maximum(params.sigma_floor, params.sigma_size_fraction * a["size_o"].max(axis=-1))[..., None]
 
 
-def may_pass(objects: list[ObjectObservation], near: list[dict], params: SimilarityParams,
+def may_pass(objects: list[ObjectObservation], near: list[Row], params: SimilarityParams,
               basis: np.ndarray) -> np.ndarray:
     """(n_local, n_cand): False only where `position_scores` is surely below the position
     threshold (no normal tails evaluated)."""
@@ -124,7 +126,7 @@ def may_pass(objects: list[ObjectObservation], near: list[dict], params: Similar
     return ok | box_claims(objects, near, basis)
 
 
-def position_scores(objects: list[ObjectObservation], near: list[dict], params: SimilarityParams,
+def position_scores(objects: list[ObjectObservation], near: list[Row], params: SimilarityParams,
                      basis: np.ndarray) -> np.ndarray:
     """s_position (Eq. 12-13) of every (local, candidate) pair, shape (n_local, n_cand).
 
@@ -150,7 +152,7 @@ def position_scores(objects: list[ObjectObservation], near: list[dict], params: 
     return np.where(box_claims(objects, near, basis), np.maximum(s_pos, params.min_position_similarity()), s_pos)
 
 
-def box_claims(objects: list[ObjectObservation], near: list[dict], basis: np.ndarray) -> np.ndarray:
+def box_claims(objects: list[ObjectObservation], near: list[Row], basis: np.ndarray) -> np.ndarray:
     """(n_local, n_cand): the pairs one of the stored-box rules may join (`claimed_by_stored_box`:
     an unnamed observation and a stored named floor-standing object; `stored_pieces_named`: a named
     floor-standing observation and a stored unnamed object) whose boxes overlap by CLAIM_SHARE of
@@ -177,7 +179,7 @@ def box_claims(objects: list[ObjectObservation], near: list[dict], basis: np.nda
     return (pairs & (inter / smaller >= CLAIM_SHARE)) | panels
 
 
-def structure_position_similarity(objects: list[ObjectObservation], near: list[dict], s_pos: np.ndarray,
+def structure_position_similarity(objects: list[ObjectObservation], near: list[Row], s_pos: np.ndarray,
                                   s_box: Optional[np.ndarray], same_kind: np.ndarray) -> np.ndarray:
     """Rule "layers do not mix": s_position 0 between a structure node and an object; between two
     structure nodes of one kind the box term alone (overlapping boxes), else 0."""
@@ -191,7 +193,7 @@ def structure_position_similarity(objects: list[ObjectObservation], near: list[d
     return out
 
 
-def _pair_scores(objects: list[ObjectObservation], cands: list[dict], s_pos: np.ndarray,
+def _pair_scores(objects: list[ObjectObservation], cands: list[Row], s_pos: np.ndarray,
                  embedding: LabelEmbedding, params: SimilarityParams) -> np.ndarray:
     """s_total (Eq. 15) for every (local object, candidate) pair, shape (n_local, n_cand)."""
     n, m = len(objects), len(cands)
@@ -209,7 +211,7 @@ def _pair_scores(objects: list[ObjectObservation], cands: list[dict], s_pos: np.
     return total_similarity(s_lab, s_col, s_pos, params)
 
 
-def match_nodes(objects: list[ObjectObservation], cands: list[dict], s_pos: np.ndarray,
+def match_nodes(objects: list[ObjectObservation], cands: list[Row], s_pos: np.ndarray,
                 embedding: LabelEmbedding, params: SimilarityParams = SimilarityParams()
                 ) -> tuple[dict[int, int], dict[int, int]]:
     """Same-node detection: (local index -> candidate index, one-to-one, s_total ≥ threshold;
@@ -248,7 +250,8 @@ def _as_observation(cand: dict) -> ObjectObservation:
         n_frames=int(cand["n_frames"]), box_centre=cand["box_centre"])
 
 
-def stored_shape(label: str, layer: str, size, surface, basis: np.ndarray, centre, said: Optional[str]):
+def stored_shape(label: str, layer: str, size: Iterable[float], surface: Optional[Iterable[float]], basis: np.ndarray,
+                 centre: Optional[Iterable[float]], said: Optional[str]) -> Optional[str]:
     """The `shape` a node stores: for an unnamed object, the shape class of its (merged) box and
     the surface points at hand (`sg3d.core.shape.shape_class`); for any other node the word it
     came with (None: no shape is said of what has a name)."""
@@ -324,8 +327,8 @@ def _appearance_split(props: dict) -> dict:
     return {"props": own, "hist": own.pop("hist"), "thumbnail": own.pop("thumbnail", None)}
 
 
-def plan_merge(graph: LocalGraph, candidates: list[dict], s_pos: Optional[np.ndarray],
-               moved_from: list[dict], embedding: LabelEmbedding, scan: ScanInfo, now: float,
+def plan_merge(graph: LocalGraph, candidates: list[Row], s_pos: Optional[np.ndarray],
+               moved_from: list[Row], embedding: LabelEmbedding, scan: ScanInfo, now: float,
                room: str, params: SimilarityParams = SimilarityParams()) -> MergePlan:
     """The plan of one merge. `candidates`: the stored nodes near the local graph (with their
     histograms) and `s_pos` their (n_local, n_cand) position similarity (Eq. 12-13);
@@ -369,7 +372,8 @@ def plan_merge(graph: LocalGraph, candidates: list[dict], s_pos: Optional[np.nda
 CLAIM_SHARE = 0.5
 
 
-def box_inside_share(centre_a, size_a, centre_b, size_b, basis: np.ndarray) -> float:
+def box_inside_share(centre_a: ArrayLike, size_a: ArrayLike, centre_b: ArrayLike, size_b: ArrayLike,
+                     basis: np.ndarray) -> float:
     """The share of box A's volume inside box B, both axis-aligned in the gravity frame `basis`."""
     ca, cb = basis @ np.asarray(centre_a, float), basis @ np.asarray(centre_b, float)
     ha, hb = np.asarray(size_a, float) / 2, np.asarray(size_b, float) / 2
@@ -377,13 +381,14 @@ def box_inside_share(centre_a, size_a, centre_b, size_b, basis: np.ndarray) -> f
     return float(np.prod(overlap) / max(float(np.prod(2 * ha)), 1e-9))
 
 
-def box_overlap_share(centre_a, size_a, centre_b, size_b, basis: np.ndarray) -> float:
+def box_overlap_share(centre_a: ArrayLike, size_a: ArrayLike, centre_b: ArrayLike, size_b: ArrayLike,
+                      basis: np.ndarray) -> float:
     """The share of the smaller of two boxes inside the other (`box_inside_share` both ways)."""
     return max(box_inside_share(centre_a, size_a, centre_b, size_b, basis),
                box_inside_share(centre_b, size_b, centre_a, size_a, basis))
 
 
-def _stored_centre(cand: dict):
+def _stored_centre(cand: Row) -> list[float]:
     """A stored node's box centre (its Gaussian mean where no box was stored)."""
     return cand["box_centre"] or [cand["x"], cand["y"], cand["z"]]
 
@@ -401,7 +406,7 @@ def _most_inside(shares: Iterable[tuple[T, float]]) -> Optional[T]:
     return best
 
 
-def claimed_by_stored_box(obj: ObjectObservation, candidates: list[dict], basis: np.ndarray) -> Optional[str]:
+def claimed_by_stored_box(obj: ObjectObservation, candidates: list[Row], basis: np.ndarray) -> Optional[str]:
     """Rule "stored named boxes claim": an unnamed observation with CLAIM_SHARE of its box inside
     the box of a stored named floor-standing object (a chair, a desk) is a piece of it seen
     again (a chair's base the second scan did not name); returns that node's id, else None."""
@@ -411,7 +416,7 @@ def claimed_by_stored_box(obj: ObjectObservation, candidates: list[dict], basis:
                         for c in candidates if c["label"] in FLOOR_STANDING_LABELS and _stored_object(c))
 
 
-def _gravity_box(centre, size, basis: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def _gravity_box(centre: ArrayLike, size: ArrayLike, basis: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     c, half = basis @ np.asarray(centre, float), np.asarray(size, float) / 2
     return c - half, c + half
 
@@ -425,7 +430,7 @@ def _panel_of(obj: ObjectObservation, cand: dict, basis: np.ndarray) -> bool:
                              *_gravity_box(_stored_centre(cand), cand["size"], basis)))
 
 
-def panel_pairs(objects: list[ObjectObservation], near: list[dict], basis: np.ndarray) -> np.ndarray:
+def panel_pairs(objects: list[ObjectObservation], near: list[Row], basis: np.ndarray) -> np.ndarray:
     """(n_local, n_cand): the (unnamed observation, stored desk) pairs where the observation is a
     panel of that desk's carrel (`_panel_of`)."""
     out = np.zeros((len(objects), len(near)), bool)
@@ -437,7 +442,7 @@ def panel_pairs(objects: list[ObjectObservation], near: list[dict], basis: np.nd
     return out
 
 
-def claimed_by_stored_desk(obj: ObjectObservation, candidates: list[dict], basis: np.ndarray) -> Optional[str]:
+def claimed_by_stored_desk(obj: ObjectObservation, candidates: list[Row], basis: np.ndarray) -> Optional[str]:
     """Rule "a carrel's panel", across scans: an unnamed observation that is a carrel panel
     (`sg3d.core.geometry.carrel_panel`: thin, beside a desk, rising above its top) of a STORED
     desk is part of that desk (a later scan that never saw the desk tops sees only the panels);
@@ -455,7 +460,7 @@ def _solid_over_desk(obj: ObjectObservation, cand: dict, basis: np.ndarray) -> b
             and box_inside_share(_stored_centre(cand), cand["size"], _box_centre(obj), obj.size, basis) >= CLAIM_SHARE)
 
 
-def desk_named_solid(obj: ObjectObservation, candidates: list[dict], basis: np.ndarray) -> Optional[str]:
+def desk_named_solid(obj: ObjectObservation, candidates: list[Row], basis: np.ndarray) -> Optional[str]:
     """Rule "the shape decides": a detection of a kind solid to the floor (SOLID_TO_THE_FLOOR: a
     refrigerator, an oven) whose box holds CLAIM_SHARE of a stored desk named from its shape (a top
     with knee space: the floor seen under it) is that desk misread (a carrel's panel and its desk
@@ -466,7 +471,7 @@ def desk_named_solid(obj: ObjectObservation, candidates: list[dict], basis: np.n
                         for c in candidates if _solid_over_desk(obj, c, basis))
 
 
-def stored_pieces_named(objects: list[ObjectObservation], candidates: list[dict], matches: dict[int, int],
+def stored_pieces_named(objects: list[ObjectObservation], candidates: list[Row], matches: dict[int, int],
                         absorbed: dict[int, int], basis: np.ndarray) -> dict[int, int]:
     """Rule "a named box claims the stored piece it overlaps": a named floor-standing observation
     that matched no node updates the stored unnamed node whose box and its own overlap by
@@ -487,7 +492,7 @@ def stored_pieces_named(objects: list[ObjectObservation], candidates: list[dict]
 
 
 def _plan_moves(plan: MergePlan, graph: LocalGraph, matches: dict[int, int], seen: set[str],
-                moved_from: list[dict], embedding: LabelEmbedding, basis: np.ndarray) -> set[int]:
+                moved_from: list[Row], embedding: LabelEmbedding, basis: np.ndarray) -> set[int]:
     """Rule "moved" (`sg3d.merge.rescan.is_move`) for the observations that matched no node: each
     move updates the stored node in place; returns the local indices that moved a node."""
     objects = graph.objects
@@ -506,7 +511,7 @@ def _plan_moves(plan: MergePlan, graph: LocalGraph, matches: dict[int, int], see
     return {unmatched[n] for n in moves}
 
 
-def _plan_update(plan: MergePlan, obj: ObjectObservation, candidates: list[dict], j: int,
+def _plan_update(plan: MergePlan, obj: ObjectObservation, candidates: list[Row], j: int,
                  absorbed: dict[int, int], basis: np.ndarray) -> None:
     """A matched observation updates its node (the paper's update rules), folding in the stored
     nodes it showed to be the same object."""

@@ -22,7 +22,9 @@ import uuid
 import numpy as np
 from scipy.optimize import linear_sum_assignment
 
+from sg3d.core.embedding import LabelEmbedding
 from sg3d.core.model import LocalGraph, ObjectObservation, ScanInfo
+from sg3d.core.stored import Row
 from sg3d.merge.histograms import unpack_hist
 from sg3d.merge.similarity import histogram_intersection, label_similarity_matrix
 
@@ -83,7 +85,7 @@ def same_size(new_sizes: np.ndarray, old_sizes: np.ndarray) -> np.ndarray:
     return (ratio <= MOVE_SIZE_RATIO).all(axis=2)
 
 
-def pair_moves(objects: list[ObjectObservation], old: list[dict], embedding) -> dict[int, dict]:
+def pair_moves(objects: list[ObjectObservation], old: list[Row], embedding: LabelEmbedding) -> dict[int, Row]:
     """Index into `objects` (the unmatched new observations) -> the stored node it moved from:
     one-to-one among `old`, the nodes whose place was seen empty and that nothing re-observed
     (`is_move` and `same_size`, best label + colour score first)."""
@@ -123,7 +125,7 @@ def moved_props(old: dict, props: dict, obj: ObjectObservation, scan: ScanInfo) 
             "moved_scan": scan.id, "moved_at": scan.at}
 
 
-def empty_place_rows(empty: dict[str, list[int]], seen: set[str]) -> list[dict]:
+def empty_place_rows(empty: dict[str, list[int]], seen: set[str]) -> list[Row]:
     """The frames that saw each stored node's place empty, for the nodes this merge did not see
     (cypher/object_mark_empty rows)."""
     return [{"id": i, "frames": sorted({int(f) for f in frames})}

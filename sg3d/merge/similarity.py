@@ -18,7 +18,10 @@ from dataclasses import dataclass
 from typing import Sequence
 
 import numpy as np
+from numpy.typing import ArrayLike
 from scipy.special import ndtr
+
+from sg3d.core.embedding import LabelEmbedding
 
 WEIGHTS = {"label": 0.375, "color": 0.25, "position": 0.375}
 THRESHOLD = 0.7
@@ -64,7 +67,7 @@ class SimilarityParams:
         return float(max_tail_z(self.min_position_similarity()) * self.sigma_cap)
 
 
-def _two_sided_tail(z):
+def _two_sided_tail(z: ArrayLike) -> np.ndarray:
     """1 − Φ(z) + Φ(−z): the mass of the standard normal beyond ±z."""
     z = np.abs(z)
     return 1.0 - ndtr(z) + ndtr(-z)
@@ -81,10 +84,10 @@ def max_tail_z(p_min: float) -> float:
     ≥ p_min. Every axis factor is ≤ 1, so a pair with any axis beyond it scores below p_min."""
     if p_min <= 0:
         return float("inf")
-    return _tail_inverse(p_min * _two_sided_tail(1.0))
+    return _tail_inverse(p_min * float(_two_sided_tail(1.0)))
 
 
-def _tail_factors(z) -> np.ndarray:
+def _tail_factors(z: np.ndarray) -> np.ndarray:
     """Eq. 13 per axis: 1 inside ±σ (z < 1), else the normal tail ratio."""
     return np.where(z < 1.0, 1.0, _two_sided_tail(z) / _two_sided_tail(1.0))
 
@@ -109,11 +112,11 @@ def label_similarity(labels_o: Sequence[str], scores_o: Sequence[float],
     return max(0.0, float(word_similarity)) * score
 
 
-def _label_indicators(labels_c, labels_o) -> tuple[np.ndarray, np.ndarray]:
+def _label_indicators(labels_c: Sequence[Sequence[str]], labels_o: Sequence[Sequence[str]]) -> tuple[np.ndarray, np.ndarray]:
     """0/1 matrices (row per object, column per label of the union vocabulary)."""
     vocab = {lbl: i for i, lbl in enumerate(sorted({lbl for ls in (*labels_c, *labels_o) for lbl in ls}))}
 
-    def indicator(sets):
+    def indicator(sets: Sequence[Sequence[str]]) -> np.ndarray:
         mat = np.zeros((len(sets), len(vocab)))
         for r, ls in enumerate(sets):
             mat[r, [vocab[lbl] for lbl in ls]] = 1.0
@@ -132,7 +135,7 @@ def shared_labels(labels_c: Sequence[Sequence[str]], labels_o: Sequence[Sequence
 
 def label_similarity_matrix(labels_c: Sequence[Sequence[str]], scores_c: Sequence[Sequence[float]],
                             labels_o: Sequence[Sequence[str]], scores_o: Sequence[Sequence[float]],
-                            embedding) -> np.ndarray:
+                            embedding: LabelEmbedding) -> np.ndarray:
     """Eq. 10-11 for every (new, stored) pair at once, shape (len(labels_c), len(labels_o)).
 
     Same numbers as `label_similarity`, vectorised: shared-label counts as a product of
@@ -152,7 +155,7 @@ def label_similarity_matrix(labels_c: Sequence[Sequence[str]], scores_c: Sequenc
     return np.where(common > 0, score * common / np.maximum(smaller, 1.0), word * score)
 
 
-def position_similarity(mean_o, var_o, mean_c, sigma_floor=SIGMA_FLOOR_M,
+def position_similarity(mean_o: ArrayLike, var_o: ArrayLike, mean_c: ArrayLike, sigma_floor: ArrayLike = SIGMA_FLOOR_M,
                         sigma_cap: float = SIGMA_CAP_M) -> np.ndarray:
     """Eq. 12-13: product over x, y, z of I^j; 1 inside ±σ_o, else the normal tail ratio.
 
@@ -162,7 +165,8 @@ def position_similarity(mean_o, var_o, mean_c, sigma_floor=SIGMA_FLOOR_M,
     return np.prod(_tail_factors(_position_z(mean_o, var_o, mean_c, sigma_floor, sigma_cap)), axis=-1)
 
 
-def _position_z(mean_o, var_o, mean_c, sigma_floor, sigma_cap) -> np.ndarray:
+def _position_z(mean_o: ArrayLike, var_o: ArrayLike, mean_c: ArrayLike, sigma_floor: ArrayLike,
+                sigma_cap: float) -> np.ndarray:
     """|mean_c − mean_o| / σ_o per axis, σ_o clipped to [sigma_floor, sigma_cap] (Eq. 13's z)."""
     mean_o = np.asarray(mean_o, dtype=float)
     mean_c = np.asarray(mean_c, dtype=float)
@@ -171,7 +175,8 @@ def _position_z(mean_o, var_o, mean_c, sigma_floor, sigma_cap) -> np.ndarray:
     return np.abs(mean_c - mean_o) / sigma
 
 
-def position_may_pass(mean_o, var_o, mean_c, p_min: float, sigma_floor=SIGMA_FLOOR_M,
+def position_may_pass(mean_o: ArrayLike, var_o: ArrayLike, mean_c: ArrayLike, p_min: float,
+                      sigma_floor: ArrayLike = SIGMA_FLOOR_M,
                       sigma_cap: float = SIGMA_CAP_M) -> np.ndarray:
     """Whether `position_similarity` can be ≥ p_min (every axis within `max_tail_z`), without
     evaluating the normal tail: the cheap test that spares a batched merge the tails of
@@ -180,7 +185,8 @@ def position_may_pass(mean_o, var_o, mean_c, p_min: float, sigma_floor=SIGMA_FLO
     return np.all(z <= max_tail_z(p_min) * (1 + 1e-9), axis=-1)
 
 
-def box_position_similarity(centre_o, size_o, centre_c, size_c, basis: np.ndarray,
+def box_position_similarity(centre_o: ArrayLike, size_o: ArrayLike, centre_c: ArrayLike, size_c: ArrayLike,
+                            basis: np.ndarray,
                             sigma: float = SIGMA_FLOOR_M) -> np.ndarray:
     """Our extension of Eq. 12-13 for objects seen in parts: per gravity-frame axis, 1 while the
     two 3-D boxes overlap (or their gap is under σ, the depth noise), else the same normal tail
@@ -193,14 +199,16 @@ def box_position_similarity(centre_o, size_o, centre_c, size_c, basis: np.ndarra
     return np.prod(_tail_factors(_box_z(centre_o, size_o, centre_c, size_c, basis, sigma)), axis=-1)
 
 
-def _box_z(centre_o, size_o, centre_c, size_c, basis: np.ndarray, sigma: float) -> np.ndarray:
+def _box_z(centre_o: ArrayLike, size_o: ArrayLike, centre_c: ArrayLike, size_c: ArrayLike, basis: np.ndarray,
+           sigma: float) -> np.ndarray:
     """Per gravity-frame axis: the gap between the two boxes (0 while they overlap) over σ."""
     d = (np.asarray(centre_c, float) - np.asarray(centre_o, float)) @ basis.T
     half = (np.asarray(size_o, float) + np.asarray(size_c, float)) / 2.0
     return np.maximum(np.abs(d) - half, 0.0) / sigma
 
 
-def box_may_pass(centre_o, size_o, centre_c, size_c, basis: np.ndarray, p_min: float,
+def box_may_pass(centre_o: ArrayLike, size_o: ArrayLike, centre_c: ArrayLike, size_c: ArrayLike, basis: np.ndarray,
+                 p_min: float,
                  sigma: float = SIGMA_FLOOR_M) -> np.ndarray:
     """Whether `box_position_similarity` can be ≥ p_min, without the normal tail (see
     `position_may_pass`)."""
@@ -208,7 +216,7 @@ def box_may_pass(centre_o, size_o, centre_c, size_c, basis: np.ndarray, p_min: f
     return np.all(z <= max_tail_z(p_min) * (1 + 1e-9), axis=-1)
 
 
-def histogram_intersection(h_i, h_j) -> np.ndarray:
+def histogram_intersection(h_i: ArrayLike, h_j: ArrayLike) -> np.ndarray:
     """Eq. 14: Σ min(h_i, h_j) / min(|h_i|, |h_j|) over the 3-D HSV bins (broadcasts on rows)."""
     h_i = np.asarray(h_i, dtype=float)
     h_j = np.asarray(h_j, dtype=float)
@@ -217,6 +225,7 @@ def histogram_intersection(h_i, h_j) -> np.ndarray:
     return np.where(norm > 0, inter / np.maximum(norm, 1e-12), 0.0)
 
 
-def total_similarity(s_label, s_color, s_position, params: SimilarityParams = SimilarityParams()):
+def total_similarity(s_label: np.ndarray, s_color: np.ndarray, s_position: np.ndarray,
+                     params: SimilarityParams = SimilarityParams()) -> np.ndarray:
     """Eq. 15: s_total = Σ w_i s_i over {label, color, position}."""
     return params.w_label * s_label + params.w_color * s_color + params.w_position * s_position

@@ -4,6 +4,7 @@ from __future__ import annotations
 from typing import Sequence
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from sg3d.core.model import TOP_K
 from sg3d.ingest.objects.moments import combine_gaussians  # noqa: F401  (the update rule for positions)
@@ -21,12 +22,13 @@ def combine_labels(labels_o: Sequence[str], scores_o: Sequence[float],
     return [lbl for lbl, _ in ranked], [s for _, s in ranked]
 
 
-def combine_histograms(h_o, h_c) -> np.ndarray:
+def combine_histograms(h_o: ArrayLike, h_c: ArrayLike) -> np.ndarray:
     """Histograms are pixel counts (Eq. 9), so combining the observations adds them."""
     return np.asarray(h_o, dtype=float) + np.asarray(h_c, dtype=float)
 
 
-def combine_boxes(centre_o, size_o, centre_c, size_c, basis: np.ndarray):
+def combine_boxes(centre_o: ArrayLike, size_o: ArrayLike, centre_c: ArrayLike, size_c: ArrayLike,
+                  basis: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """The box covering both boxes in the gravity frame (rows of `basis`: e1, e2, up): a node's
     extent grows as more of the object is seen (a table seen end by end) instead of averaging
     partial views (the paper leaves size open)."""

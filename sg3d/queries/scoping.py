@@ -3,6 +3,8 @@ from __future__ import annotations
 
 from typing import Optional
 
+from sg3d.core.stored import Row
+
 # Up to this many rooms in scope, templates start from the rooms and read only their objects;
 # beyond (a large building), the label index reads fewer records than the rooms' CONTAINS edges.
 SCOPE_EXPAND_MAX = 50
@@ -19,7 +21,7 @@ def few_rooms(rooms) -> bool:
 MEDIAN_SAMPLE = 500
 
 
-def by_size(run, rows: list[dict], size: Optional[str]) -> list[dict]:
+def by_size(run, rows: list[Row], size: Optional[str]) -> list[Row]:
     """Keep objects above (big) / below (small) the median volume of their own label (exact up to
     MEDIAN_SAMPLE objects of the label, a sample's median beyond)."""
     if size is None:

@@ -19,6 +19,7 @@ from typing import Callable, Optional
 from sg3d.core.errors import Sg3dError
 from sg3d.core.model import SHAPE_WORDS
 from sg3d.core.relation_rules import SYMMETRIC, VIEWPOINT
+from sg3d.core.stored import Row
 from sg3d.queries.lexicon import Target, lemma, resolve
 from sg3d.queries.logic import NP, Filter
 from sg3d.queries.scoping import by_size, few_rooms
@@ -165,8 +166,8 @@ class Scene:
         name = "vqa_scene_objects_in_rooms" if few_rooms(rooms) else "vqa_scene_objects"
         rows = run.read(name, rooms=rooms, labels=labels, limit=ROW_LIMIT)
         self.objects = {r["id"]: r for r in rows}
-        self._edges: Optional[list[dict]] = None
-        self._touching: dict[frozenset, list[dict]] = {}
+        self._edges: Optional[list[Row]] = None
+        self._touching: dict[frozenset, list[Row]] = {}
         if anchored and labels is not None:
             self._link(rows)
         elif colour is not None:
@@ -177,7 +178,7 @@ class Scene:
         self._floor: dict[str, Optional[float]] = {}
         self._up: Optional[dict] = None
 
-    def _link(self, anchors: list[dict]) -> None:
+    def _link(self, anchors: list[Row]) -> None:
         """Rule "read from the anchor outwards": the objects linked to the anchors by a stored
         relation and those edges (cypher/vqa_scene_linked: by the anchors' ids); the scene's edges
         are then every stored edge with an anchor at one end, in the order the whole scope's read
@@ -193,7 +194,7 @@ class Scene:
         self.objects = dict(sorted(self.objects.items()))
         self._edges = [edges[k] for k in sorted(edges)]
 
-    def edges_touching(self, ids: set[str]) -> list[dict]:
+    def edges_touching(self, ids: set[str]) -> list[Row]:
         """The scene's stored edges with an end in `ids` (what a relation filter to those objects
         reads): from the scene's edges when they are read, else read by those ids
         (cypher/vqa_scene_edges_of; a few rooms only), without reading every object's edges."""
@@ -210,7 +211,7 @@ class Scene:
             self._touching[key] = [edges[k] for k in sorted(edges)]
         return self._touching[key]
 
-    def edges(self) -> list[dict]:
+    def edges(self) -> list[Row]:
         if self._edges is None:
             ids = sorted(self.objects)
             self._edges = self.run.read("vqa_scene_relations", ids=ids, types=list(STORED_TYPES)) if ids else []
@@ -288,7 +289,7 @@ class Evaluator:
             self._resolved[id(np)] = r
         return self._resolved[id(np)]
 
-    def kind_members(self, r: Resolved) -> list[dict]:
+    def kind_members(self, r: Resolved) -> list[Row]:
         objs = self.scene.objects.values()
         if r.kind == "any":
             return [o for o in objs if not is_structure(o)]
@@ -298,7 +299,7 @@ class Evaluator:
             return []
         return [o for o in objs if o["label"] in (r.labels or []) and not is_structure(o)]
 
-    def members(self, np: NP) -> list[dict]:
+    def members(self, np: NP) -> list[Row]:
         if np.alternatives:
             seen: dict[str, dict] = {}
             for a in np.alternatives:
@@ -309,7 +310,7 @@ class Evaluator:
         if r.kind == "room":
             raise Unanswerable(f"'{np.text()}' is a room, not an object")
         base = self.kind_members(r)
-        second: list[dict] = []
+        second: list[Row] = []
         if not base and r.kind in ("named", "unknown", "structure"):
             if r not in self.absent:
                 self.absent.append(r)
@@ -336,7 +337,7 @@ class Evaluator:
             out = self.extreme(out, np)
         return self._printed_name(np, out)
 
-    def _printed_name(self, np: NP, rows: list[dict]) -> list[dict]:
+    def _printed_name(self, np: NP, rows: list[Row]) -> list[Row]:
         """"the white object on the dining table": when a singular phrase, with its relation
         words, is the printed name of exactly one of the rows, it means that object (the brown
         cup on the table is also a brown object on the table, but not the one so named)."""
@@ -348,13 +349,13 @@ class Evaluator:
         exact = [o for o in rows if named.get(o["id"]) == said]
         return exact if len(exact) == 1 else rows
 
-    def _by_size(self, rows: list[dict], size: Optional[str]) -> list[dict]:
+    def _by_size(self, rows: list[Row], size: Optional[str]) -> list[Row]:
         if size is None:
             return rows
 
         return by_size(self.run, rows, size)
 
-    def _numbered(self, np: NP, r: Resolved, rows: list[dict]) -> list[dict]:
+    def _numbered(self, np: NP, r: Resolved, rows: list[Row]) -> list[Row]:
         """'chair 3', 'tv 1': the object printed under that name (a kind of one: number 1)."""
         named = self.run.names(self.kind_members(r))
         want = f"{' '.join(np.words)} {np.number}"
@@ -366,7 +367,7 @@ class Evaluator:
             raise Unanswerable(f"no object is named '{want}' here" + (f" (names: {', '.join(known)})" if known else ""))
         return hit
 
-    def apply(self, f: Filter, rows: list[dict]) -> list[dict]:
+    def apply(self, f: Filter, rows: list[Row]) -> list[Row]:
         if f.kind == "except":      # "anything on the counter besides the sink"
             drop = {o["id"] for o in self.members(f.other)}
             return [o for o in rows if o["id"] not in drop]
@@ -441,7 +442,7 @@ class Evaluator:
             return lambda o: float((o.get("size") or [0, 0, 0])[2])
         return self.scene.top
 
-    def extreme(self, rows: list[dict], np: NP) -> list[dict]:
+    def extreme(self, rows: list[Row], np: NP) -> list[Row]:
         word = np.superlative or ""
         sign = DISTANCE_SUPERLATIVES.get(word) or SUPERLATIVES[word][1]
         k = self.key(np)

@@ -40,6 +40,7 @@ from typing import Optional, Sequence
 
 from sg3d.core.model import UNNAMED_LABEL
 from sg3d.core.shape import ROUNDING_M, SAID
+from sg3d.core.stored import Row
 from sg3d.queries.vocabulary import ACTIVITIES, LIST_SHOWN
 
 SIZE_FACTOR = 1.5
@@ -110,7 +111,7 @@ def misfit(size: Sequence[float], prior: dict) -> float:
     return sum(abs(math.log(s / t)) for s, t in zip(sides, prior["size"]))
 
 
-def candidates(run, label: str, rooms: Optional[list[str]], colour: Optional[str] = None) -> list[dict]:
+def candidates(run, label: str, rooms: Optional[list[str]], colour: Optional[str] = None) -> list[Row]:
     """The unnamed objects in `rooms` (None: all) that could be a `label` (`could_be`), of the
     asked colour when one is asked, best fit first; each row carries `support` ("on the desk")."""
     prior = typical(label)
@@ -163,7 +164,7 @@ def describe(o: dict, with_room: bool = False) -> str:
     return text
 
 
-def _listing(found: list[dict]) -> str:
+def _listing(found: list[Row]) -> str:
     rooms = {o.get("room") for o in found}
     said = [describe(o, len(rooms) > 1) for o in found[:LIST_SHOWN]]
     more = [f"{len(found) - LIST_SHOWN} more"] if len(found) > LIST_SHOWN else []
@@ -171,7 +172,7 @@ def _listing(found: list[dict]) -> str:
     return items[0] if len(items) == 1 else ", ".join(items[:-1]) + " and " + items[-1]
 
 
-def not_named(what: str, where: str, found: list[dict]) -> str:
+def not_named(what: str, where: str, found: list[Row]) -> str:
     """"I have not named a keyboard; unnamed things of its size and shape: ...": the answer to
     "is there / where is a <what>" when none is named and `found` could be one."""
     article = "an" if what[:1] in "aeiou" else "a"
@@ -179,7 +180,7 @@ def not_named(what: str, where: str, found: list[dict]) -> str:
     return f"I have not named {article} {what}{where}; {head} of its size and shape: {_listing(found)}"
 
 
-def none_named(plural_what: str, where: str, found: list[dict]) -> str:
+def none_named(plural_what: str, where: str, found: list[Row]) -> str:
     """"0 named keyboards; 1 unnamed thing could be one: ...": "how many" with none named."""
     n = len(found)
     return (f"0 named {plural_what}{where}; {n} unnamed {'thing' if n == 1 else 'things'} could be one: "
@@ -194,7 +195,7 @@ def could_be_top(size: Optional[Sequence[float]], shape: Optional[str]) -> bool:
     return float(size[0]) * float(size[1]) >= TOP_MIN_AREA_M2
 
 
-def tops(run, rooms: Optional[list[str]]) -> list[dict]:
+def tops(run, rooms: Optional[list[str]]) -> list[Row]:
     """The unnamed objects in `rooms` (None: all) that things stand ON and could be a desk's or a
     table's top (`could_be_top`), the most laden first."""
     rows = run.read("vqa_unnamed_tops", unnamed=UNNAMED_LABEL, rooms=rooms, limit=READ_LIMIT)

@@ -29,6 +29,7 @@ from numpy.typing import ArrayLike
 
 from sg3d.core.geometry import horizontal_frame
 from sg3d.core.relation_rules import SYMMETRIC, VIEWPOINT
+from sg3d.core.stored import Row
 from sg3d.ingest.relate.relations import MIN_EXTENT
 from sg3d.queries.lexicon import resolve
 
@@ -101,7 +102,7 @@ def viewpoint_relations(target: dict, anchor: dict, eye: ArrayLike, up: ArrayLik
     return out
 
 
-def related(run, q, rooms, viewpoint, seen_from: Optional[str]) -> list[dict]:
+def related(run, q, rooms, viewpoint, seen_from: Optional[str]) -> list[Row]:
     """Rows of `q.target` objects that hold `q.relation` (a viewpoint type) to a `q.anchor`
     object, seen from the viewpoint; shaped like the vqa_related rows. `run` reads templates
     (sg3d.queries.vqa._Run); ValueError carries the refusal text."""
@@ -163,7 +164,7 @@ def _name(other: dict, names: Optional[dict] = None) -> str:
     return f"the {colour} {other['other_label']}" if colour else f"the {other['other_label']}"
 
 
-def describe_place(relations: list[dict], names: Optional[dict] = None) -> str:
+def describe_place(relations: list[Row], names: Optional[dict] = None) -> str:
     """'on the dining table, next to the white cup and the black chair' from where-rows (rel,
     other_id, other_label, other_colour): supports first, at most MAX_NEIGHBOURS side-by-side
     neighbours, NEAR only when nothing is NEXT_TO, each other object named once; `names` (id ->

@@ -10,13 +10,14 @@ from __future__ import annotations
 
 from typing import Optional
 
+from sg3d.core.stored import Row
 from sg3d.queries.logic import NP
 from sg3d.queries.place_names import match_name, squeezed
 from sg3d.queries.sets import Unanswerable
 from sg3d.queries.wording import plural
 
 
-def walk_layer(a) -> list[dict]:
+def walk_layer(a) -> list[Row]:
     """The rooms of the walks in scope (cypher/vqa_walk_rooms): [] when no recorded room in scope
     was split into rooms."""
     rows = a.run.read("vqa_walk_rooms", building=a.ev.building)
@@ -33,7 +34,7 @@ def said_name(a, np: NP) -> str:
     return back(text) if back is not None else text
 
 
-def named(layer: list[dict], said: str) -> tuple[list[dict], bool]:
+def named(layer: list[Row], said: str) -> tuple[list[Row], bool]:
     """Rule "a room is named by its name, else by its guessed kind": (the rooms `said` names,
     whether they were found by a guess). The stored names first (case, spaces and a small typo
     set aside, sg3d/queries/place_names.py); else every room whose guessed kind is the words
@@ -59,7 +60,7 @@ def room_words(w: dict, guessed: bool = False) -> str:
     return f"{w['name']} (looks like {'an' if kind[:1] in 'aeiou' else 'a'} {kind}: {evidence})"
 
 
-def resolve_rooms(a, np: NP, layer: list[dict]) -> tuple[list[dict], bool]:
+def resolve_rooms(a, np: NP, layer: list[Row]) -> tuple[list[Row], bool]:
     """The walk rooms a noun phrase names; Unanswerable naming the rooms there are otherwise."""
     said = said_name(a, np)
     rooms, guessed = named(layer, said)
@@ -76,7 +77,7 @@ def _holding(a, w: dict) -> str:
     return a.listing(objs) if objs else "nothing sg3d named"
 
 
-def op_walk_next(a, np: NP, layer: list[dict], hold: bool):
+def op_walk_next(a, np: NP, layer: list[Row], hold: bool):
     """"what rooms are next to the kitchen", "what is in the room next to the kitchen": the rooms
     a doorway joins to the named one (CONNECTED through a Doorway), each with the doorway's width,
     and with `hold` what each room holds."""
@@ -104,7 +105,7 @@ def op_walk_next(a, np: NP, layer: list[dict], hold: bool):
     return f"next to {asked}: " + "; ".join(parts), value, rows
 
 
-def _graph(layer: list[dict]):
+def _graph(layer: list[Row]):
     """The rooms and doorways as one graph (networkx): a room's middle to a doorway's middle is
     an edge as long as the straight line between them."""
     import networkx as nx
@@ -122,7 +123,7 @@ def _graph(layer: list[dict]):
     return g
 
 
-def shortest_way(layer: list[dict], starts: list[dict], goals: list[dict]) -> Optional[tuple[float, list[str]]]:
+def shortest_way(layer: list[Row], starts: list[Row], goals: list[Row]) -> Optional[tuple[float, list[str]]]:
     """Rule "the way is the shortest walk over the room/doorway graph": (metres, the room and
     doorway ids in order) from any of `starts` to any of `goals` along room middle -> doorway
     middle -> room middle (Dijkstra); None when no doorway joins them."""
@@ -141,7 +142,7 @@ def shortest_way(layer: list[dict], starts: list[dict], goals: list[dict]) -> Op
     return best
 
 
-def op_walk_route(a, start: NP, goal: NP, layer: list[dict]):
+def op_walk_route(a, start: NP, goal: NP, layer: list[Row]):
     """"how do I get from the kitchen to the bedroom": the rooms and doorways on the shortest
     way (`shortest_way`), each doorway with its middle and width."""
     starts, s_guess = resolve_rooms(a, start, layer)
@@ -170,7 +171,7 @@ def op_walk_route(a, start: NP, goal: NP, layer: list[dict]):
             + f" ({n} {plural('doorway', n)}, about {metres:.1f} m between the rooms' middles)"), value, []
 
 
-def rooms_of_objects(a, rows: list[dict], layer: list[dict]) -> dict[str, dict]:
+def rooms_of_objects(a, rows: list[Row], layer: list[Row]) -> dict[str, dict]:
     """object id -> the walk room holding it, for objects the places layer placed."""
     wanted = {o["id"] for o in rows}
     return {o["id"]: w for w in layer for o in w["objects"] if o["id"] in wanted}
@@ -186,7 +187,7 @@ def not_detected(resolved: list) -> Optional[str]:
     return None
 
 
-def op_walk_rooms_lacking(a, wanted: list[NP], lacking: list[NP], layer: list[dict]):
+def op_walk_rooms_lacking(a, wanted: list[NP], lacking: list[NP], layer: list[Row]):
     """"which rooms have no fridge", "which rooms have a bed but no tv" over the rooms of a walk;
     a lacking kind sg3d never detects is said so, not answered as absent everywhere."""
     resolved = [a.ev.resolved(np) for np in lacking]

@@ -11,6 +11,7 @@ from collections import defaultdict
 from dataclasses import dataclass, field
 from typing import Iterable, Optional
 
+from sg3d.core.stored import Row
 from sg3d.queries.planning.rules import PlanningError, Rules, load_rules
 
 Atom = tuple[str, ...]          # ("on", "cup_1", "dining_table_1")
@@ -130,7 +131,7 @@ def build_problem(store, room: str, *, start: Optional[str] = None, rules: Optio
     return problem_from_rows(room, rows, edges, rules, start=start)
 
 
-def problem_from_rows(room: str, rows: list[dict], edges: list[dict], rules: Rules,
+def problem_from_rows(room: str, rows: list[Row], edges: list[Row], rules: Rules,
                       *, start: Optional[str] = None) -> Problem:
     names = name_objects(rows, edges)
     typed: dict[str, PlanObject] = {}
@@ -200,7 +201,7 @@ def _start_location(places: list[PlanObject], start: Optional[str], room: str) -
     return surfaces[0] if surfaces else sorted(by_name)[0]
 
 
-def _supports(edges: list[dict], typed: dict[str, PlanObject], rules: Rules) -> dict[str, Atom]:
+def _supports(edges: list[Row], typed: dict[str, PlanObject], rules: Rules) -> dict[str, Atom]:
     """item node id -> its support fact. Edges come best score first per subject; an item on
     another item inherits that item's support (a cup on a plate on the table is on the table)."""
     direct: dict[str, Atom] = {}

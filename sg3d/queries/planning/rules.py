@@ -13,6 +13,7 @@ from pathlib import Path
 from typing import Optional
 
 from sg3d.core.errors import Sg3dError
+from sg3d.core.stored import Row
 from sg3d.queries.taxonomy import Taxonomy
 
 DATA = Path(__file__).resolve().parent.parent / "data"
@@ -33,7 +34,7 @@ class Rules:
     cleanup_target: str
     robot_name: str
     robot_type: str
-    commands: list[dict] = field(default_factory=list)
+    commands: list[Row] = field(default_factory=list)
     phrases: dict[str, str] = field(default_factory=dict)
     articles: tuple[str, ...] = ("the",)
     placement: tuple[dict, ...] = ()
