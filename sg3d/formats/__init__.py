@@ -1,2 +1,2 @@
-"""Scene-graph file formats: conversions of an exported graph ({building, room, nodes, edges},
-`sg3d.graphdb.export.fetch_graph`) to and from files; nothing here touches the store."""
+"""Scene-graph file formats: conversions of an exported graph (`sg3d.core.stored.StoredGraph`, as
+`sg3d.graphdb.export.fetch_graph` reads it) to and from files; nothing here touches the store."""

@@ -63,8 +63,8 @@ def _apply(T: Optional[np.ndarray], p) -> np.ndarray:
 
 
 def to_spark(graph: StoredGraph, room_transforms: Optional[dict] = None):
-    """The exported graph {building, nodes, edges} (`sg3d.graphdb.export.fetch_graph`, named) as a
-    DynamicSceneGraph; `room_transforms`: room name -> 4x4 room-to-building (or None)."""
+    """The exported graph (`sg3d.graphdb.export.fetch_graph`, named) as a DynamicSceneGraph;
+    `room_transforms`: room name -> 4x4 room-to-building (or None)."""
     dsg = _spark()
     G = dsg.DynamicSceneGraph()
     labels = sorted({n.label or "object" for n in graph.nodes})
