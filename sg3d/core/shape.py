@@ -74,7 +74,8 @@ def shape_class(size: Iterable[float], points: Optional[Iterable[float]] = None,
     return None
 
 
-def _round_footprint(w: float, d: float, points, basis, centre) -> bool:
+def _round_footprint(w: float, d: float, points: Optional[Iterable[float]], basis: Optional[np.ndarray],
+                     centre: Optional[Iterable[float]]) -> bool:
     """The round test of `shape_class`: the points' horizontal offsets over the half sides of
     their own smallest rectangle show an outline and never reach its corners."""
     if points is None or basis is None or centre is None or min(w, d) < ROUND_MIN_M \
