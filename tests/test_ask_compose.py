@@ -247,7 +247,8 @@ def test_phrasings_read_as_the_plain_question(store, flat, question, same_as):
 
 def test_common_words_are_not_read_as_typos():
     from sg3d.queries.compose import typo_vocabulary
-    from sg3d.queries.phrasing import fix_typos, tidy
+    from sg3d.queries.reader.tidy import tidy
+    from sg3d.queries.reader.typos import fix_typos
 
     text, notes = fix_typos(tidy("how many mugs with a white glaze are there").text, typo_vocabulary())
     assert notes == [] and "with" in text.split()

@@ -129,7 +129,7 @@ def test_the_command_keeps_pandas_from_the_driver_only():
 def test_the_common_words_are_picked_once_into_the_cache(tmp_path):
     """The typo fixer's common-word list is picked from pyspellchecker's list once and kept whole
     in sg3d's cache; the next process reads the kept file (the same words)."""
-    code = ("from sg3d.queries.phrasing import common_words\n"
+    code = ("from sg3d.queries.reader.typos import common_words\n"
             "w = common_words()\n"
             "assert {'sitting', 'cutting', 'kitchen'} <= w\n"
             "print(len(w))\n")

@@ -303,7 +303,7 @@ def typo_vocabulary() -> frozenset:
 @functools.cache
 def typo_nouns() -> frozenset:
     """The object nouns of the vocabulary (singular and plural): what a typo after "the" is read as
-    when it is as close to another word (phrasing.fix_typos)."""
+    when it is as close to another word (reader.typos.fix_typos)."""
     import json
 
     from sg3d.queries.lexicon import SYNONYMS, vocabulary
@@ -558,7 +558,7 @@ def plan_question(question: str, embedding=None, use_embedding: bool = True) -> 
     """The plan of a simple question without a store (no room names known): what the per-form
     templates would run with. GrammarError or Unanswerable when it is not read, or not simple."""
     from sg3d.queries.grammar import read
-    from sg3d.queries.phrasing import tidy
+    from sg3d.queries.reader.tidy import tidy
 
     form = read(tidy(question).text)
     ev = Evaluator(None, lambda name: [], embedding, use_embedding)

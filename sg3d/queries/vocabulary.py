@@ -21,7 +21,7 @@ RELATIONS: dict[str, tuple[str, bool]] = {
     "adjacent to": ("NEXT_TO", True), "alongside": ("NEXT_TO", True),
     "near": ("NEAR", True), "close to": ("NEAR", True), "nearby": ("NEAR", True), "around": ("NEAR", True),
     "in front of": ("IN_FRONT_OF", False), "behind": ("BEHIND", False),
-    "left of": ("LEFT_OF", False), "right of": ("RIGHT_OF", False),   # "to the left of": phrasing.py
+    "left of": ("LEFT_OF", False), "right of": ("RIGHT_OF", False),   # "to the left of": the rule table
 }
 # the stored relation types a set filter reads (the viewpoint ones are computed, never read)
 STORED_TYPES = ("ON", "IN", "UNDER", "ABOVE", "BELOW", "NEXT_TO", "NEAR")
@@ -66,7 +66,7 @@ EVERYWHERE = {"house", "home", "building", "environment", "scene", "world", "map
               "whole building", "whole home", "total", "everywhere"}
 
 # words that name a room or the home (never furniture): "where can I sit in this kitchen" scopes
-# the activity to that place (sg3d/queries/phrasing.py)
+# the activity to that place (sg3d/queries/data/rephrase_rules.toml)
 ROOM_WORDS = ("kitchen", "study", "living room", "livingroom", "lounge", "sitting room", "dining room", "bedroom",
               "bathroom", "office", "hall", "hallway", "den", "house", "home", "flat", "apartment", "building")
 

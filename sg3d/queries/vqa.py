@@ -544,7 +544,7 @@ def own_words(question: str, phrased: str, text: str) -> str:
     "try e.g." is left alone)."""
     import re
 
-    from sg3d.queries.phrasing import said_word
+    from sg3d.queries.reader.tidy import said_word
 
     head, sep, tail = text.partition("; try e.g.")
     typed = {w.strip(".'") for w in re.sub(r"[^\w'. -]+", " ", question.lower()).split()}
@@ -664,9 +664,10 @@ def _change(question: str, form: Form, on_change, embedding) -> Answer:
 
 
 def _phrase(store, text: str, building: Optional[str]) -> tuple[str, list[str]]:
-    """Frames, apostrophes, numbers and typos (sg3d/queries/phrasing.py); room names are never
+    """Frames, apostrophes, numbers and typos (sg3d/queries/reader); room names are never
     read as typos (they are looked up only when a word is outside the vocabulary)."""
-    from sg3d.queries.phrasing import fix_typos, is_word, tidy
+    from sg3d.queries.reader.tidy import tidy
+    from sg3d.queries.reader.typos import fix_typos, is_word
 
     try:
         tidied = tidy(text)
@@ -710,7 +711,7 @@ def _room_names(store, building: Optional[str], with_buildings: bool = False) ->
 
 def _in_unit(a: Answer, question: str) -> Answer:
     """A distance asked in a unit ("how far ... in centimetres") says it in that unit too."""
-    from sg3d.queries.phrasing import asked_unit
+    from sg3d.queries.reader.tidy import asked_unit
     from sg3d.queries.vocabulary import UNIT_M
 
     unit = asked_unit(question)
