@@ -104,7 +104,7 @@ def test_a_cold_ask_loads_only_its_command_and_the_shipped_tables(tmp_path):
     res = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, cwd=REPO)
     assert res.returncode == 0 and res.stdout.strip() == "ok", res.stderr
     assert res.stderr == ""
-    assert list(tmp_path.glob("question-grammar-*")) == []
+    assert list(tmp_path.glob("question-parser-tables-*")) == []
 
 
 def test_the_command_keeps_pandas_from_the_driver_only():

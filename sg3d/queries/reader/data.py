@@ -1,5 +1,6 @@
-"""The rule table's file (sg3d/queries/data/rephrase_rules.toml), read once: its word tables and
-its plain patterns, for the steps written in Python that share them."""
+"""The reader's data files, read once: the lexicon (sg3d/queries/data/lexicon.toml) and the rule
+table (sg3d/queries/data/rephrase_rules.toml: its word tables and its plain patterns, for the
+steps written in Python that share them)."""
 from __future__ import annotations
 
 import functools
@@ -13,6 +14,13 @@ else:   # Python 3.10: the same parser, a dependency there (pyproject.toml)
     import tomli as tomllib  # type: ignore[import-not-found]
 
 RULES = Path(__file__).resolve().parents[1] / "data" / "rephrase_rules.toml"
+LEXICON = Path(__file__).resolve().parents[1] / "data" / "lexicon.toml"
+
+
+@functools.cache
+def lexicon_file() -> dict:
+    """The words of questions (sg3d/queries/data/lexicon.toml), as sg3d/queries/vocabulary.py names them."""
+    return tomllib.loads(LEXICON.read_text())
 
 
 @functools.cache
