@@ -22,7 +22,7 @@ Rules the answers follow (sg3d/queries/sets.py, sg3d/queries/answers.py; said in
 from __future__ import annotations
 
 import functools
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Callable, Iterator, Optional
 
 from sg3d.core.model import SHAPE_WORDS
@@ -90,7 +90,7 @@ def room_filters(form: Form, ev: Evaluator) -> list[Resolved]:
         if np.toward is not None:
             visit(np.toward)
 
-    form.filters = take(form.filters)
+    form.filters[:] = take(form.filters)
     for s in form.sets:
         visit(s)
     return found
@@ -462,12 +462,16 @@ def _unknown_before(text: str, stopped: Optional[str]) -> Optional[str]:
     return next((w for w in before if w and w not in _vocabulary() and not any(c.isdigit() for c in w)), None)
 
 
+def planned(form: Form) -> Form:
+    """The form as the plan reads it: "show me the biggest bowl" (a list with an extreme) is the extreme."""
+    return replace(form, op="extreme") if form.op == "list" and form.sets and form.sets[0].superlative else form
+
+
 def compile_question(run, form: Form, room: Optional[str], room_rows, scope: Callable, embedding=None,
                      use_embedding=True, building: Optional[str] = None) -> Outcome:
     """Plan a read form: a simple one becomes a Query for the per-form templates (kind
     `simple`), any other is answered here over the scope's rows; or refuse naming the word."""
-    if form.op == "list" and form.sets and form.sets[0].superlative:
-        form.op = "extreme"          # "show me the biggest bowl"
+    form = planned(form)
     logical = form.form()
     ev = Evaluator(run, room_rows, embedding, use_embedding, building)
     try:

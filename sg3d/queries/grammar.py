@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import functools
 import logging
+from dataclasses import replace
 from pathlib import Path
 from typing import Iterator, Optional, TypeVar
 
@@ -161,10 +162,10 @@ def _one(found: Iterator[_T]) -> _T:
 class _ToForm(Transformer):
     def start(self, items):
         form = _one(i for i in items if isinstance(i, Form))
-        form.filters += [i for i in items if isinstance(i, Filter)]     # a fronted exception
+        form.filters.extend(i for i in items if isinstance(i, Filter))     # a fronted exception
         seen = [i for i in items if isinstance(i, NP)]
         if seen:
-            form.seen_from = seen[-1]
+            form = replace(form, seen_from=seen[-1])
         _fill_ones(form)
         if form.op != "distance":
             _measured_from(form.sets + [f.other for f in form.filters])
@@ -197,15 +198,11 @@ class _ToForm(Transformer):
     def exists_afford(self, items):
         """"is there a glass or a cup I could drink out of": whether any object of those kinds
         affords the activity (yes or no, naming them)."""
-        form = self.afford_kind(items[1:])         # after the "is" of "is there"
-        form.compare = "exists"
-        return form
+        return replace(self.afford_kind(items[1:]), compare="exists")         # after the "is" of "is there"
 
     def afford_kind(self, items):
         """"which desk could I work at": the affording objects of that kind only."""
-        form = self.afford(items)
-        form.sets = [i for i in items if isinstance(i, NP)]
-        return form
+        return replace(self.afford(items), sets=[i for i in items if isinstance(i, NP)])
 
     def seen(self, items):
         return items[-1]
@@ -371,9 +368,7 @@ class _ToForm(Transformer):
 
     def exists_owned_none(self, items):
         """"does the living room have no sofa", "does the kitchen not have a fridge": none of it there."""
-        form = self.exists_owned(items)
-        form.op, form.compare, form.number = "at_least", "exactly", 0.0
-        return form
+        return replace(self.exists_owned(items), op="at_least", compare="exactly", number=0.0)
 
     def at_least(self, items):
         word = _one(str(t) for t in items if isinstance(t, Token) and t.type in ("MORELESS", "EXACTLY"))
@@ -455,13 +450,13 @@ class _ToForm(Transformer):
         if sup in DISTANCE_SUPERLATIVES:
             head, other = form.sets[0], form.sets[1]
             head.superlative, head.toward = sup, other
-            form.sets = [head]
+            form = replace(form, sets=[head])
         else:
             # "which cup is the biggest" / "which is the biggest cup": one set, the word on it
             words = [w for s in form.sets for w in s.words]
             number = next((s.number for s in form.sets if s.number is not None), None)
             filters = [f for s in form.sets for f in s.filters]
-            form.sets = [NP(words, number=number, superlative=sup, filters=filters, definite=True)]
+            form = replace(form, sets=[NP(words, number=number, superlative=sup, filters=filters, definite=True)])
         return form
 
     def distance(self, items):
@@ -470,7 +465,7 @@ class _ToForm(Transformer):
         form = self._op("distance", items)
         if len(form.sets) == 1 and len(form.sets[0].alternatives) == 2 \
                 and any(a.superlative in DISTANCE_SUPERLATIVES for a in form.sets[0].alternatives):
-            form.sets = list(form.sets[0].alternatives)
+            form = replace(form, sets=list(form.sets[0].alternatives))
         if len(form.sets) == 2:
             for mine, other in (form.sets, form.sets[::-1]):
                 if mine.superlative in DISTANCE_SUPERLATIVES and mine.toward is None:
@@ -503,28 +498,21 @@ class _ToForm(Transformer):
 
     def rooms_counted_over(self, items):
         """"how many rooms have more than 2 chairs": the same rooms, counted."""
-        form = self.rooms_over(items)
-        form.op = "rooms_counted"
-        return form
+        return replace(self.rooms_over(items), op="rooms_counted")
 
     def rooms_but_not(self, items):
         """"which rooms have a chair but no fridge": the rooms holding the first, none of the second."""
         nps = [i for i in items if isinstance(i, NP)]
-        form = self._op("rooms", [nps[0]] + [i for i in items if isinstance(i, list)])
-        form.lacking = [nps[1]]
-        return form
+        return self._op("rooms", [nps[0]] + [i for i in items if isinstance(i, list)], lacking=[nps[1]])
 
     def rooms_without(self, items):
         """"which rooms have no fridge", "rooms without a fridge": the rooms holding none of it."""
-        form = self._op("rooms", [i for i in items if isinstance(i, list)])
-        form.lacking = [i for i in items if isinstance(i, NP)]
-        return form
+        return self._op("rooms", [i for i in items if isinstance(i, list)],
+                        lacking=[i for i in items if isinstance(i, NP)])
 
     def rooms_counted_without(self, items):
         """"how many rooms have no fridge": the same rooms, counted."""
-        form = self.rooms_without(items)
-        form.op = "rooms_counted"
-        return form
+        return replace(self.rooms_without(items), op="rooms_counted")
 
     @staticmethod
     def _bigger(items) -> str:
@@ -546,13 +534,12 @@ class _ToForm(Transformer):
         the last alternative of the trailing relation is the second one (`_last_or`)."""
         form = self.bigger(items)
         if len(form.sets) == 1 and len(form.sets[0].alternatives) == 2:
-            form.sets = list(form.sets[0].alternatives)
+            form = replace(form, sets=list(form.sets[0].alternatives))
         if len(form.sets) == 1:
-            form.sets = _last_or(form.sets[0])
+            form = replace(form, sets=_last_or(form.sets[0]))
         if len(form.sets) != 2:
             raise GrammarError("compare two things, e.g. 'which is bigger, the cup or the book'")
-        form.op = "size_which"
-        return form
+        return replace(form, op="size_which")
 
     def room_most(self, items):
         word = _one(str(t) for t in items if isinstance(t, Token) and t.type in ("MOSTFEW", "MORELESS"))
@@ -563,8 +550,7 @@ class _ToForm(Transformer):
         """"which room has more chairs, the kitchen or the study": the most among the rooms named."""
         nps = [i for i in items if isinstance(i, NP)]
         form = self.room_most([i for i in items if not isinstance(i, NP)] + nps[:1])
-        form.among = list(nps[1].alternatives) or [nps[1]]
-        return form
+        return replace(form, among=list(nps[1].alternatives) or [nps[1]])
 
     def rooms_next(self, items):
         return self._op("rooms_next_to", items)

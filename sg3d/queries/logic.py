@@ -6,7 +6,7 @@ answers. Words are kept as they were read, so a refusal can name the one it did 
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Optional
+from typing import Literal, Optional, get_args
 
 from sg3d.queries.lexicon import Target
 
@@ -96,12 +96,20 @@ class NP:
         return out
 
 
-@dataclass
-class Form:
-    """The operation on top: count, exists, list, where, attribute, extreme, distance, compare,
-    at_least, rooms, room_count, room_most, rooms_next_to, affordance."""
+# the operations a question asks for (sg3d/queries/answers.py OPS answers each; changes, gone and
+# before are answered from the scans' history by the application)
+Op = Literal["count", "exists", "at_least", "compare", "list", "where", "attribute", "extreme", "distance",
+             "rooms", "room_most", "rooms_next_to", "room_count", "affordance", "rooms_counted", "size_compare",
+             "size_which", "rooms_next_hold", "route", "changes", "gone", "before"]
+OPS: tuple[Op, ...] = get_args(Op)
 
-    op: str                                 # the operations of the module docstring; also changes | gone | before
+
+@dataclass(frozen=True)
+class Form:
+    """What a question asks, as read: the operation on top (`Op`) over sets of objects. Never
+    changed once read (a step that reads it otherwise makes a new one, `dataclasses.replace`)."""
+
+    op: Op
     sets: list[NP] = field(default_factory=list)
     attribute: Optional[str] = None         # colour | size | height | tall | width | length
     compare: Optional[str] = None           # more | fewer (compare, at_least, room_most); exists (affordance asked yes/no)

@@ -34,7 +34,7 @@ SAME_AS; counts over more than one room count each SAME_AS group once (`_same_as
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any, Callable, Optional, Sequence, Union, cast
+from typing import Any, Optional, Sequence, Union, cast
 
 from sg3d.core.errors import Sg3dError
 from sg3d.core.relation_rules import SYMMETRIC, VIEWPOINT
@@ -83,6 +83,9 @@ class Answer:
     # no object of an asked kind is in scope: the answer says it was not found, not that none is
     absent_evidence: bool = False
     plan: Optional[str] = None              # how the reading was answered (--explain): see PLANS
+    # a question about re-scans, as read: the application answers it from the scans' history
+    # (sg3d/app/ask.py dispatches on it); until then this answer is a refusal saying so
+    change: Optional["ChangeAsked"] = None
 
     def to_json(self) -> dict:
         return {"question": self.question, "ok": self.ok, "form": self.form, "answer": self.text,
@@ -115,6 +118,15 @@ class Answer:
                        f"{p.get('observations')} observations, {p.get('n_frames')} frames, "
                        f"frames {p.get('first_frame')}-{p.get('last_frame')}, last seen {p.get('last_seen')})")
         return out
+
+
+@dataclass(frozen=True)
+class ChangeAsked:
+    """A change question (changes | gone | before) as the reader read it: its form, and the text
+    it read (refusals name the words as typed, `own_words`)."""
+
+    form: Form
+    phrased: str
 
 
 class Refusal(Sg3dError):
@@ -514,13 +526,12 @@ FORMS = {"where": where, "rooms": rooms_with, "count": count, "exists": exists, 
 
 
 def answer(store, question: str, room: Optional[str] = None, building: Optional[str] = None,
-           embedding=None, use_embedding: bool = True, viewpoint=None,
-           on_change: Optional[Callable[[ChangeQuery], Answer]] = None) -> Answer:
+           embedding=None, use_embedding: bool = True, viewpoint=None) -> Answer:
     """Answer one question from the stored scene graph (read-only, except the taxonomy load).
     `viewpoint`: where "in front of / behind / left of / right of" are seen from (a camera pose,
     a point or an object; sg3d/queries/viewpoint.py), unless the question says "as seen from the X".
-    `on_change`: answers a question about re-scans (the application's history of scans); without
-    it such a question is refused."""
+    A question about re-scans is refused here, its reading in `Answer.change` for the application
+    to answer from the history of scans."""
     if len(question) > MAX_QUESTION:
         return Answer(question[:60] + "...", False,
                       f"the question is {len(question)} characters long; ask in at most {MAX_QUESTION}")
@@ -532,7 +543,7 @@ def answer(store, question: str, room: Optional[str] = None, building: Optional[
         return Answer(question, False, refusal(compose.grammar_refusal(question, exc).text, question))
     if not phrased:
         return Answer(question, False, refusal("empty question", question))
-    a = _answer(store, question, phrased, notes, room, building, embedding, use_embedding, viewpoint, on_change)
+    a = _answer(store, question, phrased, notes, room, building, embedding, use_embedding, viewpoint)
     if not a.ok:
         a.text = own_words(question, phrased, a.text)
     return a
@@ -564,7 +575,7 @@ def own_words(question: str, phrased: str, text: str) -> str:
 
 
 def _answer(store, question: str, phrased: str, notes: list[str], room, building, embedding, use_embedding,
-            viewpoint, on_change) -> Answer:
+            viewpoint) -> Answer:
     from sg3d.queries.grammar import GrammarError
 
     run = _Run(store, viewpoint)
@@ -585,8 +596,10 @@ def _answer(store, question: str, phrased: str, notes: list[str], room, building
         o = compose.grammar_refusal(phrased, exc)
         return Answer(question, False, refusal(o.text, question) if o.kind == "unread" else o.text)
     if form.op in CHANGE_OPS:
-        return _change(question, form, on_change, embedding)
+        return Answer(question, False, "questions about re-scans are answered by `sg3d ask` (the scans' history)",
+                      form="changes", logical=form.form(), change=ChangeAsked(form, phrased))
     run.seen_from = form.seen_from.text() if form.seen_from is not None else None
+    form = compose.planned(form)
     try:
         outcome = compose.compile_question(run, form, room, rows_of, lambda name: _scope(run, name, building, seen),
                                            embedding, use_embedding, building)
@@ -650,17 +663,9 @@ def change_query(form: Form, embedding=None) -> ChangeQuery:
     return ChangeQuery("before", target=target, room=room)
 
 
-def _change(question: str, form: Form, on_change, embedding) -> Answer:
-    if on_change is None:
-        return Answer(question, False, "questions about re-scans are answered by `sg3d ask` (the scans' history)",
-                      form="changes", logical=form.form())
-    try:
-        asked = change_query(form, embedding)
-    except Refusal as exc:
-        return Answer(question, False, str(exc), form="changes", logical=form.form())
-    result = on_change(asked)
-    result.logical, result.plan = form.form(), "history"
-    return result
+def history_refusal(question: str, asked: ChangeAsked, refused: Refusal) -> Answer:
+    """A change question whose objects cannot be placed (`change_query`'s Refusal), refused."""
+    return Answer(question, False, str(refused), form="changes", logical=asked.form.form())
 
 
 def _phrase(store, text: str, building: Optional[str]) -> tuple[str, list[str]]:
