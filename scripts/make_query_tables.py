@@ -20,7 +20,7 @@ sys.path.insert(0, str(REPO))
 
 
 def main() -> int:
-    from sg3d.queries.grammar import build_parser, parser_grammar, shipped_tables
+    from sg3d.queries.reader.grammar import build_parser, parser_grammar, shipped_tables
 
     grammar = parser_grammar()
     tables = shipped_tables(grammar)

@@ -62,7 +62,7 @@ def objects(store, room="kitchen"):
 
 # -- 1. typos only for unknown words -------------------------------------------------------------
 def test_correct_words_are_never_corrected():
-    from sg3d.queries.compose import typo_vocabulary
+    from sg3d.queries.reader.typos import typo_vocabulary
     from sg3d.queries.reader.tidy import tidy
     from sg3d.queries.reader.typos import common_words, fix_typos
 

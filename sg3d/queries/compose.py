@@ -21,30 +21,22 @@ Rules the answers follow (sg3d/queries/sets.py, sg3d/queries/answers.py; said in
 """
 from __future__ import annotations
 
-import functools
 from dataclasses import dataclass, field, replace
 from typing import Callable, Iterator, Optional
 
-from sg3d.core.model import SHAPE_WORDS
 from sg3d.core.relation_rules import VIEWPOINT
 from sg3d.queries.answers import OPS, Answerer
 from sg3d.queries.lexicon import Target, lemma
 from sg3d.queries.logic import NP, Filter, Form, Query
+from sg3d.queries.reader.typos import typo_vocabulary
 from sg3d.queries.sets import Evaluator, Resolved, Unanswerable
 from sg3d.queries.vocabulary import (
-    AFFORDANCE_VERBS,
-    COLOURS,
     EVERYWHERE,
-    EXTRA_AFFORDANCES,
-    GENERIC,
     INVERSE,
     RELATIONS,
-    SIZES,
     STORED_TYPES,
-    STRUCTURE_LABELS,
     SUPERLATIVES,
 )
-from sg3d.queries.wording import plural
 
 # -- from question text to answer -----------------------------------------------------------------
 SIMPLE_OPS = ("count", "exists", "list", "where", "attribute", "rooms")
@@ -277,76 +269,6 @@ def _simple_extreme(form: Form, ev: Evaluator) -> bool:
                for f in head.filters)
 
 
-# common English words a question may hold around its object words: never "fixed" into one
-COMMON_WORDS = frozenset("""
-with without from for into onto upon about after before again against along also always among
-another anyone anybody because been being both could each either else even ever every except
-here hers his how however into itself just like made make maybe might mine more most much must
-near neither never none nothing now often only other others otherwise ours ourselves over own
-perhaps quite rather really same shall should since such than that their theirs them themselves
-then there these they this those though through thus till together too toward towards under
-until very want wants want was were what whatever when whenever where wherever whether which
-while who whom whose why will would yet your yours yourself want need needs look looking see
-seen show tell know think thought wonder said say give given take taken keep kept leave left
-right front back side sides part parts other inside outside middle center centre corner edge
-white black made using used have having had does done doing going gone come comes came
-glaze painted wooden metal plastic glass paper colour colours colored coloured
-""".split())
-
-
-def typo_vocabulary() -> frozenset:
-    """Every word a question may use: the grammar's, the object nouns (singular and plural),
-    colours, sizes, shapes, structure, affordance verbs and common question words."""
-    return _vocabulary()
-
-
-@functools.cache
-def typo_nouns() -> frozenset:
-    """The object nouns of the vocabulary (singular and plural): what a typo after "the" is read as
-    when it is as close to another word (reader.typos.fix_typos)."""
-    import json
-
-    from sg3d.queries.lexicon import SYNONYMS, vocabulary
-    from sg3d.queries.taxonomy import Taxonomy
-
-    nouns = set(vocabulary()) | set(Taxonomy.load().names)
-    data = json.loads(SYNONYMS.read_text())
-    nouns |= set(data["words"]) | set(data["any"])
-    out = {n for n in nouns if n and " " not in n}
-    return frozenset(out | {plural(n) for n in out})
-
-
-@functools.cache
-def _vocabulary() -> frozenset:
-    import json
-
-    from sg3d.queries.grammar import RESERVED
-    from sg3d.queries.lexicon import SYNONYMS, vocabulary
-    from sg3d.queries.taxonomy import Taxonomy
-
-    words: set[str] = set(RESERVED) | set(COLOURS) | set(SIZES) | set(SHAPE_WORDS)
-    words |= set(STRUCTURE_LABELS) | GENERIC | {w for x in EVERYWHERE for w in x.split()}
-    words |= {w for k in list(AFFORDANCE_VERBS) + list(EXTRA_AFFORDANCES) for w in k.split()}
-    words |= {"please", "tell", "know", "could", "would", "should", "me", "us", "find", "put", "my",
-              "cup", "does", "kitchen", "bedroom", "bathroom", "office", "living", "dining", "objects",
-              "things", "items", "walls", "shelves", "surfaces", "counters", "color", "colors", "whats",
-              "everything", "total", "type", "types", "kind", "kinds", "piece", "pieces", "sort",
-              "sorts", "ones", "visible", "present", "stored", "there", "up", "down", "yes", "no",
-              "left", "right", "front", "behind", "seen", "as", "bigger", "smaller", "larger", "altogether",
-              "currently", "one", "that", "here",
-              "size", "sizes", "hello", "thanks", "thank", "get", "where", "on", "top", "something"}
-    words |= COMMON_WORDS
-    nouns = set(vocabulary()) | set(Taxonomy.load().names)
-    data = json.loads(SYNONYMS.read_text())
-    nouns |= set(data["words"]) | set(data["any"])
-    for n in nouns:
-        parts = n.split()
-        words |= set(parts)
-        if parts:
-            words.add(plural(parts[-1]))
-    return frozenset(w for w in words if w)
-
-
 @dataclass
 class Outcome:
     """What the compiler made of a question: an answer, a plan for the per-form templates
@@ -366,79 +288,10 @@ class Outcome:
     room_ids: Optional[list[str]] = None   # simple: the rooms the question names, already looked up
 
 
-def read_question(text: str, room_rows: Callable[[str], list], all_room_names: Callable[[], list]):
-    """Normalised text -> Form, retrying with multi-word room names as one word each ("in my
-    room", "in the living room": 'room' is a grammar word). GrammarError when neither reads."""
-    from sg3d.queries.grammar import GrammarError, read
-
-    try:
-        return read(text), room_rows
-    except GrammarError as first:
-        if " room" not in f" {text}":
-            raise
-        out, placeholders = _room_placeholders(text, all_room_names())
-        if not placeholders:
-            raise first
-        try:
-            form = read(out)
-        except GrammarError:
-            raise first from None
-
-        return form, _PlacedRooms(room_rows, placeholders)
-
-
-class _PlacedRooms:
-    """The room look-up of a question whose multi-word room names the reader replaced by one word
-    each: a placeholder is looked up as the name said; `said` gives that name back (the rooms
-    found in a walk are matched by it, sg3d/queries/walk.py)."""
-
-    def __init__(self, room_rows: Callable[[str], list], placeholders: dict[str, str]):
-        self.room_rows, self.placeholders = room_rows, placeholders
-
-    def said(self, name: str) -> str:
-        words = name.split()
-        return self.placeholders.get(words[-1], name) if words else name
-
-    def __call__(self, name: str) -> list:
-        return self.room_rows(self.said(name))
-
-
-def _room_placeholders(text: str, stored: list) -> tuple[str, dict[str, str]]:
-    """Multi-word room names in `text` replaced by one word each (token -> name as said): the
-    stored names as written, then "<words> room" spans that name a stored room loosely
-    ("the living room" -> `livingroom`, sg3d/queries/place_names.py)."""
-    from sg3d.queries.place_names import match_name
-
-    names = sorted((n.lower() for n in stored), key=len, reverse=True)
-    placeholders: dict[str, str] = {}
-    out = f" {text} "
-
-    def put(name: str) -> None:
-        i = len(placeholders)
-        token = "roomname" + "abcdefghijklmnopqrstuvwxyz"[i % 26] * (1 + i // 26)
-        placeholders[token] = name
-        nonlocal out
-        out = out.replace(f" {name} ", f" {token} ")
-
-    for name in names:
-        if f" {name} " in out:
-            put(name)
-    words = out.split()
-    for j, w in enumerate(words):
-        if w != "room":
-            continue
-        for i in range(max(0, j - 2), j):       # "living room", "guest bed room"
-            span = " ".join(words[i:j + 1])
-            if words[i] not in ("the", "a", "my", "this", "in") and match_name(span, names, typo_vocabulary()):
-                put(span)
-                break
-    return out.strip(), placeholders
-
-
 def grammar_refusal(text: str, exc) -> Outcome:
     """The grammar stopped: refuse naming the word it could not read (a word that carries a
     condition first, then where reading stopped, else the whole text)."""
-    from sg3d.queries.grammar import ReaderFailure
+    from sg3d.queries.reader.grammar import ReaderFailure
 
     if "has no unit" in str(exc) or "to what?" in str(exc):
         return Outcome("refuse", str(exc))
@@ -455,11 +308,11 @@ def _unknown_before(text: str, stopped: Optional[str]) -> Optional[str]:
     """Where the reader stopped at a word it knows ('the' in "blorp the frobnicator", 'of' in
     "what is the meaning of life"), the word to name is the first one before it that no word
     list holds ('blorp', 'meaning'); None when the stop word is itself unknown or none is."""
-    if stopped is None or stopped not in _vocabulary():
+    if stopped is None or stopped not in typo_vocabulary():
         return None
     words = [w.strip(".,;:!?'\"") for w in text.split()]
     before = words[:words.index(stopped)] if stopped in words else words
-    return next((w for w in before if w and w not in _vocabulary() and not any(c.isdigit() for c in w)), None)
+    return next((w for w in before if w and w not in typo_vocabulary() and not any(c.isdigit() for c in w)), None)
 
 
 def planned(form: Form) -> Form:
@@ -561,7 +414,7 @@ def plan_simple(form: Form, ev: Evaluator, room: Optional[str]) -> Query:
 def plan_question(question: str, embedding=None, use_embedding: bool = True) -> Query:
     """The plan of a simple question without a store (no room names known): what the per-form
     templates would run with. GrammarError or Unanswerable when it is not read, or not simple."""
-    from sg3d.queries.grammar import read
+    from sg3d.queries.reader.grammar import read
     from sg3d.queries.reader.tidy import tidy
 
     form = read(tidy(question).text)

@@ -1,6 +1,6 @@
 """The logical form of a question: sets of objects filtered by relations, and one operation.
 
-Plain data the grammar (sg3d/queries/grammar.py) produces and the compiler (sg3d/queries/compose.py)
+Plain data the grammar (sg3d/queries/reader/grammar.py) produces and the compiler (sg3d/queries/compose.py)
 answers. Words are kept as they were read, so a refusal can name the one it did not understand.
 """
 from __future__ import annotations
@@ -119,6 +119,8 @@ class Form:
     seen_from: Optional[NP] = None          # "as seen from the sink": the eye of a viewpoint relation
     among: list[NP] = field(default_factory=list)   # room_most: only these rooms ("the kitchen or the study")
     lacking: list[NP] = field(default_factory=list)  # rooms: holding none of these ("have no fridge")
+    # the one-word stand-ins the reader put for multi-word room names (stand-in -> the name as said)
+    rooms_said: dict[str, str] = field(default_factory=dict)
 
     def form(self) -> dict:
         out: dict = {"op": self.op, "sets": [s.form() for s in self.sets]}

@@ -1,7 +1,7 @@
 """The words of questions, written once (sg3d/queries/data/lexicon.toml): relations, colours, sizes,
 extremes, units, affordances, scope words, and the examples a refusal offers; and row limits.
 
-The grammar (sg3d/queries/grammar.py) builds its relation rule from `RELATIONS`; the sets
+The grammar (sg3d/queries/reader/grammar.py) builds its relation rule from `RELATIONS`; the sets
 (sg3d/queries/sets.py), the per-form templates (sg3d/queries/vqa.py) and the answers read the
 same tables, so a word the grammar reads is a word every answer knows.
 """

@@ -1,7 +1,7 @@
 """`sg3d ask`: question -> query form -> Cypher template -> answer (paper Sec. VI-A).
 
 Entry point: `answer(store, question, room=None, building=None) -> Answer`. The question is read
-once, by the grammar (sg3d/queries/grammar.py), into a logical form (sg3d/queries/logic.py); the
+once, by the grammar (sg3d/queries/reader/grammar.py), into a logical form (sg3d/queries/logic.py); the
 planner (sg3d/queries/compose.py) turns a simple form into a `Query` for the per-form functions
 here, and answers every other form over the scope's rows. One function per
 query form (`count`, `exists`, `list_objects`, `attribute`, `show`); each runs templates of
@@ -44,6 +44,7 @@ from sg3d.queries import viewpoint as views
 from sg3d.queries.answer_parts import AnswerObject, Provenance, TemplateStep
 from sg3d.queries.answers import row_value
 from sg3d.queries.logic import ChangeQuery, Form, Query
+from sg3d.queries.reader.typos import typo_nouns, typo_vocabulary
 from sg3d.queries.naming import names_in_store
 from sg3d.queries.scoping import by_size, few_rooms
 from sg3d.queries.sets import same_as_roots
@@ -231,7 +232,7 @@ def _building_like(run: _Run, building: str) -> list[dict]:
     from sg3d.queries.place_names import match_name, read_as
 
     rows = run.read("vqa_room_names", building=None)
-    hit = match_name(building, {r["building"] for r in rows}, compose.typo_vocabulary())
+    hit = match_name(building, {r["building"] for r in rows}, typo_vocabulary())
     said = read_as(building, hit, "building") if hit else None
     if said and said not in run.notes:
         run.notes.append(said)
@@ -245,7 +246,7 @@ def _rooms_like(store, name: str, building: Optional[str]) -> list[dict]:
     from sg3d.queries.place_names import match_name, read_as
 
     rows = store.read("vqa_room_names", building=None)
-    vocab = compose.typo_vocabulary()
+    vocab = typo_vocabulary()
     notes = []
     if building:
         b = match_name(building, {r["building"] for r in rows}, vocab)
@@ -535,7 +536,7 @@ def answer(store, question: str, room: Optional[str] = None, building: Optional[
     if len(question) > MAX_QUESTION:
         return Answer(question[:60] + "...", False,
                       f"the question is {len(question)} characters long; ask in at most {MAX_QUESTION}")
-    from sg3d.queries.grammar import GrammarError
+    from sg3d.queries.reader.grammar import GrammarError
 
     try:
         phrased, notes = _phrase(store, question, building)
@@ -576,22 +577,16 @@ def own_words(question: str, phrased: str, text: str) -> str:
 
 def _answer(store, question: str, phrased: str, notes: list[str], room, building, embedding, use_embedding,
             viewpoint) -> Answer:
-    from sg3d.queries.grammar import GrammarError
+    from sg3d.queries.reader.grammar import GrammarError
+
+    from sg3d.queries.reader.reading import GrammarReader, StoredRooms, room_lookup
 
     run = _Run(store, viewpoint)
-    seen: dict[str, list[dict]] = {}
-
-    def room_rows(name: str) -> list[dict]:
-        # one indexed look-up per candidate name, not a read of every room (1,000 rooms: 10 ms)
-        if name not in seen:
-            seen[name] = _rooms_named(store, name, building)
-            said = seen[name][0].get("read_as") if seen[name] else None
-            if said and said not in run.notes:
-                run.notes.append(said)
-        return seen[name]
-
+    # one indexed look-up per candidate name, not a read of every room (1,000 rooms: 10 ms)
+    rooms = StoredRooms(lambda: _room_names(store, building), lambda name: _rooms_named(store, name, building),
+                        run.notes)
     try:       # the one reading of the question
-        form, rows_of = compose.read_question(phrased, room_rows, lambda: _room_names(store, building))
+        form = GrammarReader().read(phrased, rooms)
     except GrammarError as exc:
         o = compose.grammar_refusal(phrased, exc)
         return Answer(question, False, refusal(o.text, question) if o.kind == "unread" else o.text)
@@ -601,7 +596,8 @@ def _answer(store, question: str, phrased: str, notes: list[str], room, building
     run.seen_from = form.seen_from.text() if form.seen_from is not None else None
     form = compose.planned(form)
     try:
-        outcome = compose.compile_question(run, form, room, rows_of, lambda name: _scope(run, name, building, seen),
+        outcome = compose.compile_question(run, form, room, room_lookup(form, rooms.rows),
+                                           lambda name: _scope(run, name, building, rooms.seen),
                                            embedding, use_embedding, building)
     except Refusal as exc:
         return Answer(question, False, str(exc), steps=run.steps, logical=form.form())
@@ -610,7 +606,7 @@ def _answer(store, question: str, phrased: str, notes: list[str], room, building
     if outcome.kind != "simple" or outcome.query is None:
         return Answer(question, False, refusal(outcome.text, question) if outcome.kind == "unread"
                       else outcome.text, logical=outcome.form, steps=run.steps)
-    return _planned(question, outcome.query, outcome, run, room, building, seen, notes)
+    return _planned(question, outcome.query, outcome, run, room, building, rooms.seen, notes)
 
 
 def _planned(question: str, q: Query, outcome, run: _Run, room, building, seen, notes: list[str]) -> Answer:
@@ -680,12 +676,12 @@ def _phrase(store, text: str, building: Optional[str]) -> tuple[str, list[str]]:
         raise _reader_failed(text, "tidy", exc) from None
     asides = [f"ignored: {', '.join(tidied.dropped)}"] if tidied.dropped else []
     asides += tidied.notes
-    vocab = compose.typo_vocabulary()
+    vocab = typo_vocabulary()
     if all(is_word(w, vocab) for w in tidied.text.split()):
         return tidied.text, asides
     rooms = {w for n in _room_names(store, building, with_buildings=True) for w in n.lower().split()}
     try:
-        fixed, notes = fix_typos(tidied.text, vocab, rooms, compose.typo_nouns())
+        fixed, notes = fix_typos(tidied.text, vocab, rooms, typo_nouns())
     except Exception as exc:        # the same for the typo fixer
         raise _reader_failed(tidied.text, "fix_typos", exc) from None
     return fixed, asides + notes
@@ -696,7 +692,7 @@ def _reader_failed(text: str, step: str, exc: Exception):
     grammar's ReaderFailure naming the first word (the pre-pass reads the whole text at once)."""
     import logging
 
-    from sg3d.queries.grammar import ReaderFailure
+    from sg3d.queries.reader.grammar import ReaderFailure
 
     word = next(iter(text.split()), None)
     logging.getLogger("sg3d.queries").warning("the question reader (%s) failed on %r: %s: %s", step, text,

@@ -27,7 +27,7 @@ def walk_layer(a) -> list[dict]:
 
 def said_name(a, np: NP) -> str:
     """The words of a room's name as the user said them: a multi-word name the reader replaced
-    by one word (compose.read_question) is given back."""
+    by one word (reader.reading.GrammarReader) is given back."""
     text = np.text()
     back = getattr(a.ev.is_room, "said", None)
     return back(text) if back is not None else text

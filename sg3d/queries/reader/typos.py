@@ -180,3 +180,61 @@ def fix_typos(text: str, vocab: frozenset, known: Iterable[str] = (),
             notes.append(f"read '{w}' as '{fixed}'")
     return " ".join(out), notes
 
+
+def typo_vocabulary() -> frozenset:
+    """Every word a question may use: the grammar's, the object nouns (singular and plural),
+    colours, sizes, shapes, structure, affordance verbs and common question words."""
+    return _vocabulary()
+
+
+@functools.cache
+def typo_nouns() -> frozenset:
+    """The object nouns of the vocabulary (singular and plural): what a typo after "the" is read as
+    when it is as close to another word (reader.typos.fix_typos)."""
+    import json
+
+    from sg3d.queries.lexicon import SYNONYMS, vocabulary
+    from sg3d.queries.taxonomy import Taxonomy
+    from sg3d.queries.wording import plural
+
+    nouns = set(vocabulary()) | set(Taxonomy.load().names)
+    data = json.loads(SYNONYMS.read_text())
+    nouns |= set(data["words"]) | set(data["any"])
+    out = {n for n in nouns if n and " " not in n}
+    return frozenset(out | {plural(n) for n in out})
+
+
+@functools.cache
+def _vocabulary() -> frozenset:
+    import json
+
+    from sg3d.core.model import SHAPE_WORDS
+    from sg3d.queries.reader.data import lexicon_file
+    from sg3d.queries.reader.grammar import RESERVED
+    from sg3d.queries.vocabulary import (
+        AFFORDANCE_VERBS, COLOURS, EVERYWHERE, EXTRA_AFFORDANCES, GENERIC, SIZES, STRUCTURE_LABELS)
+    from sg3d.queries.wording import plural
+    from sg3d.queries.lexicon import SYNONYMS, vocabulary
+    from sg3d.queries.taxonomy import Taxonomy
+
+    words: set[str] = set(RESERVED) | set(COLOURS) | set(SIZES) | set(SHAPE_WORDS)
+    words |= set(STRUCTURE_LABELS) | GENERIC | {w for x in EVERYWHERE for w in x.split()}
+    words |= {w for k in list(AFFORDANCE_VERBS) + list(EXTRA_AFFORDANCES) for w in k.split()}
+    words |= {"please", "tell", "know", "could", "would", "should", "me", "us", "find", "put", "my",
+              "cup", "does", "kitchen", "bedroom", "bathroom", "office", "living", "dining", "objects",
+              "things", "items", "walls", "shelves", "surfaces", "counters", "color", "colors", "whats",
+              "everything", "total", "type", "types", "kind", "kinds", "piece", "pieces", "sort",
+              "sorts", "ones", "visible", "present", "stored", "there", "up", "down", "yes", "no",
+              "left", "right", "front", "behind", "seen", "as", "bigger", "smaller", "larger", "altogether",
+              "currently", "one", "that", "here",
+              "size", "sizes", "hello", "thanks", "thank", "get", "where", "on", "top", "something"}
+    words |= set(lexicon_file()["typo_common_words"])
+    nouns = set(vocabulary()) | set(Taxonomy.load().names)
+    data = json.loads(SYNONYMS.read_text())
+    nouns |= set(data["words"]) | set(data["any"])
+    for n in nouns:
+        parts = n.split()
+        words |= set(parts)
+        if parts:
+            words.add(plural(parts[-1]))
+    return frozenset(w for w in words if w)

@@ -34,7 +34,7 @@ from sg3d.queries.vocabulary import (
 # the grammar (sg3d/queries/data/question.lark), over word lists filled in from the lexicon
 # (RELATION_WORDS, SUPER_WORDS, DSUPER_WORDS, UNIT_WORDS: sg3d/queries/vocabulary.py); the text
 # the parser tables are hashed from starts with a newline
-GRAMMAR = "\n" + (Path(__file__).resolve().parent / "data" / "question.lark").read_text()
+GRAMMAR = "\n" + (Path(__file__).resolve().parents[1] / "data" / "question.lark").read_text()
 
 
 def _alternatives(words) -> str:
@@ -109,7 +109,7 @@ def shipped_tables(grammar: str):
     import lark
 
     key = hashlib.sha1(f"{grammar}\n{lark.__version__}".encode()).hexdigest()[:12]
-    return Path(__file__).parent / "data" / f"question-parser-tables-{key}.pickle"
+    return Path(__file__).resolve().parents[1] / "data" / f"question-parser-tables-{key}.pickle"
 
 
 def _table_cache(grammar: str):
