@@ -76,7 +76,7 @@ def ask(store: GraphStore, question: str, room: Optional[str] = None, building: 
     problem = input_problem(question, room, building)
     if problem:
         raise AppError(problem)
-    from sg3d.queries.picture import write_picture
+    from sg3d.queries.answer.picture import write_picture
     from sg3d.queries.vqa import answer
 
     # the question is read once; one about re-scans (its reading in `Answer.change`) is answered

@@ -12,7 +12,7 @@ from sg3d.app.errors import AppError, NotFound
 from sg3d.graphdb.protocol import GraphStore
 
 if TYPE_CHECKING:
-    from sg3d.queries.answer_parts import AnswerObject
+    from sg3d.queries.answer.parts import AnswerObject
     from sg3d.queries.logic import ChangeQuery
 
 

@@ -10,7 +10,7 @@ evaluated over those rows: relation filters, negation (the complement within the
 bands (box centre to box centre), extremes, name look-ups, counts and comparisons. One round trip
 each; no subqueries (their results on the embedded store are wrong).
 
-Rules the answers follow (sg3d/queries/sets.py, sg3d/queries/answers.py; said in the answer where it matters):
+Rules the answers follow (sg3d/queries/sets.py, sg3d/queries/answer/operations.py; said in the answer where it matters):
 - "objects"/"things" mean every object of the object layer, unnamed ones too; structure (floor,
   walls, counters, shelves, surfaces) is asked for by name.
 - A colour word matches an object's main colour, as the per-room tallies count it; objects that
@@ -25,7 +25,7 @@ from dataclasses import dataclass, field, replace
 from typing import Callable, Iterator, Optional
 
 from sg3d.core.relation_rules import VIEWPOINT
-from sg3d.queries.answers import OPS, Answerer
+from sg3d.queries.answer.operations import OPS, Answerer
 from sg3d.queries.lexicon import Target, lemma
 from sg3d.queries.logic import NP, Filter, Form, Query
 from sg3d.queries.reader.typos import typo_vocabulary
@@ -144,7 +144,7 @@ def is_simple(form: Form, ev: Evaluator) -> bool:
 
 def neighbours(form: Form) -> bool:
     """"which room has the fewest neighbours": rooms counted by their ADJACENT_TO links."""
-    from sg3d.queries.answers import NEIGHBOUR_WORDS
+    from sg3d.queries.answer.operations import NEIGHBOUR_WORDS
     from sg3d.queries.lexicon import lemma
 
     return form.op == "room_most" and len(form.sets) == 1 and \

@@ -96,7 +96,7 @@ class NP:
         return out
 
 
-# the operations a question asks for (sg3d/queries/answers.py OPS answers each; changes, gone and
+# the operations a question asks for (sg3d/queries/answer/operations.py OPS answers each; changes, gone and
 # before are answered from the scans' history by the application)
 Op = Literal["count", "exists", "at_least", "compare", "list", "where", "attribute", "extreme", "distance",
              "rooms", "room_most", "rooms_next_to", "room_count", "affordance", "rooms_counted", "size_compare",

@@ -41,8 +41,8 @@ from sg3d.core.relation_rules import SYMMETRIC, VIEWPOINT
 from sg3d.graphdb import cypher
 from sg3d.queries import compose
 from sg3d.queries import viewpoint as views
-from sg3d.queries.answer_parts import AnswerObject, Provenance, TemplateStep
-from sg3d.queries.answers import row_value
+from sg3d.queries.answer.parts import AnswerObject, Provenance, TemplateStep
+from sg3d.queries.answer.operations import row_value
 from sg3d.queries.logic import ChangeQuery, Form, Query
 from sg3d.queries.reader.typos import typo_nouns, typo_vocabulary
 from sg3d.queries.naming import names_in_store
@@ -58,7 +58,7 @@ from sg3d.queries.vocabulary import (
     ROW_LIMIT,
     refusal,
 )
-from sg3d.queries.wording import plural, the, without_place
+from sg3d.queries.answer.wording import plural, the, without_place
 
 CHANGE_OPS = ("changes", "gone", "before")      # answered from the scans' history (sg3d/app/changes.py)
 # how a reading is answered, as --explain says it

@@ -13,7 +13,7 @@ from typing import Optional
 from sg3d.queries.logic import NP
 from sg3d.queries.place_names import match_name, squeezed
 from sg3d.queries.sets import Unanswerable
-from sg3d.queries.wording import plural
+from sg3d.queries.answer.wording import plural
 
 
 def walk_layer(a) -> list[dict]:

@@ -195,7 +195,7 @@ def typo_nouns() -> frozenset:
 
     from sg3d.queries.lexicon import SYNONYMS, vocabulary
     from sg3d.queries.taxonomy import Taxonomy
-    from sg3d.queries.wording import plural
+    from sg3d.queries.answer.wording import plural
 
     nouns = set(vocabulary()) | set(Taxonomy.load().names)
     data = json.loads(SYNONYMS.read_text())
@@ -213,7 +213,7 @@ def _vocabulary() -> frozenset:
     from sg3d.queries.reader.grammar import RESERVED
     from sg3d.queries.vocabulary import (
         AFFORDANCE_VERBS, COLOURS, EVERYWHERE, EXTRA_AFFORDANCES, GENERIC, SIZES, STRUCTURE_LABELS)
-    from sg3d.queries.wording import plural
+    from sg3d.queries.answer.wording import plural
     from sg3d.queries.lexicon import SYNONYMS, vocabulary
     from sg3d.queries.taxonomy import Taxonomy
 

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import pytest
 
-from sg3d.queries.answers import _attribute_of
+from sg3d.queries.answer.operations import _attribute_of
 from sg3d.queries.reader.grammar import GrammarError, read
 from sg3d.queries.lexicon import resolve
 from sg3d.queries.reader.tidy import tidy
