@@ -22,7 +22,7 @@ Rules the answers follow (sg3d/queries/sets.py, sg3d/queries/answer/operations.p
 from __future__ import annotations
 
 from dataclasses import dataclass, field, replace
-from typing import Callable, Iterator, Optional
+from typing import Callable, Iterator, Literal, Optional
 
 from sg3d.core.relation_rules import VIEWPOINT
 from sg3d.queries.answer.operations import OPS, Answerer
@@ -271,10 +271,9 @@ def _simple_extreme(form: Form, ev: Evaluator) -> bool:
 
 @dataclass
 class Outcome:
-    """What the compiler made of a question: an answer, a plan for the per-form templates
-    (`simple`: its Query), or a refusal."""
+    """What the compiler made of a question: an answer (of set operations), or a refusal."""
 
-    kind: str                         # answer | simple | refuse | unread
+    kind: str                         # answer | refuse | unread
     text: str = ""                    # the answer / refusal text
     op: str = ""
     value: object = None
@@ -284,8 +283,6 @@ class Outcome:
     absent: bool = False
     room: Optional[str] = None        # the room the question names
     thumbnail: Optional[bytes] = None
-    query: Optional[Query] = None     # simple: what the per-form templates run with
-    room_ids: Optional[list[str]] = None   # simple: the rooms the question names, already looked up
 
 
 def grammar_refusal(text: str, exc) -> Outcome:
@@ -320,36 +317,62 @@ def planned(form: Form) -> Form:
     return replace(form, op="extreme") if form.op == "list" and form.sets and form.sets[0].superlative else form
 
 
-def compile_question(run, form: Form, room: Optional[str], room_rows, scope: Callable, embedding=None,
-                     use_embedding=True, building: Optional[str] = None) -> Outcome:
-    """Plan a read form: a simple one becomes a Query for the per-form templates (kind
-    `simple`), any other is answered here over the scope's rows; or refuse naming the word."""
+Executor = Literal["templates", "sets"]
+
+
+@dataclass(frozen=True)
+class Plan:
+    """How a read form is answered, the one seam between planning and running: by the per-form
+    templates (`templates`: its Query, over the rooms the question names) or by set operations
+    over the scope's scene read (`sets`, `run_sets`)."""
+
+    executor: Executor
+    form: Form
+    logical: dict                     # the form as read, for --explain and --json
+    ev: Evaluator
+    room: Optional[str]               # the room the question names
+    room_ids: Optional[list[str]]     # templates: the rooms it names (None: the scope); sets: the rooms read
+    query: Optional[Query] = None     # templates: what they run with
+
+
+def plan(ev: Evaluator, form: Form, room: Optional[str], scope: Callable) -> "Plan | Outcome":
+    """Plan a read form: a simple one becomes a Query for the per-form templates, any other is
+    answered by set operations over the scope's rows; or an Outcome refusing it, naming the word."""
     form = planned(form)
     logical = form.form()
-    ev = Evaluator(run, room_rows, embedding, use_embedding, building)
     try:
         found = room_filters(form, ev)
         q_room = found[0].room if found else None
         if q_room and room and q_room.lower() != room.lower():
             return Outcome("refuse", f"the question says '{q_room}' but --room is '{room}'", form=logical)
         if is_simple(form, ev):
-            return Outcome("simple", form=logical, room=q_room, query=plan_simple(form, ev, q_room),
-                           room_ids=found[0].room_ids if found else None, notes=ev.notes)
-        rooms, anchors = (found[0].room_ids if found else scope(room)), anchor_labels(form, ev)
-        coloured = None if anchors is not None else colour_read(form, ev)
-        if anchors is not None:
-            ev.load(rooms, anchors, anchored=True)
-        elif coloured is not None:
-            ev.load(rooms, coloured[0], colour=coloured[1])
-        else:
-            ev.load(rooms, labels_read(form, ev))
-        answerer = Answerer(ev, q_room or room)
-        value_text, value, rows = OPS[form.op](answerer, form)
+            return Plan("templates", form, logical, ev, q_room, found[0].room_ids if found else None,
+                        plan_simple(form, ev, q_room))
+        return Plan("sets", form, logical, ev, q_room, found[0].room_ids if found else scope(room))
     except Unanswerable as exc:
         # a word that names nothing (before any scene is read): refused with an example
         return Outcome("unread" if ev.scene is None else "refuse", str(exc), form=logical)
-    return Outcome("answer", value_text, form.op if form.op != "extreme" else "show", value, rows, logical,
-                   ev.notes, bool(ev.absent), q_room, answerer.thumbnail)
+
+
+def run_sets(p: Plan, room: Optional[str]) -> Outcome:
+    """A plan of set operations run: the scope's scene read (only the kinds the form names), the
+    form's operation answered over it."""
+    form, ev = p.form, p.ev
+    try:
+        anchors = anchor_labels(form, ev)
+        coloured = None if anchors is not None else colour_read(form, ev)
+        if anchors is not None:
+            ev.load(p.room_ids, anchors, anchored=True)
+        elif coloured is not None:
+            ev.load(p.room_ids, coloured[0], colour=coloured[1])
+        else:
+            ev.load(p.room_ids, labels_read(form, ev))
+        answerer = Answerer(ev, p.room or room)
+        value_text, value, rows = OPS[form.op](answerer, form)
+    except Unanswerable as exc:
+        return Outcome("unread" if ev.scene is None else "refuse", str(exc), form=p.logical)
+    return Outcome("answer", value_text, form.op if form.op != "extreme" else "show", value, rows, p.logical,
+                   ev.notes, bool(ev.absent), p.room, answerer.thumbnail)
 
 
 # -- the planner: a simple form as the per-form templates' Query -----------------------------------

@@ -595,37 +595,41 @@ def _answer(store, question: str, phrased: str, notes: list[str], room, building
                       form="changes", logical=form.form(), change=ChangeAsked(form, phrased))
     run.seen_from = form.seen_from.text() if form.seen_from is not None else None
     form = compose.planned(form)
-    try:
-        outcome = compose.compile_question(run, form, room, room_lookup(form, rooms.rows),
-                                           lambda name: _scope(run, name, building, rooms.seen),
-                                           embedding, use_embedding, building)
+    ev = compose.Evaluator(run, room_lookup(form, rooms.rows), embedding, use_embedding, building)
+    try:       # one plan, run by the executor it names
+        p = compose.plan(ev, form, room, lambda name: _scope(run, name, building, rooms.seen))
+        outcome = compose.run_sets(p, room) if isinstance(p, compose.Plan) and p.executor == "sets" else p
     except Refusal as exc:
         return Answer(question, False, str(exc), steps=run.steps, logical=form.form())
+    if isinstance(outcome, compose.Plan):
+        return _planned(question, outcome, run, (room, building), rooms.seen, notes)
     if outcome.kind == "answer":
         return _in_unit(_composed(question, outcome, notes, run), question)
-    if outcome.kind != "simple" or outcome.query is None:
-        return Answer(question, False, refusal(outcome.text, question) if outcome.kind == "unread"
-                      else outcome.text, logical=outcome.form, steps=run.steps)
-    return _planned(question, outcome.query, outcome, run, room, building, rooms.seen, notes)
+    return Answer(question, False, refusal(outcome.text, question) if outcome.kind == "unread"
+                  else outcome.text, logical=outcome.form, steps=run.steps)
 
 
-def _planned(question: str, q: Query, outcome, run: _Run, room, building, seen, notes: list[str]) -> Answer:
-    """A simple form's plan run on the per-form templates (index-aware variants)."""
+def _planned(question: str, p: compose.Plan, run: _Run, scope: tuple, seen, notes: list[str]) -> Answer:
+    """A simple form's plan run on the per-form templates (index-aware variants); `scope`: the
+    (room, building) asked in."""
+    room, building = scope
+    q = p.query
+    assert q is not None
     store = run.store
     if q.target.how == "group" or (q.anchor is not None and q.anchor.how == "group"):
         _expand_groups(store, q)
     try:
-        if outcome.room_ids is not None:       # the room the question names, looked up while reading
+        if p.room_ids is not None:       # the room the question names, looked up while reading
             run.steps.insert(0, {"template": "cypher/vqa_room_named.cypher",
                                  "params": {"names": [q.room], "building": building}})
-        rooms = outcome.room_ids if outcome.room_ids is not None else _scope(run, room, building, seen)
+        rooms = p.room_ids if p.room_ids is not None else _scope(run, room, building, seen)
         result = FORMS[q.form](run, q, rooms)
     except Refusal as exc:
-        return Answer(question, False, str(exc), query=q, steps=run.steps, logical=outcome.form)
+        return Answer(question, False, str(exc), query=q, steps=run.steps, logical=p.logical)
     if _nothing(result) and not run.read("object_total")[0]["n"]:
         return Answer(question, False, "the store holds no scene graph yet: build one first (sg3d build ...)",
                       query=q, steps=run.steps)
-    result.question, result.query, result.logical, result.plan = question, q, outcome.form, "templates"
+    result.question, result.query, result.logical, result.plan = question, q, p.logical, "templates"
     _honest_absence(run, result, q, rooms)
     result.provenance = _provenance(run, result, q, rooms)
     result.steps = run.steps
