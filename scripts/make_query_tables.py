@@ -2,7 +2,8 @@
 
     python scripts/make_query_tables.py
 
-- question-grammar-<hash>.lark: the LALR tables of the question grammar (sg3d/queries/grammar.py),
+- question-parser-tables-<hash>.pickle: the LALR tables (lark's pickle) of the question grammar
+  (sg3d/queries/data/question.lark),
   which a cold `sg3d ask` loads instead of building them (0.7 s); run after editing the grammar or
   its word lists, or after upgrading lark (the hash covers both; without a current file the
   parser is built and kept in the user cache, as before).
@@ -19,12 +20,12 @@ sys.path.insert(0, str(REPO))
 
 
 def main() -> int:
-    from sg3d.queries.grammar import build_parser, parser_grammar, shipped_tables
+    from sg3d.queries.reader.grammar import build_parser, parser_grammar, shipped_tables
 
     grammar = parser_grammar()
     tables = shipped_tables(grammar)
     built = build_parser(grammar)         # first: a grammar with a conflict stops here, changing nothing
-    for old in tables.parent.glob("question-grammar-*.lark"):
+    for old in tables.parent.glob("question-parser-tables-*.pickle"):
         if old != tables:
             old.unlink()
             print(f"removed {old.relative_to(REPO)}")

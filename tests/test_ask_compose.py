@@ -1,4 +1,4 @@
-"""Compositional questions (sg3d/queries/grammar.py -> sg3d/queries/compose.py) on a real store holding
+"""Compositional questions (sg3d/queries/reader/grammar.py -> sg3d/queries/compose.py) on a real store holding
 hand-made rooms merged through the real merge: unnamed objects, structure, second colours,
 distances, negation, comparisons, rooms, names printed by `ask` asked back, typos, refusals."""
 from __future__ import annotations
@@ -246,8 +246,9 @@ def test_phrasings_read_as_the_plain_question(store, flat, question, same_as):
 
 
 def test_common_words_are_not_read_as_typos():
-    from sg3d.queries.compose import typo_vocabulary
-    from sg3d.queries.phrasing import fix_typos, tidy
+    from sg3d.queries.reader.typos import typo_vocabulary
+    from sg3d.queries.reader.tidy import tidy
+    from sg3d.queries.reader.typos import fix_typos
 
     text, notes = fix_typos(tidy("how many mugs with a white glaze are there").text, typo_vocabulary())
     assert notes == [] and "with" in text.split()
@@ -266,7 +267,7 @@ def test_common_words_are_not_read_as_typos():
     ("how many cups are between 50 cm and 1 m from the sink", (0.5, 1.0)),
 ])
 def test_the_grammar_reads_distances_with_units(text, band):
-    from sg3d.queries.grammar import read
+    from sg3d.queries.reader.grammar import read
 
     form = read(text)
     (f,) = form.filters
@@ -276,7 +277,7 @@ def test_the_grammar_reads_distances_with_units(text, band):
 
 
 def test_the_grammar_reads_negation_conjunction_and_nesting():
-    from sg3d.queries.grammar import read
+    from sg3d.queries.reader.grammar import read
 
     form = read("how many chairs are not near the tv or the sink and next to the table")
     assert form.op == "count" and [f.negated for f in form.filters] == [True, False]

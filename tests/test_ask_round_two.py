@@ -62,8 +62,9 @@ def objects(store, room="kitchen"):
 
 # -- 1. typos only for unknown words -------------------------------------------------------------
 def test_correct_words_are_never_corrected():
-    from sg3d.queries.compose import typo_vocabulary
-    from sg3d.queries.phrasing import common_words, fix_typos, tidy
+    from sg3d.queries.reader.typos import typo_vocabulary
+    from sg3d.queries.reader.tidy import tidy
+    from sg3d.queries.reader.typos import common_words, fix_typos
 
     assert {"sitting", "cutting", "seat", "someone"} <= common_words()
     text, notes = fix_typos(tidy("how many pieces of furniture for sitting are there?").text, typo_vocabulary())

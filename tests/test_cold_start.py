@@ -71,7 +71,7 @@ def test_the_label_cache_lives_in_sg3d_home(tmp_path):
 def test_the_shipped_question_tables_are_current():
     """The parser tables a cold `sg3d ask` loads ship for the grammar and the lark of this
     checkout (else every cold ask builds the tables: 0.7 s)."""
-    from sg3d.queries.grammar import build_parser, parser, parser_grammar, shipped_tables
+    from sg3d.queries.reader.grammar import build_parser, parser, parser_grammar, shipped_tables
 
     grammar = parser_grammar()
     hint = "run python scripts/make_query_tables.py after editing the grammar or upgrading lark"
@@ -95,7 +95,7 @@ def test_a_cold_ask_loads_only_its_command_and_the_shipped_tables(tmp_path):
     code = ("import sys, click\n"
             "from sg3d.cli import cli\n"
             "assert cli.get_command(click.Context(cli), 'ask') is not None\n"
-            "from sg3d.queries.grammar import read\n"
+            "from sg3d.queries.reader.grammar import read\n"
             "read('how many cups are on the table')\n"
             "loaded = sorted(m for m in sys.modules if m.startswith(('sg3d.ingest', 'sg3d.commands.')))\n"
             "assert loaded == ['sg3d.commands.ask'], loaded\n"
@@ -104,7 +104,7 @@ def test_a_cold_ask_loads_only_its_command_and_the_shipped_tables(tmp_path):
     res = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, cwd=REPO)
     assert res.returncode == 0 and res.stdout.strip() == "ok", res.stderr
     assert res.stderr == ""
-    assert list(tmp_path.glob("question-grammar-*")) == []
+    assert list(tmp_path.glob("question-parser-tables-*")) == []
 
 
 def test_the_command_keeps_pandas_from_the_driver_only():
@@ -129,7 +129,7 @@ def test_the_command_keeps_pandas_from_the_driver_only():
 def test_the_common_words_are_picked_once_into_the_cache(tmp_path):
     """The typo fixer's common-word list is picked from pyspellchecker's list once and kept whole
     in sg3d's cache; the next process reads the kept file (the same words)."""
-    code = ("from sg3d.queries.phrasing import common_words\n"
+    code = ("from sg3d.queries.reader.typos import common_words\n"
             "w = common_words()\n"
             "assert {'sitting', 'cutting', 'kitchen'} <= w\n"
             "print(len(w))\n")

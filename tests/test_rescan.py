@@ -141,6 +141,9 @@ def test_a_mug_whose_place_is_seen_empty_is_removed_kept_out_of_counts_and_a_rer
     assert room_changes(store, "kitchen", "home", since="s2")["removed"] == []
     gone = ask(store, "What is gone?").answer
     assert gone.ok and "cup" in gone.text and "book" not in gone.text
+    # the queries read a change question and leave it to the application (no call back into it)
+    read = answer(store, "What is gone?")
+    assert not read.ok and read.change is not None and read.change.form.op == "gone" and "sg3d ask" in read.text
     changed = ask(store, "what changed in the kitchen?").answer
     assert changed.ok and changed.value["removed"][0]["id"] == mug_id and "gone: the cup" in changed.text
     before = ask(store, "where was the cup before?").answer

@@ -5,8 +5,8 @@ import numpy as np
 import pytest
 
 from sg3d.graphdb.merge import merge_local_graph
-from sg3d.queries.grammar import read
-from sg3d.queries.phrasing import tidy
+from sg3d.queries.reader.grammar import read
+from sg3d.queries.reader.tidy import tidy
 from sg3d.queries.viewpoint import describe_place, viewpoint_relations
 from sg3d.queries.vqa import answer
 from tests.factories import graph, hist_of, obj

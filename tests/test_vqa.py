@@ -7,7 +7,7 @@ import pytest
 from click.testing import CliRunner
 
 from sg3d.queries.compose import plan_question
-from sg3d.queries.grammar import GrammarError
+from sg3d.queries.reader.grammar import GrammarError
 from sg3d.queries.sets import Unanswerable
 from sg3d.queries.vqa import answer
 from tests.scenes import BOWL_JPEG, StoreSettings

@@ -76,16 +76,17 @@ def ask(store: GraphStore, question: str, room: Optional[str] = None, building: 
     problem = input_problem(question, room, building)
     if problem:
         raise AppError(problem)
-    from sg3d.app.changes import change_answer
-    from sg3d.queries.picture import write_picture
+    from sg3d.queries.answer.picture import write_picture
     from sg3d.queries.vqa import answer
 
-    # the question is read once; one about re-scans is answered from the scans' history. Every
-    # read of the answer goes in one read transaction (`GraphStore.reading`)
+    # the question is read once; one about re-scans (its reading in `Answer.change`) is answered
+    # from the scans' history. Every read of the answer goes in one read transaction (`GraphStore.reading`)
+    def answered():
+        read = answer(store, question, room=room, building=building, embedding=embedding, viewpoint=viewpoint)
+        return read if read.change is None else _from_history(store, question, read, room, building, embedding)
+
     try:
-        result = store.reading(lambda: answer(
-            store, question, room=room, building=building, embedding=embedding, viewpoint=viewpoint,
-            on_change=lambda cq: change_answer(store, question, cq, room=room, building=building)))
+        result = store.reading(answered)
     except Exception as exc:
         if not _question_failure(exc):
             raise
@@ -99,6 +100,26 @@ def ask(store: GraphStore, question: str, room: Optional[str] = None, building: 
         except OSError as exc:
             raise AppError(f"cannot write the picture to {out}: {exc.strerror or exc}") from exc
     return Asked(result, path)
+
+
+def _from_history(store: GraphStore, question: str, read, room: Optional[str], building: Optional[str],
+                  embedding):
+    """A question about re-scans (`read.change`, as the reader read it) answered from the scans'
+    history; a refusal names the words as typed."""
+    from sg3d.app.changes import change_answer
+    from sg3d.queries.vqa import Refusal, change_query, history_refusal, own_words
+
+    asked = read.change
+    try:
+        cq = change_query(asked.form, embedding)
+    except Refusal as exc:
+        result = history_refusal(question, asked, exc)
+    else:
+        result = change_answer(store, question, cq, room=room, building=building)
+        result.logical, result.plan = asked.form.form(), "history"
+    if not result.ok:
+        result.text = own_words(question, asked.phrased, result.text)
+    return result
 
 
 def _question_failure(exc: Exception) -> bool:

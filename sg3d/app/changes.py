@@ -13,7 +13,7 @@ from sg3d.core.stored import Row
 from sg3d.graphdb.protocol import GraphStore
 
 if TYPE_CHECKING:
-    from sg3d.queries.answer_parts import AnswerObject
+    from sg3d.queries.answer.parts import AnswerObject
     from sg3d.queries.logic import ChangeQuery
 
 

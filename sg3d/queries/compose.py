@@ -10,7 +10,7 @@ evaluated over those rows: relation filters, negation (the complement within the
 bands (box centre to box centre), extremes, name look-ups, counts and comparisons. One round trip
 each; no subqueries (their results on the embedded store are wrong).
 
-Rules the answers follow (sg3d/queries/sets.py, sg3d/queries/answers.py; said in the answer where it matters):
+Rules the answers follow (sg3d/queries/sets.py, sg3d/queries/answer/operations.py; said in the answer where it matters):
 - "objects"/"things" mean every object of the object layer, unnamed ones too; structure (floor,
   walls, counters, shelves, surfaces) is asked for by name.
 - A colour word matches an object's main colour, as the per-room tallies count it; objects that
@@ -21,30 +21,22 @@ Rules the answers follow (sg3d/queries/sets.py, sg3d/queries/answers.py; said in
 """
 from __future__ import annotations
 
-import functools
-from dataclasses import dataclass, field
-from typing import Callable, Iterator, Optional
+from dataclasses import dataclass, field, replace
+from typing import Callable, Iterator, Literal, Optional
 
-from sg3d.core.model import SHAPE_WORDS
 from sg3d.core.relation_rules import VIEWPOINT
-from sg3d.queries.answers import OPS, Answerer
+from sg3d.queries.answer.operations import OPS, Answerer
 from sg3d.queries.lexicon import Target, lemma
 from sg3d.queries.logic import NP, Filter, Form, Query
+from sg3d.queries.reader.typos import typo_vocabulary
 from sg3d.queries.sets import Evaluator, Resolved, Unanswerable
 from sg3d.queries.vocabulary import (
-    AFFORDANCE_VERBS,
-    COLOURS,
     EVERYWHERE,
-    EXTRA_AFFORDANCES,
-    GENERIC,
     INVERSE,
     RELATIONS,
-    SIZES,
     STORED_TYPES,
-    STRUCTURE_LABELS,
     SUPERLATIVES,
 )
-from sg3d.queries.wording import plural
 
 # -- from question text to answer -----------------------------------------------------------------
 SIMPLE_OPS = ("count", "exists", "list", "where", "attribute", "rooms")
@@ -90,7 +82,7 @@ def room_filters(form: Form, ev: Evaluator) -> list[Resolved]:
         if np.toward is not None:
             visit(np.toward)
 
-    form.filters = take(form.filters)
+    form.filters[:] = take(form.filters)
     for s in form.sets:
         visit(s)
     return found
@@ -152,7 +144,7 @@ def is_simple(form: Form, ev: Evaluator) -> bool:
 
 def neighbours(form: Form) -> bool:
     """"which room has the fewest neighbours": rooms counted by their ADJACENT_TO links."""
-    from sg3d.queries.answers import NEIGHBOUR_WORDS
+    from sg3d.queries.answer.operations import NEIGHBOUR_WORDS
     from sg3d.queries.lexicon import lemma
 
     return form.op == "room_most" and len(form.sets) == 1 and \
@@ -277,82 +269,11 @@ def _simple_extreme(form: Form, ev: Evaluator) -> bool:
                for f in head.filters)
 
 
-# common English words a question may hold around its object words: never "fixed" into one
-COMMON_WORDS = frozenset("""
-with without from for into onto upon about after before again against along also always among
-another anyone anybody because been being both could each either else even ever every except
-here hers his how however into itself just like made make maybe might mine more most much must
-near neither never none nothing now often only other others otherwise ours ourselves over own
-perhaps quite rather really same shall should since such than that their theirs them themselves
-then there these they this those though through thus till together too toward towards under
-until very want wants want was were what whatever when whenever where wherever whether which
-while who whom whose why will would yet your yours yourself want need needs look looking see
-seen show tell know think thought wonder said say give given take taken keep kept leave left
-right front back side sides part parts other inside outside middle center centre corner edge
-white black made using used have having had does done doing going gone come comes came
-glaze painted wooden metal plastic glass paper colour colours colored coloured
-""".split())
-
-
-def typo_vocabulary() -> frozenset:
-    """Every word a question may use: the grammar's, the object nouns (singular and plural),
-    colours, sizes, shapes, structure, affordance verbs and common question words."""
-    return _vocabulary()
-
-
-@functools.cache
-def typo_nouns() -> frozenset:
-    """The object nouns of the vocabulary (singular and plural): what a typo after "the" is read as
-    when it is as close to another word (phrasing.fix_typos)."""
-    import json
-
-    from sg3d.queries.lexicon import SYNONYMS, vocabulary
-    from sg3d.queries.taxonomy import Taxonomy
-
-    nouns = set(vocabulary()) | set(Taxonomy.load().names)
-    data = json.loads(SYNONYMS.read_text())
-    nouns |= set(data["words"]) | set(data["any"])
-    out = {n for n in nouns if n and " " not in n}
-    return frozenset(out | {plural(n) for n in out})
-
-
-@functools.cache
-def _vocabulary() -> frozenset:
-    import json
-
-    from sg3d.queries.grammar import RESERVED
-    from sg3d.queries.lexicon import SYNONYMS, vocabulary
-    from sg3d.queries.taxonomy import Taxonomy
-
-    words: set[str] = set(RESERVED) | set(COLOURS) | set(SIZES) | set(SHAPE_WORDS)
-    words |= set(STRUCTURE_LABELS) | GENERIC | {w for x in EVERYWHERE for w in x.split()}
-    words |= {w for k in list(AFFORDANCE_VERBS) + list(EXTRA_AFFORDANCES) for w in k.split()}
-    words |= {"please", "tell", "know", "could", "would", "should", "me", "us", "find", "put", "my",
-              "cup", "does", "kitchen", "bedroom", "bathroom", "office", "living", "dining", "objects",
-              "things", "items", "walls", "shelves", "surfaces", "counters", "color", "colors", "whats",
-              "everything", "total", "type", "types", "kind", "kinds", "piece", "pieces", "sort",
-              "sorts", "ones", "visible", "present", "stored", "there", "up", "down", "yes", "no",
-              "left", "right", "front", "behind", "seen", "as", "bigger", "smaller", "larger", "altogether",
-              "currently", "one", "that", "here",
-              "size", "sizes", "hello", "thanks", "thank", "get", "where", "on", "top", "something"}
-    words |= COMMON_WORDS
-    nouns = set(vocabulary()) | set(Taxonomy.load().names)
-    data = json.loads(SYNONYMS.read_text())
-    nouns |= set(data["words"]) | set(data["any"])
-    for n in nouns:
-        parts = n.split()
-        words |= set(parts)
-        if parts:
-            words.add(plural(parts[-1]))
-    return frozenset(w for w in words if w)
-
-
 @dataclass
 class Outcome:
-    """What the compiler made of a question: an answer, a plan for the per-form templates
-    (`simple`: its Query), or a refusal."""
+    """What the compiler made of a question: an answer (of set operations), or a refusal."""
 
-    kind: str                         # answer | simple | refuse | unread
+    kind: str                         # answer | refuse | unread
     text: str = ""                    # the answer / refusal text
     op: str = ""
     value: object = None
@@ -362,83 +283,12 @@ class Outcome:
     absent: bool = False
     room: Optional[str] = None        # the room the question names
     thumbnail: Optional[bytes] = None
-    query: Optional[Query] = None     # simple: what the per-form templates run with
-    room_ids: Optional[list[str]] = None   # simple: the rooms the question names, already looked up
-
-
-def read_question(text: str, room_rows: Callable[[str], list], all_room_names: Callable[[], list]):
-    """Normalised text -> Form, retrying with multi-word room names as one word each ("in my
-    room", "in the living room": 'room' is a grammar word). GrammarError when neither reads."""
-    from sg3d.queries.grammar import GrammarError, read
-
-    try:
-        return read(text), room_rows
-    except GrammarError as first:
-        if " room" not in f" {text}":
-            raise
-        out, placeholders = _room_placeholders(text, all_room_names())
-        if not placeholders:
-            raise first
-        try:
-            form = read(out)
-        except GrammarError:
-            raise first from None
-
-        return form, _PlacedRooms(room_rows, placeholders)
-
-
-class _PlacedRooms:
-    """The room look-up of a question whose multi-word room names the reader replaced by one word
-    each: a placeholder is looked up as the name said; `said` gives that name back (the rooms
-    found in a walk are matched by it, sg3d/queries/walk.py)."""
-
-    def __init__(self, room_rows: Callable[[str], list], placeholders: dict[str, str]):
-        self.room_rows, self.placeholders = room_rows, placeholders
-
-    def said(self, name: str) -> str:
-        words = name.split()
-        return self.placeholders.get(words[-1], name) if words else name
-
-    def __call__(self, name: str) -> list:
-        return self.room_rows(self.said(name))
-
-
-def _room_placeholders(text: str, stored: list) -> tuple[str, dict[str, str]]:
-    """Multi-word room names in `text` replaced by one word each (token -> name as said): the
-    stored names as written, then "<words> room" spans that name a stored room loosely
-    ("the living room" -> `livingroom`, sg3d/queries/place_names.py)."""
-    from sg3d.queries.place_names import match_name
-
-    names = sorted((n.lower() for n in stored), key=len, reverse=True)
-    placeholders: dict[str, str] = {}
-    out = f" {text} "
-
-    def put(name: str) -> None:
-        i = len(placeholders)
-        token = "roomname" + "abcdefghijklmnopqrstuvwxyz"[i % 26] * (1 + i // 26)
-        placeholders[token] = name
-        nonlocal out
-        out = out.replace(f" {name} ", f" {token} ")
-
-    for name in names:
-        if f" {name} " in out:
-            put(name)
-    words = out.split()
-    for j, w in enumerate(words):
-        if w != "room":
-            continue
-        for i in range(max(0, j - 2), j):       # "living room", "guest bed room"
-            span = " ".join(words[i:j + 1])
-            if words[i] not in ("the", "a", "my", "this", "in") and match_name(span, names, typo_vocabulary()):
-                put(span)
-                break
-    return out.strip(), placeholders
 
 
 def grammar_refusal(text: str, exc) -> Outcome:
     """The grammar stopped: refuse naming the word it could not read (a word that carries a
     condition first, then where reading stopped, else the whole text)."""
-    from sg3d.queries.grammar import ReaderFailure
+    from sg3d.queries.reader.grammar import ReaderFailure
 
     if "has no unit" in str(exc) or "to what?" in str(exc):
         return Outcome("refuse", str(exc))
@@ -455,44 +305,74 @@ def _unknown_before(text: str, stopped: Optional[str]) -> Optional[str]:
     """Where the reader stopped at a word it knows ('the' in "blorp the frobnicator", 'of' in
     "what is the meaning of life"), the word to name is the first one before it that no word
     list holds ('blorp', 'meaning'); None when the stop word is itself unknown or none is."""
-    if stopped is None or stopped not in _vocabulary():
+    if stopped is None or stopped not in typo_vocabulary():
         return None
     words = [w.strip(".,;:!?'\"") for w in text.split()]
     before = words[:words.index(stopped)] if stopped in words else words
-    return next((w for w in before if w and w not in _vocabulary() and not any(c.isdigit() for c in w)), None)
+    return next((w for w in before if w and w not in typo_vocabulary() and not any(c.isdigit() for c in w)), None)
 
 
-def compile_question(run, form: Form, room: Optional[str], room_rows, scope: Callable, embedding=None,
-                     use_embedding=True, building: Optional[str] = None) -> Outcome:
-    """Plan a read form: a simple one becomes a Query for the per-form templates (kind
-    `simple`), any other is answered here over the scope's rows; or refuse naming the word."""
-    if form.op == "list" and form.sets and form.sets[0].superlative:
-        form.op = "extreme"          # "show me the biggest bowl"
+def planned(form: Form) -> Form:
+    """The form as the plan reads it: "show me the biggest bowl" (a list with an extreme) is the extreme."""
+    return replace(form, op="extreme") if form.op == "list" and form.sets and form.sets[0].superlative else form
+
+
+Executor = Literal["templates", "sets"]
+
+
+@dataclass(frozen=True)
+class Plan:
+    """How a read form is answered, the one seam between planning and running: by the per-form
+    templates (`templates`: its Query, over the rooms the question names) or by set operations
+    over the scope's scene read (`sets`, `run_sets`)."""
+
+    executor: Executor
+    form: Form
+    logical: dict                     # the form as read, for --explain and --json
+    ev: Evaluator
+    room: Optional[str]               # the room the question names
+    room_ids: Optional[list[str]]     # templates: the rooms it names (None: the scope); sets: the rooms read
+    query: Optional[Query] = None     # templates: what they run with
+
+
+def plan(ev: Evaluator, form: Form, room: Optional[str], scope: Callable) -> "Plan | Outcome":
+    """Plan a read form: a simple one becomes a Query for the per-form templates, any other is
+    answered by set operations over the scope's rows; or an Outcome refusing it, naming the word."""
+    form = planned(form)
     logical = form.form()
-    ev = Evaluator(run, room_rows, embedding, use_embedding, building)
     try:
         found = room_filters(form, ev)
         q_room = found[0].room if found else None
         if q_room and room and q_room.lower() != room.lower():
             return Outcome("refuse", f"the question says '{q_room}' but --room is '{room}'", form=logical)
         if is_simple(form, ev):
-            return Outcome("simple", form=logical, room=q_room, query=plan_simple(form, ev, q_room),
-                           room_ids=found[0].room_ids if found else None, notes=ev.notes)
-        rooms, anchors = (found[0].room_ids if found else scope(room)), anchor_labels(form, ev)
-        coloured = None if anchors is not None else colour_read(form, ev)
-        if anchors is not None:
-            ev.load(rooms, anchors, anchored=True)
-        elif coloured is not None:
-            ev.load(rooms, coloured[0], colour=coloured[1])
-        else:
-            ev.load(rooms, labels_read(form, ev))
-        answerer = Answerer(ev, q_room or room)
-        value_text, value, rows = OPS[form.op](answerer, form)
+            return Plan("templates", form, logical, ev, q_room, found[0].room_ids if found else None,
+                        plan_simple(form, ev, q_room))
+        return Plan("sets", form, logical, ev, q_room, found[0].room_ids if found else scope(room))
     except Unanswerable as exc:
         # a word that names nothing (before any scene is read): refused with an example
         return Outcome("unread" if ev.scene is None else "refuse", str(exc), form=logical)
-    return Outcome("answer", value_text, form.op if form.op != "extreme" else "show", value, rows, logical,
-                   ev.notes, bool(ev.absent), q_room, answerer.thumbnail)
+
+
+def run_sets(p: Plan, room: Optional[str]) -> Outcome:
+    """A plan of set operations run: the scope's scene read (only the kinds the form names), the
+    form's operation answered over it."""
+    form, ev = p.form, p.ev
+    try:
+        anchors = anchor_labels(form, ev)
+        coloured = None if anchors is not None else colour_read(form, ev)
+        if anchors is not None:
+            ev.load(p.room_ids, anchors, anchored=True)
+        elif coloured is not None:
+            ev.load(p.room_ids, coloured[0], colour=coloured[1])
+        else:
+            ev.load(p.room_ids, labels_read(form, ev))
+        answerer = Answerer(ev, p.room or room)
+        value_text, value, rows = OPS[form.op](answerer, form)
+    except Unanswerable as exc:
+        return Outcome("unread" if ev.scene is None else "refuse", str(exc), form=p.logical)
+    return Outcome("answer", value_text, form.op if form.op != "extreme" else "show", value, rows, p.logical,
+                   ev.notes, bool(ev.absent), p.room, answerer.thumbnail)
 
 
 # -- the planner: a simple form as the per-form templates' Query -----------------------------------
@@ -557,8 +437,8 @@ def plan_simple(form: Form, ev: Evaluator, room: Optional[str]) -> Query:
 def plan_question(question: str, embedding=None, use_embedding: bool = True) -> Query:
     """The plan of a simple question without a store (no room names known): what the per-form
     templates would run with. GrammarError or Unanswerable when it is not read, or not simple."""
-    from sg3d.queries.grammar import read
-    from sg3d.queries.phrasing import tidy
+    from sg3d.queries.reader.grammar import read
+    from sg3d.queries.reader.tidy import tidy
 
     form = read(tidy(question).text)
     ev = Evaluator(None, lambda name: [], embedding, use_embedding)

@@ -1,12 +1,12 @@
 """The logical form of a question: sets of objects filtered by relations, and one operation.
 
-Plain data the grammar (sg3d/queries/grammar.py) produces and the compiler (sg3d/queries/compose.py)
+Plain data the grammar (sg3d/queries/reader/grammar.py) produces and the compiler (sg3d/queries/compose.py)
 answers. Words are kept as they were read, so a refusal can name the one it did not understand.
 """
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Optional
+from typing import Literal, Optional, get_args
 
 from sg3d.queries.lexicon import Target
 
@@ -96,12 +96,20 @@ class NP:
         return out
 
 
-@dataclass
-class Form:
-    """The operation on top: count, exists, list, where, attribute, extreme, distance, compare,
-    at_least, rooms, room_count, room_most, rooms_next_to, affordance."""
+# the operations a question asks for (sg3d/queries/answer/operations.py OPS answers each; changes, gone and
+# before are answered from the scans' history by the application)
+Op = Literal["count", "exists", "at_least", "compare", "list", "where", "attribute", "extreme", "distance",
+             "rooms", "room_most", "rooms_next_to", "room_count", "affordance", "rooms_counted", "size_compare",
+             "size_which", "rooms_next_hold", "route", "changes", "gone", "before"]
+OPS: tuple[Op, ...] = get_args(Op)
 
-    op: str                                 # the operations of the module docstring; also changes | gone | before
+
+@dataclass(frozen=True)
+class Form:
+    """What a question asks, as read: the operation on top (`Op`) over sets of objects. Never
+    changed once read (a step that reads it otherwise makes a new one, `dataclasses.replace`)."""
+
+    op: Op
     sets: list[NP] = field(default_factory=list)
     attribute: Optional[str] = None         # colour | size | height | tall | width | length
     compare: Optional[str] = None           # more | fewer (compare, at_least, room_most); exists (affordance asked yes/no)
@@ -111,6 +119,8 @@ class Form:
     seen_from: Optional[NP] = None          # "as seen from the sink": the eye of a viewpoint relation
     among: list[NP] = field(default_factory=list)   # room_most: only these rooms ("the kitchen or the study")
     lacking: list[NP] = field(default_factory=list)  # rooms: holding none of these ("have no fridge")
+    # the one-word stand-ins the reader put for multi-word room names (stand-in -> the name as said)
+    rooms_said: dict[str, str] = field(default_factory=dict)
 
     def form(self) -> dict:
         out: dict = {"op": self.op, "sets": [s.form() for s in self.sets]}

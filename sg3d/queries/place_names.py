@@ -2,7 +2,7 @@
 
 "living room" finds the room stored as `livingroom`, "Kitchen" finds `kitchen`, "kitchn" finds
 `kitchen`. Spacing, case, hyphens and underscores never matter; a typo (rapidfuzz, the edit
-distance of sg3d/queries/phrasing.py) is fixed only for a name that is not itself a known or
+distance of sg3d/queries/reader/typos.py) is fixed only for a name that is not itself a known or
 common word, so "in the box" never finds a room called "bo". The answer says what was matched.
 """
 from __future__ import annotations
@@ -10,7 +10,7 @@ from __future__ import annotations
 import re
 from typing import Iterable, Optional
 
-from sg3d.queries.phrasing import is_word, max_edits
+from sg3d.queries.reader.typos import is_word, max_edits
 
 
 def squeezed(name: str) -> str:

@@ -39,7 +39,7 @@ from sg3d.queries.vocabulary import (
     STRUCTURE_LABELS,
     SUPERLATIVES,
 )
-from sg3d.queries.wording import plural
+from sg3d.queries.answer.wording import plural
 
 
 class Unanswerable(Sg3dError, ValueError):

@@ -1,7 +1,7 @@
 """`sg3d ask`: question -> query form -> Cypher template -> answer (paper Sec. VI-A).
 
 Entry point: `answer(store, question, room=None, building=None) -> Answer`. The question is read
-once, by the grammar (sg3d/queries/grammar.py), into a logical form (sg3d/queries/logic.py); the
+once, by the grammar (sg3d/queries/reader/grammar.py), into a logical form (sg3d/queries/logic.py); the
 planner (sg3d/queries/compose.py) turns a simple form into a `Query` for the per-form functions
 here, and answers every other form over the scope's rows. One function per
 query form (`count`, `exists`, `list_objects`, `attribute`, `show`); each runs templates of
@@ -34,16 +34,17 @@ SAME_AS; counts over more than one room count each SAME_AS group once (`_same_as
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any, Callable, Optional, Sequence, Union, cast
+from typing import Any, Optional, Sequence, Union, cast
 
 from sg3d.core.errors import Sg3dError
 from sg3d.core.relation_rules import SYMMETRIC, VIEWPOINT
 from sg3d.graphdb import cypher
 from sg3d.queries import compose
 from sg3d.queries import viewpoint as views
-from sg3d.queries.answer_parts import AnswerObject, Provenance, TemplateStep
-from sg3d.queries.answers import row_value
+from sg3d.queries.answer.parts import AnswerObject, Provenance, TemplateStep
+from sg3d.queries.answer.operations import row_value
 from sg3d.queries.logic import ChangeQuery, Form, Query
+from sg3d.queries.reader.typos import typo_nouns, typo_vocabulary
 from sg3d.queries.naming import names_in_store
 from sg3d.queries.scoping import by_size, few_rooms
 from sg3d.queries.sets import same_as_roots
@@ -57,7 +58,7 @@ from sg3d.queries.vocabulary import (
     ROW_LIMIT,
     refusal,
 )
-from sg3d.queries.wording import plural, the, without_place
+from sg3d.queries.answer.wording import plural, the, without_place
 
 CHANGE_OPS = ("changes", "gone", "before")      # answered from the scans' history (sg3d/app/changes.py)
 # how a reading is answered, as --explain says it
@@ -83,6 +84,9 @@ class Answer:
     # no object of an asked kind is in scope: the answer says it was not found, not that none is
     absent_evidence: bool = False
     plan: Optional[str] = None              # how the reading was answered (--explain): see PLANS
+    # a question about re-scans, as read: the application answers it from the scans' history
+    # (sg3d/app/ask.py dispatches on it); until then this answer is a refusal saying so
+    change: Optional["ChangeAsked"] = None
 
     def to_json(self) -> dict:
         return {"question": self.question, "ok": self.ok, "form": self.form, "answer": self.text,
@@ -115,6 +119,15 @@ class Answer:
                        f"{p.get('observations')} observations, {p.get('n_frames')} frames, "
                        f"frames {p.get('first_frame')}-{p.get('last_frame')}, last seen {p.get('last_seen')})")
         return out
+
+
+@dataclass(frozen=True)
+class ChangeAsked:
+    """A change question (changes | gone | before) as the reader read it: its form, and the text
+    it read (refusals name the words as typed, `own_words`)."""
+
+    form: Form
+    phrased: str
 
 
 class Refusal(Sg3dError):
@@ -219,7 +232,7 @@ def _building_like(run: _Run, building: str) -> list[dict]:
     from sg3d.queries.place_names import match_name, read_as
 
     rows = run.read("vqa_room_names", building=None)
-    hit = match_name(building, {r["building"] for r in rows}, compose.typo_vocabulary())
+    hit = match_name(building, {r["building"] for r in rows}, typo_vocabulary())
     said = read_as(building, hit, "building") if hit else None
     if said and said not in run.notes:
         run.notes.append(said)
@@ -233,7 +246,7 @@ def _rooms_like(store, name: str, building: Optional[str]) -> list[dict]:
     from sg3d.queries.place_names import match_name, read_as
 
     rows = store.read("vqa_room_names", building=None)
-    vocab = compose.typo_vocabulary()
+    vocab = typo_vocabulary()
     notes = []
     if building:
         b = match_name(building, {r["building"] for r in rows}, vocab)
@@ -514,17 +527,16 @@ FORMS = {"where": where, "rooms": rooms_with, "count": count, "exists": exists, 
 
 
 def answer(store, question: str, room: Optional[str] = None, building: Optional[str] = None,
-           embedding=None, use_embedding: bool = True, viewpoint=None,
-           on_change: Optional[Callable[[ChangeQuery], Answer]] = None) -> Answer:
+           embedding=None, use_embedding: bool = True, viewpoint=None) -> Answer:
     """Answer one question from the stored scene graph (read-only, except the taxonomy load).
     `viewpoint`: where "in front of / behind / left of / right of" are seen from (a camera pose,
     a point or an object; sg3d/queries/viewpoint.py), unless the question says "as seen from the X".
-    `on_change`: answers a question about re-scans (the application's history of scans); without
-    it such a question is refused."""
+    A question about re-scans is refused here, its reading in `Answer.change` for the application
+    to answer from the history of scans."""
     if len(question) > MAX_QUESTION:
         return Answer(question[:60] + "...", False,
                       f"the question is {len(question)} characters long; ask in at most {MAX_QUESTION}")
-    from sg3d.queries.grammar import GrammarError
+    from sg3d.queries.reader.grammar import GrammarError
 
     try:
         phrased, notes = _phrase(store, question, building)
@@ -532,7 +544,7 @@ def answer(store, question: str, room: Optional[str] = None, building: Optional[
         return Answer(question, False, refusal(compose.grammar_refusal(question, exc).text, question))
     if not phrased:
         return Answer(question, False, refusal("empty question", question))
-    a = _answer(store, question, phrased, notes, room, building, embedding, use_embedding, viewpoint, on_change)
+    a = _answer(store, question, phrased, notes, room, building, embedding, use_embedding, viewpoint)
     if not a.ok:
         a.text = own_words(question, phrased, a.text)
     return a
@@ -544,7 +556,7 @@ def own_words(question: str, phrased: str, text: str) -> str:
     "try e.g." is left alone)."""
     import re
 
-    from sg3d.queries.phrasing import said_word
+    from sg3d.queries.reader.tidy import said_word
 
     head, sep, tail = text.partition("; try e.g.")
     typed = {w.strip(".'") for w in re.sub(r"[^\w'. -]+", " ", question.lower()).split()}
@@ -564,59 +576,60 @@ def own_words(question: str, phrased: str, text: str) -> str:
 
 
 def _answer(store, question: str, phrased: str, notes: list[str], room, building, embedding, use_embedding,
-            viewpoint, on_change) -> Answer:
-    from sg3d.queries.grammar import GrammarError
+            viewpoint) -> Answer:
+    from sg3d.queries.reader.grammar import GrammarError
+
+    from sg3d.queries.reader.reading import GrammarReader, StoredRooms, room_lookup
 
     run = _Run(store, viewpoint)
-    seen: dict[str, list[dict]] = {}
-
-    def room_rows(name: str) -> list[dict]:
-        # one indexed look-up per candidate name, not a read of every room (1,000 rooms: 10 ms)
-        if name not in seen:
-            seen[name] = _rooms_named(store, name, building)
-            said = seen[name][0].get("read_as") if seen[name] else None
-            if said and said not in run.notes:
-                run.notes.append(said)
-        return seen[name]
-
+    # one indexed look-up per candidate name, not a read of every room (1,000 rooms: 10 ms)
+    rooms = StoredRooms(lambda: _room_names(store, building), lambda name: _rooms_named(store, name, building),
+                        run.notes)
     try:       # the one reading of the question
-        form, rows_of = compose.read_question(phrased, room_rows, lambda: _room_names(store, building))
+        form = GrammarReader().read(phrased, rooms)
     except GrammarError as exc:
         o = compose.grammar_refusal(phrased, exc)
         return Answer(question, False, refusal(o.text, question) if o.kind == "unread" else o.text)
     if form.op in CHANGE_OPS:
-        return _change(question, form, on_change, embedding)
+        return Answer(question, False, "questions about re-scans are answered by `sg3d ask` (the scans' history)",
+                      form="changes", logical=form.form(), change=ChangeAsked(form, phrased))
     run.seen_from = form.seen_from.text() if form.seen_from is not None else None
-    try:
-        outcome = compose.compile_question(run, form, room, rows_of, lambda name: _scope(run, name, building, seen),
-                                           embedding, use_embedding, building)
+    form = compose.planned(form)
+    ev = compose.Evaluator(run, room_lookup(form, rooms.rows), embedding, use_embedding, building)
+    try:       # one plan, run by the executor it names
+        p = compose.plan(ev, form, room, lambda name: _scope(run, name, building, rooms.seen))
+        outcome = compose.run_sets(p, room) if isinstance(p, compose.Plan) and p.executor == "sets" else p
     except Refusal as exc:
         return Answer(question, False, str(exc), steps=run.steps, logical=form.form())
+    if isinstance(outcome, compose.Plan):
+        return _planned(question, outcome, run, (room, building), rooms.seen, notes)
     if outcome.kind == "answer":
         return _in_unit(_composed(question, outcome, notes, run), question)
-    if outcome.kind != "simple" or outcome.query is None:
-        return Answer(question, False, refusal(outcome.text, question) if outcome.kind == "unread"
-                      else outcome.text, logical=outcome.form, steps=run.steps)
-    return _planned(question, outcome.query, outcome, run, room, building, seen, notes)
+    return Answer(question, False, refusal(outcome.text, question) if outcome.kind == "unread"
+                  else outcome.text, logical=outcome.form, steps=run.steps)
 
 
-def _planned(question: str, q: Query, outcome, run: _Run, room, building, seen, notes: list[str]) -> Answer:
-    """A simple form's plan run on the per-form templates (index-aware variants)."""
+def _planned(question: str, p: compose.Plan, run: _Run, scope: tuple, seen, notes: list[str]) -> Answer:
+    """A simple form's plan run on the per-form templates (index-aware variants); `scope`: the
+    (room, building) asked in."""
+    room, building = scope
+    q = p.query
+    assert q is not None
     store = run.store
     if q.target.how == "group" or (q.anchor is not None and q.anchor.how == "group"):
         _expand_groups(store, q)
     try:
-        if outcome.room_ids is not None:       # the room the question names, looked up while reading
+        if p.room_ids is not None:       # the room the question names, looked up while reading
             run.steps.insert(0, {"template": "cypher/vqa_room_named.cypher",
                                  "params": {"names": [q.room], "building": building}})
-        rooms = outcome.room_ids if outcome.room_ids is not None else _scope(run, room, building, seen)
+        rooms = p.room_ids if p.room_ids is not None else _scope(run, room, building, seen)
         result = FORMS[q.form](run, q, rooms)
     except Refusal as exc:
-        return Answer(question, False, str(exc), query=q, steps=run.steps, logical=outcome.form)
+        return Answer(question, False, str(exc), query=q, steps=run.steps, logical=p.logical)
     if _nothing(result) and not run.read("object_total")[0]["n"]:
         return Answer(question, False, "the store holds no scene graph yet: build one first (sg3d build ...)",
                       query=q, steps=run.steps)
-    result.question, result.query, result.logical, result.plan = question, q, outcome.form, "templates"
+    result.question, result.query, result.logical, result.plan = question, q, p.logical, "templates"
     _honest_absence(run, result, q, rooms)
     result.provenance = _provenance(run, result, q, rooms)
     result.steps = run.steps
@@ -650,23 +663,16 @@ def change_query(form: Form, embedding=None) -> ChangeQuery:
     return ChangeQuery("before", target=target, room=room)
 
 
-def _change(question: str, form: Form, on_change, embedding) -> Answer:
-    if on_change is None:
-        return Answer(question, False, "questions about re-scans are answered by `sg3d ask` (the scans' history)",
-                      form="changes", logical=form.form())
-    try:
-        asked = change_query(form, embedding)
-    except Refusal as exc:
-        return Answer(question, False, str(exc), form="changes", logical=form.form())
-    result = on_change(asked)
-    result.logical, result.plan = form.form(), "history"
-    return result
+def history_refusal(question: str, asked: ChangeAsked, refused: Refusal) -> Answer:
+    """A change question whose objects cannot be placed (`change_query`'s Refusal), refused."""
+    return Answer(question, False, str(refused), form="changes", logical=asked.form.form())
 
 
 def _phrase(store, text: str, building: Optional[str]) -> tuple[str, list[str]]:
-    """Frames, apostrophes, numbers and typos (sg3d/queries/phrasing.py); room names are never
+    """Frames, apostrophes, numbers and typos (sg3d/queries/reader); room names are never
     read as typos (they are looked up only when a word is outside the vocabulary)."""
-    from sg3d.queries.phrasing import fix_typos, is_word, tidy
+    from sg3d.queries.reader.tidy import tidy
+    from sg3d.queries.reader.typos import fix_typos, is_word
 
     try:
         tidied = tidy(text)
@@ -674,12 +680,12 @@ def _phrase(store, text: str, building: Optional[str]) -> tuple[str, list[str]]:
         raise _reader_failed(text, "tidy", exc) from None
     asides = [f"ignored: {', '.join(tidied.dropped)}"] if tidied.dropped else []
     asides += tidied.notes
-    vocab = compose.typo_vocabulary()
+    vocab = typo_vocabulary()
     if all(is_word(w, vocab) for w in tidied.text.split()):
         return tidied.text, asides
     rooms = {w for n in _room_names(store, building, with_buildings=True) for w in n.lower().split()}
     try:
-        fixed, notes = fix_typos(tidied.text, vocab, rooms, compose.typo_nouns())
+        fixed, notes = fix_typos(tidied.text, vocab, rooms, typo_nouns())
     except Exception as exc:        # the same for the typo fixer
         raise _reader_failed(tidied.text, "fix_typos", exc) from None
     return fixed, asides + notes
@@ -690,7 +696,7 @@ def _reader_failed(text: str, step: str, exc: Exception):
     grammar's ReaderFailure naming the first word (the pre-pass reads the whole text at once)."""
     import logging
 
-    from sg3d.queries.grammar import ReaderFailure
+    from sg3d.queries.reader.grammar import ReaderFailure
 
     word = next(iter(text.split()), None)
     logging.getLogger("sg3d.queries").warning("the question reader (%s) failed on %r: %s: %s", step, text,
@@ -710,7 +716,7 @@ def _room_names(store, building: Optional[str], with_buildings: bool = False) ->
 
 def _in_unit(a: Answer, question: str) -> Answer:
     """A distance asked in a unit ("how far ... in centimetres") says it in that unit too."""
-    from sg3d.queries.phrasing import asked_unit
+    from sg3d.queries.reader.tidy import asked_unit
     from sg3d.queries.vocabulary import UNIT_M
 
     unit = asked_unit(question)

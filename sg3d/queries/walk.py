@@ -14,7 +14,7 @@ from sg3d.core.stored import Row
 from sg3d.queries.logic import NP
 from sg3d.queries.place_names import match_name, squeezed
 from sg3d.queries.sets import Unanswerable
-from sg3d.queries.wording import plural
+from sg3d.queries.answer.wording import plural
 
 
 def walk_layer(a) -> list[Row]:
@@ -28,7 +28,7 @@ def walk_layer(a) -> list[Row]:
 
 def said_name(a, np: NP) -> str:
     """The words of a room's name as the user said them: a multi-word name the reader replaced
-    by one word (compose.read_question) is given back."""
+    by one word (reader.reading.GrammarReader) is given back."""
     text = np.text()
     back = getattr(a.ev.is_room, "said", None)
     return back(text) if back is not None else text

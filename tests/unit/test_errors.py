@@ -8,7 +8,7 @@ from pathlib import Path
 from sg3d.app.build import BuildError
 from sg3d.app.errors import NotFound
 from sg3d.core.errors import Sg3dError
-from sg3d.queries.grammar import GrammarError
+from sg3d.queries.reader.grammar import GrammarError
 
 REPO = Path(__file__).resolve().parents[2]
 PACKAGES = ("sg3d",)   # the one top-level package; its layers are subpackages

@@ -51,7 +51,7 @@ class Problem:
             return ""
         from collections import Counter
 
-        from sg3d.queries.wording import plural
+        from sg3d.queries.answer.wording import plural
 
         unreachable = [n for n, why in self.left_out.items() if not why.startswith("no planning rule")]
         labels = Counter(self.left_out_labels.get(n, "object") for n in self.left_out if n not in unreachable)

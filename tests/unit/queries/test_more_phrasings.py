@@ -6,8 +6,8 @@ from __future__ import annotations
 import pytest
 
 from sg3d.queries.compose import plan_question
-from sg3d.queries.grammar import GrammarError, read
-from sg3d.queries.phrasing import asked_unit, tidy
+from sg3d.queries.reader.grammar import GrammarError, read
+from sg3d.queries.reader.tidy import asked_unit, tidy
 from sg3d.queries.sets import Unanswerable, activity
 from sg3d.queries.vocabulary import INVERSE, RELATIONS
 

@@ -6,10 +6,10 @@ from __future__ import annotations
 
 import pytest
 
-from sg3d.queries.answers import _attribute_of
-from sg3d.queries.grammar import GrammarError, read
+from sg3d.queries.answer.operations import _attribute_of
+from sg3d.queries.reader.grammar import GrammarError, read
 from sg3d.queries.lexicon import resolve
-from sg3d.queries.phrasing import tidy
+from sg3d.queries.reader.tidy import tidy
 from sg3d.queries.sets import activity
 
 
@@ -348,8 +348,8 @@ def test_embedded_colour_question_with_a_room_possessive():
 
 
 def test_a_typo_after_the_is_read_as_the_noun():
-    from sg3d.queries.compose import typo_nouns, typo_vocabulary
-    from sg3d.queries.phrasing import fix_typos
+    from sg3d.queries.reader.typos import typo_nouns, typo_vocabulary
+    from sg3d.queries.reader.typos import fix_typos
 
     text, notes = fix_typos("where is the refrigerater", typo_vocabulary(), (), typo_nouns())
     assert text == "where is the refrigerator" and notes == ["read 'refrigerater' as 'refrigerator'"]
@@ -693,8 +693,8 @@ def test_a_form_of_address_without_a_comma_inside_the_question_stays():
 
 # -- typos: two spellings of one word, a letter dropped from a short noun ---------------------------
 def test_a_typo_of_colour_is_one_word_and_the_synonym_stays():
-    from sg3d.queries.compose import typo_nouns, typo_vocabulary
-    from sg3d.queries.phrasing import fix_typos
+    from sg3d.queries.reader.typos import typo_nouns, typo_vocabulary
+    from sg3d.queries.reader.typos import fix_typos
 
     text, notes = fix_typos("what colur is the monitor", typo_vocabulary(), (), typo_nouns())
     assert text == "what color is the monitor" and notes == ["read 'colur' as 'color'"]
@@ -703,8 +703,8 @@ def test_a_typo_of_colour_is_one_word_and_the_synonym_stays():
 
 
 def test_between_equally_close_words_a_dropped_letter_wins():
-    from sg3d.queries.compose import typo_nouns, typo_vocabulary
-    from sg3d.queries.phrasing import fix_typos
+    from sg3d.queries.reader.typos import typo_nouns, typo_vocabulary
+    from sg3d.queries.reader.typos import fix_typos
 
     assert fix_typos("what colr is the sofa", typo_vocabulary(), (), typo_nouns())[0] == "what color is the sofa"
 
@@ -714,15 +714,15 @@ def test_between_equally_close_words_a_dropped_letter_wins():
     ("where is the ovn", "where is the oven"),
 ])
 def test_a_short_noun_with_a_letter_left_out_after_a_determiner(text, fixed):
-    from sg3d.queries.compose import typo_nouns, typo_vocabulary
-    from sg3d.queries.phrasing import fix_typos
+    from sg3d.queries.reader.typos import typo_nouns, typo_vocabulary
+    from sg3d.queries.reader.typos import fix_typos
 
     assert fix_typos(text, typo_vocabulary(), (), typo_nouns())[0] == fixed
 
 
 def test_a_short_word_is_not_guessed_without_a_determiner_or_when_two_nouns_fit():
-    from sg3d.queries.compose import typo_nouns, typo_vocabulary
-    from sg3d.queries.phrasing import dropped_letter, fix_typos
+    from sg3d.queries.reader.typos import typo_nouns, typo_vocabulary
+    from sg3d.queries.reader.typos import dropped_letter, fix_typos
 
     assert fix_typos("dsk where is", typo_vocabulary(), (), typo_nouns())[0] == "dsk where is"
     assert dropped_letter("dsk", frozenset({"desk", "disk"})) is None

@@ -8,9 +8,11 @@ from pathlib import Path
 
 import pytest
 
-from sg3d.queries.compose import plan_question, typo_vocabulary
-from sg3d.queries.grammar import RESERVED, GrammarError, read
-from sg3d.queries.phrasing import fix_typos, tidy
+from sg3d.queries.compose import plan_question
+from sg3d.queries.reader.typos import typo_vocabulary
+from sg3d.queries.reader.grammar import RESERVED, GrammarError, read
+from sg3d.queries.reader.tidy import tidy
+from sg3d.queries.reader.typos import fix_typos
 from sg3d.queries.vocabulary import ACTIVITIES, AFFORDANCE_VERBS, RELATIONS
 
 QUERIES = Path(__file__).resolve().parents[3] / "sg3d" / "queries"

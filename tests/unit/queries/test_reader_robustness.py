@@ -9,12 +9,22 @@ import random
 
 import pytest
 
-from sg3d.queries import grammar
-from sg3d.queries.compose import grammar_refusal, read_question, typo_nouns, typo_vocabulary
-from sg3d.queries.grammar import RESERVED, GrammarError, ReaderFailure, read
+from sg3d.queries.reader import grammar
+from sg3d.queries.compose import grammar_refusal
+from sg3d.queries.reader.reading import GrammarReader
+from sg3d.queries.reader.typos import typo_nouns, typo_vocabulary
+from sg3d.queries.reader.grammar import RESERVED, GrammarError, ReaderFailure, read
 from sg3d.queries.logic import Form
-from sg3d.queries.phrasing import fix_typos, tidy
+from sg3d.queries.reader.tidy import tidy
+from sg3d.queries.reader.typos import fix_typos
 from sg3d.queries.vocabulary import MAX_QUESTION
+
+
+class _NoRooms:
+    """A store with no rooms: no name a question says is a room's."""
+
+    def names(self) -> list:
+        return []
 
 
 def reading(question: str):
@@ -24,7 +34,7 @@ def reading(question: str):
     if not text:
         return GrammarError("empty question")
     try:
-        return read_question(text, lambda name: [], lambda: [])[0]
+        return GrammarReader().read(text, _NoRooms())
     except GrammarError as exc:
         return exc
 
@@ -135,7 +145,8 @@ def test_ask_leaves_store_failures_to_the_front_ends(monkeypatch):
 
 
 def test_a_failing_rewrite_is_a_refusal_naming_the_first_word(monkeypatch):
-    from sg3d.queries import phrasing, vqa
+    from sg3d.queries import vqa
+    from sg3d.queries.reader import tidy as phrasing
 
     def broken(text):
         raise ValueError("a rewrite went wrong")

@@ -5,9 +5,10 @@ from __future__ import annotations
 
 import pytest
 
-from sg3d.queries.compose import typo_vocabulary
-from sg3d.queries.grammar import GrammarError, read
-from sg3d.queries.phrasing import asked_unit, fix_typos, said_word, tidy
+from sg3d.queries.reader.typos import typo_vocabulary
+from sg3d.queries.reader.grammar import GrammarError, read
+from sg3d.queries.reader.tidy import asked_unit, said_word, tidy
+from sg3d.queries.reader.typos import fix_typos
 from sg3d.queries.sets import activity
 from sg3d.queries.vqa import own_words
 

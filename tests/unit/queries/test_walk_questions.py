@@ -6,8 +6,8 @@ from __future__ import annotations
 import pytest
 
 from sg3d.app.places import guess_kind
-from sg3d.queries.grammar import GrammarError, read
-from sg3d.queries.phrasing import tidy
+from sg3d.queries.reader.grammar import GrammarError, read
+from sg3d.queries.reader.tidy import tidy
 from sg3d.queries.walk import named, not_detected, room_words, shortest_way
 
 

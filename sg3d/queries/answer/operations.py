@@ -22,7 +22,7 @@ from sg3d.queries.vocabulary import (
     LIST_SHOWN,
     SUPERLATIVES,
 )
-from sg3d.queries.wording import plural, the, without_place
+from sg3d.queries.answer.wording import plural, the, without_place
 
 
 def _join(items: list[str]) -> str:

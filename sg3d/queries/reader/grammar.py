@@ -1,4 +1,5 @@
-"""The grammar of questions (lark, LALR): normalised text -> logical form (sg3d/queries/logic.py).
+"""The grammar of questions (lark, LALR, sg3d/queries/data/question.lark): normalised text -> logical
+form (sg3d/queries/logic.py).
 
 The grammar knows the frame words (how many, where, which ... is the biggest), relations,
 distances with units, negation, comparisons and rooms; nouns are open words, resolved later to
@@ -9,6 +10,8 @@ from __future__ import annotations
 
 import functools
 import logging
+from dataclasses import replace
+from pathlib import Path
 from typing import Iterator, Optional, TypeVar
 
 from lark import Lark, Token, Transformer, Tree, v_args
@@ -28,188 +31,10 @@ from sg3d.queries.vocabulary import (
     UNIT_M,
 )
 
-GRAMMAR = r"""
-start: fronted? question seen?
-// "apart from the sink, what is on the counter": the exception said first
-fronted: EXCEPT np_or
-?question: count | exists | at_least | compare | listing | where | attribute | extreme | distance
-     | room_count | rooms_with | room_most | rooms_next | afford | size_compare | changes | gone | before | route
-
-be: "is" | "are"
-_there: "there"
-_det: "the" | INDEF | "any" | "some" | "all" | "my" | "this" | "your" | "each" | "every"
-_do: "do" | "does"
-_have: "have" | "has" | "hold" | "holds" | "contain" | "contains"
-_was: "was" | "were"
-_perceive: "see" | "spot" | "notice" | "find" | "count"
-
-count: "how" "many" np be? _there? preds
-     | "how" "many" np _do owner (_have | _perceive) preds  -> count_owned
-     | "how" "many" np ("can" | "could") ("you" | "we") _perceive preds
-     | "how" "many" np owned _have preds                   -> count_owned
-     | "how" "many" np ("have" | "has") INDEF? _words preds  -> count_having
-     | "how" "many" np ("can" | "could") "i" verb preds      -> count_purpose
-     | "count" np preds
-     | WHAT be "the" "number" "of" np be? _there? preds
-owner: "we" | "you" | "i" | _det? WORD+
-owned: _det WORD+                                       -> owner
-exists: be _there np preds
-      | np_one                                          -> bare
-      | "do" ("you" | "we" | "i") ("have" | "see" | "got") np preds
-      | ("have" | "has") ("you" | "we") "got" np preds
-      | "got" np preds
-      | be np preds
-      | be _there "no" np preds                             -> exists_none
-      | _do owned _have np preds                            -> exists_owned
-      | _do owned (_have "no" | "not" _have) np preds       -> exists_owned_none
-      | be _there np ("i" | "we") _modal verb preds        -> exists_afford
-at_least: be _there MORELESS "than" NUMBER np preds
-        | be _there EXACTLY NUMBER np preds
-        | "do" ("we" | "you") "have" MORELESS "than" NUMBER np preds
-        | "do" ("we" | "you") "have" EXACTLY NUMBER np preds
-compare: be _there MORELESS np "than" np preds
-       | be "the" "number" "of" np COMPARE "than" "the" "number" "of" np preds
-       | "do" ("we" | "you") "have" MORELESS np "than" np preds
-listing: WHAT np? be _there? preds
-       | WHAT np? ("can" | "do") "you" "see" _there? preds
-       | LIST "me"? np preds
-       | WHAT be _det? WORD+ NUMBER? strand            -> stranded
-where: "where" be np preds
-     | "where" "in" _det? WORD+ be _there? np preds       -> where_in
-     | "where" "can" "i" "find" np preds
-attribute: WHAT "color" be np preds                        -> colour_of
-         | WHAT be "the" "color" "of" np preds         -> colour_of
-         | "the" "color" "of" np preds                 -> colour_of
-         | WHAT be "the" MEASURE "of" np preds        -> measure_named
-         | "the" MEASURE "of" np preds                -> measure_named
-         | WHAT "size" be np preds                       -> size_of
-         | "how" ATTR be np preds                          -> measure_of
-extreme: WHAT np? be _det? SUPER np? preds
-       | WHAT "of" np be _det? SUPER preds
-       | WHAT np be _det? DSUPER "away"? _tofrom np
-       | WHAT be np_closest
-       | WHAT be _det WORD+ DSUPER _tofrom np_one          -> extreme_after
-np_closest: _det? DSUPER WORD+ (_tofrom np_one)?
-distance: "how" "far" be np _tofrom np
-        | "how" "far" "apart" be np
-        | (WHAT be)? "the"? _gap "between" np
-        | (WHAT be)? "the"? _gap "from" np_one "to" np_one
-        | "how" "many" UNIT (be "it"?)? _there? "between" np
-_gap: "distance" | "gap" | "separation"
-room_count: "how" "many" "rooms" be? _there? ("in" _det? WORD+)? (_do _det? ("you" | WORD) WORD* ("have" | "has" | "hold" | "contain" | "see")?)?
-rooms_with: WHAT _rooms _have np preds
-          | WHAT _rooms _have np "but" _none np_or preds         -> rooms_but_not
-          | WHAT _rooms _have np "without" np_or preds           -> rooms_but_not
-          | WHAT _rooms _lacking np_or preds                    -> rooms_without
-          | (WHAT be _det?)? "rooms" "without" np_or preds       -> rooms_without
-          | "how" "many" "rooms" _lacking np_or preds           -> rooms_counted_without
-          | "in" WHAT _rooms be _there? np preds
-          | "in" WHAT _rooms be _there? np "but" _none np_or preds -> rooms_but_not
-          | "in" "how" "many" "rooms" be _there? np preds   -> rooms_counted
-          | "how" "many" ("rooms" | "room") _have np preds   -> rooms_counted
-          | WHAT _rooms _have _quantity np preds                  -> rooms_over
-          | "in" WHAT _rooms be _there? _quantity np preds        -> rooms_over
-          | "how" "many" "rooms" _have _quantity np preds         -> rooms_counted_over
-_quantity: MORELESS "than" NUMBER | EXACTLY NUMBER
-_rooms: "rooms" | "room"
-// "have no fridge", "don't have a fridge", "lack a fridge": none of it
-_lacking: _have "no" | _do "not" _have | "lack" | "lacks" | ("have" | "has") "not" "got"
-_none: "no" | "not" | _lacking | "without"
-size_compare: be np COMPARE "than" np preds             -> bigger
-            | WHAT be COMPARE np preds                  -> bigger_which
-            | WHAT "of" np be COMPARE preds             -> bigger_which
-room_most: WHAT NUMBER? _rooms _have _det? MOSTFEW np preds
-         | WHAT _rooms _have MORELESS np np_or preds      -> room_more
-         | _det? NUMBER? "rooms" "with" _det? MOSTFEW np preds
-         | WHAT be _det? NUMBER? _rooms "with" _det? MOSTFEW np preds
-         | "in" WHAT NUMBER? _rooms be _there? _det? MOSTFEW np preds
-         | LIST _det? NUMBER? _rooms "with" _det? MOSTFEW np preds
-rooms_next: WHAT "rooms" be (_next_to | "near" | "beside") np_one
-          | WHAT _do _det? _rooms (_next_to | "near" | "beside") np_one _have   -> rooms_next_hold
-// "how do I get from the kitchen to the bedroom": the verb is an open word (checked in `route`)
-route: "how" (_do | _modal) ("i" | "we" | "you") WORD "from" np_one "to" np_one
-     | "how" (_do | _modal) ("i" | "we" | "you") WORD "to" np_one "from" np_one   -> route_back
-_modal: "can" | "could" | "should" | "might" | "may"
-afford: "where" ("can" | "could" | "should" | "might" | "may") "i" verb preds
-      | WHAT ("can" | "could" | "should" | "might" | "may") "i" verb preds
-      | WHAT np ("can" | "could" | "should" | "might" | "may") "i" verb preds   -> afford_kind
-      | "i" ("need" | "want") WORD? ("to" | "for") verb preds
-      | "where" "in" _det? WORD+ _modal "i" verb preds          -> afford_in
-verb: WORD (WORD | _det | PARTICLE)* _dangling?
-_dangling: "from" | "on" | "in" | "with" | "of"
-changes: WHAT ("has" | "have")? CHANGED _since? preds
-       | WHAT be "different" _since? preds
-gone: WHAT (be | _was | "has" | "have") "been"? GONE preds
-    | WHAT GONE preds
-    | WHAT "went" "missing" preds
-before: "where" (_was | "did") np BEFORE
-_since: "since" _det? "last" ("scan" | "time")
-seen: SEEN "from" np_one
-
-np: np_one (_conj np_one)*
-np_or: np_one ("or" np_one)*
-// kept: "rooms with a chair and a tv" asks for both, "a chair or a tv" for either
-!_conj: "or" | "and" | "as" "well" "as"
-np_one: _dets? _pieces? SUPER? _words NUMBER? postmod*
-      | _dets? SUPER postmod*
-      | _dets? _pieces? SUPER? _words DSUPER _tofrom np_one
-      | np_closest
-      | _dets? _words? ONE postmod*                            -> np_pronoun
-_pieces: PIECES "of"
-_dets: _det | "all" "the" | "all" "of" "the" | "any" "of" "the" | "each" "of" "the" | ONE "of" "the"
-_words: (WORD | SIZE | ATTR)+
-strand: relation
-postmod: NOT? relation np_or                 -> rel_filter
-       | NOT? band                          -> dist_filter
-       | HAVING _det? WORD+                 -> having
-       | "for" WORD+                        -> purpose
-preds: pred*
-pred: NOT? relation np_or                   -> rel_filter
-    | NOT? band                             -> dist_filter
-    | EXCEPT np                             -> except_filter
-    | NOT np_or                             -> except_filter
-    | "and" pred
-band: "within" length _ofrom np_one                      -> within
-    | ("closer" | "nearer") "than" length _tofrom np_one  -> within
-    | MORELESS "than" length ("away" | "apart")? _tofrom np_one  -> more_less
-    | ("farther" | "further") "than" length _tofrom np_one -> beyond
-    | "between" length "and" length _ofrom np_one         -> between
-length: NUMBER UNIT?
-_ofrom: "of" | "from" | "to"
-_tofrom: "to" | "from"
-_next_to: "next" "to" | "adjacent" "to"
-!relation: RELATION_WORDS
-
-// a word of its own, never the start of one ("away" is not "a way")
-INDEF: /an?(?![\w-])/
-PARTICLE: "away"
-WHAT: "what" | "which"
-LIST: "list" | "show" | "name" | "find"
-NOT: "not"
-EXCEPT: "except" | "besides" | "excluding"
-EXACTLY: "exactly"
-// "the grey one", "the ones next to the fridge": the noun said before (see _fill_ones)
-ONE: "ones" | "one"
-HAVING: /(?:with|having|featuring|showing)(?![\w-])/
-PIECES: "piece" | "pieces" | "kind" | "kinds" | "type" | "types" | "sort" | "sorts"
-MORELESS: "more" | "fewer" | "less"
-COMPARE: "bigger" | "larger" | "greater" | "higher" | "smaller" | "lower" | "taller" | "shorter" | "wider"
-       | "narrower" | "longer"
-MOSTFEW: "most" | "fewest" | "least"
-MEASURE: "height" | "width" | "length" | "depth" | "size"
-ATTR: "big" | "large" | "tall" | "high" | "wide" | "long" | "deep"
-SIZE: "huge" | "small" | "little" | "tiny"
-SUPER: SUPER_WORDS
-DSUPER: DSUPER_WORDS
-CHANGED: "changed" | "moved"
-GONE: "gone" | "missing" | "disappeared" | "removed" | "vanished"
-BEFORE: "before" | "previously" | "earlier" | "yesterday"
-SEEN: "seen" | "viewed" | "looking"
-UNIT: UNIT_WORDS
-NUMBER: /\d+(\.\d+)?/
-WORD: /(?!(?:RESERVED)\b)[^\W\d_][\w-]*/
-%ignore " "
-"""
+# the grammar (sg3d/queries/data/question.lark), over word lists filled in from the lexicon
+# (RELATION_WORDS, SUPER_WORDS, DSUPER_WORDS, UNIT_WORDS: sg3d/queries/vocabulary.py); the text
+# the parser tables are hashed from starts with a newline
+GRAMMAR = "\n" + (Path(__file__).resolve().parents[1] / "data" / "question.lark").read_text()
 
 
 def _alternatives(words) -> str:
@@ -280,12 +105,11 @@ def shipped_tables(grammar: str):
     scripts/make_query_tables.py), named by a hash of the grammar and of lark's version: a
     grammar edited since has no file there, and is built (and cached) instead."""
     import hashlib
-    from pathlib import Path
 
     import lark
 
     key = hashlib.sha1(f"{grammar}\n{lark.__version__}".encode()).hexdigest()[:12]
-    return Path(__file__).parent / "data" / f"question-grammar-{key}.lark"
+    return Path(__file__).resolve().parents[1] / "data" / f"question-parser-tables-{key}.pickle"
 
 
 def _table_cache(grammar: str):
@@ -298,7 +122,7 @@ def _table_cache(grammar: str):
     folder = writable_cache_folder()
     if folder is None:
         return False
-    return str(folder / f"question-grammar-{hashlib.sha1(grammar.encode()).hexdigest()[:12]}.lark")
+    return str(folder / f"question-parser-tables-{hashlib.sha1(grammar.encode()).hexdigest()[:12]}.pickle")
 
 
 def _words(items) -> list[str]:
@@ -338,10 +162,10 @@ def _one(found: Iterator[_T]) -> _T:
 class _ToForm(Transformer):
     def start(self, items):
         form = _one(i for i in items if isinstance(i, Form))
-        form.filters += [i for i in items if isinstance(i, Filter)]     # a fronted exception
+        form.filters.extend(i for i in items if isinstance(i, Filter))     # a fronted exception
         seen = [i for i in items if isinstance(i, NP)]
         if seen:
-            form.seen_from = seen[-1]
+            form = replace(form, seen_from=seen[-1])
         _fill_ones(form)
         if form.op != "distance":
             _measured_from(form.sets + [f.other for f in form.filters])
@@ -374,15 +198,11 @@ class _ToForm(Transformer):
     def exists_afford(self, items):
         """"is there a glass or a cup I could drink out of": whether any object of those kinds
         affords the activity (yes or no, naming them)."""
-        form = self.afford_kind(items[1:])         # after the "is" of "is there"
-        form.compare = "exists"
-        return form
+        return replace(self.afford_kind(items[1:]), compare="exists")         # after the "is" of "is there"
 
     def afford_kind(self, items):
         """"which desk could I work at": the affording objects of that kind only."""
-        form = self.afford(items)
-        form.sets = [i for i in items if isinstance(i, NP)]
-        return form
+        return replace(self.afford(items), sets=[i for i in items if isinstance(i, NP)])
 
     def seen(self, items):
         return items[-1]
@@ -548,9 +368,7 @@ class _ToForm(Transformer):
 
     def exists_owned_none(self, items):
         """"does the living room have no sofa", "does the kitchen not have a fridge": none of it there."""
-        form = self.exists_owned(items)
-        form.op, form.compare, form.number = "at_least", "exactly", 0.0
-        return form
+        return replace(self.exists_owned(items), op="at_least", compare="exactly", number=0.0)
 
     def at_least(self, items):
         word = _one(str(t) for t in items if isinstance(t, Token) and t.type in ("MORELESS", "EXACTLY"))
@@ -632,13 +450,13 @@ class _ToForm(Transformer):
         if sup in DISTANCE_SUPERLATIVES:
             head, other = form.sets[0], form.sets[1]
             head.superlative, head.toward = sup, other
-            form.sets = [head]
+            form = replace(form, sets=[head])
         else:
             # "which cup is the biggest" / "which is the biggest cup": one set, the word on it
             words = [w for s in form.sets for w in s.words]
             number = next((s.number for s in form.sets if s.number is not None), None)
             filters = [f for s in form.sets for f in s.filters]
-            form.sets = [NP(words, number=number, superlative=sup, filters=filters, definite=True)]
+            form = replace(form, sets=[NP(words, number=number, superlative=sup, filters=filters, definite=True)])
         return form
 
     def distance(self, items):
@@ -647,7 +465,7 @@ class _ToForm(Transformer):
         form = self._op("distance", items)
         if len(form.sets) == 1 and len(form.sets[0].alternatives) == 2 \
                 and any(a.superlative in DISTANCE_SUPERLATIVES for a in form.sets[0].alternatives):
-            form.sets = list(form.sets[0].alternatives)
+            form = replace(form, sets=list(form.sets[0].alternatives))
         if len(form.sets) == 2:
             for mine, other in (form.sets, form.sets[::-1]):
                 if mine.superlative in DISTANCE_SUPERLATIVES and mine.toward is None:
@@ -680,28 +498,21 @@ class _ToForm(Transformer):
 
     def rooms_counted_over(self, items):
         """"how many rooms have more than 2 chairs": the same rooms, counted."""
-        form = self.rooms_over(items)
-        form.op = "rooms_counted"
-        return form
+        return replace(self.rooms_over(items), op="rooms_counted")
 
     def rooms_but_not(self, items):
         """"which rooms have a chair but no fridge": the rooms holding the first, none of the second."""
         nps = [i for i in items if isinstance(i, NP)]
-        form = self._op("rooms", [nps[0]] + [i for i in items if isinstance(i, list)])
-        form.lacking = [nps[1]]
-        return form
+        return self._op("rooms", [nps[0]] + [i for i in items if isinstance(i, list)], lacking=[nps[1]])
 
     def rooms_without(self, items):
         """"which rooms have no fridge", "rooms without a fridge": the rooms holding none of it."""
-        form = self._op("rooms", [i for i in items if isinstance(i, list)])
-        form.lacking = [i for i in items if isinstance(i, NP)]
-        return form
+        return self._op("rooms", [i for i in items if isinstance(i, list)],
+                        lacking=[i for i in items if isinstance(i, NP)])
 
     def rooms_counted_without(self, items):
         """"how many rooms have no fridge": the same rooms, counted."""
-        form = self.rooms_without(items)
-        form.op = "rooms_counted"
-        return form
+        return replace(self.rooms_without(items), op="rooms_counted")
 
     @staticmethod
     def _bigger(items) -> str:
@@ -723,13 +534,12 @@ class _ToForm(Transformer):
         the last alternative of the trailing relation is the second one (`_last_or`)."""
         form = self.bigger(items)
         if len(form.sets) == 1 and len(form.sets[0].alternatives) == 2:
-            form.sets = list(form.sets[0].alternatives)
+            form = replace(form, sets=list(form.sets[0].alternatives))
         if len(form.sets) == 1:
-            form.sets = _last_or(form.sets[0])
+            form = replace(form, sets=_last_or(form.sets[0]))
         if len(form.sets) != 2:
             raise GrammarError("compare two things, e.g. 'which is bigger, the cup or the book'")
-        form.op = "size_which"
-        return form
+        return replace(form, op="size_which")
 
     def room_most(self, items):
         word = _one(str(t) for t in items if isinstance(t, Token) and t.type in ("MOSTFEW", "MORELESS"))
@@ -740,8 +550,7 @@ class _ToForm(Transformer):
         """"which room has more chairs, the kitchen or the study": the most among the rooms named."""
         nps = [i for i in items if isinstance(i, NP)]
         form = self.room_most([i for i in items if not isinstance(i, NP)] + nps[:1])
-        form.among = list(nps[1].alternatives) or [nps[1]]
-        return form
+        return replace(form, among=list(nps[1].alternatives) or [nps[1]])
 
     def rooms_next(self, items):
         return self._op("rooms_next_to", items)
