@@ -11,8 +11,7 @@ Doors are half open (a leaf at 45 degrees into the room) or fully open (no leaf)
 (`_windows`, from a stream of their own so the layout of a seed is the same with or without
 them) are holes in the outside walls, one or two in some rooms, none in at least one. Furniture
 stands along the walls, clear of every doorway's swing, so a person can walk to each room's
-middle. The walk (`walk`) starts in the first room, looks round in each room's middle (down at the
-floor, then nearly level at the walls), and goes
+middle. The walk (`walk`) starts in the first room, looks round in each room's middle, and goes
 from room to room through the doors and along the corridor at 1.2-1.7 m, looking ahead and down.
 """
 from __future__ import annotations
@@ -37,12 +36,12 @@ SWING_M = 1.1                    # furniture keeps this far from a doorway, into
 KINDS = ("kitchen", "living room", "bedroom", "office")
 STEP_M = 0.22                    # the walk's step between frames when dense
 LOOK_FRAMES = 24                 # frames of the look round in a room's middle (15 degrees apart)
-# The look round turns twice: looking down at the floor 2.2 m off, then nearly level (at this
-# height 2.2 m off), so the walls are seen up to about 2 m (a window's sill and sides).
-LEVEL_LOOK_Z = 1.1
 TURN_STEP = np.radians(12)       # the walking gaze turns at most this much per frame
 WINDOW_M = (0.8, 1.4)            # a window's width range
-SILL_M = (0.8, 1.0)              # its sill's height range (its top: scene.WINDOW's)
+# A sill's height range (its top: scene.WINDOW's). Low sills: the walk looks down at the floor
+# 2.2 m ahead and sees the walls only up to about 1.1 m; a look round at window height changed
+# the floor map's rooms (seeds 0 and 1 of bench_walk lost a room).
+SILL_M = (0.5, 0.7)
 WINDOW_TOP = scene.WINDOW[2]
 WINDOW_SEED = 65537              # the windows' own random stream: seed + this
 
@@ -333,8 +332,9 @@ def _furnish(apt: Apartment, s: Space, rng, new_id) -> None:
             add(cab, ["tv" if s.kind == "living room" else "book", "box"])
 
 
-def layout_apartment(seed: int) -> Apartment:
-    """2-6 rooms (module docstring), furnished by kind, with the walk's route."""
+def layout_apartment(seed: int, windows: bool = True) -> Apartment:
+    """2-6 rooms (module docstring), furnished by kind, with the walk's route; `windows`: cut
+    into the outside walls (`_windows`; else the walls are whole)."""
     rng = np.random.default_rng(seed)
     new_id = Namer()
     n = int(rng.integers(2, 7))
@@ -350,7 +350,7 @@ def layout_apartment(seed: int) -> Apartment:
             _furnish(apt, s, rng, new_id)
     doors = {d.b if d.a == "C" else d.a: d for d in apt.doorways if "C" in (d.a, d.b)}
     apt.route = sorted(doors, key=lambda r: doors[r].centre[0]) if doors else [s.id for s in spaces]
-    apt.windows = _windows(apt, np.random.default_rng(seed + WINDOW_SEED), L, D)
+    apt.windows = _windows(apt, np.random.default_rng(seed + WINDOW_SEED), L, D) if windows else []
     for k, (axis, at, lo, hi) in enumerate(_outer(L, D)):
         wall = apt.by_id(f"wall-{k + 1}")
         gaps = [d for d in apt.doorways if d.axis == axis and abs(d.at - at) < 1e-6]
@@ -448,7 +448,7 @@ def _turn_toward(gaze: float, want: float, limit: float) -> float:
 def walk(apt: Room, n: int, rng) -> list[tuple[np.ndarray, np.ndarray]]:
     """The walk through the route at 1.2-1.7 m: STEP_M steps between points, looking ahead (the
     gaze turns at most TURN_STEP per frame, swaying a little) and down; in each room's middle a
-    look round of LOOK_FRAMES views down at the floor, then LOOK_FRAMES + 1 nearly level turning back. `n` is ignored: the walk's own steps keep a camera's speed
+    look round of LOOK_FRAMES views. `n` is ignored: the walk's own steps keep a camera's speed
     and turn rate (`sg3d.ingest.readers.pose_check`) at 30 frames/s, so every pose is kept."""
     assert isinstance(apt, Apartment)
     out: list[tuple[np.ndarray, np.ndarray]] = []
@@ -458,12 +458,10 @@ def walk(apt: Room, n: int, rng) -> list[tuple[np.ndarray, np.ndarray]]:
     height = lambda: 1.45 + 0.25 * np.sin(phase + 0.23 * len(out))      # noqa: E731
     for what, p in _legs(apt):
         if what == "look":
-            # down turning one way, then level turning back: the camera's turn per frame stays small
-            for i in range(2 * LOOK_FRAMES + 1):
-                k = i + 1 if i < LOOK_FRAMES else 2 * LOOK_FRAMES - i
-                a = gaze + 2 * np.pi * k / LOOK_FRAMES
+            for i in range(LOOK_FRAMES):
+                a = gaze + 2 * np.pi * (i + 1) / LOOK_FRAMES
                 u = np.array([np.cos(a), np.sin(a)])
-                out.append((np.r_[p + 0.1 * u, height()], np.r_[p + 2.2 * u, 0.0 if i < LOOK_FRAMES else LEVEL_LOOK_Z]))
+                out.append((np.r_[p + 0.1 * u, height()], np.r_[p + 2.2 * u, 0.0]))
             continue
         if here is None:
             here = p
