@@ -69,7 +69,7 @@ MAX_PLANES = 16
 # A strong wall's noisy normals spread its votes over many bins: the peaks beside it are tried
 # (and found to be the same wall) before the next wall's; this many peaks are tried in all.
 MAX_PEAKS = 80
-WINDOW_WALL_MIN_TOP_M = 1.3
+WINDOW_WALL_MIN_TOP_M = 1.0
 
 THROUGH, WALL, UNKNOWN = 0, 1, 2
 

@@ -140,3 +140,38 @@ def test_a_recess_less_deep_than_the_through_margin_is_no_window():
 
 def test_a_hole_smaller_than_a_window_is_none():
     assert _faces(_hole(-0.15, 0.15, 1.0, 1.6)) == []
+
+
+def _wall_points(length: float, top: float) -> tuple[np.ndarray, np.ndarray]:
+    """Points on the plane a = 1.5 from b = -length/2, 1 cm apart, from the floor to `top`."""
+    b, h = np.meshgrid(np.arange(-length / 2, length / 2, 0.01), np.arange(0.0, top + 0.005, 0.01))
+    pts = np.stack([np.full(b.size, 1.5), b.ravel(), h.ravel()], axis=1)
+    return pts, np.tile([-1.0, 0.0, 0.0], (len(pts), 1))
+
+
+def test_a_windows_wall_runs_a_metre_and_reaches_up_past_a_sill():
+    from sg3d.ingest.discover.structure import WALL_MIN_LENGTH
+    from tests.unit.ingest.discover.clouds import room_of
+
+    top = W.WINDOW_WALL_MIN_TOP_M
+    found = W.wall_planes(room_of(_wall_points(2.0, top + 0.02)))
+    assert len(found) == 1 and abs(found[0].plane[1] - 1.5) < 0.02 and found[0].side == -1.0
+    assert W.wall_planes(room_of(_wall_points(2.0, top - 0.05))) == []           # a furniture front
+    assert W.wall_planes(room_of(_wall_points(WALL_MIN_LENGTH - 0.05, 2.0))) == []
+    assert len(W.wall_planes(room_of(_wall_points(WALL_MIN_LENGTH + 0.05, 2.0)))) == 1
+
+
+def test_a_rectangle_below_the_least_fill_is_no_window():
+    """A wall with a 1 m square hole seen through; an L of open cells (a corner of it the wall's)."""
+    face = np.zeros((3,) + (40, 40), np.int32)
+    face[W.WALL] = 5
+    face[W.THROUGH, 10:30, 10:30] = 5
+    face[W.WALL, 10:30, 10:30] = 0
+    wall = Element("wall", np.array([2.0, -1.0, 0.0]), np.array([2.0, 1.0, 2.0]), 1000, 6, plane=(0.0, 2.0), side=-1.0)
+    assert len(W.face_windows(W.Face(wall, -1.0, face))) == 1
+    for corner, kept in ((10, True), (12, False)):      # an L of open cells: 300 / 400 and 256 / 400 open
+        notched = face.copy()
+        notched[W.THROUGH, 10:10 + corner, 10:10 + corner] = 0
+        notched[W.WALL, 10:10 + corner, 10:10 + corner] = 5
+        assert (len(W.face_windows(W.Face(wall, -1.0, notched))) == 1) is kept, corner
+    assert 1 - 100 / 400 >= W.MIN_FILL > 1 - 144 / 400
