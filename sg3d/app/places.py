@@ -139,7 +139,8 @@ def layer_rows(rid: str, places, basis: np.ndarray, floor: float, objects: list[
         kind, evidence = guess_kind([o["label"] for o, k in zip(objects, at) if int(k) == p.label])
         x, y, z = world(p.centre)
         rooms.append({"id": ids[p.label], "name": named[p.label][1], "polygon": world(p.polygon), "area": p.area_m2,
-                      "free_area": p.free_m2, "x": x, "y": y, "z": z, "kind_guess": kind, "kind_evidence": evidence})
+                      "free_area": p.free_m2, "x": x, "y": y, "z": z, "kind_guess": kind, "kind_evidence": evidence,
+                      "unseen_outline": p.unseen_outline})
     doorways = []
     for k, d in enumerate(places.doorways, start=1):
         x, y, z = world(d.position)

@@ -329,15 +329,19 @@ DiscoverFn = Callable[[Callable[[int], Optional[np.ndarray]], list, list[ObjectO
 
 def discover_from_depth(colour_of: Callable[[int], Optional[np.ndarray]], views, objects: list[ObjectObservation],
                         up, floor: Optional[float], stats: PipelineStats) -> list[ObjectObservation]:
-    """The room's structure and its unnamed objects from the views' depth (`sg3d.ingest.discover.discovery`);
-    the named objects get their whole boxes in place."""
+    """The room's structure and its unnamed objects from the views' depth (`sg3d.ingest.discover.discovery`),
+    and its windows where the floor was seen (`sg3d.ingest.discover.windows`); the named objects get
+    their whole boxes in place."""
     from sg3d.ingest.discover.room_cloud import room_cloud
     from sg3d.ingest.discover.structure import room_structure
+    from sg3d.ingest.discover.windows import windows
 
     colour_image = functools.lru_cache(maxsize=16)(colour_of)   # objects side by side are read in the same views
     cloud = room_cloud(views, up, floor)
     structure = room_structure(cloud)
     unnamed, nodes = discovery.discover(objects, cloud, structure, colour_image)
+    if cloud.floor_seen:       # a sill's height is measured from the floor
+        nodes += [discovery.structure_node(f"w{k}", e, cloud) for k, e in enumerate(windows(cloud))]
     stats.unnamed += len(unnamed)
     stats.structure += len(nodes)
     return unnamed + nodes
@@ -365,7 +369,7 @@ def _centre(o: ObjectObservation) -> tuple[float, float, float]:
 def _structure_relations(objects: list[ObjectObservation], up) -> list[RelationObservation]:
     """What the objects stand ON of the room's structure (floor, counters, shelves; not walls),
     from their fused boxes; structure takes part in no other relation."""
-    structure = {o.local_id for o in objects if o.layer == "structure" and o.label != "wall"}
+    structure = {o.local_id for o in objects if o.layer == "structure" and o.label not in ("wall", "window")}
     if not structure:
         return []
     geoms = [ObjectGeometry(o.local_id, o.label, _centre(o), o.size) for o in objects

@@ -58,7 +58,8 @@ NEVER_IGNORED = frozenset({"no", "not", "none", "never", "nor", "neither", "with
                            "nothing", "excluding", "but", "besides", "lacking"})
 
 STRUCTURE_LABELS = {"floor": "floor", "ground": "floor", "wall": "wall", "counter": "counter",
-                    "countertop": "counter", "worktop": "counter", "shelf": "shelf", "surface": "surface"}
+                    "countertop": "counter", "worktop": "counter", "shelf": "shelf", "surface": "surface",
+                    "window": "window"}
 GENERIC = {"object", "thing", "item", "stuff", "everything", "something", "anything", "somewhere",
            "anywhere", "place", "spot"}
 # "in the house": the whole store (or --building), not a room or an object

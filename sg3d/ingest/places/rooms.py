@@ -18,7 +18,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from sg3d.ingest.places.floor_map import FREE, OCCUPIED, FloorMap, PlacesConfig
+from sg3d.ingest.places.floor_map import FREE, OCCUPIED, UNKNOWN, FloorMap, PlacesConfig
 
 N4 = ((1, 0), (-1, 0), (0, 1), (0, -1))
 
@@ -31,6 +31,7 @@ class Place:
     area_m2: float
     free_m2: float
     centre: list[float]
+    unseen_outline: float = 0.0       # share of its outline no seen wall closes (`unseen_outline`)
 
 
 @dataclass
@@ -227,6 +228,25 @@ def room_extent(labels: np.ndarray, occupied: np.ndarray, cell: float, cfg: Plac
     return out
 
 
+def unseen_outline(extent: np.ndarray, state: np.ndarray, k: int) -> float:
+    """Rule "a room's outline was never seen": of room k's outline cells (its cells with a
+    4-neighbour outside it), the share that are free floor with a never-seen (UNKNOWN) cell
+    beside them, i.e. where no wall was seen closing the room. A wall seen is occupied cells on
+    the outline; a doorway leads into another room's cells, which are seen."""
+    from scipy import ndimage
+
+    mine = extent == k
+    outline = mine & ~ndimage.binary_erosion(mine, border_value=0)
+    if not outline.any():
+        return 0.0
+    unknown = np.pad(state == UNKNOWN, 1, constant_values=True)
+    beside = np.zeros_like(mine)
+    for di, dj in N4:
+        beside |= unknown[1 + di:unknown.shape[0] - 1 + di, 1 + dj:unknown.shape[1] - 1 + dj]
+    open_ = outline & (state == FREE) & beside
+    return round(float(open_.sum()) / float(outline.sum()), 3)
+
+
 def footprint(mask: np.ndarray, fm: FloorMap) -> list[list[float]]:
     """The outline of one room's cells as a polygon of (a, b) metres (OpenCV contour, simplified
     to one cell)."""
@@ -253,7 +273,8 @@ def segment_rooms(fm: FloorMap, cfg: PlacesConfig = PlacesConfig()) -> Places:
         mask = extent == k
         centre = fm.centres(np.argwhere(labels == k)).mean(axis=0)
         rooms.append(Place(k, footprint(mask, fm), round(float(mask.sum()) * fm.cell ** 2, 3),
-                           round(float((labels == k).sum()) * fm.cell ** 2, 3), [round(float(v), 3) for v in centre]))
+                           round(float((labels == k).sum()) * fm.cell ** 2, 3), [round(float(v), 3) for v in centre],
+                           unseen_outline(extent, fm.state, k)))
     return Places(rooms, doorways(labels, fm, cfg), extent, fm)
 
 

@@ -153,3 +153,21 @@ def test_obstacle_cells_inside_a_border_split_it_only_past_the_passage_gap():
         labels[9, :10] = 0
         labels[9, 40:] = 0
         assert len(borders(labels, gap)) == parts, hole
+
+
+def test_a_rooms_outline_left_open_to_the_unseen_is_its_unseen_share():
+    from sg3d.ingest.places.rooms import unseen_outline
+
+    state = np.full((12, 12), UNKNOWN, np.int8)
+    state[1:11, 1:11] = FREE
+    state[1:11, 1] = OCCUPIED                     # walls seen on three sides, one side left open
+    state[1, 1:11] = OCCUPIED
+    state[10, 1:11] = OCCUPIED
+    extent = np.zeros((12, 12), np.int32)
+    extent[1:11, 1:11] = 1
+    share = unseen_outline(extent, state, 1)
+    outline = 36                                  # the 10 x 10 room's border cells
+    assert share == pytest.approx(round(8 / outline, 3))   # the open side's free cells, corners are walls
+    state[1:11, 10] = OCCUPIED
+    assert unseen_outline(extent, state, 1) == 0.0
+    assert unseen_outline(extent, state, 2) == 0.0           # no such room
