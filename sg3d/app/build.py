@@ -102,7 +102,10 @@ def prepare(req: BuildRequest, settings, detector=None, selection_given: tuple[s
     """Check everything a build can check before the store starts, in this order: the request,
     the frame-selection options given (`selection_given`: their flags), the detector
     (`check_detector`), the transform file (read before the long build, to fail early)."""
+    from sg3d.app.places import walk_settings
+
     validate(req)
+    settings = walk_settings(settings, req.rooms)
     check_frame_selection_options(settings.method.name, list(selection_given))
     detector = detector if detector is not None else check_detector(settings)
     placement = None

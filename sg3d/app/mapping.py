@@ -140,6 +140,7 @@ def map_room(store: GraphStore, req: MapRequest, settings, detector=None, embedd
     `should_stop` is polled (a test's or a service's stop signal; Ctrl-C stops it too)."""
     from sg3d.app.build import check_detector
     from sg3d.app.live_sources import open_live_source
+    from sg3d.app.places import walk_settings
     from sg3d.app.writers import writing
     from sg3d.core.embedding import default_embedding
     from sg3d.ingest.live import LiveMapper
@@ -151,7 +152,7 @@ def map_room(store: GraphStore, req: MapRequest, settings, detector=None, embedd
                  error=MapError) as lease:
         check_room(store, req)
         follower = open_live_source(req.source, req.layout)   # a folder, a RealSense, an MCAP being recorded
-        mapper = LiveMapper(follower, detector, settings, req.room, req.building)
+        mapper = LiveMapper(follower, detector, walk_settings(settings, req.rooms), req.room, req.building)
         publisher = _Publisher(store, mapper, req, embedding or default_embedding(), on_update, lease.fence)
         return _map_held(req, detector, follower, mapper, publisher, should_stop)
 

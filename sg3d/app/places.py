@@ -41,6 +41,15 @@ def guess_kind(labels: list[str]) -> tuple[Optional[str], list[str]]:
     return best
 
 
+def walk_settings(settings, rooms: Optional[str]):
+    """The pipeline settings (`sg3d.ingest.pipeline.Settings`) of a build or map that finds the
+    rooms of its walk (`rooms` "auto"): its discovery finds the windows too (which rooms have
+    one); any other keeps `settings` and pays nothing for them."""
+    from dataclasses import replace
+
+    return replace(settings, windows=True) if rooms == "auto" else settings
+
+
 def walk_frames(seq, start: int, stop: int, most: int = MAX_FRAMES) -> list:
     """At most `most` posed frames of [start, stop), evenly spread (a frame that cannot be read, or
     has no pose yet, is left out)."""
