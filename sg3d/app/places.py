@@ -3,12 +3,16 @@ and doorways (`sg3d.ingest.places`), every object of the built room put in exact
 and the layer written to the store (`sg3d.graphdb.places`)."""
 from __future__ import annotations
 
-from typing import Optional
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any, Optional
 
 import numpy as np
 
 from sg3d.app.errors import AppError, NotFound
 from sg3d.graphdb.protocol import GraphStore
+
+if TYPE_CHECKING:
+    from sg3d.graphdb.merge import Fence
 
 MAX_FRAMES = 300          # frames of the recording the floor map reads (evenly spread)
 # A live map (`sg3d map --rooms auto`) finds the rooms of the frames so far at most every
@@ -158,22 +162,36 @@ def layer_rows(rid: str, places, basis: np.ndarray, floor: float, objects: list[
     return rooms, doorways, pairs
 
 
-def write_walk_rooms(store: GraphStore, rid: str, seq, start: int, stop: int, up, floor: Optional[float],
-                     keep: bool = False, most: int = MAX_FRAMES) -> dict:
-    """Find the rooms of the recording's walk (at most `most` of its frames) and write them under
-    recorded room `rid`; `keep`: the rooms found again keep the ids and names written before
-    (`kept_names`: a live map's publishes). What the build summary says: rooms (name, area,
-    objects, kind guess), doorways, objects placed."""
+@dataclass(frozen=True)
+class Walk:
+    """The frames a walk's rooms are found from: `seq`'s [start, stop) (at most `most` of them,
+    `walk_frames`), with the recording's gravity `up` and floor height."""
+    seq: Any
+    start: int
+    stop: int
+    up: Any
+    floor: Optional[float]
+    most: int = MAX_FRAMES
+
+
+def write_walk_rooms(store: GraphStore, rid: str, walk: Walk, keep: bool = False,
+                     fence: Optional[Fence] = None) -> dict:
+    """Find the rooms of `walk` and write them under recorded room `rid`, in one transaction that
+    `fence` (the writer's lease, `sg3d.graphdb.lease.RoomLease.fence`) checks first; `keep`: the
+    rooms found again keep the ids and names written before (`kept_names`: a live map's
+    publishes). What the build summary says: rooms (name, area, objects, kind guess), doorways,
+    objects placed."""
     from sg3d.graphdb.places import read_places, write_places
 
-    places, basis = find_places(seq, start, stop, up, floor, most)
+    floor = walk.floor
+    places, basis = find_places(walk.seq, walk.start, walk.stop, walk.up, floor, walk.most)
     if places is None or floor is None or not places.rooms:
         return {"rooms": [], "doorways": 0, "objects_placed": 0,
                 "why": "the recording never saw the floor" if floor is None else "no free floor was seen"}
     objects = store.read("places_objects", room=rid)
     kept = kept_names(places, basis, read_places(store, rid)) if keep else None
     rooms, doorways, pairs = layer_rows(rid, places, basis, float(floor), objects, kept)
-    write_places(store, rid, rooms, doorways, pairs)
+    write_places(store, rid, rooms, doorways, pairs, fence=fence)
     held = {r["id"]: 0 for r in rooms}
     for p in pairs:
         held[p["room"]] += 1

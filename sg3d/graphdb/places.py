@@ -3,19 +3,27 @@ parts of the recorded Room), their doorways (Doorway nodes, CONNECTED both ways)
 object IN_ROOM exactly one of them (not IN: that is the spatial relation between objects). Written whole in one transaction, replacing the last one."""
 from __future__ import annotations
 
+from typing import Optional
+
 from sg3d.graphdb import cypher
+from sg3d.graphdb.merge import Fence
 from sg3d.graphdb.protocol import GraphStore
 
 WRITE_STEPS = ("places_rooms_create", "places_doorways_create", "places_objects_in")
 
 
-def write_places(store: GraphStore, room: str, rooms: list[dict], doorways: list[dict], pairs: list[dict]) -> None:
+def write_places(store: GraphStore, room: str, rooms: list[dict], doorways: list[dict], pairs: list[dict],
+                 fence: Optional[Fence] = None) -> None:
     """Replace the places layer of recorded room `room` (its id): `rooms` rows of
-    places_rooms_create, `doorways` of places_doorways_create, `pairs` {object, room}."""
+    places_rooms_create, `doorways` of places_doorways_create, `pairs` {object, room}; `fence`
+    (the writer's lease, `sg3d.graphdb.lease.RoomLease.fence`) is checked first in the same
+    transaction: a writer that lost the room writes nothing."""
     params = {"places_rooms_create": {"rooms": rooms}, "places_doorways_create": {"doorways": doorways},
               "places_objects_in": {"pairs": pairs}}
 
     def body(tx) -> None:
+        if fence is not None:
+            fence(tx)
         tx.run(cypher.load("places_clear"), room=room).consume()
         for step in WRITE_STEPS:
             tx.run(cypher.load(step), room=room, **params[step]).consume()
