@@ -41,6 +41,12 @@ def test_a_walk_through_an_apartment_gives_its_rooms_doorways_and_each_object_in
     assert all(0.1 <= d["width"] < 2.5 for r in rooms for d in r["doorways"])
     rows = _every_object_in_one_room(store, rid)
     assert summary.rooms_found["objects_placed"] == len(rows)
+    # each room's structure: the floor under every room, and every wall found bounds the rooms along it
+    said = [(r["name"], sorted(s["label"] for s in r["structure"])) for r in rooms]
+    floors = {r["id"] for r in rows if r["label"] == "floor"}
+    walls = {r["id"] for r in rows if r["label"] == "wall"}
+    assert floors and all(floors & {s["id"] for s in r["structure"]} for r in rooms), said
+    assert walls and {s["id"] for r in rooms for s in r["structure"] if s["label"] == "wall"} == walls, said
     assert json.loads(json.dumps(summary.as_dict()))["rooms_found"]["doorways"] == len(doorways)
     from sg3d.app.rooms import delete_room
 

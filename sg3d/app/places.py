@@ -134,8 +134,8 @@ def layer_rows(rid: str, places, basis: np.ndarray, floor: float, objects: list[
                kept: Optional[dict[int, tuple[str, str]]] = None) -> tuple[list, list, list]:
     """The rows `sg3d.graphdb.places.write_places` writes: rooms "room 1..n" (or, with `kept`,
     the ids and names they had, `kept_names`; footprint and middle in world coordinates, a guessed
-    kind), doorways, and each object in the room at its position (`room_at`, no reach limit: every
-    object in exactly one room)."""
+    kind, the floors and walls that bound it, `structure_of`), doorways, and each object in the
+    room at its position (`room_at`, no reach limit: every object in exactly one room)."""
     from sg3d.ingest.places import room_at
 
     def world(ab) -> list[float]:
@@ -147,19 +147,36 @@ def layer_rows(rid: str, places, basis: np.ndarray, floor: float, objects: list[
     named = _ids(rid, places, kept)
     ids = {label: i for label, (i, _) in named.items()}
     pairs = [{"object": o["id"], "room": ids[int(k)]} for o, k in zip(objects, at) if int(k) in ids]
+    structure = structure_of(places, basis, objects)
     rooms = []
     for p in places.rooms:
         kind, evidence = guess_kind([o["label"] for o, k in zip(objects, at) if int(k) == p.label])
         x, y, z = world(p.centre)
         rooms.append({"id": ids[p.label], "name": named[p.label][1], "polygon": world(p.polygon), "area": p.area_m2,
                       "free_area": p.free_m2, "x": x, "y": y, "z": z, "kind_guess": kind, "kind_evidence": evidence,
-                      "unseen_outline": p.unseen_outline})
+                      "unseen_outline": p.unseen_outline, "structure": structure.get(p.label, [])})
     doorways = []
     for k, d in enumerate(places.doorways, start=1):
         x, y, z = world(d.position)
         doorways.append({"id": f"{rid}#doorway {k}", "a": ids[d.a], "b": ids[d.b], "x": x, "y": y, "z": z,
                          "width": d.width_m})
     return rooms, doorways, pairs
+
+
+def structure_of(places, basis: np.ndarray, objects: list[dict]) -> dict[int, list[str]]:
+    """Each found room's label -> the ids of the floors and walls that bound it
+    (`sg3d.ingest.places.rooms_bounded`, from each one's gravity-frame box: its middle and size)."""
+    from sg3d.ingest.places import rooms_bounded
+
+    out: dict[int, list[str]] = {}
+    for o in objects:
+        if o.get("layer") != "structure" or o["label"] not in ("floor", "wall") or not o.get("size"):
+            continue
+        middle = basis @ np.array([o["x"], o["y"], o["z"]], float)
+        half = np.asarray(o["size"], float) / 2
+        for k in rooms_bounded(places, middle - half, middle + half):
+            out.setdefault(k, []).append(o["id"])
+    return out
 
 
 @dataclass(frozen=True)

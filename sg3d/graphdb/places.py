@@ -9,16 +9,17 @@ from sg3d.graphdb import cypher
 from sg3d.graphdb.merge import Fence
 from sg3d.graphdb.protocol import GraphStore
 
-WRITE_STEPS = ("places_rooms_create", "places_doorways_create", "places_objects_in")
+WRITE_STEPS = ("places_rooms_create", "places_structure_create", "places_doorways_create", "places_objects_in")
 
 
 def write_places(store: GraphStore, room: str, rooms: list[dict], doorways: list[dict], pairs: list[dict],
                  fence: Optional[Fence] = None) -> None:
     """Replace the places layer of recorded room `room` (its id): `rooms` rows of
-    places_rooms_create, `doorways` of places_doorways_create, `pairs` {object, room}; `fence`
-    (the writer's lease, `sg3d.graphdb.lease.RoomLease.fence`) is checked first in the same
+    places_rooms_create (with `structure`: the ids of the floors and walls bounding each),
+    `doorways` of places_doorways_create, `pairs` {object, room}; `fence` (the writer's lease, `sg3d.graphdb.lease.RoomLease.fence`) is checked first in the same
     transaction: a writer that lost the room writes nothing."""
-    params = {"places_rooms_create": {"rooms": rooms}, "places_doorways_create": {"doorways": doorways},
+    params = {"places_rooms_create": {"rooms": rooms}, "places_structure_create": {"rooms": rooms},
+              "places_doorways_create": {"doorways": doorways},
               "places_objects_in": {"pairs": pairs}}
 
     def body(tx) -> None:

@@ -278,6 +278,35 @@ def segment_rooms(fm: FloorMap, cfg: PlacesConfig = PlacesConfig()) -> Places:
     return Places(rooms, doorways(labels, fm, cfg), extent, fm)
 
 
+# Rule "a room's structure" (`rooms_bounded`): a floor or wall bounds the found rooms whose cells
+# lie within STRUCTURE_REACH_M of its footprint (a wall's half thickness and the band of furniture
+# against it) along at least STRUCTURE_MIN_SIDE_M of its longer side. A wall between two rooms
+# bounds both; one whose end only reaches a room's corner (a reach's span of its cells) bounds
+# neither end room; the floor under every room bounds each.
+STRUCTURE_REACH_M = 0.3
+STRUCTURE_MIN_SIDE_M = 0.5
+
+
+def rooms_bounded(places: Places, lo: np.ndarray, hi: np.ndarray) -> list[int]:
+    """Rule "a room's structure" (STRUCTURE_REACH_M, STRUCTURE_MIN_SIDE_M): the labels of the
+    rooms a floor's or wall's gravity-frame footprint, (a, b) corners `lo` and `hi`, bounds."""
+    fm = places.floor
+    if fm is None:
+        return []
+    lo, hi = np.asarray(lo, float)[:2], np.asarray(hi, float)[:2]
+    shape = np.array(places.labels.shape)
+    i0, j0 = np.clip(fm.cells_of(lo - STRUCTURE_REACH_M), 0, shape)
+    i1, j1 = np.clip(fm.cells_of(hi + STRUCTURE_REACH_M) + 1, 0, shape)
+    near = places.labels[i0:i1, j0:j1]
+    along = 0 if hi[0] - lo[0] >= hi[1] - lo[1] else 1        # the footprint's longer side
+    out = []
+    for k in np.unique(near[near > 0]):
+        cells = np.flatnonzero((near == k).any(axis=1 - along))
+        if (cells[-1] - cells[0] + 1) * fm.cell >= STRUCTURE_MIN_SIDE_M:
+            out.append(int(k))
+    return out
+
+
 def room_at(places: Places, ab: np.ndarray, reach_m: float = 1.5) -> np.ndarray:
     """The room label (0: none) of each (a, b) point: its cell's room, else the nearest room cell
     within `reach_m` (an object on a shelf stands over an occupied cell)."""
