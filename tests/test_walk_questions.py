@@ -1,7 +1,7 @@
 """Questions over the rooms found in one walk, on a generated apartment built with `--rooms auto`,
 asked through the CLI (`sg3d ask`) and `POST /ask` of a real served app: the rooms next to a room
-and what they hold, the way from one room to another (the doorways on it), which rooms have no
-window (sg3d detects no windows: said so), which room holds a kind; a room named by its guessed
+and what they hold, the way from one room to another (the doorways on it), which rooms have a
+window and which have none, which room holds a kind; a room named by its guessed
 kind (said as a guess) or by the name `sg3d rooms rename` gave it."""
 from __future__ import annotations
 
@@ -33,9 +33,30 @@ def apartment(store_session, tmp_path_factory):
     store_session.wipe()
     store_session.ensure_schema()
     folder = tmp_path_factory.mktemp("apartment") / "walk"
-    gt = generate("apartment", SEED, folder)
+    gt = generate("apartment", SEED, folder, windows=False)
     build_room(store_session, BuildRequest(sequence=folder, room="walk", building="home", rooms="auto"), Settings())
     found = read_places(store_session, room_id("home", "walk"))
+
+    def nearest(true_room: dict) -> dict:
+        middle = np.mean(np.asarray(true_room["polygon_world"], float), axis=0)
+        return min(found, key=lambda w: float(np.linalg.norm(np.subtract([w["x"], w["y"], w["z"]], middle))))
+
+    return gt, {r["id"]: nearest(r) for r in gt["apartment"]["rooms"]}
+
+
+@pytest.fixture(scope="module")
+def windowed(apartment, store_session, tmp_path_factory):
+    """The same apartment with windows cut into its outside walls, built into building 'flat'
+    (room 'walk'): (ground truth, {true room id: the found room's row holding most of its floor})."""
+    from benchmarks.synth import generate
+    from sg3d.app.build import BuildRequest, build_room
+    from sg3d.graphdb.places import read_places
+    from sg3d.ingest.pipeline import Settings
+
+    folder = tmp_path_factory.mktemp("windowed") / "walk"
+    gt = generate("apartment", SEED, folder)
+    build_room(store_session, BuildRequest(sequence=folder, room="walk", building="flat", rooms="auto"), Settings())
+    found = read_places(store_session, room_id("flat", "walk"))
 
     def nearest(true_room: dict) -> dict:
         middle = np.mean(np.asarray(true_room["polygon_world"], float), axis=0)
@@ -48,25 +69,25 @@ def _true(gt: dict, kind: str) -> str:
     return next(r["id"] for r in gt["apartment"]["rooms"] if r["kind"] == kind)
 
 
-def cli_ask(home, question: str) -> str:
-    r = CliRunner().invoke(cli, ["--home", str(home), "ask", question, "--building", "home", "--json"])
+def cli_ask(home, question: str, building: str = "home") -> str:
+    r = CliRunner().invoke(cli, ["--home", str(home), "ask", question, "--building", building, "--json"])
     assert r.exit_code == 0, r.output
     return json.loads(r.output)
 
 
-def http_ask(served, question: str) -> dict:
+def http_ask(served, question: str, building: str = "home") -> dict:
     import httpx
 
     url, token = served
     with httpx.Client(base_url=url, headers={"Authorization": f"Bearer {token}"}, timeout=120) as c:
-        r = c.post("/ask", json={"question": question, "building": "home"})
+        r = c.post("/ask", json={"question": question, "building": building})
     assert r.status_code == 200, r.text
     return r.json()
 
 
-def both(embedded_home, served, question: str) -> dict:
+def both(embedded_home, served, question: str, building: str = "home") -> dict:
     """The answer through the CLI and through POST /ask: the same words and value."""
-    by_cli, by_http = cli_ask(embedded_home, question), http_ask(served, question)
+    by_cli, by_http = cli_ask(embedded_home, question, building), http_ask(served, question, building)
     assert by_cli["ok"] and by_http["ok"], (by_cli["answer"], by_http["answer"])
     assert by_cli["answer"] == by_http["answer"]
     assert by_cli["value"] == by_http["value"]
@@ -174,10 +195,28 @@ def test_rooms_named_by_their_numbers(apartment, embedded_home, served):
     assert here["answer"].startswith("you are already there"), here["answer"]
 
 
-def test_which_rooms_have_no_window_says_windows_are_not_detected(apartment, embedded_home, served):
+def test_which_rooms_have_a_window_and_which_have_none(windowed, embedded_home, served):
+    """The generator cut windows into some outside walls (its ground truth lists each room's);
+    the build found them as holes in the walls, each IN the room on its side."""
+    gt, found = windowed
+    windowed_rooms = sorted({found[r["id"]]["name"] for r in gt["apartment"]["rooms"] if r["windows"]})
+    assert windowed_rooms, "the layout has a window"
+    a = both(embedded_home, served, "which rooms have no window?", "flat")
+    assert sorted(v["room"] for v in a["value"]) == sorted(w["name"] for w in found.values()
+                                                           if w["name"] not in windowed_rooms), a["answer"]
+    assert all(v["seen"] for v in a["value"]), a["answer"]      # the walk looked round every room
+    assert "no window in them" in a["answer"] and "cannot tell" not in a["answer"], a["answer"]
+    h = both(embedded_home, served, "which rooms have a window?", "flat")
+    assert [v["room"] for v in h["value"]] == windowed_rooms, h["answer"]
+    assert sum(len(v["windows"]) for v in h["value"]) == len(gt["apartment"]["windows"]), h["answer"]
+
+
+def test_an_apartment_without_windows_has_none_in_any_room(apartment, embedded_home, served):
+    _, found = apartment
     a = both(embedded_home, served, "which rooms have no window?")
-    assert a["answer"].startswith("I cannot tell: sg3d does not detect windows"), a["answer"]
-    assert a["value"] is None
+    assert sorted(v["room"] for v in a["value"]) == sorted(w["name"] for w in found.values()), a["answer"]
+    h = both(embedded_home, served, "which rooms have a window?")
+    assert h["answer"].startswith("none: no window was found"), h["answer"]
 
 
 def test_which_rooms_have_no_bed_names_the_found_rooms(apartment, embedded_home, served):

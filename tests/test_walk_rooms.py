@@ -41,6 +41,12 @@ def test_a_walk_through_an_apartment_gives_its_rooms_doorways_and_each_object_in
     assert all(0.1 <= d["width"] < 2.5 for r in rooms for d in r["doorways"])
     rows = _every_object_in_one_room(store, rid)
     assert summary.rooms_found["objects_placed"] == len(rows)
+    # each room's structure: the floor under every room, and every wall found bounds the rooms along it
+    said = [(r["name"], sorted(s["label"] for s in r["structure"])) for r in rooms]
+    floors = {r["id"] for r in rows if r["label"] == "floor"}
+    walls = {r["id"] for r in rows if r["label"] == "wall"}
+    assert floors and all(floors & {s["id"] for s in r["structure"]} for r in rooms), said
+    assert walls and {s["id"] for r in rooms for s in r["structure"] if s["label"] == "wall"} == walls, said
     assert json.loads(json.dumps(summary.as_dict()))["rooms_found"]["doorways"] == len(doorways)
     from sg3d.app.rooms import delete_room
 
@@ -55,6 +61,39 @@ def test_a_build_with_room_name_writes_no_places_layer(store, tmp_path):
     summary = build_room(store, BuildRequest(sequence=seq, room="living", stop=60), Settings())
     assert summary.rooms_found is None
     assert read_places(store, room_id("default", "living")) == []
+
+
+def test_a_writer_that_lost_its_lease_writes_no_rooms(store):
+    """The rooms of a walk are written under the lease that guards the room's every publish
+    (`sg3d map --rooms auto` writes them after each publish, `sg3d build --rooms auto` after its
+    merges): a writer that lost the room changes nothing of the layer written before."""
+    import time
+
+    from sg3d.app.places import Walk, write_walk_rooms
+    from sg3d.graphdb.lease import LeaseLost, RoomLease
+    from sg3d.graphdb.merge import ensure_room
+    from sg3d.ingest.poses.gravity import estimate_gravity, sample_frames
+    from sg3d.ingest.readers import open_sequence
+
+    seq_dir = DATA / "open3d-livingroom1-micro"
+    if not seq_dir.exists():
+        pytest.skip(f"{seq_dir} is not there")
+    seq = open_sequence(seq_dir)
+    g = estimate_gravity(sample_frames(seq, 20, 0, len(seq)))
+    walk = Walk(seq, 0, len(seq), g.up, g.floor_height, most=40)
+    rid = room_id("home", "walked")
+    ensure_room(store, "home", "walked")
+    lease = RoomLease(store, "home", "walked", "map", "a paused map", ttl=0.2)
+    lease.take()
+    assert write_walk_rooms(store, rid, walk, fence=lease.fence)["rooms"]
+    before = read_places(store, rid)
+    assert len(before) == 1
+    lease._stop.set()                       # it stops renewing (a paused process) and another map takes the room
+    time.sleep(0.3)
+    RoomLease(store, "home", "walked", "map", "next").take()
+    with pytest.raises(LeaseLost, match="lost the lease"):
+        write_walk_rooms(store, rid, walk, keep=True, fence=lease.fence)
+    assert read_places(store, rid) == before
 
 
 @pytest.mark.parametrize("name", REAL)

@@ -80,15 +80,16 @@ def camera_poses(room: Room, scene: render.Scene, n: int, K, w: int, h: int, see
 
 
 def generate(kind: str, seed: int, out: Path, frames: Optional[int] = None, width: int = 320,
-             height: int = 240) -> dict:
-    """Render layout `seed` of `kind` into `out` (`frames`: FRAMES of the kind, else 80); returns
-    its ground truth (also written to out/ground_truth.json)."""
+             height: int = 240, windows: bool = True) -> dict:
+    """Render layout `seed` of `kind` into `out` (`frames`: FRAMES of the kind, else 80; an
+    apartment without `windows` has whole outside walls); returns its ground truth (also written
+    to out/ground_truth.json)."""
     import cv2
 
     if kind not in LAYOUTS:
         raise ValueError(f"unknown kind {kind!r}: one of {', '.join(KINDS)}")
     frames = frames or FRAMES.get(kind, 80)
-    room = LAYOUTS[kind](seed)
+    room = apartment.layout_apartment(seed, windows) if kind == "apartment" else LAYOUTS[kind](seed)
     scene = render.Scene(room)
     K = intrinsics(width, height)
     poses = camera_poses(room, scene, frames, K, width, height, seed)

@@ -7,7 +7,9 @@ the grid lines, each room's inside a rectangle between its walls' faces:
 - 3-6 rooms: a corridor CORRIDOR_M wide running the apartment's length with rooms on both sides;
   each room's door opens onto the corridor, and two neighbours on one side may share a wide
   opening as well (open plan: a doorway the walk does not go through, seen from the rooms only).
-Doors are half open (a leaf at 45 degrees into the room) or fully open (no leaf). Furniture
+Doors are half open (a leaf at 45 degrees into the room) or fully open (no leaf). Windows
+(`_windows`, from a stream of their own so the layout of a seed is the same with or without
+them) are holes in the outside walls, one or two in some rooms, none in at least one. Furniture
 stands along the walls, clear of every doorway's swing, so a person can walk to each room's
 middle. The walk (`walk`) starts in the first room, looks round in each room's middle, and goes
 from room to room through the doors and along the corridor at 1.2-1.7 m, looking ahead and down.
@@ -35,6 +37,13 @@ KINDS = ("kitchen", "living room", "bedroom", "office")
 STEP_M = 0.22                    # the walk's step between frames when dense
 LOOK_FRAMES = 24                 # frames of the look round in a room's middle (15 degrees apart)
 TURN_STEP = np.radians(12)       # the walking gaze turns at most this much per frame
+WINDOW_M = (0.8, 1.4)            # a window's width range
+# A sill's height range (its top: scene.WINDOW's). Low sills: the walk looks down at the floor
+# 2.2 m ahead and sees the walls only up to about 1.1 m; a look round at window height changed
+# the floor map's rooms (seeds 0 and 1 of bench_walk lost a room).
+SILL_M = (0.5, 0.7)
+WINDOW_TOP = scene.WINDOW[2]
+WINDOW_SEED = 65537              # the windows' own random stream: seed + this
 
 
 @dataclass
@@ -88,9 +97,30 @@ class Doorway:
 
 
 @dataclass
+class Window:
+    """A hole in room `room`'s outside wall `wall` (south y = 0, north y = D, west x = 0, east
+    x = L): on grid line `axis` = `at`, from `lo` to `hi` along it, from `sill` to `top` high."""
+    id: str
+    room: str
+    wall: str
+    axis: str
+    at: float
+    lo: float
+    hi: float
+    sill: float
+    top: float
+
+    @property
+    def centre(self) -> np.ndarray:
+        m = (self.lo + self.hi) / 2
+        return np.array([m, self.at]) if self.axis == "y" else np.array([self.at, m])
+
+
+@dataclass
 class Apartment(Room):
     spaces: list[Space] = field(default_factory=list)
     doorways: list[Doorway] = field(default_factory=list)
+    windows: list[Window] = field(default_factory=list)
     route: list[str] = field(default_factory=list)       # the rooms in the order the walk visits them
 
     def space(self, i: str) -> Space:
@@ -168,13 +198,18 @@ def _doorways(rng, spaces: list[Space], lines: list[tuple]) -> list[Doorway]:
     return out
 
 
-def _wall_boxes(axis: str, at: float, lo: float, hi: float, gaps: list[Doorway]) -> list:
-    """The boxes of one wall line with its doorways cut out (a lintel above each)."""
+def _wall_boxes(axis: str, at: float, lo: float, hi: float, gaps: list[Doorway],
+               windows: tuple[Window, ...] = ()) -> list:
+    """The boxes of one wall line with its doorways cut out (a lintel above each) and its
+    windows (a piece under the sill, a lintel above the top)."""
     h = WALL_T / 2
-    cuts = sorted((d.lo, d.hi, DOOR_TOP if d.kind == "door" else OPENING_TOP) for d in gaps)
+    cuts = sorted([(d.lo, d.hi, 0.0, DOOR_TOP if d.kind == "door" else OPENING_TOP) for d in gaps]
+                  + [(w.lo, w.hi, w.sill, w.top) for w in windows])
     pieces, x = [], lo - h
-    for g0, g1, top in cuts:
+    for g0, g1, bottom, top in cuts:
         pieces.append((x, g0, 0.0, ROOM_HEIGHT))
+        if bottom > 0:
+            pieces.append((g0, g1, 0.0, bottom))
         pieces.append((g0, g1, top, ROOM_HEIGHT))
         x = g1
     pieces.append((x, hi + h, 0.0, ROOM_HEIGHT))
@@ -204,8 +239,7 @@ def _structure(apt: Apartment, lines: list[tuple], L: float, D: float) -> None:
     add(Thing("floor", "floor", None, "brown", [box(-t, -t, -0.05, L + t, D + t, 0.0)], structure=True))
     add(Thing("ceiling", "ceiling", None, "white", [box(-t, -t, ROOM_HEIGHT, L + t, D + t, ROOM_HEIGHT + 0.05)],
               structure=True))
-    outer = [("y", 0.0, 0.0, L), ("y", D, 0.0, L), ("x", 0.0, 0.0, D), ("x", L, 0.0, D)]
-    for k, (axis, at, lo, hi) in enumerate(outer + [ln[:4] for ln in lines]):
+    for k, (axis, at, lo, hi) in enumerate(_outer(L, D) + [ln[:4] for ln in lines]):
         gaps = [d for d in apt.doorways if d.axis == axis and abs(d.at - at) < 1e-6 and lo <= d.lo and d.hi <= hi]
         add(Thing(f"wall-{k + 1}", "wall", None, "white", _wall_boxes(axis, at, lo, hi, gaps), structure=True))
     for d in apt.doorways:
@@ -298,8 +332,9 @@ def _furnish(apt: Apartment, s: Space, rng, new_id) -> None:
             add(cab, ["tv" if s.kind == "living room" else "book", "box"])
 
 
-def layout_apartment(seed: int) -> Apartment:
-    """2-6 rooms (module docstring), furnished by kind, with the walk's route."""
+def layout_apartment(seed: int, windows: bool = True) -> Apartment:
+    """2-6 rooms (module docstring), furnished by kind, with the walk's route; `windows`: cut
+    into the outside walls (`_windows`; else the walls are whole)."""
     rng = np.random.default_rng(seed)
     new_id = Namer()
     n = int(rng.integers(2, 7))
@@ -315,7 +350,66 @@ def layout_apartment(seed: int) -> Apartment:
             _furnish(apt, s, rng, new_id)
     doors = {d.b if d.a == "C" else d.a: d for d in apt.doorways if "C" in (d.a, d.b)}
     apt.route = sorted(doors, key=lambda r: doors[r].centre[0]) if doors else [s.id for s in spaces]
+    apt.windows = _windows(apt, np.random.default_rng(seed + WINDOW_SEED), L, D) if windows else []
+    for k, (axis, at, lo, hi) in enumerate(_outer(L, D)):
+        wall = apt.by_id(f"wall-{k + 1}")
+        gaps = [d for d in apt.doorways if d.axis == axis and abs(d.at - at) < 1e-6]
+        wall.parts = _wall_boxes(axis, at, lo, hi, gaps, tuple(w for w in apt.windows if w.axis == axis and w.at == at))
     return apt
+
+
+def _outer(L: float, D: float) -> list[tuple[str, float, float, float]]:
+    """The outside wall lines (axis, at, lo, hi): south, north, west, east."""
+    return [("y", 0.0, 0.0, L), ("y", D, 0.0, L), ("x", 0.0, 0.0, D), ("x", L, 0.0, D)]
+
+
+def _outside_sides(s: Space, L: float, D: float) -> list[tuple[str, str, float, float, float]]:
+    """The room's sides on the outside walls: (name, axis, at, lo, hi) with lo, hi its inside."""
+    x0, y0, x1, y1 = s.rect
+    h = WALL_T / 2 + 1e-6
+    sides = [("south", "y", 0.0, x0, x1, y0 <= h), ("north", "y", D, x0, x1, y1 >= D - h),
+             ("west", "x", 0.0, y0, y1, x0 <= h), ("east", "x", L, y0, y1, x1 >= L - h)]
+    return [(n, a, at, lo, hi) for n, a, at, lo, hi, ok in sides if ok]
+
+
+def _in_front(apt: Apartment, s: Space, axis: str, at: float, lo: float, hi: float, sill: float) -> bool:
+    """Whether furniture taller than the sill stands against the wall in [lo, hi] (a window
+    behind a fridge is no window a walk could see)."""
+    for t in apt.objects():
+        a, b = t.box()
+        if not s.contains(float(a[0] + b[0]) / 2, float(a[1] + b[1]) / 2) or b[2] <= sill - 0.1:
+            continue
+        k, j = (0, 1) if axis == "y" else (1, 0)
+        near = min(abs(a[j] - at), abs(b[j] - at)) < 0.6
+        if near and a[k] < hi + 0.1 and b[k] > lo - 0.1:
+            return True
+    return False
+
+
+def _windows(apt: Apartment, rng, L: float, D: float) -> list[Window]:
+    """Windows in the rooms' outside walls: each room (not the corridor) gets 0, 1 or 2 (WINDOW_M
+    wide, SILL_M up to WINDOW_TOP), the first of them at least 1, clear of the room's corners and
+    doorways and of furniture standing in front; one room with outside walls keeps none."""
+    rooms = [s for s in apt.spaces if s.id != "C" and _outside_sides(s, L, D)]
+    bare = str(rng.choice([s.id for s in rooms])) if rooms else None
+    out: list[Window] = []
+    for s in rooms:
+        want = 0 if s.id == bare else max(int(rng.choice([0, 1, 1, 2])), int(not out))
+        sides = _outside_sides(s, L, D)
+        for _ in range(want * 10):
+            if sum(w.room == s.id for w in out) >= want:
+                break
+            name, axis, at, lo, hi = sides[int(rng.integers(len(sides)))]
+            width, sill = float(rng.uniform(*WINDOW_M)), round(float(rng.uniform(*SILL_M)), 2)
+            if hi - lo - 2 * CORNER_CLEAR < width:
+                continue
+            g0 = round(float(rng.uniform(lo + CORNER_CLEAR, hi - CORNER_CLEAR - width)), 3)
+            g1 = round(g0 + width, 3)
+            clash = any(w.axis == axis and w.at == at and g0 < w.hi + 0.3 and w.lo - 0.3 < g1 for w in out) or any(
+                d.axis == axis and abs(d.at - at) < 1e-6 and g0 < d.hi + 0.3 and d.lo - 0.3 < g1 for d in apt.doorways)
+            if not clash and not _in_front(apt, s, axis, at, g0, g1, sill):
+                out.append(Window(f"W{len(out) + 1}", s.id, name, axis, at, g0, g1, sill, WINDOW_TOP))
+    return out
 
 
 def _door_to(apt: Apartment, a: str, b: str) -> Doorway:
@@ -414,7 +508,8 @@ def doorway_seen(scene_, apt: Apartment, poses: list[np.ndarray], K: np.ndarray,
 def truth(apt: Apartment, poses: list[np.ndarray], scene_, K, w: int, h: int, to_world: np.ndarray) -> dict:
     """The apartment's ground truth: every room's footprint (polygon and area, room frame and
     world), every doorway (rooms, position, width, kind, leaf, frames that saw it, whether the
-    walk went through it), and the room of every object."""
+    walk went through it), every window (room, wall, middle, width, sill, top; each room lists
+    its windows' ids) and the room of every object."""
     seen = doorway_seen(scene_, apt, poses, K, w, h)
     walked = set()
     for a, b in zip(apt.route, apt.route[1:]):
@@ -425,8 +520,12 @@ def truth(apt: Apartment, poses: list[np.ndarray], scene_, K, w: int, h: int, to
     def world(xy, z=0.0):
         return [round(float(v), 4) for v in R @ np.r_[xy, z] + t]
 
+    windows = [{"id": w.id, "room": w.room, "wall": w.wall, "position": [round(float(v), 4) for v in w.centre],
+                "position_world": world(w.centre, (w.sill + w.top) / 2), "width": round(w.hi - w.lo, 3),
+                "sill": w.sill, "top": w.top} for w in apt.windows]
     rooms = [{"id": s.id, "kind": s.kind, "polygon": s.polygon(), "polygon_world": [world(p) for p in s.polygon()],
-              "area": round((s.rect[2] - s.rect[0]) * (s.rect[3] - s.rect[1]), 3)} for s in apt.spaces]
+              "area": round((s.rect[2] - s.rect[0]) * (s.rect[3] - s.rect[1]), 3),
+              "windows": [w["id"] for w in windows if w["room"] == s.id]} for s in apt.spaces]
     doorways = [{"id": d.id, "rooms": [d.a, d.b], "position": [round(float(v), 4) for v in d.centre],
                  "position_world": world(d.centre), "width": round(d.width, 3), "kind": d.kind, "leaf": d.leaf,
                  "frames_seen": seen[d.id], "walked_through": d.id in walked} for d in apt.doorways]
@@ -434,4 +533,4 @@ def truth(apt: Apartment, poses: list[np.ndarray], scene_, K, w: int, h: int, to
     for o in apt.objects():
         lo, hi = o.box()
         objects[o.id] = room_of(apt, float(lo[0] + hi[0]) / 2, float(lo[1] + hi[1]) / 2)
-    return {"rooms": rooms, "doorways": doorways, "object_rooms": objects, "route": list(apt.route)}
+    return {"rooms": rooms, "doorways": doorways, "windows": windows, "object_rooms": objects, "route": list(apt.route)}

@@ -102,7 +102,10 @@ def prepare(req: BuildRequest, settings, detector=None, selection_given: tuple[s
     """Check everything a build can check before the store starts, in this order: the request,
     the frame-selection options given (`selection_given`: their flags), the detector
     (`check_detector`), the transform file (read before the long build, to fail early)."""
+    from sg3d.app.places import walk_settings
+
     validate(req)
+    settings = walk_settings(settings, req.rooms)
     check_frame_selection_options(settings.method.name, list(selection_given))
     detector = detector if detector is not None else check_detector(settings)
     placement = None
@@ -203,10 +206,10 @@ def _run_held(store: GraphStore, prepared: PreparedBuild, seq, stop: int, lease,
     placed = None if chunks.interrupted else place_room(store, req, prepared.placement)
     found, t_rooms = None, time.perf_counter()
     if req.rooms == "auto" and not chunks.interrupted:
-        from sg3d.app.places import write_walk_rooms
+        from sg3d.app.places import Walk, write_walk_rooms
 
-        found = write_walk_rooms(store, room_id(req.building, req.room), seq, req.start, stop, gravity.up,
-                                 gravity.floor_height)
+        found = write_walk_rooms(store, room_id(req.building, req.room),
+                                 Walk(seq, req.start, stop, gravity.up, gravity.floor_height), fence=lease.fence)
     t_rooms = time.perf_counter() - t_rooms
     wall = time.perf_counter() - t_start
     summary = _summary(store, room_id(req.building, req.room), seq, req, settings, stop, gravity.up, chunks,

@@ -140,6 +140,7 @@ def map_room(store: GraphStore, req: MapRequest, settings, detector=None, embedd
     `should_stop` is polled (a test's or a service's stop signal; Ctrl-C stops it too)."""
     from sg3d.app.build import check_detector
     from sg3d.app.live_sources import open_live_source
+    from sg3d.app.places import walk_settings
     from sg3d.app.writers import writing
     from sg3d.core.embedding import default_embedding
     from sg3d.ingest.live import LiveMapper
@@ -151,7 +152,7 @@ def map_room(store: GraphStore, req: MapRequest, settings, detector=None, embedd
                  error=MapError) as lease:
         check_room(store, req)
         follower = open_live_source(req.source, req.layout)   # a folder, a RealSense, an MCAP being recorded
-        mapper = LiveMapper(follower, detector, settings, req.room, req.building)
+        mapper = LiveMapper(follower, detector, walk_settings(settings, req.rooms), req.room, req.building)
         publisher = _Publisher(store, mapper, req, embedding or default_embedding(), on_update, lease.fence)
         return _map_held(req, detector, follower, mapper, publisher, should_stop)
 
@@ -423,7 +424,7 @@ class _Publisher(_Worker):
         rooms found again keep their ids and names): live at most every ROOMS_EVERY_S from
         LIVE_FRAMES of the frames so far; the last publish of a recording read whole from its
         frames as a build reads them, so its rooms are the build's."""
-        from sg3d.app.places import LIVE_FRAMES, MAX_FRAMES, ROOMS_EVERY_S, write_walk_rooms
+        from sg3d.app.places import LIVE_FRAMES, MAX_FRAMES, ROOMS_EVERY_S, Walk, write_walk_rooms
         from sg3d.graphdb.values import room_id
 
         gravity = self.mapper.gravity
@@ -433,9 +434,10 @@ class _Publisher(_Worker):
         whole = self.recording if state != "live" and self.recording is not None else None
         frames = whole if whole is not None else self.mapper.source
         n = len(whole) if whole is not None else self.mapper.source.poll()
-        self.rooms_found = write_walk_rooms(self.store, room_id(self.req.building, self.req.room), frames, 0, n,
-                                            gravity.up, gravity.floor_height, keep=True,
-                                            most=MAX_FRAMES if whole is not None else LIVE_FRAMES)
+        walk = Walk(frames, 0, n, gravity.up, gravity.floor_height, most=MAX_FRAMES if whole is not None else LIVE_FRAMES)
+        # under the lease, as the publish before it: a map that lost the room writes no rooms either
+        self.rooms_found = write_walk_rooms(self.store, room_id(self.req.building, self.req.room), walk, keep=True,
+                                            fence=self.fence)
         self.rooms_seconds.append(time.monotonic() - t0)
 
     def latency(self) -> dict:

@@ -3,13 +3,17 @@ and doorways (`sg3d.ingest.places`), every object of the built room put in exact
 and the layer written to the store (`sg3d.graphdb.places`)."""
 from __future__ import annotations
 
-from typing import Optional
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any, Optional
 
 import numpy as np
 
 from sg3d.app.errors import AppError, NotFound
 from sg3d.core.stored import Row
 from sg3d.graphdb.protocol import GraphStore
+
+if TYPE_CHECKING:
+    from sg3d.graphdb.merge import Fence
 
 MAX_FRAMES = 300          # frames of the recording the floor map reads (evenly spread)
 # A live map (`sg3d map --rooms auto`) finds the rooms of the frames so far at most every
@@ -40,6 +44,15 @@ def guess_kind(labels: list[str]) -> tuple[Optional[str], list[str]]:
         if len(found) > len(best[1]):
             best = (kind, found)
     return best
+
+
+def walk_settings(settings, rooms: Optional[str]):
+    """The pipeline settings (`sg3d.ingest.pipeline.Settings`) of a build or map that finds the
+    rooms of its walk (`rooms` "auto"): its discovery finds the windows too (which rooms have
+    one); any other keeps `settings` and pays nothing for them."""
+    from dataclasses import replace
+
+    return replace(settings, windows=True) if rooms == "auto" else settings
 
 
 def walk_frames(seq, start: int, stop: int, most: int = MAX_FRAMES) -> list:
@@ -122,8 +135,8 @@ def layer_rows(rid: str, places, basis: np.ndarray, floor: float, objects: list[
                kept: Optional[dict[int, tuple[str, str]]] = None) -> tuple[list, list, list]:
     """The rows `sg3d.graphdb.places.write_places` writes: rooms "room 1..n" (or, with `kept`,
     the ids and names they had, `kept_names`; footprint and middle in world coordinates, a guessed
-    kind), doorways, and each object in the room at its position (`room_at`, no reach limit: every
-    object in exactly one room)."""
+    kind, the floors and walls that bound it, `structure_of`), doorways, and each object in the
+    room at its position (`room_at`, no reach limit: every object in exactly one room)."""
     from sg3d.ingest.places import room_at
 
     def world(ab) -> list[float]:
@@ -135,12 +148,14 @@ def layer_rows(rid: str, places, basis: np.ndarray, floor: float, objects: list[
     named = _ids(rid, places, kept)
     ids = {label: i for label, (i, _) in named.items()}
     pairs = [{"object": o["id"], "room": ids[int(k)]} for o, k in zip(objects, at) if int(k) in ids]
+    structure = structure_of(places, basis, objects)
     rooms = []
     for p in places.rooms:
         kind, evidence = guess_kind([o["label"] for o, k in zip(objects, at) if int(k) == p.label])
         x, y, z = world(p.centre)
         rooms.append({"id": ids[p.label], "name": named[p.label][1], "polygon": world(p.polygon), "area": p.area_m2,
-                      "free_area": p.free_m2, "x": x, "y": y, "z": z, "kind_guess": kind, "kind_evidence": evidence})
+                      "free_area": p.free_m2, "x": x, "y": y, "z": z, "kind_guess": kind, "kind_evidence": evidence,
+                      "unseen_outline": p.unseen_outline, "structure": structure.get(p.label, [])})
     doorways = []
     for k, d in enumerate(places.doorways, start=1):
         x, y, z = world(d.position)
@@ -149,22 +164,52 @@ def layer_rows(rid: str, places, basis: np.ndarray, floor: float, objects: list[
     return rooms, doorways, pairs
 
 
-def write_walk_rooms(store: GraphStore, rid: str, seq, start: int, stop: int, up, floor: Optional[float],
-                     keep: bool = False, most: int = MAX_FRAMES) -> dict:
-    """Find the rooms of the recording's walk (at most `most` of its frames) and write them under
-    recorded room `rid`; `keep`: the rooms found again keep the ids and names written before
-    (`kept_names`: a live map's publishes). What the build summary says: rooms (name, area,
-    objects, kind guess), doorways, objects placed."""
+def structure_of(places, basis: np.ndarray, objects: list[dict]) -> dict[int, list[str]]:
+    """Each found room's label -> the ids of the floors and walls that bound it
+    (`sg3d.ingest.places.rooms_bounded`, from each one's gravity-frame box: its middle and size)."""
+    from sg3d.ingest.places import rooms_bounded
+
+    out: dict[int, list[str]] = {}
+    for o in objects:
+        if o.get("layer") != "structure" or o["label"] not in ("floor", "wall") or not o.get("size"):
+            continue
+        middle = basis @ np.array([o["x"], o["y"], o["z"]], float)
+        half = np.asarray(o["size"], float) / 2
+        for k in rooms_bounded(places, middle - half, middle + half):
+            out.setdefault(k, []).append(o["id"])
+    return out
+
+
+@dataclass(frozen=True)
+class Walk:
+    """The frames a walk's rooms are found from: `seq`'s [start, stop) (at most `most` of them,
+    `walk_frames`), with the recording's gravity `up` and floor height."""
+    seq: Any
+    start: int
+    stop: int
+    up: Any
+    floor: Optional[float]
+    most: int = MAX_FRAMES
+
+
+def write_walk_rooms(store: GraphStore, rid: str, walk: Walk, keep: bool = False,
+                     fence: Optional[Fence] = None) -> dict:
+    """Find the rooms of `walk` and write them under recorded room `rid`, in one transaction that
+    `fence` (the writer's lease, `sg3d.graphdb.lease.RoomLease.fence`) checks first; `keep`: the
+    rooms found again keep the ids and names written before (`kept_names`: a live map's
+    publishes). What the build summary says: rooms (name, area, objects, kind guess), doorways,
+    objects placed."""
     from sg3d.graphdb.places import read_places, write_places
 
-    places, basis = find_places(seq, start, stop, up, floor, most)
+    floor = walk.floor
+    places, basis = find_places(walk.seq, walk.start, walk.stop, walk.up, floor, walk.most)
     if places is None or floor is None or not places.rooms:
         return {"rooms": [], "doorways": 0, "objects_placed": 0,
                 "why": "the recording never saw the floor" if floor is None else "no free floor was seen"}
     objects = store.read("places_objects", room=rid)
     kept = kept_names(places, basis, read_places(store, rid)) if keep else None
     rooms, doorways, pairs = layer_rows(rid, places, basis, float(floor), objects, kept)
-    write_places(store, rid, rooms, doorways, pairs)
+    write_places(store, rid, rooms, doorways, pairs, fence=fence)
     held = {r["id"]: 0 for r in rooms}
     for p in pairs:
         held[p["room"]] += 1

@@ -35,7 +35,7 @@ def _summary_table(summary: dict):
     d = summary.get("from_depth") or {}
     if d.get("unnamed") or d.get("structure"):
         t.add_row("from depth", f"{d.get('unnamed', 0)} objects no detector named, {d.get('structure', 0)} of the "
-                                "room's structure (floor, walls, surfaces)")
+                                "room's structure (floor, walls, windows, surfaces)")
     if summary.get("floor") == "not seen":
         t.add_row("floor", "not seen (no floor in view: the tops seen are objects, with what lies on them)")
     g = summary["graph"]

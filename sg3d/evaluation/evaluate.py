@@ -138,14 +138,15 @@ def object_metrics(gt: GroundTruth, nodes: list[Node], tolerance: float) -> dict
 
 
 def structure_metrics(nodes: list[Node], named: list[Node], m: Matching) -> dict:
-    """The room's structure found (floor, walls, surfaces) and the box heights of matched furniture."""
+    """The room's structure found (floor, walls, windows, surfaces) and the box heights of matched furniture."""
     structure = [n for n in nodes if n.layer == "structure"]
     furniture = [{"node": n.id, "gt": m.node_to_gt[n.id], "label": n.label, "height_m": round(float(n.size[2]), 3)}
                  for n in named if n.id in m.node_to_gt and n.label in FURNITURE and n.size]
     return {
         "floor": any(n.label == "floor" for n in structure),
         "walls": sum(n.label == "wall" for n in structure),
-        "surfaces": sorted(n.label for n in structure if n.label not in ("floor", "wall")),
+        "windows": sum(n.label == "window" for n in structure),
+        "surfaces": sorted(n.label for n in structure if n.label not in ("floor", "wall", "window")),
         "furniture_heights": furniture,
     }
 

@@ -3,24 +3,32 @@ parts of the recorded Room), their doorways (Doorway nodes, CONNECTED both ways)
 object IN_ROOM exactly one of them (not IN: that is the spatial relation between objects). Written whole in one transaction, replacing the last one."""
 from __future__ import annotations
 
-from typing import Any
+from typing import Any, Optional
 
 from neo4j import ManagedTransaction
 
 from sg3d.core.stored import Row
 from sg3d.graphdb import cypher
+from sg3d.graphdb.merge import Fence
 from sg3d.graphdb.protocol import GraphStore
 
-WRITE_STEPS = ("places_rooms_create", "places_doorways_create", "places_objects_in")
+WRITE_STEPS = ("places_rooms_create", "places_structure_create", "places_doorways_create", "places_objects_in")
 
 
-def write_places(store: GraphStore, room: str, rooms: list[Row], doorways: list[Row], pairs: list[Row]) -> None:
+def write_places(store: GraphStore, room: str, rooms: list[Row], doorways: list[Row], pairs: list[Row],
+                 fence: Optional[Fence] = None) -> None:
     """Replace the places layer of recorded room `room` (its id): `rooms` rows of
-    places_rooms_create, `doorways` of places_doorways_create, `pairs` {object, room}."""
-    params: dict[str, dict[str, Any]] = {"places_rooms_create": {"rooms": rooms}, "places_doorways_create": {"doorways": doorways},
-              "places_objects_in": {"pairs": pairs}}
+    places_rooms_create (with `structure`: the ids of the floors and walls bounding each),
+    `doorways` of places_doorways_create, `pairs` {object, room}; `fence` (the writer's lease,
+    `sg3d.graphdb.lease.RoomLease.fence`) is checked first in the same transaction: a writer that
+    lost the room writes nothing."""
+    params: dict[str, dict[str, Any]] = {
+        "places_rooms_create": {"rooms": rooms}, "places_structure_create": {"rooms": rooms},
+        "places_doorways_create": {"doorways": doorways}, "places_objects_in": {"pairs": pairs}}
 
     def body(tx: ManagedTransaction) -> None:
+        if fence is not None:
+            fence(tx)
         tx.run(cypher.load("places_clear"), room=room).consume()
         for step in WRITE_STEPS:
             tx.run(cypher.load(step), room=room, **params[step]).consume()

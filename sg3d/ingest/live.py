@@ -38,8 +38,8 @@ from sg3d.core.model import LocalGraph, ObjectObservation, ScanInfo
 from sg3d.ingest.pipeline import (
     PipelineStats,
     Settings,
+    depth_discovery,
     detections_of,
-    discover_from_depth,
     graph_of_evidence,
     sightings_of,
 )
@@ -388,7 +388,7 @@ class LiveMapper:
         else:
             def discover(colour_of, views, objects, up, floor, stats):
                 before = [(o.label, np.asarray(o.mean, float)) for o in objects]
-                nodes = discover_from_depth(colour_of, views, objects, up, floor, stats)
+                nodes = depth_discovery(self.settings)(colour_of, views, objects, up, floor, stats)
                 self.discovered = Discovered(list(nodes), [(label, centre, after) for (label, centre), after
                                                            in zip(before, objects)], version)
                 return nodes

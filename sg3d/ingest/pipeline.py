@@ -101,6 +101,7 @@ class Settings:
     score_threshold: float = 0.23
     quality: str = "default"                    # "high": full frame + tiles
     discover: bool = True                       # 3d-full: unnamed objects and structure from depth
+    windows: bool = False                       # discovery finds windows too: a walk's (`--rooms auto`)
 
     @property
     def selection(self) -> SelectionParams:
@@ -112,6 +113,8 @@ class Settings:
     def fingerprint(self) -> str:
         d = asdict(self)
         d["method"] = self.method.name
+        if not self.windows:      # the graph of a build without windows is the one it was before they existed
+            del d["windows"]
         return json.dumps(d, sort_keys=True)
 
 
@@ -332,12 +335,39 @@ def discover_from_depth(colour_of: Callable[[int], Optional[np.ndarray]], views,
     """The room's structure and its unnamed objects from the views' depth (`sg3d.ingest.discover.discovery`);
     the named objects get their whole boxes in place."""
     from sg3d.ingest.discover.room_cloud import room_cloud
+
+    return _discovered(colour_of, room_cloud(views, up, floor), objects, stats)
+
+
+def discover_with_windows(colour_of: Callable[[int], Optional[np.ndarray]], views, objects: list[ObjectObservation],
+                          up, floor: Optional[float], stats: PipelineStats) -> list[ObjectObservation]:
+    """What `discover_from_depth` finds, and the windows where the floor was seen
+    (`sg3d.ingest.discover.windows`: a sill's height is measured from the floor)."""
+    from sg3d.ingest.discover.room_cloud import room_cloud
+    from sg3d.ingest.discover.windows import windows
+
+    cloud = room_cloud(views, up, floor)
+    found = _discovered(colour_of, cloud, objects, stats)
+    if cloud.floor_seen:
+        nodes = [discovery.structure_node(f"w{k}", e, cloud) for k, e in enumerate(windows(cloud))]
+        stats.structure += len(nodes)
+        found += nodes
+    return found
+
+
+def depth_discovery(settings: Settings) -> DiscoverFn:
+    """Discovery from depth as `settings` ask: with the windows (`discover_with_windows`) only for a
+    walk (`Settings.windows`): their own plane vote and every view's rays cost a single-room build
+    seconds it has no use for."""
+    return discover_with_windows if settings.windows else discover_from_depth
+
+
+def _discovered(colour_of: Callable[[int], Optional[np.ndarray]], cloud, objects: list[ObjectObservation],
+                stats: PipelineStats) -> list[ObjectObservation]:
     from sg3d.ingest.discover.structure import room_structure
 
     colour_image = functools.lru_cache(maxsize=16)(colour_of)   # objects side by side are read in the same views
-    cloud = room_cloud(views, up, floor)
-    structure = room_structure(cloud)
-    unnamed, nodes = discovery.discover(objects, cloud, structure, colour_image)
+    unnamed, nodes = discovery.discover(objects, cloud, room_structure(cloud), colour_image)
     stats.unnamed += len(unnamed)
     stats.structure += len(nodes)
     return unnamed + nodes
@@ -365,7 +395,7 @@ def _centre(o: ObjectObservation) -> tuple[float, float, float]:
 def _structure_relations(objects: list[ObjectObservation], up) -> list[RelationObservation]:
     """What the objects stand ON of the room's structure (floor, counters, shelves; not walls),
     from their fused boxes; structure takes part in no other relation."""
-    structure = {o.local_id for o in objects if o.layer == "structure" and o.label != "wall"}
+    structure = {o.local_id for o in objects if o.layer == "structure" and o.label not in ("wall", "window")}
     if not structure:
         return []
     geoms = [ObjectGeometry(o.local_id, o.label, _centre(o), o.size) for o in objects
@@ -433,7 +463,7 @@ def graph_of_evidence(sightings: list[fusion.Sighting], views: list[existence.Vi
     stats.seconds["fusion"] += time.perf_counter() - t0
     if method.sdr and settings.discover and views:
         t0 = time.perf_counter()
-        objects += (discover or discover_from_depth)(colour_of, views, objects, up, floor, stats)
+        objects += (discover or depth_discovery(settings))(colour_of, views, objects, up, floor, stats)
         by_id = {k: h for k, h in by_id.items() if k in {o.local_id for o in objects}}   # discovery may drop a misreading
         stats.seconds["discovery"] += time.perf_counter() - t0
     objects = [at_fixed_precision(o) for o in objects]

@@ -179,8 +179,8 @@ def rooms_of_objects(a, rows: list[Row], layer: list[Row]) -> dict[str, dict]:
 
 def not_detected(resolved: list) -> Optional[str]:
     """Rule "what sg3d cannot see is not said to be absent": the words of the first lacking kind
-    that names no label sg3d stores (the lexicon reads it as unknown, e.g. a window: neither the
-    detector nor the structure step finds windows); None when every one is a known label."""
+    that names no label sg3d stores (the lexicon reads it as unknown, e.g. a door: neither the
+    detector nor the structure step finds doors); None when every one is a known label."""
     for r in resolved:
         if r.kind == "unknown":
             return r.np.text()
@@ -190,6 +190,8 @@ def not_detected(resolved: list) -> Optional[str]:
 def op_walk_rooms_lacking(a, wanted: list[NP], lacking: list[NP], layer: list[Row]):
     """"which rooms have no fridge", "which rooms have a bed but no tv" over the rooms of a walk;
     a lacking kind sg3d never detects is said so, not answered as absent everywhere."""
+    if not wanted and asks_windows(a, lacking):
+        return op_walk_windows(a, lacking=True)
     resolved = [a.ev.resolved(np) for np in lacking]
     blind = not_detected(resolved)
     names = ", ".join(room_words(w) for w in sorted(layer, key=lambda w: (w["walk"], w["name"])))
@@ -207,3 +209,60 @@ def op_walk_rooms_lacking(a, wanted: list[NP], lacking: list[NP], layer: list[Ro
         return f"none: every room holds {said}", [], []
     return ", ".join(room_words(w) for w in keep) + f"; no {said} in {'it' if len(keep) == 1 else 'them'}", \
         [{"room": w["name"], "walk": w["walk"]} for w in keep], []
+
+
+# Rule "no window seen is not no window": a room at least this share of whose outline no seen wall
+# closes (`sg3d.ingest.places.rooms.unseen_outline`) may have a window the walk never looked at.
+UNSEEN_OUTLINE_SHARE = 0.15
+
+
+def window_words(win: dict) -> str:
+    """A window in an answer: its width along the wall and its height (its box, gravity frame)."""
+    sx, sy, sz = (float(v) for v in (win.get("size") or [0.0, 0.0, 0.0]))
+    return f"{max(sx, sy):.1f} m wide, {sz:.1f} m tall"
+
+
+def op_walk_windows(a, lacking: bool) -> tuple[str, list, list]:
+    """"which rooms have no window" / "which rooms have a window" over the rooms of a walk
+    (cypher/vqa_walk_windows: the windows IN each room, found as holes in the walls), said by
+    `windows_answer`."""
+    rows = a.run.read("vqa_walk_windows", building=a.ev.building)
+    if a.scene is not None and a.scene.rooms is not None:
+        rows = [r for r in rows if r["walk"] in a.scene.rooms]
+    text, value = windows_answer(rows, lacking)
+    return text, value, []
+
+
+def windows_answer(rows: list[dict], lacking: bool) -> tuple[str, list]:
+    """The rooms with a window (each with its windows' sizes), or without one: a room without
+    one whose outline was partly never seen (at least UNSEEN_OUTLINE_SHARE) is said to have no
+    window seen, never no window."""
+    rows = sorted(rows, key=lambda w: (w["walk"], w["name"]))
+    if not lacking:
+        keep = [w for w in rows if w["windows"]]
+        if not keep:
+            return "none: no window was found in any room of the walk", []
+        parts = [f"{room_words(w)} ({len(w['windows'])} {plural('window', len(w['windows']))}: "
+                 + "; ".join(window_words(x) for x in w["windows"]) + ")" for w in keep]
+        return ", ".join(parts), [{"room": w["name"], "walk": w["walk"], "windows": [x["id"] for x in w["windows"]]}
+                                  for w in keep]
+    keep = [w for w in rows if not w["windows"]]
+    if not keep:
+        return "none: every room has a window", []
+    sure = [w for w in keep if w["unseen_outline"] < UNSEEN_OUTLINE_SHARE]
+    unsure = [w for w in keep if w["unseen_outline"] >= UNSEEN_OUTLINE_SHARE]
+    parts = []
+    if sure:
+        parts.append(", ".join(room_words(w) for w in sure) + f"; no window in {'it' if len(sure) == 1 else 'them'}")
+    parts += [f"no window seen in {room_words(w)} ({w['unseen_outline']:.0%} of its outline was never seen)"
+              for w in unsure]
+    return "; ".join(parts), [{"room": w["name"], "walk": w["walk"], "seen": w["unseen_outline"] < UNSEEN_OUTLINE_SHARE}
+                              for w in keep]
+
+
+def asks_windows(a, nps: list[NP]) -> bool:
+    """Whether the only kind asked for is the window (a structure label of sg3d/queries/vocabulary.py)."""
+    if len(nps) != 1:
+        return False
+    r = a.ev.resolved(nps[0])
+    return r.kind == "structure" and r.labels == ["window"]

@@ -18,7 +18,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from sg3d.ingest.places.floor_map import FREE, OCCUPIED, FloorMap, PlacesConfig
+from sg3d.ingest.places.floor_map import FREE, OCCUPIED, UNKNOWN, FloorMap, PlacesConfig
 
 N4 = ((1, 0), (-1, 0), (0, 1), (0, -1))
 
@@ -31,6 +31,7 @@ class Place:
     area_m2: float
     free_m2: float
     centre: list[float]
+    unseen_outline: float = 0.0       # share of its outline no seen wall closes (`unseen_outline`)
 
 
 @dataclass
@@ -227,6 +228,25 @@ def room_extent(labels: np.ndarray, occupied: np.ndarray, cell: float, cfg: Plac
     return out
 
 
+def unseen_outline(extent: np.ndarray, state: np.ndarray, k: int) -> float:
+    """Rule "a room's outline was never seen": of room k's outline cells (its cells with a
+    4-neighbour outside it), the share that are free floor with a never-seen (UNKNOWN) cell
+    beside them, i.e. where no wall was seen closing the room. A wall seen is occupied cells on
+    the outline; a doorway leads into another room's cells, which are seen."""
+    from scipy import ndimage
+
+    mine = extent == k
+    outline = mine & ~ndimage.binary_erosion(mine, border_value=0)
+    if not outline.any():
+        return 0.0
+    unknown = np.pad(state == UNKNOWN, 1, constant_values=True)
+    beside = np.zeros_like(mine)
+    for di, dj in N4:
+        beside |= unknown[1 + di:unknown.shape[0] - 1 + di, 1 + dj:unknown.shape[1] - 1 + dj]
+    open_ = outline & (state == FREE) & beside
+    return round(float(open_.sum()) / float(outline.sum()), 3)
+
+
 def footprint(mask: np.ndarray, fm: FloorMap) -> list[list[float]]:
     """The outline of one room's cells as a polygon of (a, b) metres (OpenCV contour, simplified
     to one cell)."""
@@ -253,8 +273,38 @@ def segment_rooms(fm: FloorMap, cfg: PlacesConfig = PlacesConfig()) -> Places:
         mask = extent == k
         centre = fm.centres(np.argwhere(labels == k)).mean(axis=0)
         rooms.append(Place(k, footprint(mask, fm), round(float(mask.sum()) * fm.cell ** 2, 3),
-                           round(float((labels == k).sum()) * fm.cell ** 2, 3), [round(float(v), 3) for v in centre]))
+                           round(float((labels == k).sum()) * fm.cell ** 2, 3), [round(float(v), 3) for v in centre],
+                           unseen_outline(extent, fm.state, k)))
     return Places(rooms, doorways(labels, fm, cfg), extent, fm)
+
+
+# Rule "a room's structure" (`rooms_bounded`): a floor or wall bounds the found rooms whose cells
+# lie within STRUCTURE_REACH_M of its footprint (a wall's half thickness and the band of furniture
+# against it) along at least STRUCTURE_MIN_SIDE_M of its longer side. A wall between two rooms
+# bounds both; one whose end only reaches a room's corner (a reach's span of its cells) bounds
+# neither end room; the floor under every room bounds each.
+STRUCTURE_REACH_M = 0.3
+STRUCTURE_MIN_SIDE_M = 0.5
+
+
+def rooms_bounded(places: Places, lo: np.ndarray, hi: np.ndarray) -> list[int]:
+    """Rule "a room's structure" (STRUCTURE_REACH_M, STRUCTURE_MIN_SIDE_M): the labels of the
+    rooms a floor's or wall's gravity-frame footprint, (a, b) corners `lo` and `hi`, bounds."""
+    fm = places.floor
+    if fm is None:
+        return []
+    lo, hi = np.asarray(lo, float)[:2], np.asarray(hi, float)[:2]
+    shape = np.array(places.labels.shape)
+    i0, j0 = np.clip(fm.cells_of(lo - STRUCTURE_REACH_M), 0, shape)
+    i1, j1 = np.clip(fm.cells_of(hi + STRUCTURE_REACH_M) + 1, 0, shape)
+    near = places.labels[i0:i1, j0:j1]
+    along = 0 if hi[0] - lo[0] >= hi[1] - lo[1] else 1        # the footprint's longer side
+    out = []
+    for k in np.unique(near[near > 0]):
+        cells = np.flatnonzero((near == k).any(axis=1 - along))
+        if (cells[-1] - cells[0] + 1) * fm.cell >= STRUCTURE_MIN_SIDE_M:
+            out.append(int(k))
+    return out
 
 
 def room_at(places: Places, ab: np.ndarray, reach_m: float = 1.5) -> np.ndarray:

@@ -435,6 +435,8 @@ def op_rooms(a: Answerer, form: Form):
         return _rooms_by_count(a, form)
     if form.lacking or form.sets and form.sets[0].alternatives and form.sets[0].joined == "and":
         return _rooms_holding_all(a, form)
+    if walk.asks_windows(a, form.sets) and walk.walk_layer(a):
+        return walk.op_walk_windows(a, lacking=False)
     np = _head(form)
     rows = _all_rows(a.ev, form, np)
     per: dict[str, int] = {}

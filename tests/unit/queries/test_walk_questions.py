@@ -101,3 +101,23 @@ def test_a_kind_no_label_covers_is_not_detected():
 ])
 def test_a_kind_is_guessed_from_what_a_room_holds(labels, kind):
     assert guess_kind(labels)[0] == kind
+
+
+def _windowed(i: int, windows: int, unseen: float) -> dict:
+    return {"id": f"w#{i}", "name": f"room {i}", "walk": "home/w", "kind_guess": None, "kind_evidence": [],
+            "unseen_outline": unseen, "windows": [{"id": f"win{i}.{k}", "size": [1.0, 0.05, 1.1]} for k in range(windows)]}
+
+
+def test_rooms_without_a_window_are_named_and_an_unseen_outline_says_no_window_seen():
+    from sg3d.queries.walk import UNSEEN_OUTLINE_SHARE, windows_answer
+
+    rows = [_windowed(1, 1, 0.0), _windowed(2, 0, 0.0), _windowed(3, 0, UNSEEN_OUTLINE_SHARE - 0.01),
+            _windowed(4, 0, UNSEEN_OUTLINE_SHARE)]
+    text, value = windows_answer(rows, lacking=True)
+    assert text.startswith("room 2, room 3; no window in them; no window seen in room 4 ("), text
+    assert [(v["room"], v["seen"]) for v in value] == [("room 2", True), ("room 3", True), ("room 4", False)]
+    text, value = windows_answer(rows, lacking=False)
+    assert text == "room 1 (1 window: 1.0 m wide, 1.1 m tall)"
+    assert value == [{"room": "room 1", "walk": "home/w", "windows": ["win1.0"]}]
+    assert windows_answer([_windowed(1, 2, 0.0)], lacking=True)[0] == "none: every room has a window"
+    assert windows_answer([_windowed(1, 0, 0.0)], lacking=False)[0].startswith("none: no window was found")

@@ -5,9 +5,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from sg3d.ingest.places import PlacesConfig, floor_map, room_at, rooms_of_walk, segment_rooms
+from sg3d.ingest.places import Places, PlacesConfig, floor_map, room_at, rooms_bounded, rooms_of_walk, segment_rooms
 from sg3d.ingest.places.floor_map import FREE, OCCUPIED, UNKNOWN, FloorMap, obstacle_cells
-from sg3d.ingest.places.rooms import merge_small, own_room, passage_width
+from sg3d.ingest.places.rooms import STRUCTURE_MIN_SIDE_M, STRUCTURE_REACH_M, merge_small, own_room, passage_width
 
 CFG = PlacesConfig()
 
@@ -153,3 +153,57 @@ def test_obstacle_cells_inside_a_border_split_it_only_past_the_passage_gap():
         labels[9, :10] = 0
         labels[9, 40:] = 0
         assert len(borders(labels, gap)) == parts, hole
+
+
+def test_a_rooms_outline_left_open_to_the_unseen_is_its_unseen_share():
+    from sg3d.ingest.places.rooms import unseen_outline
+
+    state = np.full((12, 12), UNKNOWN, np.int8)
+    state[1:11, 1:11] = FREE
+    state[1:11, 1] = OCCUPIED                     # walls seen on three sides, one side left open
+    state[1, 1:11] = OCCUPIED
+    state[10, 1:11] = OCCUPIED
+    extent = np.zeros((12, 12), np.int32)
+    extent[1:11, 1:11] = 1
+    share = unseen_outline(extent, state, 1)
+    outline = 36                                  # the 10 x 10 room's border cells
+    assert share == pytest.approx(round(8 / outline, 3))   # the open side's free cells, corners are walls
+    state[1:11, 10] = OCCUPIED
+    assert unseen_outline(extent, state, 1) == 0.0
+    assert unseen_outline(extent, state, 2) == 0.0           # no such room
+
+
+def _one_room_places() -> Places:
+    """Room 1 alone: cells a in [0, 4) m, b in [0, 4) m (5 cm cells), nothing else."""
+    labels = np.zeros((200, 200), np.int32)
+    labels[:80, :80] = 1
+    fm = FloorMap(np.full(labels.shape, FREE, np.int8), np.zeros(2), 0.05)
+    return Places([], [], labels, fm)
+
+
+def test_a_wall_bounds_a_room_within_its_reach_and_no_further():
+    """A wall along b (0.1 m thick, 4 m long) beside the room's side at a = 4 m: within
+    STRUCTURE_REACH_M of the room's cells it bounds it, past it (by a cell's quantisation) not."""
+    places = _one_room_places()
+    reach = STRUCTURE_REACH_M
+    for gap, bounds in ((0.0, [1]), (reach - 0.01, [1]), (reach + 0.01, [])):
+        assert rooms_bounded(places, np.array([4.0 + gap, 0.0]), np.array([4.1 + gap, 4.0])) == bounds, gap
+
+
+def test_a_wall_bounds_a_room_along_at_least_the_minimum_side():
+    """A wall along a beyond the room's side at b = 4 m, starting at a0: the room's cells within
+    its reach run 4.0 - (a0 - STRUCTURE_REACH_M) m along it; at least STRUCTURE_MIN_SIDE_M bounds
+    the room (a wall meeting its corner does not)."""
+    places = _one_room_places()
+    a0 = 4.0 + STRUCTURE_REACH_M - STRUCTURE_MIN_SIDE_M
+    for start, bounds in ((a0 - 0.01, [1]), (a0 + 0.06, []), (4.1, [])):
+        assert rooms_bounded(places, np.array([start, 4.0]), np.array([start + 2.0, 4.1])) == bounds, start
+
+
+def test_the_floor_and_the_wall_between_two_rooms_bound_both():
+    places = segment_rooms(_two_rooms(0.9), CFG)
+    assert [r.label for r in places.rooms] == [1, 2]
+    assert rooms_bounded(places, np.array([0.0, 0.0]), np.array([8.1, 4.0])) == [1, 2]        # the floor
+    assert rooms_bounded(places, np.array([4.0, 0.0]), np.array([4.1, 1.55])) == [1, 2]       # the wall between
+    assert rooms_bounded(places, np.array([0.0, 0.0]), np.array([0.05, 4.0])) == [1]          # the far walls
+    assert rooms_bounded(places, np.array([8.05, 0.0]), np.array([8.1, 4.0])) == [2]
