@@ -164,7 +164,7 @@ def layer_rows(rid: str, places, basis: np.ndarray, floor: float, objects: list[
     return rooms, doorways, pairs
 
 
-def structure_of(places, basis: np.ndarray, objects: list[dict]) -> dict[int, list[str]]:
+def structure_of(places, basis: np.ndarray, objects: list[Row]) -> dict[int, list[str]]:
     """Each found room's label -> the ids of the floors and walls that bound it
     (`sg3d.ingest.places.rooms_bounded`, from each one's gravity-frame box: its middle and size)."""
     from sg3d.ingest.places import rooms_bounded

@@ -36,6 +36,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Any, Optional, Sequence, Union, cast
 
+from sg3d.core.stored import Row
 from sg3d.core.errors import Sg3dError
 from sg3d.core.relation_rules import SYMMETRIC, VIEWPOINT
 from sg3d.graphdb import cypher
@@ -145,7 +146,7 @@ class _Run:
         self._names: dict[str, str] = {}
         self.notes: list[str] = []                 # what the answer must say it did (main colour)
         # one answer reads its candidates once: the count, then its provenance, reuse them
-        self.candidates: dict[tuple, list[dict]] = {}
+        self.candidates: dict[tuple, list[Row]] = {}
         self.rows_by_id: dict[str, dict] = {}      # candidate rows that carry provenance fields
 
     def names(self, rows) -> dict[str, str]:
@@ -155,11 +156,11 @@ class _Run:
             self._names.update(names_in_store(self.read, missing))
         return self._names
 
-    def read(self, name: str, **params) -> list[dict]:
+    def read(self, name: str, **params) -> list[Row]:
         self.steps.append({"template": f"cypher/{name}.cypher", "params": params})
         return self.store.read(name, **params)
 
-    def read_rel(self, name: str, rel_type: Union[str, Sequence[str]], **params) -> list[dict]:
+    def read_rel(self, name: str, rel_type: Union[str, Sequence[str]], **params) -> list[Row]:
         if not isinstance(rel_type, str):
             # several types ("near" = NEAR or NEXT_TO): one run each, rows in order
             return [r for t in rel_type for r in self.read_rel(name, t, **params)]
@@ -217,7 +218,7 @@ def _variant(base: str, rooms, labels=()) -> str:
     return base + "_any" if labels is None else base
 
 
-def _rooms_named(store, name: str, building: Optional[str]) -> list[dict]:
+def _rooms_named(store, name: str, building: Optional[str]) -> list[Row]:
     """Rooms called `name` (any case): the room_name index for the usual spellings, and only
     when none matches the case-insensitive scan of every room."""
     b = building.lower() if building else None
@@ -226,7 +227,7 @@ def _rooms_named(store, name: str, building: Optional[str]) -> list[dict]:
     return rows or store.read("vqa_rooms", room=name.lower(), building=b) or _rooms_like(store, name, building)
 
 
-def _building_like(run: _Run, building: str) -> list[dict]:
+def _building_like(run: _Run, building: str) -> list[Row]:
     """The rooms of the one building `building` means (spaces, case, a small typo); the answer
     says what was matched."""
     from sg3d.queries.place_names import match_name, read_as
@@ -239,7 +240,7 @@ def _building_like(run: _Run, building: str) -> list[dict]:
     return [r for r in rows if hit is not None and r["building"] == hit]
 
 
-def _rooms_like(store, name: str, building: Optional[str]) -> list[dict]:
+def _rooms_like(store, name: str, building: Optional[str]) -> list[Row]:
     """Rooms whose name (and building) `name` means once spaces, case and a small typo are set
     aside (sg3d/queries/place_names.py): "living room" -> `livingroom`; each row carries
     `read_as`, the note the answer gives. [] when no one room is meant."""
@@ -296,7 +297,7 @@ def asked_types(relation: str) -> tuple[str, ...]:
     return IMPLIED_BY.get(relation, (relation,))
 
 
-def _candidates(run: _Run, q: Query, rooms) -> list[dict]:
+def _candidates(run: _Run, q: Query, rooms) -> list[Row]:
     """The objects the question is about (target, attributes, relation), one row per object;
     read once per answer (the count and its provenance share them)."""
     key = (id(q), tuple(rooms) if rooms is not None else None)
@@ -307,7 +308,7 @@ def _candidates(run: _Run, q: Query, rooms) -> list[dict]:
     return run.candidates[key]
 
 
-def _read_candidates(run: _Run, q: Query, rooms) -> list[dict]:
+def _read_candidates(run: _Run, q: Query, rooms) -> list[Row]:
     if q.relation in VIEWPOINT:      # never stored: computed from a viewpoint (sg3d/queries/viewpoint.py)
         try:
             return by_size(run, views.related(run, q, rooms, run.viewpoint, run.seen_from), q.size)
@@ -330,7 +331,7 @@ def _read_candidates(run: _Run, q: Query, rooms) -> list[dict]:
     return by_size(run, rows, q.size)
 
 
-def _main_colour(run: _Run, q: Query, rows: list[dict]) -> list[dict]:
+def _main_colour(run: _Run, q: Query, rows: list[Row]) -> list[Row]:
     """A colour word means the main colour: rows that have it as their second colour only are
     left out, and the answer says how many (run.notes)."""
     if q.colour is None:
@@ -498,8 +499,8 @@ def where(run: _Run, q: Query, rooms) -> Answer:
         return Answer("", True, f"I have not found {_a(_what(q, 1))}{_where(q, rooms is not None)}", "where", [],
                       query=q)
     ids = [r["id"] for r in rows[:LIST_SHOWN]]
-    rels: dict[str, list[dict]] = {i: [] for i in ids}
-    placed: dict[str, list[dict]] = {i: [] for i in ids}    # with colour and score, for the sentence
+    rels: dict[str, list[Row]] = {i: [] for i in ids}
+    placed: dict[str, list[Row]] = {i: [] for i in ids}    # with colour and score, for the sentence
     # an edge of a directed type is said only when it leaves the object (the cabinet is never
     # "on" the vase that stands on it); symmetric ones from either end
     for incoming, types in ((False, sorted(REL_WORDS)), (True, sorted(SYMMETRIC))):

@@ -233,7 +233,7 @@ def op_walk_windows(a, lacking: bool) -> tuple[str, list, list]:
     return text, value, []
 
 
-def windows_answer(rows: list[dict], lacking: bool) -> tuple[str, list]:
+def windows_answer(rows: list[Row], lacking: bool) -> tuple[str, list]:
     """The rooms with a window (each with its windows' sizes), or without one: a room without
     one whose outline was partly never seen (at least UNSEEN_OUTLINE_SHARE) is said to have no
     window seen, never no window."""

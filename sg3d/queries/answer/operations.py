@@ -7,6 +7,7 @@ from __future__ import annotations
 
 from typing import Optional, Sequence
 
+from sg3d.core.stored import Row
 from sg3d.core.model import UNNAMED_LABEL
 from sg3d.core.relation_rules import SYMMETRIC
 from sg3d.queries import walk
@@ -37,10 +38,10 @@ class Answerer:
         self.where = f" in the {room_label}" if room_label else ""
         self.thumbnail: Optional[bytes] = None
 
-    def names(self, rows: list[dict]) -> dict[str, str]:
+    def names(self, rows: list[Row]) -> dict[str, str]:
         return self.run.names(rows)
 
-    def listing(self, rows: list[dict]) -> str:
+    def listing(self, rows: list[Row]) -> str:
         from sg3d.queries.naming import describe_unnamed
 
         named = self.names(rows[:LIST_SHOWN])
@@ -111,7 +112,7 @@ def _head(form: Form) -> NP:
     return form.sets[0] if form.sets else NP([])
 
 
-def _all_rows(ev: Evaluator, form: Form, np: NP) -> list[dict]:
+def _all_rows(ev: Evaluator, form: Form, np: NP) -> list[Row]:
     rows = ev.members(np)
     for f in form.filters:
         rows = ev.apply(f, rows)
@@ -137,7 +138,7 @@ def op_count(a: Answerer, form: Form):
     return text, n, rows
 
 
-def extra_views(a: Answerer, rows: list[dict]) -> int:
+def extra_views(a: Answerer, rows: list[Row]) -> int:
     """How many of `rows` are further views of one physical object stored in two rooms (linked
     by SAME_AS): each connected group of them counts once. Only across rooms."""
     if len({o["room"] for o in rows}) < 2 or not a.run.read("vqa_same_as_count")[0]["n"]:
@@ -211,7 +212,7 @@ def op_list(a: Answerer, form: Form):
     return f"{n} {what}{a.where}: {a.listing(rows)}", [row_value(o, named[o["id"]]) for o in rows], rows
 
 
-def on_unnamed_top(a: Answerer, np: NP, form: Form) -> Optional[tuple[str, list, list[dict]]]:
+def on_unnamed_top(a: Answerer, np: NP, form: Form) -> Optional[tuple[str, list, list[Row]]]:
     """"What is on the desk?" where no desk or table is named in scope: what stands ON an unnamed
     object that could be its top (`unnamed.could_be_top`: a desk scanned from above), said as
     unnamed (`unnamed.on_unnamed_top`); the value stays empty, as for any absence. None when the
@@ -246,7 +247,7 @@ def op_where(a: Answerer, form: Form):
         return (a.absence() or f"I have not found {a.phrase(np, 1, form.filters)}{a.where} ({ABSENT})"), [], rows
     shown = rows[:LIST_SHOWN]
     ids = {o["id"] for o in shown}
-    places: dict[str, list[dict]] = {i: [] for i in ids}
+    places: dict[str, list[Row]] = {i: [] for i in ids}
     objs = a.scene.objects
     for e in a.scene.edges():
         if e["s"] in ids and e["o"] in objs:
@@ -486,7 +487,7 @@ def _rooms_holding_all(a: Answerer, form: Form):
     if a.scene.rooms is not None:
         rooms = {k: v for k, v in rooms.items() if k in a.scene.rooms}
     per: dict[str, dict[int, int]] = {rid: {} for rid in rooms}
-    rows: list[dict] = []
+    rows: list[Row] = []
     for i, np in enumerate(wanted):
         found = _all_rows(a.ev, form, np)
         rows += found
@@ -531,7 +532,7 @@ def op_room_most(a: Answerer, form: Form):
     per = {rid: 0 for rid in rooms}
     neighbours = " ".join(lemma(w) for w in np.words) in NEIGHBOUR_WORDS
     if neighbours:
-        rows: list[dict] = []
+        rows: list[Row] = []
         for e in a.run.read("vqa_rooms_adjacent", rooms=sorted(rooms)) if rooms else []:
             if not form.among or e["room"] in per:
                 per[e["room"]] = per.get(e["room"], 0) + 1

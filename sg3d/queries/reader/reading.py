@@ -6,6 +6,7 @@ from __future__ import annotations
 from dataclasses import replace
 from typing import Callable, Optional
 
+from sg3d.core.stored import Row
 from sg3d.queries.logic import Form
 from sg3d.queries.reader import RoomNames
 from sg3d.queries.reader.grammar import GrammarError, read
@@ -39,9 +40,9 @@ class StoredRooms:
     room by (`names`, read only when a reading needs them) and the rooms a name means (`rows`,
     one indexed look-up per name, whose "read as" notes go to `notes`)."""
 
-    def __init__(self, names: Callable[[], list], named: Callable[[str], list[dict]], notes: list[str]):
+    def __init__(self, names: Callable[[], list], named: Callable[[str], list[Row]], notes: list[str]):
         self._names, self._named, self.notes = names, named, notes
-        self.seen: dict[str, list[dict]] = {}
+        self.seen: dict[str, list[Row]] = {}
         self._all: Optional[list] = None
 
     def names(self) -> list:
@@ -49,7 +50,7 @@ class StoredRooms:
             self._all = self._names()
         return self._all
 
-    def rows(self, name: str) -> list[dict]:
+    def rows(self, name: str) -> list[Row]:
         if name not in self.seen:
             self.seen[name] = self._named(name)
             said = self.seen[name][0].get("read_as") if self.seen[name] else None
