@@ -32,9 +32,11 @@ placed after (`correct`; `revision` counts the corrections, `pose_of` gives a fr
 the live mapper moves its evidence with them).
 
 A frame that already carries a finite pose passes through untouched, and so does every frame of
-a source that says it carries poses (`posed` True: a folder with pose files); such a source is
-read again at the end as a build reads it (`seq`, `whole()`), a pose-less one is not (its final
-graph is made of the frames tracked live). Odometry runs at about 320
+a source that says it carries poses (`posed` True: a folder with pose files). A source that can
+be read again (a folder, with or without poses) is read again at the end as a build reads it
+(`seq`, `whole()`): a pose-less one with the poses tracked live, the frames tracking went past
+interpolated between them, so the last graph is made of the frames a build detects however few
+frames tracking could afford (a camera's is made of the frames tracked live). Odometry runs at about 320
 px width (`sg3d.ingest.poses.tracking`): 15-40 ms a frame on 2 cores. Memory: a pose per frame
 (128 bytes) and the reduced views of the recent keyframes.
 """
@@ -52,6 +54,7 @@ from sg3d.ingest.poses.estimate import KEYFRAME_M as LOOP_KEYFRAME_M
 from sg3d.ingest.poses.live_loops import LoopCloser
 from sg3d.ingest.poses.sequence import DepthCameraImages
 from sg3d.ingest.poses.tracking import Fit, Odometry, View, motion_gap
+from sg3d.ingest.poses.trajectory import interpolate_poses
 from sg3d.ingest.readers.frames import Frame, FrameError
 
 # Odometry runs on images this wide (320x240 from 640x480). Measured on the kitchen on 2 busy
@@ -122,6 +125,25 @@ def predict_pose(history: list[tuple[float, np.ndarray]], t: float) -> Optional[
     return last @ screw_power(V, (t - t_last) / dt)
 
 
+def filled_poses(placed: dict[int, np.ndarray], times: list[float], unplaced: set[int]) -> dict[int, np.ndarray]:
+    """A pose for every frame 0..len(times)-1 between the first and the last `placed` one but those
+    in `unplaced`: placed frames keep theirs, the others are interpolated by their timestamps
+    between the placed ones around them (`trajectory.interpolate_poses`: translation linear in
+    time, rotation by Slerp)."""
+    known: list[int] = []
+    for i in sorted(i for i in placed if i < len(times)):
+        if not known or times[i] > times[known[-1]]:      # Slerp needs increasing times
+            known.append(i)
+    if not known:
+        return {}
+    between = [k for k in range(known[0], known[-1] + 1) if k not in unplaced or k in placed]
+    poses = interpolate_poses([times[i] for i in known], np.array([placed[i] for i in known]),
+                              [times[k] for k in between])
+    out = dict(zip(between, poses))
+    out.update({i: placed[i].copy() for i in placed if i in out})
+    return out
+
+
 class NotTracked(FrameError):
     """A frame tracking went past (it took a newer one): not a bad frame, a skipped one."""
 
@@ -157,6 +179,7 @@ class OnlinePoses:
         self._anchor: dict[int, int] = {}             # placed frame -> the loop keyframe it was placed after
         self._loop_last: Optional[int] = None         # the newest loop keyframe
         self.revision = 0                             # bumps whenever loop closure moved the placed frames
+        self.filled: dict[int, np.ndarray] = {}       # the source ended: every frame's pose (`whole`)
 
     # -- tracking on its own thread ------------------------------------------------------------------
     def start(self) -> None:
@@ -212,11 +235,27 @@ class OnlinePoses:
 
     @property
     def seq(self):
-        """The recording to read again at the end, when the source carries poses; else None."""
-        return self.source.seq if self.posed else None
+        """The recording to read again at the end (a folder: with or without poses of its own);
+        None for a source that cannot be read again (a camera, a stream)."""
+        return getattr(self.source, "seq", None)
 
     def whole(self):
-        return self.source.whole() if self.posed else None
+        """The recording as a build reads it, once the source ended (None when it cannot be read
+        again): with its own poses, or, pose-less, with the poses tracked live (`filled_poses`:
+        the frames tracking went past take poses interpolated between the placed ones, as the
+        offline estimate fills the frames between its tracked ones), so the mapper can catch up
+        on the frames a build would detect (`LiveMapper.finish`)."""
+        if self.posed:
+            return self.source.whole()
+        seq = self.source.whole() if hasattr(self.source, "whole") else None
+        if seq is None:
+            return None
+        times = [seq.timestamp_of(i) for i in range(len(seq))]
+        self.filled = filled_poses(self.poses, times, set(self.lost))
+        unplaced = {i: self.lost.get(i, "not placed: outside the frames tracked live")
+                    for i in range(len(seq)) if i not in self.filled}
+        seq.use_poses(self.filled, unplaced)
+        return seq
 
     @property
     def waiting_for(self) -> str:
@@ -253,11 +292,12 @@ class OnlinePoses:
             raise FrameError(self._names.get(i, f"frame {i}"), self.lost[i])
         held = self._held.pop(i, None)
         frame = held if held is not None else self.source.frame(i)
-        if i not in self.poses:
+        pose = self.poses.get(i, self.filled.get(i))
+        if pose is None:
             if np.all(np.isfinite(frame.pose)):
                 return frame                             # it carries its own pose
             raise NotTracked(frame.name, "not tracked: tracking went past it to a newer frame")
-        frame.pose = self.poses[i]
+        frame.pose = pose
         return frame
 
     # -- tracking ---------------------------------------------------------------------------------
