@@ -17,7 +17,9 @@ tracked camera; the live mapper estimates up and floor from the frames themselve
   the newest frame to keep up), the fit to the last keyframe starts from a constant-velocity
   prediction (`predict_pose`: the motion of the last `VELOCITY_WINDOW_S` carried on to the new
   frame's time), which OpenCV's odometry cannot take as a guess but `Odometry.fit_from` can;
-- when that fit fails, the frame is fitted to the last placed frame, then re-localised against
+- when that fit fails, the frame is fitted to the last placed frame; then a frame in between is
+  tracked first (`_fill_gap`, as the offline estimate tries the frames in between: the living
+  room's first frames move 2 cm each, before any prediction exists); then it is re-localised against
   `RELOCALISE_TRIES` older keyframes, starting from the predicted pose (else the last known one;
   `Odometry.fit_from`), as far as `LOSS_BUDGET_S` allows after the bridges;
 - a frame none of them places is skipped with the reason "lost track: ..." (`FrameError`, so
@@ -83,6 +85,7 @@ VELOCITY_WINDOW_S = 0.3      # the camera's velocity: its motion over about this
 TRACK_POLL_S = 0.01          # how often the tracking thread looks for a new frame
 HELD_FRAMES = 4              # decoded frames kept for the mapper after tracking (a few turns' worth)
 MAX_PREDICT_S = 1.5          # no prediction further ahead than this (a camera may have stopped)
+GAP_FILLS = 3                # frames in between a frame that could not be placed may read (`_fill_gap`)
 BRIDGE_ROUNDS = 3            # fits from a guess, each starting where the last ended (measured: a guess
                              # 3.5 cm / 4.8 deg off converged in the second round, not the first)
 
@@ -326,10 +329,7 @@ class OnlinePoses:
             return
         placed = self._fit(view)
         if placed is not None:
-            pose, share = placed
-            key = self._keyframes[-1]
-            gap_m, gap_deg = motion_gap(self.poses[key.index], pose)
-            self._place(view, pose, keyframe=gap_m >= KEYFRAME_M or gap_deg >= KEYFRAME_DEG or share < KEYFRAME_INLIERS)
+            self._place_fitted(view, placed)
             return
         lost_for = self.times[view.index] - self.times[self._last.index]
         if self._lost_in_row >= MAX_LOST and lost_for >= MAX_LOST_S:   # a new track from the last known pose
@@ -360,7 +360,7 @@ class OnlinePoses:
                 self._closer.start()
         return self._odometry.view(frame.index, depth, grey)
 
-    def _fit(self, view: View) -> Optional[tuple[np.ndarray, float]]:
+    def _fit(self, view: View, deep: bool = True) -> Optional[tuple[np.ndarray, float]]:
         """(pose, share of its depth confirmed) from the last keyframe (directly; when that fit
         confirms less than `TRACK_TRUST`, the best of it, a fit to the last placed frame and, when
         that confirms less too, a depth-only fit to the keyframe and, still weak, a fit to it from
@@ -394,6 +394,10 @@ class OnlinePoses:
                 fit = self._bridge(view, ref, np.linalg.inv(self.poses[ref.index]) @ predicted, TRACK_MIN_INLIERS)
                 if fit.ok:
                     return self.poses[ref.index] @ fit.motion, fit.inliers if ref is key else 0.0
+        filled = self._fill_gap(view) if deep else None
+        if filled is not None or not deep:
+            self._why = f"lost track: not placed by odometry ({why})"
+            return filled
         start = predicted if predicted is not None else self.poses[self._last.index]
         deadline = time.perf_counter() + LOSS_BUDGET_S
         for kf in list(reversed(self._keyframes))[1:1 + RELOCALISE_TRIES]:
@@ -408,6 +412,45 @@ class OnlinePoses:
         return None
 
     _why = ""
+
+    def _place_fitted(self, view: View, placed: tuple[np.ndarray, float]) -> None:
+        """Place a fitted frame; it becomes the next keyframe when it lies `KEYFRAME_M` /
+        `KEYFRAME_DEG` from the last one or confirmed less than `KEYFRAME_INLIERS` of it."""
+        pose, share = placed
+        gap_m, gap_deg = motion_gap(self.poses[self._keyframes[-1].index], pose)
+        self._place(view, pose, keyframe=gap_m >= KEYFRAME_M or gap_deg >= KEYFRAME_DEG or share < KEYFRAME_INLIERS)
+
+    def _fill_gap(self, view: View) -> Optional[tuple[np.ndarray, float]]:
+        """A frame odometry could not place across a gap (no prediction yet, a fast move): the
+        frame halfway between the last placed one and it is tracked first (as the offline estimate
+        tries the frames in between), nearer still when that one fails, then the frame again;
+        at most `GAP_FILLS` frames in between are read. None when the gap stays unbridged (a
+        source that no longer holds those frames: a camera's ring)."""
+        assert self._last is not None
+        target = view
+        for _ in range(GAP_FILLS):
+            mid = (self._last.index + target.index) // 2
+            if mid <= self._last.index:
+                return None
+            try:
+                frame = self.source.frame(mid)
+                if np.all(np.isfinite(frame.pose)):
+                    return None
+                self._names[mid], self.times[mid] = frame.name, frame.timestamp
+                between = self._view(frame)
+            except (FrameError, ValueError):
+                return None
+            placed = self._fit(between, deep=False)
+            if placed is None:
+                target = between
+                continue
+            self.tracked += 1
+            self._place_fitted(between, placed)
+            again = self._fit(view, deep=False)
+            if again is not None:
+                return again
+            target = view
+        return None
 
     def _bridge(self, view: View, target: View, guess: np.ndarray, min_share: Optional[float] = None,
                 rounds: int = BRIDGE_ROUNDS, deadline: float = float("inf")) -> Fit:
