@@ -78,8 +78,8 @@ MAX_LOST = 2                 # unplaceable frames in a row before the track rest
 MAX_LOST_S = 0.7             # and at least this long without a pose: never lost for much more than this
                              # (a restart's frame is offered to loop closure, which can place it again
                              # against the keyframes around)
-LOSS_BUDGET_S = 0.3          # tracking time a frame may take in relocalising after the bridges from the
-                             # prediction failed (at a load of 9, ten fits from a guess took 2-3 s a
+LOSS_BUDGET_S = 0.3          # tracking time a frame may take in frames in between and relocalising after
+                             # the bridges from the prediction failed (at a load of 9, ten fits from a guess took 2-3 s a
                              # frame: three lost frames kept the track lost for 4.8 s)
 VELOCITY_WINDOW_S = 0.3      # the camera's velocity: its motion over about this long before the last frame
 TRACK_POLL_S = 0.01          # how often the tracking thread looks for a new frame
@@ -176,6 +176,7 @@ class OnlinePoses:
         self._stop = threading.Event()
         self._idle = threading.Event()                # the tracking thread waits for a frame (loop closure may run)
         self._ready = 0                               # frames the tracking thread has dealt with
+        self.arrived = 0                              # frames the source holds (tracking may be a few behind)
         self.error: Optional[BaseException] = None
         self.seconds: deque[float] = deque(maxlen=10_000)   # per frame the tracking thread took (read + fit)
         self._closer: Optional[LoopCloser] = None
@@ -215,6 +216,7 @@ class OnlinePoses:
             while not self._stop.is_set():
                 with self._lock:
                     n = self.source.poll()
+                    self.arrived = n
                     if self.posed:
                         return                        # nothing to track: poll() passes through
                     fresh = n - 1 >= self._next
@@ -377,7 +379,8 @@ class OnlinePoses:
             fits.append((odo.fit(view, self._last, TRACK_MIN_INLIERS), self._last))
         if max(f.inliers for f, _ in fits) < TRACK_TRUST:                          # still weak: depth alone
             fits.append((odo.fit_depth(view, key, TRACK_MIN_INLIERS), key))
-        predicted = predict_pose(list(self._history), self.times[view.index])
+        # `deep` False (a frame in between, `_fill_gap`): the direct fits only, no fit from a guess
+        predicted = predict_pose(list(self._history), self.times[view.index]) if deep else None
         bridged = max(f.inliers for f, _ in fits) < TRACK_TRUST and predicted is not None
         if bridged:                      # still weak: from the constant-velocity prediction
             fits.append((self._bridge(view, key, np.linalg.inv(self.poses[key.index]) @ predicted, TRACK_MIN_INLIERS),
@@ -394,12 +397,12 @@ class OnlinePoses:
                 fit = self._bridge(view, ref, np.linalg.inv(self.poses[ref.index]) @ predicted, TRACK_MIN_INLIERS)
                 if fit.ok:
                     return self.poses[ref.index] @ fit.motion, fit.inliers if ref is key else 0.0
-        filled = self._fill_gap(view) if deep else None
+        deadline = time.perf_counter() + LOSS_BUDGET_S     # frames in between, then older keyframes
+        filled = self._fill_gap(view, deadline) if deep else None
         if filled is not None or not deep:
             self._why = f"lost track: not placed by odometry ({why})"
             return filled
         start = predicted if predicted is not None else self.poses[self._last.index]
-        deadline = time.perf_counter() + LOSS_BUDGET_S
         for kf in list(reversed(self._keyframes))[1:1 + RELOCALISE_TRIES]:
             if time.perf_counter() > deadline:
                 break
@@ -420,17 +423,18 @@ class OnlinePoses:
         gap_m, gap_deg = motion_gap(self.poses[self._keyframes[-1].index], pose)
         self._place(view, pose, keyframe=gap_m >= KEYFRAME_M or gap_deg >= KEYFRAME_DEG or share < KEYFRAME_INLIERS)
 
-    def _fill_gap(self, view: View) -> Optional[tuple[np.ndarray, float]]:
+    def _fill_gap(self, view: View, deadline: float = float("inf")) -> Optional[tuple[np.ndarray, float]]:
         """A frame odometry could not place across a gap (no prediction yet, a fast move): the
         frame halfway between the last placed one and it is tracked first (as the offline estimate
         tries the frames in between), nearer still when that one fails, then the frame again;
-        at most `GAP_FILLS` frames in between are read. None when the gap stays unbridged (a
-        source that no longer holds those frames: a camera's ring)."""
+        at most `GAP_FILLS` frames in between are read, each with the direct fits only, none
+        after `deadline`. None when the gap stays unbridged (a source that no longer holds those
+        frames: a camera's ring)."""
         assert self._last is not None
         target = view
         for _ in range(GAP_FILLS):
             mid = (self._last.index + target.index) // 2
-            if mid <= self._last.index:
+            if mid <= self._last.index or time.perf_counter() > deadline:
                 return None
             try:
                 frame = self.source.frame(mid)

@@ -250,3 +250,9 @@ def test_a_gap_reads_at_most_3_frames_in_between():                           # 
     t.times[8] = 8 / 30
     assert t._fit(SimpleNamespace(index=8)) is None
     assert reads == [4, 2, 1] and online.GAP_FILLS == 3                 # halfway, nearer, nearer still
+
+
+def test_frames_in_between_share_the_loss_budget():                           # LOSS_BUDGET_S
+    t, reads = _gap_tracker(reach=6)
+    t.times[12] = 0.4
+    assert t._fill_gap(SimpleNamespace(index=12), deadline=time.perf_counter() - 1) is None and reads == []
