@@ -195,7 +195,9 @@ class LiveMapper:
             self._judge(i)
             self.next_frame = i + 1
             n += 1
-        self.counts.received = max(self.counts.received, ready)
+        # frames that arrived, tracked or not yet: a source tracked online deals with a frame at a
+        # time, which on busy cores took 2-4 s (a map that took that for no frame stopped as idle)
+        self.counts.received = max(self.counts.received, ready, getattr(self.source, "arrived", 0))
         return n
 
     def tracked(self) -> bool:

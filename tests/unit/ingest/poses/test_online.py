@@ -174,3 +174,35 @@ def test_a_lost_frame_relocalises_for_0_3_s_after_the_bridges(monkeypatch):   # 
     # frame 5: the 3 rounds from the prediction to keyframe 4 (the last frame too) always run (0.33 s);
     # relocalisation on the 2 older keyframes (2 rounds each) starts no round past 0.3 s: 3 fits, not 4
     assert [t for i, t in calls if i == 5] == [4, 4, 4, 3, 3, 2], calls
+
+
+def test_the_frames_tracking_went_past_take_poses_between_the_placed_ones():     # filled_poses
+    path = walk(11, 0.01, 1.0)
+    times = [t for t, _ in path]
+    placed = {0: path[0][1], 5: path[5][1], 10: path[10][1]}
+    filled = online.filled_poses(placed, times, unplaced={7})
+    assert sorted(filled) == [0, 1, 2, 3, 4, 5, 6, 8, 9, 10]          # 7: lost, stays unplaced
+    for i in (0, 5, 10):
+        assert np.array_equal(filled[i], placed[i])
+    for i in (2, 8):                      # on a constant motion, within a millimetre and 0.1 degree
+        metres, degrees = motion_gap(path[i][1], filled[i])
+        assert metres < 1e-3 and degrees < 0.1, (i, metres, degrees)
+
+
+def test_no_pose_outside_the_placed_frames():
+    path = walk(10, 0.01, 1.0)
+    times = [t for t, _ in path]
+    assert sorted(online.filled_poses({3: path[3][1], 6: path[6][1]}, times, set())) == [3, 4, 5, 6]
+    assert online.filled_poses({}, times, set()) == {}
+
+
+def test_frames_that_arrived_count_as_received_while_tracking_deals_with_one():
+    # tracking one frame took 2-4 s on busy cores: counting only the frames it had dealt with, a
+    # map stopped as idle (--stop-when-idle 3) after 199 of the kitchen's 1000 frames
+    from sg3d.ingest.pipeline import Settings
+
+    source = SimpleNamespace(posed=False, poll=lambda: 12, arrived=40, revision=0)
+    mapper = live.LiveMapper(source, None, Settings(), "r", "b")
+    mapper.next_frame = 12
+    mapper.look()
+    assert mapper.counts.received == 40
