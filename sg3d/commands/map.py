@@ -56,9 +56,9 @@ def map_cmd(settings, source: Path, room: str, building: str, layout: Optional[s
 
     from sg3d.app.build import BuildError
     from sg3d.app.mapping import MapError, MapRequest, map_room
-    from sg3d.ingest.pipeline import Settings
+    from sg3d.ingest.config import BuildConfig, DetectConfig
 
-    options = Settings(detector=detector) if detector else Settings()
+    options = BuildConfig(detect=DetectConfig(detector=detector)) if detector else BuildConfig()
     console = Console(stderr=True)
 
     def on_update(u: dict) -> None:

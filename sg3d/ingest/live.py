@@ -38,11 +38,13 @@ from sg3d.core.model import LocalGraph, ObjectObservation, ScanInfo
 from sg3d.ingest.pipeline import (
     PipelineStats,
     Settings,
+    Target,
     detections_of,
-    discover_from_depth,
     graph_of_evidence,
     sightings_of,
 )
+from sg3d.ingest.stages import Discovered as Found
+from sg3d.ingest.stages import Evidence, Ground, discover_from_depth
 from sg3d.ingest.objects import existence, fusion
 from sg3d.ingest.poses.gravity import Gravity, estimate_gravity, sample_frames
 from sg3d.ingest.poses.online import NotTracked
@@ -338,9 +340,8 @@ class LiveMapper:
         except FrameError as exc:
             self.counts.skipped[exc.name] = exc.reason
             return False
-        up = self.gravity.up
         dets = detections_of(frame, self.detector, self.settings, self.stats)
-        found = sightings_of(frame, dets, up, horizontal_frame(up), self.stats, self.gravity.floor_height)
+        found = sightings_of(frame, dets, Ground(self.gravity.up, self.gravity.floor_height), self.stats)
         ev = _Evidence(dets, found, existence.View.of(frame))
         frame.release()
         with self._lock:
@@ -380,21 +381,21 @@ class LiveMapper:
         if fast and found is not None:
             basis = horizontal_frame(self.gravity.up)
 
-            def discover(colour_of, views, objects, up, floor, stats):
-                return carried_over(objects, found, basis)
+            def discover(evidence: Evidence, objects: list[ObjectObservation]) -> Found:
+                return Found(objects=carried_over(objects, found, basis))
         elif fast:
-            def discover(colour_of, views, objects, up, floor, stats):
-                return []
+            def discover(evidence: Evidence, objects: list[ObjectObservation]) -> Found:
+                return Found(objects=[])
         else:
-            def discover(colour_of, views, objects, up, floor, stats):
+            def discover(evidence: Evidence, objects: list[ObjectObservation]) -> Found:
                 before = [(o.label, np.asarray(o.mean, float)) for o in objects]
-                nodes = discover_from_depth(colour_of, views, objects, up, floor, stats)
-                self.discovered = Discovered(list(nodes), [(label, centre, after) for (label, centre), after
-                                                           in zip(before, objects)], version)
-                return nodes
-        graph = graph_of_evidence(sightings, views, self.colour_of, self.gravity.up, self.settings, self.room,
-                                  self.building, None, stats or PipelineStats(), scan=scan,
-                                  floor=self.gravity.floor_height, discover=discover)
+                result = discover_from_depth(evidence, objects)
+                self.discovered = Discovered(list(result.objects), [(label, centre, after) for (label, centre), after
+                                                                    in zip(before, objects)], version)
+                return result
+        seen = Evidence(sightings, views, self.colour_of, Ground(self.gravity.up, self.gravity.floor_height))
+        graph = graph_of_evidence(seen, Target(self.room, self.building, scan=scan), self.settings,
+                                  stats or PipelineStats(), discover=discover)
         return graph, chosen
 
     def _colour(self, i: int) -> Optional[np.ndarray]:
@@ -446,7 +447,6 @@ class LiveMapper:
         boxes are kept; attributes depend on the up direction)."""
         assert self.gravity is not None
         up = self.gravity.up
-        basis = horizontal_frame(up)
         for i in frames:
             ev = self._evidence.get(i)
             if ev is None:
@@ -456,7 +456,7 @@ class LiveMapper:
                 frame.load()
             except FrameError:
                 continue
-            found = sightings_of(frame, ev.dets, up, basis, self.stats, self.gravity.floor_height)
+            found = sightings_of(frame, ev.dets, Ground(up, self.gravity.floor_height), self.stats)
             frame.release()
             with self._lock:
                 self._evidence[i] = _Evidence(ev.dets, found, ev.view)
