@@ -46,7 +46,7 @@ def run_build(store: GraphStore, prepared: PreparedBuild, embedding: Any = None,
     per room: `sg3d.app.writers.writing`). KeyboardInterrupt between chunks keeps what was merged
     and returns a summary with `interrupted` set. `disk_check` (`sg3d.app.stores.disk_check`) is
     asked before every merge transaction: a disk below the store's minimum is refused, not written."""
-    from sg3d.app.writers import writing
+    from sg3d.app.writers import Writer, writing
     from sg3d.core.embedding import default_embedding
     from sg3d.graphdb.similarity import SimilarityParams
     from sg3d.ingest.pipeline import BuildPipeline
@@ -54,7 +54,7 @@ def run_build(store: GraphStore, prepared: PreparedBuild, embedding: Any = None,
     req = prepared.req
     seq, stop = open_range(req)
     store.ensure_schema()
-    with writing(store, req.building, req.room, "build", f"sg3d build {req.sequence}", wait=req.wait,
+    with writing(store, req.building, req.room, Writer("build", f"sg3d build {req.sequence}", wait=req.wait),
                  error=BuildError) as lease:
         t_start = time.perf_counter()
         poses = place_cameras(seq, req, stop, progress)
@@ -89,10 +89,10 @@ def _run_held(chunks: Chunks, prepared: PreparedBuild, seq: Any, stop: int, pose
     seconds = {**({"poses": poses["seconds"]} if "seconds" in poses else {}), **grounded.seconds}
     found = None
     if req.rooms == "auto" and not chunks.interrupted:
-        from sg3d.app.places import write_walk_rooms
+        from sg3d.app.places import Walk, write_walk_rooms
 
         t0 = time.perf_counter()
-        found = write_walk_rooms(store, rid, seq, req.start, stop, ground.up, ground.floor)
+        found = write_walk_rooms(store, rid, Walk(seq, req.start, stop, ground.up, ground.floor))
         seconds["rooms"] = time.perf_counter() - t0
     facts = BuildFacts(seq, stop, ground.up, ground.floor is not None, poses, run, scan, placed, seconds,
                        time.perf_counter() - t_start)

@@ -18,12 +18,15 @@ import threading
 import time
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
-from typing import Any, Callable, Optional
+from typing import TYPE_CHECKING, Any, Callable, Optional
 
 import numpy as np
 
 from sg3d.app.errors import MapError
 from sg3d.graphdb.protocol import GraphStore
+
+if TYPE_CHECKING:
+    from sg3d.ingest.config import BuildConfig
 
 # Publishing more often than this gains nothing a reader could see and costs the store writes.
 MIN_PUBLISH_EVERY_S = 0.2
@@ -132,22 +135,31 @@ def check_room(store: GraphStore, req: MapRequest) -> None:
                        f"{status.get('mapping')}); add --resume to map into it again (its objects keep their ids)")
 
 
-def map_room(store: GraphStore, req: MapRequest, settings, detector=None, embedding=None,
+@dataclass(frozen=True)
+class Models:
+    """The models a live map runs (None: the config's detector, the default label embedding)."""
+
+    detector: Any = None
+    embedding: Any = None
+
+
+def map_room(store: GraphStore, req: MapRequest, settings: BuildConfig,
              on_update: Optional[Callable[[dict], None]] = None,
-             should_stop: Optional[Callable[[], bool]] = None) -> MapSummary:
+             should_stop: Optional[Callable[[], bool]] = None, models: Models = Models()) -> MapSummary:
     """Follow `req.source` and keep the room's graph current (module docstring). `on_update` gets
     a small dict after every publish (frames, objects, latency) for progress displays;
     `should_stop` is polled (a test's or a service's stop signal; Ctrl-C stops it too)."""
+    detector, embedding = models.detector, models.embedding
     from sg3d.app.build import check_detector
     from sg3d.app.live_sources import open_live_source
-    from sg3d.app.writers import writing
+    from sg3d.app.writers import Writer, writing
     from sg3d.core.embedding import default_embedding
     from sg3d.ingest.live import LiveMapper
 
     check_request(req)
     detector = detector if detector is not None else check_detector(settings)
     store.ensure_schema()
-    with writing(store, req.building, req.room, "map", f"sg3d map {req.source}", wait=req.wait,
+    with writing(store, req.building, req.room, Writer("map", f"sg3d map {req.source}", wait=req.wait),
                  error=MapError) as lease:
         check_room(store, req)
         follower = open_live_source(req.source, req.layout)   # a folder, a RealSense, an MCAP being recorded
@@ -423,7 +435,7 @@ class _Publisher(_Worker):
         rooms found again keep their ids and names): live at most every ROOMS_EVERY_S from
         LIVE_FRAMES of the frames so far; the last publish of a recording read whole from its
         frames as a build reads them, so its rooms are the build's."""
-        from sg3d.app.places import LIVE_FRAMES, MAX_FRAMES, ROOMS_EVERY_S, write_walk_rooms
+        from sg3d.app.places import LIVE_FRAMES, MAX_FRAMES, ROOMS_EVERY_S, Walk, write_walk_rooms
         from sg3d.graphdb.values import room_id
 
         gravity = self.mapper.gravity
@@ -433,8 +445,8 @@ class _Publisher(_Worker):
         whole = self.recording if state != "live" and self.recording is not None else None
         frames = whole if whole is not None else self.mapper.source
         n = len(whole) if whole is not None else self.mapper.source.poll()
-        self.rooms_found = write_walk_rooms(self.store, room_id(self.req.building, self.req.room), frames, 0, n,
-                                            gravity.up, gravity.floor_height, keep=True,
+        self.rooms_found = write_walk_rooms(self.store, room_id(self.req.building, self.req.room),
+                                            Walk(frames, 0, n, gravity.up, gravity.floor_height), keep=True,
                                             most=MAX_FRAMES if whole is not None else LIVE_FRAMES)
         self.rooms_seconds.append(time.monotonic() - t0)
 

@@ -3,7 +3,8 @@ and doorways (`sg3d.ingest.places`), every object of the built room put in exact
 and the layer written to the store (`sg3d.graphdb.places`)."""
 from __future__ import annotations
 
-from typing import Optional
+from dataclasses import dataclass
+from typing import Any, Optional
 
 import numpy as np
 
@@ -148,15 +149,27 @@ def layer_rows(rid: str, places, basis: np.ndarray, floor: float, objects: list[
     return rooms, doorways, pairs
 
 
-def write_walk_rooms(store: GraphStore, rid: str, seq, start: int, stop: int, up, floor: Optional[float],
-                     keep: bool = False, most: int = MAX_FRAMES) -> dict:
+@dataclass(frozen=True)
+class Walk:
+    """A recorded walk: frames [start, stop) of `seq`, the room's up direction and the floor's height
+    along it (None: the recording never saw the floor)."""
+
+    seq: Any
+    start: int
+    stop: int
+    up: Any
+    floor: Optional[float]
+
+
+def write_walk_rooms(store: GraphStore, rid: str, walk: Walk, keep: bool = False, most: int = MAX_FRAMES) -> dict:
     """Find the rooms of the recording's walk (at most `most` of its frames) and write them under
     recorded room `rid`; `keep`: the rooms found again keep the ids and names written before
     (`kept_names`: a live map's publishes). What the build summary says: rooms (name, area,
     objects, kind guess), doorways, objects placed."""
     from sg3d.graphdb.places import read_places, write_places
 
-    places, basis = find_places(seq, start, stop, up, floor, most)
+    floor = walk.floor
+    places, basis = find_places(walk.seq, walk.start, walk.stop, walk.up, floor, most)
     if places is None or floor is None or not places.rooms:
         return {"rooms": [], "doorways": 0, "objects_placed": 0,
                 "why": "the recording never saw the floor" if floor is None else "no free floor was seen"}

@@ -40,8 +40,8 @@ def ask(settings, question: str, room, building, explain: bool, as_json: bool, v
         raise UserError(f"--out {out}: the folder {Path(out).expanduser().absolute().parent} does not exist")
     try:
         point_of_view = parse_viewpoint(viewpoint)     # a bad one is refused before the store starts
-        asked = ask_question(reader(settings), question, room=room, building=building, picture=out is not None,
-                             out=out, viewpoint=point_of_view)
+        asked = ask_question(reader(settings), question, room=room, building=building,
+                             picture=False if out is None else out, viewpoint=point_of_view)
     except AppError as exc:
         raise UserError(str(exc)) from exc
     result, path = asked.answer, asked.picture

@@ -34,13 +34,14 @@ def plan(settings, command, goal, room, building, start, out_dir, planner, as_js
     import tempfile
 
     from sg3d.app.errors import AppError
+    from sg3d.app.plan import PlanRun, PlanScope
     from sg3d.app.plan import plan as plan_task
     from sg3d.app.stores import reader
 
     scratch = None if out_dir else Path(tempfile.mkdtemp(prefix="sg3d-plan-"))
     try:
-        outcome = plan_task(reader(settings), command, goal=goal, room=room, building=building,
-                            out_dir=out_dir or scratch, planner=planner, start=start)
+        outcome = plan_task(reader(settings), command, goal=goal, scope=PlanScope(room, building, start),
+                            run=PlanRun(planner, out_dir or scratch))
     except AppError as exc:
         raise UserError(str(exc)) from exc
     finally:

@@ -15,7 +15,7 @@ from typing import Any, Callable, ClassVar, Iterator, Mapping, Optional, Sequenc
 
 import numpy as np
 
-from sg3d.core.geometry import METRES_DECIMALS, fixed_precision, horizontal_frame
+from sg3d.core.geometry import METRES_DECIMALS, Ground, fixed_precision
 from sg3d.core.model import KnownObject, ObjectObservation, RelationObservation, vec3
 from sg3d.ingest.config import BuildConfig, Method
 from sg3d.ingest.detect.irrelevant import reject_irrelevant
@@ -65,19 +65,6 @@ def timed(phase: str) -> Callable[[Callable[..., R]], Callable[..., R]]:
             return replace(result, seconds={**result.seconds, phase: result.seconds.get(phase, 0.0) + elapsed})
         return run
     return wrap
-
-
-@dataclass(frozen=True)
-class Ground:
-    """The room's gravity frame: its up direction (world frame) and the floor's height along it,
-    when the build knows it."""
-
-    up: Any                         # 3-vector
-    floor: Optional[float] = None
-
-    @functools.cached_property
-    def basis(self) -> np.ndarray:
-        return horizontal_frame(self.up)
 
 
 # --------------------------------------------------------------------------------------- select

@@ -381,7 +381,7 @@ def _add_read_routes(api: FastAPI, stores: StoreHandle, calls: Dispatcher, auth:
         if kept is not None:
             return json_response(kept)
         return await calls.quick(lambda: json_response(read(lambda s: app_answers.answer_and_keep(
-            s, answers, snapshot, body.question, room=body.room, building=body.building, viewpoint=viewpoint))))
+            s, answers, snapshot, app_answers.Asking(body.question, body.room, body.building, viewpoint)))))
 
     @api.post("/plan", response_model=schemas.Plan, **opts)
     async def plan(body: PlanBody):
@@ -410,7 +410,7 @@ def _add_read_routes(api: FastAPI, stores: StoreHandle, calls: Dispatcher, auth:
         """A room's objects with readable names, filtered by label, colour and distance to a point."""
         point = _near(near)
         return await calls.quick(lambda: json_response(read(lambda s: app_rooms.room_objects(
-            s, building, room, label=label, colour=colour, near=point, radius=radius))))
+            s, building, room, app_rooms.ObjectFilter(label, colour, point, radius)))))
 
     @api.get("/graph", response_model=schemas.Graph, dependencies=auth, tags=["read"],
              responses={**ROUTE_ERRORS, 200: {"content": {"application/graphml+xml": {}},

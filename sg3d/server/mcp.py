@@ -109,8 +109,8 @@ def build_server(settings, handle: Optional[StoreHandle] = None, dispatcher=None
                      radius: Optional[float] = None) -> list[dict[str, Any]]:
         """The objects of a room with readable names, label, colour, position [x, y, z] (m) and size;
         filter by label ("cup"), colour ("red") or distance from a point `near` [x, y, z]."""
-        return await read(lambda s: app_rooms.room_objects(s, building, room, label=label, colour=colour,
-                                                     near=near, radius=radius))
+        return await read(lambda s: app_rooms.room_objects(s, building, room,
+                                                           app_rooms.ObjectFilter(label, colour, near, radius)))
 
     @server.tool()
     async def cypher(statement: str, params: Optional[dict[str, Any]] = None) -> dict[str, Any]:

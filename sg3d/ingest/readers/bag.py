@@ -33,7 +33,7 @@ import threading
 from collections import defaultdict
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING, Optional
+from typing import TYPE_CHECKING, Any, Optional
 
 import cv2
 import numpy as np
@@ -342,17 +342,27 @@ class _BagSource:
         return self.seq.registrar(decode_depth(msg, msgtype, self.entry.name))
 
 
+@dataclass(frozen=True)
+class _OpenBag:
+    """An open bag: its reader, its images' size, and what `BagSequence.sources` says."""
+
+    reader: Any
+    image_size: tuple[int, int]
+    sources: dict
+
+
 class BagSequence(Sequence):
     """A ROS bag read as a posed RGB-D sequence; `sources` says which topics and frames it uses."""
 
     layout = "rosbag"
 
-    def __init__(self, path: Path, reader, entries, K, registration, skipped, image_size, sources):
-        self._reader = reader
+    def __init__(self, path: Path, bag: _OpenBag, entries: list, K: np.ndarray, registration: Any,
+                 skipped: list[tuple[str, str]]) -> None:
+        self._reader = bag.reader
         # rosbags' readers are not thread-safe, and frames are decoded ahead on a reader thread
         self._lock = threading.Lock()
-        self._size = image_size
-        self.sources = sources
+        self._size = bag.image_size
+        self.sources = bag.sources
         super().__init__(path, entries, K, registration, skipped)
 
     def _probe_size(self, probes: int = 5) -> tuple[int, int]:
@@ -394,8 +404,7 @@ def _topics_line(conns) -> str:
     return ", ".join(f"{c.topic} ({c.msgtype.replace('/msg/', '/')})" for c in conns)
 
 
-def _pick(role: str, flag: str, candidates: list, chosen: Optional[str], all_conns, path: Path,
-          required: bool = True):
+def _pick(role: str, flag: str, candidates: list, chosen: Optional[str], all_conns: list, path: Path) -> list:
     if chosen is not None:
         hits = [c for c in all_conns if c.topic == chosen]
         if not hits:
@@ -405,8 +414,6 @@ def _pick(role: str, flag: str, candidates: list, chosen: Optional[str], all_con
     if len(topics) == 1:
         return [c for c in candidates if c.topic == topics[0]]
     if not topics:
-        if not required:
-            return []
         raise SequenceError(f"no {role} topic in {path}; topics: {_topics_line(all_conns) or 'none'}")
     raise SequenceError(f"{len(topics)} {role} topics in {path}: "
                         f"{_topics_line(sorted({c.topic: c for c in candidates}.values(), key=lambda c: c.topic))}; "
@@ -509,7 +516,7 @@ def _index(reader, path: Path, opts: BagOptions, registration) -> BagSequence:
                "poses": ("none (estimated from the images)" if poses.none else
                          f"/tf: {camera} in {world}" if poses.use_tf else _topics_line((poses.topic or [])[:1])),
                "max_dt": max_dt, "colour_messages": len(refs["colour"]), "depth_messages": len(refs["depth"])}
-    return BagSequence(path, reader, entries, K, registration, skipped, size, sources)
+    return BagSequence(path, _OpenBag(reader, size, sources), entries, K, registration, skipped)
 
 
 def _image_topics(reader, conns: list, path: Path, opts: BagOptions) -> tuple[list, list, list]:

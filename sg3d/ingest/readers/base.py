@@ -11,7 +11,7 @@ import cv2
 import numpy as np
 
 from sg3d.core.errors import Sg3dError
-from sg3d.ingest.readers.frames import Frame, FrameError, FrameSource
+from sg3d.ingest.readers.frames import Frame, FrameError, FrameInfo, FrameSource
 from sg3d.ingest.readers.image_checks import PNG_SIGNATURE, image_problem
 from sg3d.ingest.readers.pose_check import implausible_motion, pose_problem, rigid
 from sg3d.ingest.readers.registration import DepthRegistrar, Registration
@@ -281,8 +281,8 @@ class Sequence:
         if problem:
             self.skip(entry.name, problem)
             raise FrameError(entry.name, problem)
-        frame = Frame(i, None, None, self.K, pose, entry.timestamp, entry.name,
-                      size=self.image_size, source=self._source(entry), on_error=self.skip)
+        frame = Frame(i, None, None, self.K, pose, FrameInfo(entry.timestamp, entry.name, self.image_size,
+                                                             self._source(entry), self.skip))
         return frame if lazy else frame.load()
 
     def unposed_frame(self, i: int) -> Frame:
@@ -293,8 +293,8 @@ class Sequence:
         if problem:
             self.skip(entry.name, problem)
             raise FrameError(entry.name, problem)
-        return Frame(i, None, None, self.K, np.full((4, 4), np.nan), entry.timestamp, entry.name,
-                     size=self.image_size, source=self._source(entry), on_error=self.skip)
+        return Frame(i, None, None, self.K, np.full((4, 4), np.nan),
+                     FrameInfo(entry.timestamp, entry.name, self.image_size, self._source(entry), self.skip))
 
 
 def _image_header_size(path: Path, decode: bool = True) -> Optional[tuple[int, int]]:

@@ -10,6 +10,7 @@ from __future__ import annotations
 import re
 from collections import deque
 from concurrent.futures import ThreadPoolExecutor
+from dataclasses import dataclass
 from typing import Callable, Iterable, Iterator, Optional, Protocol
 
 import cv2
@@ -36,6 +37,19 @@ class FrameSource(Protocol):
     def preview(self, factor: int) -> np.ndarray: ...  # BGR uint8, about 1/factor of the colour size
 
 
+@dataclass(frozen=True)
+class FrameInfo:
+    """What a frame is besides its pixels and camera: its time (s) and name in the recording, and
+    for a lazily decoded frame its image size, the source decoding its pixels and who hears of a
+    decoding failure (once)."""
+
+    timestamp: float = 0.0
+    name: str = ""
+    size: Optional[tuple[int, int]] = None
+    source: Optional[FrameSource] = None
+    on_error: Optional[Callable[[str, str], None]] = None
+
+
 class Frame:
     """An RGB-D frame: colour (BGR uint8), depth (float32 metres, 0 = invalid, registered to the
     colour image), K (3x3 colour intrinsics), pose (4x4 camera-to-world, float64).
@@ -49,9 +63,8 @@ class Frame:
                  "_source", "_on_error", "_size")
 
     def __init__(self, index: int, color: Optional[np.ndarray], depth: Optional[np.ndarray],
-                 K: np.ndarray, pose: np.ndarray, timestamp: float = 0.0, name: str = "",
-                 *, size: Optional[tuple[int, int]] = None, source: Optional[FrameSource] = None,
-                 on_error: Optional[Callable[[str, str], None]] = None):
+                 K: np.ndarray, pose: np.ndarray, info: FrameInfo = FrameInfo()):
+        timestamp, name, size, source, on_error = info.timestamp, info.name, info.size, info.source, info.on_error
         self.index = int(index)
         self.K = np.asarray(K, dtype=np.float64)
         self.pose = np.asarray(pose, dtype=np.float64)

@@ -32,7 +32,7 @@ import cv2
 import numpy as np
 
 from sg3d.ingest.readers.base import SequenceError
-from sg3d.ingest.readers.frames import Frame, ring_item
+from sg3d.ingest.readers.frames import Frame, FrameInfo, ring_item
 
 PREFIX = "realsense"
 RING_FRAMES = 90              # frames held in memory (3 s at 30 frames/s)
@@ -198,7 +198,7 @@ class RealSenseSource:
         with self._lock:
             colour, depth, stamp = ring_item(self._frames, self._count, i, name, self.ring)
         assert self.K is not None
-        return Frame(i, colour, depth, self.K, np.full((4, 4), np.nan), stamp, name)
+        return Frame(i, colour, depth, self.K, np.full((4, 4), np.nan), FrameInfo(stamp, name))
 
     def written_at(self, i: int) -> float:
         with self._lock:
