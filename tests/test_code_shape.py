@@ -17,9 +17,7 @@ KNOWN_LONG: set[tuple[str, str]] = set()
 MAX_PARAMETERS = 6                              # self and cls aside; *args and **kwargs one each
 SHORT_PARAMETER_LISTS = ("sg3d/ingest/", "sg3d/app/")
 # (file, function) pairs allowed past it while their callers' owners regroup them
-KNOWN_LONG_LISTS = {("sg3d/ingest/discover/structure.py", "_fitted_wall"),
-                    ("sg3d/ingest/discover/discovery.py", "segment_reading"),
-                    ("sg3d/ingest/poses/estimate.py", "estimate_poses")}
+KNOWN_LONG_LISTS = {("sg3d/ingest/poses/estimate.py", "estimate_poses")}
 
 
 def _modules() -> dict[str, Path]:

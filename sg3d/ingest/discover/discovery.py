@@ -466,13 +466,14 @@ def screens_in_view(screens: Sequence[tuple[np.ndarray, np.ndarray]], cloud: Roo
     return out
 
 
-def segment_reading(u: np.ndarray, v: np.ndarray, z: np.ndarray, view, image: np.ndarray,
+def segment_reading(projected: tuple[np.ndarray, np.ndarray, np.ndarray], view, image: np.ndarray,
                     box: tuple[int, int, int, int],
                     screens: Sequence[tuple[int, int, int, int]] = ()) -> Optional[colour_model.ColourReading]:
     """One view's colour reading of a segment from its own pixels: its projected voxel centres
-    (`_project`), each marking the disc a voxel covers there, read with the cast of the light
+    (`projected` = u, v, z of `_project`), each marking the disc a voxel covers there, read with the cast of the light
     around its pixel box divided out (`sg3d.ingest.objects.colour.surround_cast`, the pixel boxes of the
     `screens` in view left out; `read_colour`), as for named objects. None without pixels."""
+    u, v, z = projected
     h, w = image.shape[:2]
     mask = np.zeros((h, w), np.uint8)
     for x, y, d in zip(u, v, z):
@@ -499,7 +500,7 @@ def segment_colour(seg: Segment, world: np.ndarray, cloud: RoomCloud,
         if image is None:
             continue
         assert box is not None          # an image is read only for a view with a pixel box
-        reading = segment_reading(u, v, z, view, image, box, screens_in_view(screens, cloud, view))
+        reading = segment_reading((u, v, z), view, image, box, screens_in_view(screens, cloud, view))
         if reading is not None:
             readings.append(reading)
             weights.append(colour_model.view_weight(reading.n, 1.0, False))
