@@ -30,7 +30,7 @@ of its shape, in one word stored on the node (`shape`) and said in answers ("a f
 """
 from __future__ import annotations
 
-from typing import Optional, Sequence
+from typing import Any, Optional, Sequence
 
 import numpy as np
 
@@ -74,7 +74,7 @@ def shape_class(size: Sequence[float], points: Optional[Sequence[float]] = None,
     return None
 
 
-def _round_footprint(w: float, d: float, points, basis, centre) -> bool:
+def _round_footprint(w: float, d: float, points: Any, basis: Any, centre: Any) -> bool:
     """The round test of `shape_class`: the points' horizontal offsets over the half sides of
     their own smallest rectangle show an outline and never reach its corners."""
     if points is None or basis is None or centre is None or min(w, d) < ROUND_MIN_M \

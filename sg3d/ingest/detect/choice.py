@@ -48,7 +48,7 @@ def ssd_runtime() -> str:
     return "openvino" if openvino_available() else "opencv"
 
 
-def ssd_detector(**options) -> SsdMobilenetDetector:
+def ssd_detector(**options: Any) -> SsdMobilenetDetector:
     """The packaged SSD on the runtime `ssd_runtime` names."""
     cls = OpenVinoSsdDetector if ssd_runtime() == "openvino" else SsdMobilenetDetector
     return cls(**options)

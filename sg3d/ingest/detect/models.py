@@ -100,7 +100,7 @@ def box_iou(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return np.where(union > 0, inter / np.maximum(union, 1e-12), 0.0)
 
 
-def _nms(boxes: np.ndarray, scores: np.ndarray, iou: float, class_ids=None) -> list[int]:
+def _nms(boxes: np.ndarray, scores: np.ndarray, iou: float, class_ids: Optional[np.ndarray] = None) -> list[int]:
     if len(boxes) == 0:
         return []
     xywh = [[float(x1), float(y1), float(x2 - x1), float(y2 - y1)] for x1, y1, x2, y2 in boxes]
@@ -204,20 +204,20 @@ class _DnnDetector:
         return self.post.score_threshold
 
     @property
-    def net(self):
+    def net(self) -> Any:
         if self._net is None:
             cv2.setNumThreads(self.num_threads)
             self._net = self._load()
         return self._net
 
-    def _load(self):
+    def _load(self) -> Any:
         raise NotImplementedError
 
     def prepare(self) -> None:
         """Load the network now (a build does it while frames are being selected)."""
         _ = self.net
 
-    def _candidates(self, image_bgr) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    def _candidates(self, image_bgr: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         raise NotImplementedError
 
     def detect(self, image_bgr: np.ndarray) -> list[Detection]:
@@ -243,11 +243,11 @@ class SsdMobilenetDetector(_DnnDetector):
                          num_threads)
         self.model_dir = Path(model_dir) if model_dir is not None else None
 
-    def _load(self):
+    def _load(self) -> Any:
         folder = self.model_dir or packaged_model_dir()
         return cv2.dnn.readNetFromTensorflow(str(folder / SSD_MODEL_FILE), str(folder / SSD_CONFIG_FILE))
 
-    def _candidates(self, image_bgr):
+    def _candidates(self, image_bgr: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         h, w = image_bgr.shape[:2]
         blob = cv2.dnn.blobFromImage(image_bgr, size=SSD_INPUT_SIZE, swapRB=True, crop=False)
         net = self.net
@@ -300,12 +300,12 @@ class OnnxDetector(_DnnDetector):
         num_threads = options.pop("num_threads", None)
         return cls(path, labels_file, OnnxInput(**net), Postprocess(**options), num_threads)
 
-    def _load(self):
+    def _load(self) -> Any:
         if not self.path.exists():
             raise FileNotFoundError(f"ONNX model not found: {self.path}")
         return cv2.dnn.readNetFromONNX(str(self.path))
 
-    def _candidates(self, image_bgr):
+    def _candidates(self, image_bgr: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         h, w = image_bgr.shape[:2]
         blob = cv2.dnn.blobFromImage(image_bgr, scalefactor=self.scale, size=self.input_size,
                                      mean=self.mean, swapRB=self.swap_rb, crop=False)

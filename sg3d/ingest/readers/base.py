@@ -201,7 +201,7 @@ class Sequence:
                                               [e.name for e in self._entries])
         return self._motion or {}
 
-    def _source(self, entry) -> FrameSource:
+    def _source(self, entry: Entry) -> FrameSource:
         """What decodes one entry's pixels (a bag reader decodes messages instead of files)."""
         return _FileSource(entry, self)
 
@@ -238,7 +238,7 @@ class Sequence:
                 [e.depth for e in self._entries[:SIZE_WINDOW] if isinstance(e.depth, Path)])
         return self._depth_size
 
-    def _depth_size_problem(self, entry) -> Optional[str]:
+    def _depth_size_problem(self, entry: Entry) -> Optional[str]:
         """Why the frame's depth file is of another size than the recording's (read from its
         header when the frame is reached, so every frame a build or a map passes is checked, not
         only those whose depth is decoded), or None."""

@@ -11,7 +11,7 @@ import re
 from collections import deque
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
-from typing import Callable, Iterable, Iterator, Optional, Protocol
+from typing import Any, Callable, Iterable, Iterator, Optional, Protocol
 
 import cv2
 import numpy as np
@@ -87,7 +87,7 @@ class Frame:
             raise FrameError(self.name, f"no {what} image")
         return self._call(getattr(self._source, what))
 
-    def _call(self, fn):
+    def _call(self, fn: Callable[[], np.ndarray]) -> np.ndarray:
         try:
             return fn()
         except FrameError as exc:
@@ -121,8 +121,9 @@ class Frame:
 
     def preview(self, factor: int = 4) -> np.ndarray:
         """A small BGR image (about 1/factor per side), cheap to decode for contact sheets."""
-        if self._color is None and self._source is not None:
-            return self._call(lambda: self._source.preview(factor))
+        source = self._source
+        if self._color is None and source is not None:
+            return self._call(lambda: source.preview(factor))
         h, w = self.color.shape[:2]
         return cv2.resize(self.color, (max(1, w // factor), max(1, h // factor)), interpolation=cv2.INTER_AREA)
 
@@ -187,7 +188,7 @@ def reason_kind(name: str, reason: str) -> str:
     return _FIGURE.sub("N", _FRAME_NAME.sub("frame-N", text))
 
 
-def ring_item(items, count: int, i: int, name: str, ring: int):
+def ring_item(items: Any, count: int, i: int, name: str, ring: int) -> Any:
     """Frame i of a live source that keeps only its last `ring` frames (`items`, the newest last,
     `count` received so far): FrameError when it has not arrived or is no longer held."""
     first = count - len(items)

@@ -387,14 +387,14 @@ class McapFollower:
             self._pending.popleft()
             self._emit(c, info)
 
-    def _emit(self, c: _Colour, info) -> None:
+    def _emit(self, c: _Colour, info: Any) -> None:
         held = _Held(f"frame-{self._count:06d}", c.stamp, colour=(c.raw, c.msgtype))
         held.error = self._pair(c, held, info)
         self._frames.append(held)
         self._times.append(c.arrived)
         self._count += 1
 
-    def _pair(self, c: _Colour, held: _Held, info) -> str:
+    def _pair(self, c: _Colour, held: _Held, info: Any) -> str:
         """Fill `held` with depth, pose and intrinsics; the reason when one is missing."""
         t = c.stamp
         if info is None:

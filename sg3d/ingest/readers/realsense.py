@@ -50,7 +50,7 @@ def is_realsense(spec: str) -> bool:
     return spec == PREFIX or spec.startswith(PREFIX + ":")
 
 
-def import_realsense():
+def import_realsense() -> Any:
     """The `pyrealsense2` module, or a SequenceError saying how to install it."""
     try:
         import pyrealsense2 as rs
@@ -166,7 +166,7 @@ class RealSenseSource:
         except RuntimeError:
             return True
 
-    def _take(self, frames) -> None:
+    def _take(self, frames: Any) -> None:
         aligned = self._align.process(frames)
         depth, colour = aligned.get_depth_frame(), aligned.get_color_frame()
         if not depth or not colour:
