@@ -355,7 +355,7 @@ class _Discoverer(_Worker):
 class _Publisher(_Worker):
     """Publishes the mapper's graph at most every `publish_every` seconds on its own thread."""
 
-    def __init__(self, store, mapper, req: MapRequest, embedding, on_update, fence=None):
+    def __init__(self, store: GraphStore, mapper, req: MapRequest, embedding, on_update, fence=None):
         from sg3d.core.model import ScanInfo
         from sg3d.graphdb.live import map_object_ids
 

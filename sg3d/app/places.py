@@ -4,12 +4,16 @@ and the layer written to the store (`sg3d.graphdb.places`)."""
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any, Optional
+from typing import TYPE_CHECKING, Any, Optional
 
 import numpy as np
 
 from sg3d.app.errors import AppError, NotFound
 from sg3d.graphdb.protocol import GraphStore
+
+if TYPE_CHECKING:
+    from numpy.typing import ArrayLike
+    from sg3d.ingest.readers.frames import Frames
 
 MAX_FRAMES = 300          # frames of the recording the floor map reads (evenly spread)
 # A live map (`sg3d map --rooms auto`) finds the rooms of the frames so far at most every
@@ -42,7 +46,7 @@ def guess_kind(labels: list[str]) -> tuple[Optional[str], list[str]]:
     return best
 
 
-def walk_frames(seq, start: int, stop: int, most: int = MAX_FRAMES) -> list:
+def walk_frames(seq: Frames, start: int, stop: int, most: int = MAX_FRAMES) -> list:
     """At most `most` posed frames of [start, stop), evenly spread (a frame that cannot be read, or
     has no pose yet, is left out)."""
     from sg3d.ingest.readers.frames import FrameError
@@ -58,7 +62,7 @@ def walk_frames(seq, start: int, stop: int, most: int = MAX_FRAMES) -> list:
     return frames
 
 
-def find_places(seq, start: int, stop: int, up, floor: Optional[float], most: int = MAX_FRAMES):
+def find_places(seq: Frames, start: int, stop: int, up: ArrayLike, floor: Optional[float], most: int = MAX_FRAMES):
     """The places layer (`sg3d.ingest.places.Places`) of frames [start, stop) and the gravity
     basis; None when the recording never saw the floor (no floor map without one)."""
     from sg3d.core.geometry import horizontal_frame

@@ -1,10 +1,15 @@
 """`sg3d ask`: a question about the stored scene graph, answered in one line (paper Sec. VI-A)."""
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import json
 from pathlib import Path
 
 import click
+
+if TYPE_CHECKING:
+    from sg3d.settings import Settings
 
 
 @click.command()
@@ -21,7 +26,7 @@ import click
               help="Where an answer with a picture ('which cup is the biggest', 'show me the cup closest "
                    "to the sink') writes it: .png or .jpg/.jpeg (without --out no file is written).")
 @click.pass_obj
-def ask(settings, question: str, room, building, explain: bool, as_json: bool, viewpoint, out) -> None:
+def ask(settings: Settings, question: str, room, building, explain: bool, as_json: bool, viewpoint, out) -> None:
     """Answer QUESTION from the scene graph, e.g. sg3d ask "how many red chairs are there?"
 
     Counting (by group, colour, size, in a room, on/under/next to/near an object, within a

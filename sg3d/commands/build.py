@@ -3,7 +3,7 @@ from __future__ import annotations
 
 import json
 from pathlib import Path
-from typing import Any, Optional
+from typing import TYPE_CHECKING, Any, Optional
 
 import click
 
@@ -11,6 +11,9 @@ from sg3d.commands.bag_options import bag_options
 from sg3d.commands.names import checked_name
 from sg3d.errors import UserError
 from sg3d.ingest.config import DEFAULT_METHOD, METHODS, BuildConfig, DetectConfig, SelectConfig, default_of, help_of
+
+if TYPE_CHECKING:
+    from sg3d.settings import Settings
 
 
 def _summary_table(summary: dict):
@@ -178,7 +181,7 @@ def _placement_text(placement: dict) -> str:
 @click.option("--json", "as_json", is_flag=True, help="Print the summary as JSON (no progress bar).")
 @bag_options
 @click.pass_obj
-def build(settings, sequence: Path, room: str, building: str, method: str, quality: str, layout: Optional[str],
+def build(settings: Settings, sequence: Path, room: str, building: str, method: str, quality: str, layout: Optional[str],
           start: int, stop: Optional[int], resume: bool, detector: Optional[str], recognizer: str,
           score_threshold: float,
           detect_fraction: Optional[float], chunk_frames: Optional[int], abir_gain: Optional[float],

@@ -5,12 +5,15 @@ from __future__ import annotations
 import json
 from dataclasses import dataclass, field, replace
 from pathlib import Path
-from typing import Any, Optional
+from typing import TYPE_CHECKING, Any, Optional
 
 import click
 
 from sg3d.commands.bag_options import bag_options
 from sg3d.errors import UserError
+
+if TYPE_CHECKING:
+    from sg3d.ingest.readers.base import Sequence
 
 SHEET_PAIRS = 24
 SHEET_FACTOR = 4   # thumbnails at 1/4 of the colour size (160x120 for 640x480)
@@ -98,7 +101,7 @@ class _Selection:
     pairs: list = field(default_factory=list)       # (blurry index, decision, sharp index, decision)
 
 
-def _select(seq, params, stop: int, step: int, keep_pairs: bool, quiet: bool) -> _Selection:
+def _select(seq: Sequence, params, stop: int, step: int, keep_pairs: bool, quiet: bool) -> _Selection:
     """`choose_detected_frames` over frames 0..stop (every `step`-th), with a progress bar on
     stderr; `keep_pairs`: remember each blurry frame beside the last sharp one (the contact sheet)."""
     from rich.console import Console
@@ -133,7 +136,7 @@ def _select(seq, params, stop: int, step: int, keep_pairs: bool, quiet: bool) ->
     return run
 
 
-def _print_report(sequence: Path, seq, params: dict, choice, sheet: Optional[Path], n_pairs: int) -> None:
+def _print_report(sequence: Path, seq: Sequence, params: dict, choice, sheet: Optional[Path], n_pairs: int) -> None:
     """The human-readable report on stdout."""
     from rich.console import Console
 
@@ -171,7 +174,7 @@ def _print_report(sequence: Path, seq, params: dict, choice, sheet: Optional[Pat
         out.print(f"  contact sheet: {sheet} ({min(n_pairs, SHEET_PAIRS)} blurry/sharp pairs)")
 
 
-def _write_sheet(seq, pairs, path: Path) -> None:
+def _write_sheet(seq: Sequence, pairs, path: Path) -> None:
     """Rows of [rejected as blurry | last sharp frame before it], each labelled V and threshold."""
     import cv2
     import numpy as np

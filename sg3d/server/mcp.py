@@ -12,7 +12,7 @@ plugin ignores that timeout (26.10); the embedded store stops any statement afte
 (`sg3d.graphdb.embedded.store_timeout_s`, 30 s)."""
 from __future__ import annotations
 
-from typing import Any, Optional
+from typing import TYPE_CHECKING, Any, Optional
 
 from sg3d.app import ask as app_ask
 from sg3d.app.graph import CYPHER_TIMEOUT_S
@@ -22,6 +22,9 @@ from sg3d.app import rooms as app_rooms
 from sg3d.app.errors import AppError
 from sg3d.app.stores import StoreHandle
 from sg3d.server.dispatch import LONG_TIMEOUT_S, QUICK_TIMEOUT_S
+
+if TYPE_CHECKING:
+    from sg3d.settings import Settings
 
 INSTRUCTIONS = (
     "sg3d holds 3-D scene graphs of scanned rooms: Object nodes (label, colour, position in metres, "
@@ -49,7 +52,7 @@ def store_message(exc: Exception) -> str:
     return text if len(text) <= STORE_MESSAGE_CHARS else text[:STORE_MESSAGE_CHARS - 1] + "…"
 
 
-def build_server(settings, handle: Optional[StoreHandle] = None, dispatcher=None,
+def build_server(settings: Settings, handle: Optional[StoreHandle] = None, dispatcher=None,
                  timeouts: Optional[dict[str, float]] = None):
     """The MCP server for `settings`' store (run it with `.run("stdio")`). `timeouts`: seconds per
     kind of call ("cypher", "read", "plan"), defaults `TIMEOUTS`."""

@@ -50,6 +50,12 @@ class FrameInfo:
     on_error: Optional[Callable[[str, str], None]] = None
 
 
+class Frames(Protocol):
+    """Anything that gives frame i: a recorded sequence, a live source."""
+
+    def frame(self, i: int) -> "Frame": ...
+
+
 class Frame:
     """An RGB-D frame: colour (BGR uint8), depth (float32 metres, 0 = invalid, registered to the
     colour image), K (3x3 colour intrinsics), pose (4x4 camera-to-world, float64).
