@@ -8,6 +8,7 @@ from typing import TYPE_CHECKING, Any, Optional
 import click
 
 from sg3d.commands.bag_options import bag_options
+from sg3d.commands.config_options import config_options, flag_of
 from sg3d.commands.names import checked_name
 from sg3d.errors import UserError
 from sg3d.ingest.config import DEFAULT_METHOD, METHODS, BuildConfig, DetectConfig, SelectConfig, default_of, help_of
@@ -157,14 +158,10 @@ def _placement_text(placement: dict) -> str:
                    "classifier (the paper's recognition module; needs the recognize extra, ~10 ms per box).")
 @click.option("--score-threshold", type=click.FloatRange(0.0, 1.0), default=default_of(DetectConfig, "score_threshold"),
               help=help_of(DetectConfig, "score_threshold"))
-@click.option("--detect-fraction", type=click.FloatRange(0.0, 1.0, min_open=True), default=None,
-              help=help_of(SelectConfig, "detect_fraction"))
 @click.option("--chunk-frames", type=click.IntRange(min=10), default=None,
               help=help_of(BuildConfig, "chunk_frames"))
-@click.option("--abir-gain", type=float, default=None,
-              help=help_of(SelectConfig, "abir_gain") + " Not with --method 2d-basic/3d-basic.")
-@click.option("--t-key", type=float, default=None, help=help_of(SelectConfig, "t_key"))
-@click.option("--t-anchor", type=float, default=None, help=help_of(SelectConfig, "t_anchor"))
+@config_options(SelectConfig, ("detect_fraction", "abir_gain", "t_key", "t_anchor"), "select",
+                extra_help={"abir_gain": "Not with --method 2d-basic/3d-basic."})
 @click.option("--transform", "transform_file", type=click.Path(exists=True, dir_okay=False, path_type=Path),
               default=None, help="4x4 room-to-building transform (4 lines of 4 numbers).")
 @click.option("--align-to", default=None, metavar="ROOM",
@@ -184,8 +181,7 @@ def _placement_text(placement: dict) -> str:
 def build(settings: Settings, sequence: Path, room: str, building: str, method: str, quality: str, layout: Optional[str],
           start: int, stop: Optional[int], resume: bool, detector: Optional[str], recognizer: str,
           score_threshold: float,
-          detect_fraction: Optional[float], chunk_frames: Optional[int], abir_gain: Optional[float],
-          t_key: Optional[float], t_anchor: Optional[float], transform_file: Optional[Path], align_to: Optional[str],
+          select: dict[str, Any], chunk_frames: Optional[int], transform_file: Optional[Path], align_to: Optional[str],
           shared_frame: bool, estimate_poses: bool, trajectory_out: Optional[Path], wait: bool, as_json: bool,
           bag: dict, sample_name: Optional[str], rooms: Optional[str] = None) -> None:
     """Build (or extend) the 3-D scene graph of ROOM from the RGB-D SEQUENCE folder or ROS bag
@@ -223,11 +219,9 @@ def build(settings: Settings, sequence: Path, room: str, building: str, method: 
     request = BuildRequest(sequence, room, building, layout, start, stop, transform_file, align_to, shared_frame,
                            bag_options=bag, estimate_poses=estimate_poses, trajectory_out=trajectory_out,
                            wait=wait, rooms=rooms)
-    selection = {"--abir-gain": abir_gain, "--t-key": t_key, "--t-anchor": t_anchor}
-    given = [flag for flag, value in selection.items() if value is not None]
-    tuned: dict[str, Any] = {k: v for k, v in (("abir_gain", abir_gain), ("t_key", t_key), ("t_anchor", t_anchor),
-                                               ("detect_fraction", detect_fraction)) if v is not None}
-    options = BuildConfig(method=METHODS[method], select=SelectConfig(**tuned),
+    # the flags that tune ABIR/KGE, which the basic presets do not run
+    given = [flag_of(k) for k in ("abir_gain", "t_key", "t_anchor") if k in select]
+    options = BuildConfig(method=METHODS[method], select=SelectConfig(**select),
                           detect=DetectConfig(with_recognizer(detector, recognizer), score_threshold, quality),
                           chunk_frames=chunk_frames or default_of(BuildConfig, "chunk_frames"))
     progress = Progress(TextColumn("[bold]{task.description:<10}"), BarColumn(), MofNCompleteColumn(),

@@ -17,7 +17,7 @@ from sg3d.ingest.detect.models import SCORE_THRESHOLD
 from sg3d.ingest.objects.existence import MIN_DETECTIONS
 from sg3d.ingest.relate.sdr import RELATION_PROB_THRESHOLD, VOTE_MAJORITY, VOTE_MIN_SUPPORT
 from sg3d.ingest.select import coverage
-from sg3d.ingest.select.abir import DEFAULT_GAIN
+from sg3d.ingest.select.abir import DEFAULT_ALPHA, DEFAULT_GAIN, DEFAULT_OFFSET
 from sg3d.ingest.select.kge import DEFAULT_T_KEY
 from sg3d.ingest.select.selection import BUILD_T_ANCHOR, SelectionParams
 
@@ -56,7 +56,10 @@ DEFAULT_METHOD = "3d-full"
 class SelectConfig:
     """Frame selection (ABIR, KGE, coverage): which frames the detector runs on."""
 
-    abir_gain: Optional[float] = tunable(None, "ABIR gain g of Eq. 4 (the authors' code)", shown=DEFAULT_GAIN)
+    abir_gain: Optional[float] = tunable(None, "ABIR gain g of Eq. 4 (the authors' code; the paper prints 30)",
+                                         shown=DEFAULT_GAIN)
+    abir_offset: float = tunable(DEFAULT_OFFSET, "ABIR offset b of Eq. 4")
+    abir_alpha: float = tunable(DEFAULT_ALPHA, "ABIR smoothing factor alpha of Eq. 2")
     t_key: float = tunable(DEFAULT_T_KEY, "KGE keyframe overlap threshold")
     t_anchor: float = tunable(BUILD_T_ANCHOR, "KGE anchor overlap threshold (the authors' code: 0.68; see "
                                               "sg3d/ingest/select/selection.py)")
@@ -70,8 +73,9 @@ class SelectConfig:
     def params(self) -> SelectionParams:
         """These settings as `choose_detected_frames` takes them."""
         gain = DEFAULT_GAIN if self.abir_gain is None else self.abir_gain
-        return SelectionParams(abir_gain=gain, t_key=self.t_key, t_anchor=self.t_anchor,
-                               detect_fraction=self.detect_fraction, min_detect_frames=self.min_detect_frames)
+        return SelectionParams(abir_alpha=self.abir_alpha, abir_gain=gain, abir_offset=self.abir_offset, t_key=self.t_key,
+                               t_anchor=self.t_anchor, detect_fraction=self.detect_fraction,
+                               min_detect_frames=self.min_detect_frames)
 
 
 @dataclass(frozen=True)

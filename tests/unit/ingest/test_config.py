@@ -9,6 +9,7 @@ import pytest
 from sg3d.ingest.config import METHODS, BuildConfig, DetectConfig, ObjectsConfig, RelateConfig, SelectConfig
 from sg3d.ingest.detect.models import SCORE_THRESHOLD
 from sg3d.ingest.select.kge import DEFAULT_T_KEY
+from sg3d.ingest.select.selection import SelectionParams
 from sg3d.ingest.stages import StageResult, timed
 
 
@@ -35,7 +36,10 @@ def test_the_frames_flags_show_the_configs_defaults():
 
     opts, select = _options(frames_command), SelectConfig()
     assert f"[{select.t_key:g}]" in opts["--t-key"].help and select.t_key == DEFAULT_T_KEY
-    assert f"[{select.t_anchor:g}," in opts["--t-anchor"].help
+    for flag, value in (("--t-anchor", select.t_anchor), ("--abir-gain", select.params.abir_gain),
+                        ("--abir-offset", select.abir_offset), ("--abir-alpha", select.abir_alpha)):
+        assert f"[{value:g}]" in opts[flag].help, flag
+    assert SelectConfig().params == SelectionParams()
 
 
 def test_the_selection_params_are_the_select_configs():
