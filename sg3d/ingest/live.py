@@ -29,7 +29,7 @@ from __future__ import annotations
 import threading
 import time
 from dataclasses import dataclass, field, replace
-from typing import Callable, Optional, Protocol
+from typing import Any, Callable, Optional, Protocol
 
 import numpy as np
 
@@ -45,6 +45,7 @@ from sg3d.ingest.pipeline import (
 )
 from sg3d.ingest.stages import Discovered as Found
 from sg3d.ingest.stages import Evidence, Ground, discover_from_depth
+from sg3d.ingest.detect.models import Detector
 from sg3d.ingest.objects import existence, fusion
 from sg3d.ingest.poses.gravity import Gravity, estimate_gravity, sample_frames
 from sg3d.ingest.poses.online import NotTracked
@@ -154,7 +155,7 @@ class LiveCounts:
 class LiveMapper:
     """A room's evidence as frames arrive; `look()`, `detect_next()`, `graph()`, `finish()`."""
 
-    def __init__(self, source: LiveSource, detector, settings: Settings, room: str, building: str,
+    def __init__(self, source: LiveSource, detector: Detector, settings: Settings, room: str, building: str,
                  colour_of: Optional[Callable[[int], Optional[np.ndarray]]] = None):
         self.source = source
         self.detector = detector
@@ -350,7 +351,7 @@ class LiveMapper:
         self.counts.detected += 1
         return True
 
-    def skipped(self, seq=None) -> dict[str, str]:
+    def skipped(self, seq: Any = None) -> dict[str, str]:
         """Frame name -> reason of every bad frame met: those this mapper met, and (with `seq`, the
         recording it followed) those its reader met anywhere else (gravity, a whole-recording
         pass, the motion check), as a build names them."""
@@ -405,7 +406,7 @@ class LiveMapper:
             return None
 
     # -- the end of the source -------------------------------------------------------------------
-    def finish(self, seq=None) -> list[int]:
+    def finish(self, seq: Any = None) -> list[int]:
         """The source ended: judge what is left, then (when `seq`, the whole recording, can be read
         again) make the evidence a build's: gravity as a build estimates it (sightings measured
         again under it when it differs), the coverage choice over all sharp frames, the chosen

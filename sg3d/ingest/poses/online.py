@@ -43,7 +43,7 @@ from __future__ import annotations
 import threading
 import time
 from collections import deque
-from typing import Optional
+from typing import Any, Optional
 
 import numpy as np
 
@@ -129,7 +129,7 @@ class NotTracked(FrameError):
 class OnlinePoses:
     """A `LiveSource` that gives the frames of a pose-less one a pose by odometry (module doc)."""
 
-    def __init__(self, source, max_depth: float = 4.0):
+    def __init__(self, source: Any, max_depth: float = 4.0) -> None:
         self.source = source
         self.max_depth = max_depth
         self.poses: dict[int, np.ndarray] = {}
@@ -211,11 +211,11 @@ class OnlinePoses:
         return getattr(self.source, "posed", False) is True
 
     @property
-    def seq(self):
+    def seq(self) -> Any:
         """The recording to read again at the end, when the source carries poses; else None."""
         return self.source.seq if self.posed else None
 
-    def whole(self):
+    def whole(self) -> Any:
         return self.source.whole() if self.posed else None
 
     @property
