@@ -40,7 +40,7 @@ chunk's named objects meet the room's cloud (`sg3d.ingest.discover.room_cloud`),
 from __future__ import annotations
 
 from dataclasses import replace
-from typing import Callable, Iterable, Optional, Sequence, TYPE_CHECKING
+from typing import TYPE_CHECKING, Callable, Iterable, Optional, Sequence
 
 import cv2
 import numpy as np

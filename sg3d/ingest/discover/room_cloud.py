@@ -9,7 +9,7 @@ Coordinates in this module are gravity-frame: (a, b, h) with h = p . up - floor 
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Optional, Sequence, TYPE_CHECKING
+from typing import TYPE_CHECKING, Optional, Sequence
 
 import numpy as np
 
