@@ -29,18 +29,19 @@ def windows_of(folder: Path) -> list[dict]:
     """The window nodes a walk build of `folder` makes (one chunk per 3000 frames, as a build)."""
     from sg3d.app.build import check_detector
     from sg3d.app.places import walk_settings
-    from sg3d.ingest.pipeline import PipelineStats, Settings, chunk_graph, chunk_ranges
+    from sg3d.ingest.pipeline import BuildPipeline, Settings, Target, chunk_ranges
     from sg3d.ingest.poses.gravity import estimate_gravity, sample_frames
     from sg3d.ingest.readers import open_sequence
+    from sg3d.core.geometry import Ground
 
     settings = walk_settings(Settings(), "auto")
     seq = open_sequence(folder)
     g = estimate_gravity(sample_frames(seq, 20, 0, len(seq)))
     detector = check_detector(settings)
+    pipeline = BuildPipeline(settings, detector)
     out = []
     for a, b in chunk_ranges(0, len(seq), settings.chunk_frames):
-        graph = chunk_graph(seq, a, b, detector, g.up, settings, "walk", "bench", None, PipelineStats(),
-                            floor=g.floor_height)
+        graph = pipeline.run(seq, (a, b), Ground(g.up, g.floor_height), Target("walk", "bench"))
         out += [{"middle": [round(float(v), 3) for v in o.mean], "size": [round(float(v), 2) for v in o.size]}
                 for o in graph.objects if o.label == "window"]
     return out

@@ -3,7 +3,7 @@ own, so the thread and instruction-set settings in its environment apply to ever
 
     python -m tests.determinism_build SEQUENCE STOP THREADS OUT.json
 
-The graph is the pipeline's output (`chunk_graph`), every float kept whole; `raw` is a digest of the
+The graph is the pipeline's output (`BuildPipeline.run`), every float kept whole; `raw` is a digest of the
 detector network's raw outputs on the first frame, which tells whether its kernels changed."""
 from __future__ import annotations
 
@@ -29,19 +29,21 @@ def _raw_digest(detector, image) -> str:
 
 def build(sequence: str, stop: int, threads: int) -> dict:
     from sg3d.ingest.detect.choice import detector_for
-    from sg3d.ingest.pipeline import PipelineStats, Settings, chunk_graph
+    from sg3d.ingest.config import BuildConfig
+    from sg3d.ingest.pipeline import BuildPipeline, Target
     from sg3d.ingest.poses.gravity import estimate_gravity, sample_frames
     from sg3d.ingest.readers import open_sequence
+    from sg3d.ingest.stages import Ground
 
     seq = open_sequence(sequence, None)
     stop = min(stop, len(seq))
-    settings = Settings()
-    detector = detector_for(settings.detector, settings.score_threshold, tiles=False)
+    settings = BuildConfig()
+    detector = detector_for(settings.detect.detector, settings.detect.score_threshold, tiles=False)
     base = getattr(detector, "base", detector)
     base.num_threads = threads
     gravity = estimate_gravity(sample_frames(seq, 20, 0, stop))
-    graph = chunk_graph(seq, 0, stop, detector, gravity.up, settings, "room", "building", None, PipelineStats(),
-                        floor=gravity.floor_height)
+    graph = BuildPipeline(settings, detector).run(seq, (0, stop), Ground(gravity.up, gravity.floor_height),
+                                                  Target("room", "building"))
     nodes = [{"id": o.local_id, "labels": o.labels, "colour": o.colour, "colour2": o.colour2, "shape": o.shape,
               "layer": o.layer, "named_by": o.named_by, "first_frame": o.first_frame, "n_frames": o.n_frames,
               "mean": list(o.mean), "size": list(o.size),

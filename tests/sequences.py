@@ -96,8 +96,8 @@ class UnposedSource:
         return 0.0
 
     def frame(self, i: int):
-        from sg3d.ingest.readers.frames import Frame
+        from sg3d.ingest.readers.frames import Frame, FrameInfo
 
         f = self.source.frame(i)
         depth = np.zeros_like(f.depth) if i in self.blank else f.depth
-        return Frame(i, f.color, depth, f.K, np.full((4, 4), np.nan), f.timestamp, f.name)
+        return Frame(i, f.color, depth, f.K, np.full((4, 4), np.nan), FrameInfo(f.timestamp, f.name))

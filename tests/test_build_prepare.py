@@ -7,24 +7,24 @@ from pathlib import Path
 import pytest
 
 from sg3d.app.build import BuildError, BuildRequest, BuildSummary, prepare
-from sg3d.ingest.pipeline import METHODS, Settings
+from sg3d.ingest.config import METHODS, BuildConfig, DetectConfig
 
 REQUEST = BuildRequest(sequence=Path("unused-sequence"), room="kitchen")
 
 
 def test_prepare_builds_the_detector_once_and_hands_it_on():
-    prepared = prepare(REQUEST, Settings())
+    prepared = prepare(REQUEST, BuildConfig())
     assert prepared.detector is not None and prepared.req is REQUEST and prepared.placement is None
     given = prepared.detector
-    assert prepare(REQUEST, Settings(), detector=given).detector is given
+    assert prepare(REQUEST, BuildConfig(), detector=given).detector is given
 
 
 @pytest.mark.parametrize("request_, settings, given, message", [
-    (BuildRequest(Path("s"), "kitchen", start=5, stop=5), Settings(), (), "empty frame range"),
-    (REQUEST, Settings(method=METHODS["3d-basic"]), ("--t-key",), "does not run"),
-    (REQUEST, Settings(detector="absent-model.onnx"), (), "labels file"),
-    (BuildRequest(Path("s"), "kitchen", transform_file=Path("absent-transform.txt")), Settings(), (), "absent"),
-    (BuildRequest(Path("s"), "kitchen", rooms="manual"), Settings(), (), "only 'auto'"),
+    (BuildRequest(Path("s"), "kitchen", start=5, stop=5), BuildConfig(), (), "empty frame range"),
+    (REQUEST, BuildConfig(method=METHODS["3d-basic"]), ("--t-key",), "does not run"),
+    (REQUEST, BuildConfig(detect=DetectConfig(detector="absent-model.onnx")), (), "labels file"),
+    (BuildRequest(Path("s"), "kitchen", transform_file=Path("absent-transform.txt")), BuildConfig(), (), "absent"),
+    (BuildRequest(Path("s"), "kitchen", rooms="manual"), BuildConfig(), (), "only 'auto'"),
 ])
 def test_prepare_refuses_bad_input_with_one_build_error(request_, settings, given, message):
     with pytest.raises(BuildError, match=message):

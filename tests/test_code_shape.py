@@ -1,5 +1,6 @@
 """The code's shape, read with `ast` (no import, no store): functions short enough to read whole,
-and no import cycle among the project's modules (a lazy import inside a function counts too:
+parameter lists short enough to call without a keyword map (the pipeline's and the application's:
+what grows goes into a stage's config or a frozen dataclass), and no import cycle among the project's modules (a lazy import inside a function counts too:
 moving an import into a function hides a cycle, it does not break it)."""
 from __future__ import annotations
 
@@ -13,6 +14,10 @@ PACKAGES = ("sg3d",)   # the one top-level package; its layers are subpackages
 MAX_FUNCTION_LINES = 80
 # (file, function) pairs allowed past the limit while they are being cut along their sections
 KNOWN_LONG: set[tuple[str, str]] = set()
+MAX_PARAMETERS = 6                              # self and cls aside; *args and **kwargs one each
+SHORT_PARAMETER_LISTS = ("sg3d/ingest/", "sg3d/app/")
+# (file, function) pairs allowed past it while they are being regrouped
+KNOWN_LONG_LISTS: set[tuple[str, str]] = set()
 
 
 def _modules() -> dict[str, Path]:
@@ -39,6 +44,27 @@ def long_functions(trees) -> list[str]:
                 n = node.end_lineno - node.lineno + 1      # decorators (a command's options) aside
                 if n > MAX_FUNCTION_LINES and (rel, node.name) not in KNOWN_LONG:
                     found.append(f"{rel}:{node.lineno} {node.name} ({n} lines)")
+    return found
+
+
+def parameter_count(node: ast.FunctionDef | ast.AsyncFunctionDef) -> int:
+    a = node.args
+    names = [p.arg for p in a.posonlyargs + a.args + a.kwonlyargs]
+    if names and names[0] in ("self", "cls"):
+        names = names[1:]
+    return len(names) + (a.vararg is not None) + (a.kwarg is not None)
+
+
+def long_parameter_lists(trees) -> list[str]:
+    found = []
+    for path, tree in trees.values():
+        rel = path.relative_to(REPO).as_posix()
+        if not rel.startswith(SHORT_PARAMETER_LISTS):
+            continue
+        for node in ast.walk(tree):
+            if (isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)) and parameter_count(node) > MAX_PARAMETERS
+                    and (rel, node.name) not in KNOWN_LONG_LISTS):
+                found.append(f"{rel}:{node.lineno} {node.name} ({parameter_count(node)} parameters)")
     return found
 
 
@@ -82,6 +108,17 @@ def cycles(graph: nx.DiGraph) -> list[list[str]]:
 
 def test_no_function_outside_the_tests_is_longer_than_80_lines():
     assert long_functions(_trees()) == []
+
+
+def test_no_function_of_the_pipeline_or_the_application_takes_more_than_6_parameters():
+    assert long_parameter_lists(_trees()) == []
+
+
+def test_the_parameter_check_sees_a_long_list():
+    path = REPO / "sg3d" / "app" / "shape_probe.py"      # a path inside the package, never written
+    tree = ast.parse("class C:\n    def m(self, a, b, c, d, e, f, *rest):\n        pass\n"
+                     "def g(a, b, c, d, e, f):\n    pass\n")
+    assert long_parameter_lists({"probe": (path, tree)}) == ["sg3d/app/shape_probe.py:2 m (7 parameters)"]
 
 
 def test_the_project_modules_import_each_other_without_a_cycle():

@@ -218,11 +218,11 @@ def test_an_unknown_name_is_one_line_listing_the_known_ones(mini):
 
 
 def test_a_failed_request_is_retried(mini):
-    from sg3d.app.samples import locate_sample
+    from sg3d.app.samples import Places, locate_sample
 
     mini["server"].fail_once.add("camera-intrinsics.txt")
-    found = locate_sample("mini", manifests=[mini["manifest"]], cache=mini["cache"], base_url=mini["server"].url,
-                          local_roots=[])
+    found = locate_sample("mini", Places(manifests=[mini["manifest"]], cache=mini["cache"], base_url=mini["server"].url,
+                                         local_roots=[]))
     assert found.origin == "download" and _same_files(found.path, mini["mirror"])
     assert mini["server"].requests.count("camera-intrinsics.txt") == 2
 

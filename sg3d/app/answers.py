@@ -299,12 +299,21 @@ def kept_answer(cache: AnswerCache, snapshot: Snapshot, question: str, room: Opt
     return None if kept is None else {**kept, "question": question}
 
 
-def answer_and_keep(store: GraphStore, cache: AnswerCache, snapshot: Snapshot, question: str,
-                    room: Optional[str] = None, building: Optional[str] = None,
-                    viewpoint: Optional[dict] = None) -> dict:
+@dataclass(frozen=True)
+class Asking:
+    """A question and where it is asked: its room, building and viewpoint (None: not given)."""
+
+    question: str
+    room: Optional[str] = None
+    building: Optional[str] = None
+    viewpoint: Optional[dict] = None
+
+
+def answer_and_keep(store: GraphStore, cache: AnswerCache, snapshot: Snapshot, asking: Asking) -> dict:
     """The JSON of `ask` with the picture inline, kept in `cache` under `snapshot` (read before
     this call: the answer is at least this new). A refusal is kept under the question as asked
     (its text may quote it); an answer under the normalised question."""
+    question, room, building, viewpoint = asking.question, asking.room, asking.building, asking.viewpoint
     seen = _Recorder(store, snapshot)
     data: dict[str, Any] = ask(seen, question, room=room, building=building,
                                viewpoint=viewpoint).to_json(inline_thumbnail=True)
@@ -321,4 +330,4 @@ def ask_kept(store: GraphStore, cache: AnswerCache, question: str, room: Optiona
     kept = kept_answer(cache, snapshot, question, room, building, viewpoint)
     if kept is not None:
         return kept, True
-    return answer_and_keep(store, cache, snapshot, question, room, building, viewpoint), False
+    return answer_and_keep(store, cache, snapshot, Asking(question, room, building, viewpoint)), False

@@ -5,7 +5,7 @@ from __future__ import annotations
 import base64
 import logging
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Optional
+from typing import TYPE_CHECKING, Optional, Union
 
 from sg3d.app import bounds
 from sg3d.app.errors import AppError
@@ -67,10 +67,9 @@ def parse_viewpoint(text: Optional[str]) -> Optional[dict]:
 
 
 def ask(store: GraphStore, question: str, room: Optional[str] = None, building: Optional[str] = None,
-        picture: bool = False, out: Optional[str] = None, embedding=None,
-        viewpoint: Optional[dict] = None) -> Asked:
-    """Answer `question` (read-only). With `picture`, a "show me"/"which is the biggest" answer's
-    thumbnail is written to `out` (default a temporary .png). AppError for a bad picture path.
+        picture: Union[bool, str] = False, viewpoint: Optional[dict] = None) -> Asked:
+    """Answer `question` (read-only). With `picture` (True: a temporary .png, or a path), a "show
+    me"/"which is the biggest" answer's thumbnail is written there. AppError for a bad picture path.
     `viewpoint` ({"pose": 4x4} | {"position": [x, y, z]} | {"object": name}): where "in front
     of / behind / left of / right of" are seen from."""
     problem = input_problem(question, room, building)
@@ -82,8 +81,8 @@ def ask(store: GraphStore, question: str, room: Optional[str] = None, building: 
     # the question is read once; one about re-scans (its reading in `Answer.change`) is answered
     # from the scans' history. Every read of the answer goes in one read transaction (`GraphStore.reading`)
     def answered():
-        read = answer(store, question, room=room, building=building, embedding=embedding, viewpoint=viewpoint)
-        return read if read.change is None else _from_history(store, question, read, room, building, embedding)
+        read = answer(store, question, room=room, building=building, viewpoint=viewpoint)
+        return read if read.change is None else _from_history(store, question, read, room, building)
 
     try:
         result = store.reading(answered)
@@ -91,8 +90,8 @@ def ask(store: GraphStore, question: str, room: Optional[str] = None, building: 
         if not _question_failure(exc):
             raise
         result = _refused(question, exc)
-    path = None
-    if picture and result.ok and result.thumbnail:
+    path, out = None, picture if isinstance(picture, str) else None
+    if (picture is True or out is not None) and result.ok and result.thumbnail:
         try:
             path = write_picture(result.thumbnail, out)
         except ValueError as exc:
@@ -102,8 +101,7 @@ def ask(store: GraphStore, question: str, room: Optional[str] = None, building: 
     return Asked(result, path)
 
 
-def _from_history(store: GraphStore, question: str, read, room: Optional[str], building: Optional[str],
-                  embedding):
+def _from_history(store: GraphStore, question: str, read, room: Optional[str], building: Optional[str]):
     """A question about re-scans (`read.change`, as the reader read it) answered from the scans'
     history; a refusal names the words as typed."""
     from sg3d.app.changes import change_answer
@@ -111,7 +109,7 @@ def _from_history(store: GraphStore, question: str, read, room: Optional[str], b
 
     asked = read.change
     try:
-        cq = change_query(asked.form, embedding)
+        cq = change_query(asked.form)
     except Refusal as exc:
         result = history_refusal(question, asked, exc)
     else:

@@ -6,7 +6,7 @@ and the next check finds the same)."""
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Callable, Optional
+from typing import Any, Callable, Optional
 
 from sg3d.core.stored import Row
 from sg3d.graphdb import cypher
@@ -45,7 +45,7 @@ def object_is_bad(row: dict) -> bool:
     return not within_world(position) or any(abs(v) > MAX_SIZE_M for v in size)
 
 
-def up_is_bad(up) -> bool:
+def up_is_bad(up: Any) -> bool:
     from sg3d.app.bounds import unit_up
 
     if up is None:

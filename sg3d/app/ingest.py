@@ -246,15 +246,16 @@ def ingest_graph(store: GraphStore, req: IngestRequest, embedding=None) -> dict:
     another ingest of the room and is refused (RoomBusy, HTTP 409) while a build or a live map
     writes it. A new room is created by the merge transaction itself, so a merge that fails (a full
     disk, a store that went away, a statement refused) leaves no room and no building behind."""
-    from sg3d.app.writers import INGEST_WAIT_S, writing
+    from sg3d.app.writers import INGEST_WAIT_S, Writer, writing
     from sg3d.graphdb.merge import merge_local_graph
     from sg3d.merge.similarity import SimilarityParams
     from sg3d.graphdb.values import room_id
 
     rid = room_id(req.building, req.room)
     store.ensure_schema()
-    with writing(store, req.building, req.room, "ingest", f"POST /ingest {req.observation_id}",
-                 wait=lambda holder: holder.kind == "ingest", wait_s=INGEST_WAIT_S) as lease:
+    writer = Writer("ingest", f"POST /ingest {req.observation_id}", wait=lambda holder: holder.kind == "ingest",
+                    wait_s=INGEST_WAIT_S)
+    with writing(store, req.building, req.room, writer) as lease:
         report = merge_local_graph(store, to_local_graph(req), embedding, SimilarityParams(),
                                    fence=lease.fence, room_in_tx=True)
     return {"key": report.key, "room": rid, "skipped": report.skipped, "created": report.created,

@@ -18,12 +18,15 @@ import threading
 import time
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
-from typing import Any, Callable, Optional
+from typing import TYPE_CHECKING, Any, Callable, Optional
 
 import numpy as np
 
 from sg3d.app.errors import MapError
 from sg3d.graphdb.protocol import GraphStore
+
+if TYPE_CHECKING:
+    from sg3d.ingest.config import BuildConfig
 
 # Publishing more often than this gains nothing a reader could see and costs the store writes.
 MIN_PUBLISH_EVERY_S = 0.2
@@ -132,23 +135,32 @@ def check_room(store: GraphStore, req: MapRequest) -> None:
                        f"{status.get('mapping')}); add --resume to map into it again (its objects keep their ids)")
 
 
-def map_room(store: GraphStore, req: MapRequest, settings, detector=None, embedding=None,
+@dataclass(frozen=True)
+class Models:
+    """The models a live map runs (None: the config's detector, the default label embedding)."""
+
+    detector: Any = None
+    embedding: Any = None
+
+
+def map_room(store: GraphStore, req: MapRequest, settings: BuildConfig,
              on_update: Optional[Callable[[dict], None]] = None,
-             should_stop: Optional[Callable[[], bool]] = None) -> MapSummary:
+             should_stop: Optional[Callable[[], bool]] = None, models: Models = Models()) -> MapSummary:
     """Follow `req.source` and keep the room's graph current (module docstring). `on_update` gets
     a small dict after every publish (frames, objects, latency) for progress displays;
     `should_stop` is polled (a test's or a service's stop signal; Ctrl-C stops it too)."""
+    detector, embedding = models.detector, models.embedding
     from sg3d.app.build import check_detector
     from sg3d.app.live_sources import open_live_source
     from sg3d.app.places import walk_settings
-    from sg3d.app.writers import writing
+    from sg3d.app.writers import Writer, writing
     from sg3d.core.embedding import default_embedding
     from sg3d.ingest.live import LiveMapper
 
     check_request(req)
     detector = detector if detector is not None else check_detector(settings)
     store.ensure_schema()
-    with writing(store, req.building, req.room, "map", f"sg3d map {req.source}", wait=req.wait,
+    with writing(store, req.building, req.room, Writer("map", f"sg3d map {req.source}", wait=req.wait),
                  error=MapError) as lease:
         check_room(store, req)
         follower = open_live_source(req.source, req.layout)   # a folder, a RealSense, an MCAP being recorded
@@ -344,7 +356,7 @@ class _Discoverer(_Worker):
 class _Publisher(_Worker):
     """Publishes the mapper's graph at most every `publish_every` seconds on its own thread."""
 
-    def __init__(self, store, mapper, req: MapRequest, embedding, on_update, fence=None):
+    def __init__(self, store: GraphStore, mapper, req: MapRequest, embedding, on_update, fence=None):
         from sg3d.core.model import ScanInfo
         from sg3d.graphdb.live import map_object_ids
 

@@ -14,6 +14,8 @@ from sg3d.graphdb.protocol import GraphStore
 
 if TYPE_CHECKING:
     from sg3d.graphdb.merge import Fence
+    from numpy.typing import ArrayLike
+    from sg3d.ingest.readers.frames import Frames
 
 MAX_FRAMES = 300          # frames of the recording the floor map reads (evenly spread)
 # A live map (`sg3d map --rooms auto`) finds the rooms of the frames so far at most every
@@ -52,10 +54,10 @@ def walk_settings(settings, rooms: Optional[str]):
     one); any other keeps `settings` and pays nothing for them."""
     from dataclasses import replace
 
-    return replace(settings, windows=True) if rooms == "auto" else settings
+    return replace(settings, discover=replace(settings.discover, windows=True)) if rooms == "auto" else settings
 
 
-def walk_frames(seq, start: int, stop: int, most: int = MAX_FRAMES) -> list:
+def walk_frames(seq: Frames, start: int, stop: int, most: int = MAX_FRAMES) -> list:
     """At most `most` posed frames of [start, stop), evenly spread (a frame that cannot be read, or
     has no pose yet, is left out)."""
     from sg3d.ingest.readers.frames import FrameError
@@ -71,7 +73,7 @@ def walk_frames(seq, start: int, stop: int, most: int = MAX_FRAMES) -> list:
     return frames
 
 
-def find_places(seq, start: int, stop: int, up, floor: Optional[float], most: int = MAX_FRAMES):
+def find_places(seq: Frames, start: int, stop: int, up: ArrayLike, floor: Optional[float], most: int = MAX_FRAMES):
     """The places layer (`sg3d.ingest.places.Places`) of frames [start, stop) and the gravity
     basis; None when the recording never saw the floor (no floor map without one)."""
     from sg3d.core.geometry import horizontal_frame

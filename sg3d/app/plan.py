@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import shutil
 import tempfile
+from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Optional
 
@@ -17,12 +18,31 @@ if TYPE_CHECKING:
 PLANNERS = ("pyperplan", "fast-downward")
 
 
-def plan(store: GraphStore, command: Optional[str] = None, *, goal: Optional[str] = None, room: Optional[str] = None,
-         building: Optional[str] = None, start: Optional[str] = None, out_dir: Optional[Path] = None,
-         planner: str = "pyperplan") -> PlanOutcome:
-    """The validated plan (`sg3d.queries.planning.PlanOutcome`); AppError with a one-line reason when
-    there is none. PDDL files are written to `out_dir` (default: a new temporary directory)."""
+@dataclass(frozen=True)
+class PlanScope:
+    """Where a plan runs: the room (None: the one room, or the building's rooms), its building, the
+    robot's start (an object or room name; None: no start)."""
+
+    room: Optional[str] = None
+    building: Optional[str] = None
+    start: Optional[str] = None
+
+
+@dataclass(frozen=True)
+class PlanRun:
+    """How a plan is made: the planner, and where its PDDL files go (None: a new temporary directory)."""
+
+    planner: str = "pyperplan"
+    out_dir: Optional[Path] = None
+
+
+def plan(store: GraphStore, command: Optional[str] = None, *, goal: Optional[str] = None,
+         scope: PlanScope = PlanScope(), run: PlanRun = PlanRun()) -> PlanOutcome:
+    """The validated plan (`sg3d.queries.planning.PlanOutcome`) of `command` or `goal`; AppError with a
+    one-line reason when there is none."""
     from sg3d.queries.planning import PlanningError, plan_task
+
+    room, building, start, out_dir, planner = scope.room, scope.building, scope.start, run.out_dir, run.planner
 
     if command and goal:
         raise AppError("give a command or --goal, not both")
@@ -37,12 +57,13 @@ def plan(store: GraphStore, command: Optional[str] = None, *, goal: Optional[str
         raise AppError(str(exc)) from exc
 
 
-def plan_json(store: GraphStore, command: Optional[str] = None, **kw) -> dict:
+def plan_json(store: GraphStore, command: Optional[str] = None, *, goal: Optional[str] = None,
+              room: Optional[str] = None, building: Optional[str] = None, start: Optional[str] = None) -> dict:
     """A plan as self-contained JSON for remote callers: `PlanOutcome.to_json()` plus the PDDL
     texts (`domain_pddl`, `problem_pddl`); the server's temporary files are removed."""
     tmp = Path(tempfile.mkdtemp(prefix="sg3d-plan-"))
     try:
-        outcome = plan(store, command, out_dir=tmp, **kw)
+        outcome = plan(store, command, goal=goal, scope=PlanScope(room, building, start), run=PlanRun(out_dir=tmp))
         data = outcome.to_json()
         data["domain_pddl"] = (tmp / "domain.pddl").read_text()
         data["problem_pddl"] = (tmp / "problem.pddl").read_text()

@@ -3,6 +3,7 @@ and the MCP `list_rooms` / `list_objects` tools return."""
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 from typing import Optional, Sequence
 
 from sg3d.app import bounds
@@ -75,12 +76,22 @@ def _near(near: Optional[Sequence[float]], radius: Optional[float]):
     return [float(v) for v in near]
 
 
-def room_objects(store: GraphStore, building: str, room: str, label: Optional[str] = None, colour: Optional[str] = None,
-                 near: Optional[Sequence[float]] = None, radius: Optional[float] = None,
-                 limit: int = OBJECT_LIMIT) -> list[Row]:
-    """The objects of one room with their readable names, filtered by best label, colour name and
-    distance from a point (`near` x,y,z in the room's frame; `radius` metres, default: no bound,
-    sorted nearest first). NotFound when the room is not in the store."""
+@dataclass(frozen=True)
+class ObjectFilter:
+    """Which objects of a room: by best label, colour name and distance from a point (`near` x,y,z
+    in the room's frame; `radius` metres, default: no bound, sorted nearest first), at most `limit`."""
+
+    label: Optional[str] = None
+    colour: Optional[str] = None
+    near: Optional[Sequence[float]] = None
+    radius: Optional[float] = None
+    limit: int = OBJECT_LIMIT
+
+
+def room_objects(store: GraphStore, building: str, room: str, only: ObjectFilter = ObjectFilter()) -> list[Row]:
+    """The objects of one room with their readable names, filtered by `only`. NotFound when the
+    room is not in the store."""
+    label, colour, near, radius, limit = only.label, only.colour, only.near, only.radius, only.limit
     from sg3d.graphdb.values import room_id
     from sg3d.queries.naming import names_in_store
 

@@ -222,13 +222,23 @@ def sample_listing(manifests: Optional[Sequence[Path]] = None, cache: Optional[P
 
 # --------------------------------------------------------------------------- finding a copy
 
-def locate_sample(name: str, *, manifests: Optional[Sequence[Path]] = None, cache: Optional[Path] = None,
-                  base_url: Optional[str] = None, local_roots: Optional[Sequence[Path]] = None,
-                  progress: Optional[Progress] = None,
+@dataclass(frozen=True)
+class Places:
+    """Where samples are looked for (None: the defaults of the module's docstring): the manifests,
+    the cache folder, the download server, the folders a local copy may lie in."""
+
+    manifests: Optional[Sequence[Path]] = None
+    cache: Optional[Path] = None
+    base_url: Optional[str] = None
+    local_roots: Optional[Sequence[Path]] = None
+
+
+def locate_sample(name: str, places: Places = Places(), progress: Optional[Progress] = None,
                   notice: Callable[[str], None] = lambda _: None) -> Found:
     """A verified copy of sample `name`: a local one, the cache's, or a fresh download (see the
     module's docstring). `notice` gets one-line messages for the user (a local copy that does not
     verify, the licence note before downloading); SampleError when it cannot be had."""
+    manifests, cache, base_url, local_roots = places.manifests, places.cache, places.base_url, places.local_roots
     sample = get_sample(name, manifests)
     for candidate in local_candidates(sample, local_roots):
         if candidate.is_dir():

@@ -3,8 +3,8 @@ building with each room's up direction and building transform, and a coloured po
 back-projected from a sequence (`sg3d.core.stored.Scene`, NumPy arrays); the drawing is in `render/`."""
 from __future__ import annotations
 
-from dataclasses import replace
-from typing import Callable, Optional
+from dataclasses import dataclass, replace
+from typing import Any, Callable, Optional
 
 import numpy as np
 
@@ -37,8 +37,17 @@ def fetch_scene(store: GraphStore, building: str, room: Optional[str] = None) ->
     return Scene(graph, rooms)
 
 
-def sequence_cloud(sequence_path, frames: int = 8, max_points: int = 20000, stride: int = 4,
-                   voxel_m: float = VOXEL_M, seed: int = 0,
+@dataclass(frozen=True)
+class Thinning:
+    """How a sequence's cloud is thinned: every `stride`-th depth pixel, one point per `voxel_m`
+    cube, a subsample seeded by `seed`."""
+
+    stride: int = 4
+    voxel_m: float = VOXEL_M
+    seed: int = 0
+
+
+def sequence_cloud(sequence_path: Any, frames: int = 8, max_points: int = 20000, thinning: Thinning = Thinning(),
                    progress: Optional[Callable[[int, int], None]] = None) -> tuple[np.ndarray, np.ndarray]:
     """(points N x 3 in the sequence's world frame, colours N x 3 uint8 RGB) from `frames` frames
     spread over the sequence: every `stride`-th depth pixel back-projected, reduced to one point
@@ -46,6 +55,7 @@ def sequence_cloud(sequence_path, frames: int = 8, max_points: int = 20000, stri
     `max_points` of them (a seeded uniform subsample). `progress(done, total)` after each frame."""
     from sg3d.ingest.readers import SequenceError, open_sequence
 
+    stride, voxel_m, seed = thinning.stride, thinning.voxel_m, thinning.seed
     try:
         seq = open_sequence(sequence_path)
     except SequenceError as exc:

@@ -11,24 +11,30 @@ from __future__ import annotations
 
 import threading
 from pathlib import Path
-from typing import Callable, Optional, TypeVar
+from typing import Any, Callable, Optional, Protocol, TypeVar
 
 from sg3d.graphdb.protocol import GraphStore
 
 T = TypeVar("T")
 
 
-def reader(settings) -> GraphStore:
+class StoreSource(Protocol):
+    """What gives the front ends their store (`sg3d.settings.Settings`, or a test's holder of one)."""
+
+    def store(self) -> GraphStore: ...
+
+
+def reader(settings: StoreSource) -> GraphStore:
     """The store for reads: the read-only user where the settings offer one."""
     return settings.reader() if hasattr(settings, "reader") else settings.store()
 
 
-def writer(settings) -> GraphStore:
+def writer(settings: StoreSource) -> GraphStore:
     """The store for writes (ingest)."""
     return settings.store()
 
 
-def _forget_cached(settings) -> None:
+def _forget_cached(settings: StoreSource) -> None:
     """Drop the settings' cached stores so the next call re-reads the daemon's server.json (a
     restarted embedded store listens on new ports) and opens a new driver."""
     for name in ("store", "reader"):
@@ -48,7 +54,7 @@ class StoreHandle:
     request instead of after a failed one (the driver would otherwise retry the old port for up
     to its retry time)."""
 
-    def __init__(self, settings):
+    def __init__(self, settings: Any):   # sg3d.settings.Settings (a front end: not imported here)
         self.settings = settings
         self._lock = threading.Lock()
         self._stores: dict[str, GraphStore] = {}
@@ -120,7 +126,7 @@ class StoreHandle:
             self._drop()
 
 
-def disk_check(settings) -> Optional[Callable[[], Optional[str]]]:
+def disk_check(settings: Any) -> Optional[Callable[[], Optional[str]]]:
     """For the embedded store: a check that says 'the disk holding ... is full' when its disk has
     less free space than SG3D_MIN_FREE_MB (read at every call), else None; None for a --uri store
     (its disk is the server's)."""

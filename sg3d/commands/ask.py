@@ -1,10 +1,15 @@
 """`sg3d ask`: a question about the stored scene graph, answered in one line (paper Sec. VI-A)."""
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import json
 from pathlib import Path
 
 import click
+
+if TYPE_CHECKING:
+    from sg3d.settings import Settings
 
 
 @click.command()
@@ -21,7 +26,7 @@ import click
               help="Where an answer with a picture ('which cup is the biggest', 'show me the cup closest "
                    "to the sink') writes it: .png or .jpg/.jpeg (without --out no file is written).")
 @click.pass_obj
-def ask(settings, question: str, room, building, explain: bool, as_json: bool, viewpoint, out) -> None:
+def ask(settings: Settings, question: str, room, building, explain: bool, as_json: bool, viewpoint, out) -> None:
     """Answer QUESTION from the scene graph, e.g. sg3d ask "how many red chairs are there?"
 
     Counting (by group, colour, size, in a room, on/under/next to/near an object, within a
@@ -40,8 +45,8 @@ def ask(settings, question: str, room, building, explain: bool, as_json: bool, v
         raise UserError(f"--out {out}: the folder {Path(out).expanduser().absolute().parent} does not exist")
     try:
         point_of_view = parse_viewpoint(viewpoint)     # a bad one is refused before the store starts
-        asked = ask_question(reader(settings), question, room=room, building=building, picture=out is not None,
-                             out=out, viewpoint=point_of_view)
+        asked = ask_question(reader(settings), question, room=room, building=building,
+                             picture=False if out is None else out, viewpoint=point_of_view)
     except AppError as exc:
         raise UserError(str(exc)) from exc
     result, path = asked.answer, asked.picture

@@ -3,13 +3,18 @@ from __future__ import annotations
 
 import json
 from pathlib import Path
-from typing import Any, Optional
+from typing import TYPE_CHECKING, Any, Optional
 
 import click
 
 from sg3d.commands.bag_options import bag_options
+from sg3d.commands.config_options import config_options, flag_of
 from sg3d.commands.names import checked_name
 from sg3d.errors import UserError
+from sg3d.ingest.config import DEFAULT_METHOD, METHODS, BuildConfig, DetectConfig, SelectConfig, default_of, help_of
+
+if TYPE_CHECKING:
+    from sg3d.settings import Settings
 
 
 def _summary_table(summary: dict):
@@ -136,11 +141,9 @@ def _placement_text(placement: dict) -> str:
                    "each object in one of them.")
 @click.option("--building", default="default", show_default=True, callback=checked_name,
               help="Building the room belongs to (same rule as --room).")
-@click.option("--method", type=click.Choice(["2d-basic", "2d-efficient", "3d-basic", "3d-efficient", "3d-full"]),
-              default="3d-full", show_default=True, help="Modules to run (the paper's Table I presets).")
-@click.option("--quality", type=click.Choice(["default", "high"]), default="default", show_default=True,
-              help="high: the detector also runs on 3x2 overlapping tiles of each chosen frame "
-                   "(finds smaller and farther objects, ~6x slower).")
+@click.option("--method", type=click.Choice(list(METHODS)), default=DEFAULT_METHOD, show_default=True, help="Modules to run (the paper's Table I presets).")
+@click.option("--quality", type=click.Choice(["default", "high"]), default=default_of(DetectConfig, "quality"),
+              help=help_of(DetectConfig, "quality"))
 @click.option("--layout", type=click.Choice(["7scenes", "3dmatch", "tum", "scannet", "open3d", "plain"]), default=None,
               help="Sequence layout (default: detected).")
 @click.option("--start", type=int, default=0, show_default=True, help="First frame index.")
@@ -149,24 +152,16 @@ def _placement_text(placement: dict) -> str:
               help="Continue an interrupted build. (Chunks already merged by the same build are always "
                    "skipped, so this only states the intent.)")
 @click.option("--detector", default=None, metavar="NAME|MODEL.onnx",
-              help="Detector: ssd-mobilenet-v2-coco (default) or your own ONNX model (labels file beside it).")
+              help=help_of(DetectConfig, "detector"))
 @click.option("--recognizer", type=click.Choice(["none", "efficientnet"]), default="none", show_default=True,
               help="efficientnet: re-rank each box's labels with the shipped EfficientNet-Lite3 ImageNet "
                    "classifier (the paper's recognition module; needs the recognize extra, ~10 ms per box).")
-@click.option("--score-threshold", type=click.FloatRange(0.0, 1.0), default=0.23, show_default=True,
-              help="Detection score threshold (any detector).")
-@click.option("--detect-fraction", type=click.FloatRange(0.0, 1.0, min_open=True), default=None,
-              help="Share of the sharp frames the detector runs on (KGE frames first, then new viewpoints) "
-                   "[0.15]; at least 40 frames (or all) are detected in any sequence.")
+@click.option("--score-threshold", type=click.FloatRange(0.0, 1.0), default=default_of(DetectConfig, "score_threshold"),
+              help=help_of(DetectConfig, "score_threshold"))
 @click.option("--chunk-frames", type=click.IntRange(min=10), default=None,
-              help="Fuse and merge the sequence in chunks of this many frames [3000].")
-@click.option("--abir-gain", type=float, default=None,
-              help="ABIR gain g of Eq. 4 [10, the authors' code]; not with --method 2d-basic/3d-basic.")
-@click.option("--t-key", type=float, default=None, help="KGE keyframe overlap threshold [0.2].")
-# t_anchor 0.9 was chosen on the kitchen; sg3d/ingest/pipeline.py (BUILD_T_ANCHOR) records what it
-# gives on the living room (the same frames as coverage alone; test_quality's living-room floor).
-@click.option("--t-anchor", type=float, default=None,
-              help="KGE anchor overlap threshold [0.9] (the authors' code: 0.68; see sg3d/ingest/pipeline.py).")
+              help=help_of(BuildConfig, "chunk_frames"))
+@config_options(SelectConfig, ("detect_fraction", "abir_gain", "t_key", "t_anchor"), "select",
+                extra_help={"abir_gain": "Not with --method 2d-basic/3d-basic."})
 @click.option("--transform", "transform_file", type=click.Path(exists=True, dir_okay=False, path_type=Path),
               default=None, help="4x4 room-to-building transform (4 lines of 4 numbers).")
 @click.option("--align-to", default=None, metavar="ROOM",
@@ -183,11 +178,10 @@ def _placement_text(placement: dict) -> str:
 @click.option("--json", "as_json", is_flag=True, help="Print the summary as JSON (no progress bar).")
 @bag_options
 @click.pass_obj
-def build(settings, sequence: Path, room: str, building: str, method: str, quality: str, layout: Optional[str],
+def build(settings: Settings, sequence: Path, room: str, building: str, method: str, quality: str, layout: Optional[str],
           start: int, stop: Optional[int], resume: bool, detector: Optional[str], recognizer: str,
           score_threshold: float,
-          detect_fraction: Optional[float], chunk_frames: Optional[int], abir_gain: Optional[float],
-          t_key: Optional[float], t_anchor: Optional[float], transform_file: Optional[Path], align_to: Optional[str],
+          select: dict[str, Any], chunk_frames: Optional[int], transform_file: Optional[Path], align_to: Optional[str],
           shared_frame: bool, estimate_poses: bool, trajectory_out: Optional[Path], wait: bool, as_json: bool,
           bag: dict, sample_name: Optional[str], rooms: Optional[str] = None) -> None:
     """Build (or extend) the 3-D scene graph of ROOM from the RGB-D SEQUENCE folder or ROS bag
@@ -219,22 +213,17 @@ def build(settings, sequence: Path, room: str, building: str, method: str, quali
     from sg3d.app.build import BuildError, BuildRequest, prepare, run_build
     from sg3d.app.stores import disk_check
     from sg3d.ingest.detect.choice import with_recognizer
-    from sg3d.ingest.pipeline import DEFAULT_CHUNK_FRAMES, METHODS, Settings
-    from sg3d.ingest.select import coverage
 
     sequence = _sequence(sequence, sample_name)
     room = _room_name(room, rooms, sequence)
     request = BuildRequest(sequence, room, building, layout, start, stop, transform_file, align_to, shared_frame,
                            bag_options=bag, estimate_poses=estimate_poses, trajectory_out=trajectory_out,
                            wait=wait, rooms=rooms)
-    selection = {"--abir-gain": abir_gain, "--t-key": t_key, "--t-anchor": t_anchor}
-    given = [flag for flag, value in selection.items() if value is not None]
-    tuned: dict[str, Any] = {k: v for k, v in (("t_key", t_key), ("t_anchor", t_anchor)) if v is not None}
-    options = Settings(method=METHODS[method], abir_gain=abir_gain, **tuned,
-                       detect_fraction=detect_fraction or coverage.DEFAULT_FRACTION,
-                       chunk_frames=chunk_frames or DEFAULT_CHUNK_FRAMES,
-                       detector=with_recognizer(detector, recognizer), score_threshold=score_threshold,
-                       quality=quality)
+    # the flags that tune ABIR/KGE, which the basic presets do not run
+    given = [flag_of(k) for k in ("abir_gain", "t_key", "t_anchor") if k in select]
+    options = BuildConfig(method=METHODS[method], select=SelectConfig(**select),
+                          detect=DetectConfig(with_recognizer(detector, recognizer), score_threshold, quality),
+                          chunk_frames=chunk_frames or default_of(BuildConfig, "chunk_frames"))
     progress = Progress(TextColumn("[bold]{task.description:<10}"), BarColumn(), MofNCompleteColumn(),
                         TimeElapsedColumn(), console=Console(stderr=True), disable=as_json, transient=False)
     task = progress.add_task("starting", total=None)

@@ -1,9 +1,14 @@
 """`sg3d changes`: what the room's re-scans moved, added and removed."""
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import json
 
 import click
+
+if TYPE_CHECKING:
+    from sg3d.settings import Settings
 
 
 def _where(o: dict) -> str:
@@ -18,7 +23,7 @@ def _where(o: dict) -> str:
 @click.option("--json", "as_json", is_flag=True,
               help="JSON: moved, added, removed (each object: id, name, label, x, y, z; moved: from).")
 @click.pass_obj
-def changes(settings, room: str, building: str, since, as_json: bool) -> None:
+def changes(settings: Settings, room: str, building: str, since, as_json: bool) -> None:
     """What moved, appeared and disappeared in ROOM at its last scan (or since scan SCAN).
 
     Every `sg3d build` and every `POST /ingest` batch is a scan; `sg3d build --json` prints its id.

@@ -1,6 +1,8 @@
 """`sg3d cypher` and `sg3d shell`: the user's own Cypher against the same store."""
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import json
 import os
 from pathlib import Path
@@ -9,6 +11,10 @@ import click
 
 from sg3d.app.errors import AppError
 from sg3d.app.graph import check_statement
+
+if TYPE_CHECKING:
+    from sg3d.graphdb.protocol import GraphStore
+    from sg3d.settings import Settings
 
 
 def _cell(value) -> str:
@@ -52,7 +58,7 @@ def print_result(keys, rows, as_json: bool) -> None:
 @click.option("--write", is_flag=True, help="Run in a write transaction (default: read-only).")
 @click.option("--json", "as_json", is_flag=True, help="Rows as JSON.")
 @click.pass_obj
-def cypher_command(settings, statement: str, param, write: bool, as_json: bool) -> None:
+def cypher_command(settings: Settings, statement: str, param, write: bool, as_json: bool) -> None:
     """Run one Cypher STATEMENT against the store and print a table.
 
     Read-only unless --write. Example: sg3d cypher "MATCH (o:Object) RETURN o.label, count(*)"
@@ -75,7 +81,7 @@ def cypher_command(settings, statement: str, param, write: bool, as_json: bool) 
     print_result(keys, rows, as_json)
 
 
-def checked_runner(store, write: bool):
+def checked_runner(store: GraphStore, write: bool):
     """The shell's way to run a statement: `sg3d.app.graph.check_statement` first, then the store."""
     def run(text: str, params: dict):
         check_statement(text, params)
@@ -183,7 +189,7 @@ class Shell:
         return True
 
 
-def history_path(settings) -> Path | None:
+def history_path(settings: Settings) -> Path | None:
     """The shell history lives in the store's home (SG3D_HOME), or where SG3D_HISTORY says."""
     if os.environ.get("SG3D_HISTORY"):
         return Path(os.environ["SG3D_HISTORY"])
@@ -200,7 +206,7 @@ def history_path(settings) -> Path | None:
 @click.command()
 @click.option("--write", is_flag=True, help="Allow writes (default: every statement runs read-only).")
 @click.pass_obj
-def shell(settings, write: bool) -> None:
+def shell(settings: Settings, write: bool) -> None:
     """Interactive Cypher shell with history (end a statement with ';', :help for commands,
     quit with :exit or Ctrl-D; Ctrl-C cancels the current statement)."""
     import readline

@@ -3,14 +3,17 @@ from __future__ import annotations
 
 import json
 import time
-from typing import NoReturn
+from typing import TYPE_CHECKING, NoReturn
 
 import click
 
 from sg3d.errors import UserError
 
+if TYPE_CHECKING:
+    from sg3d.settings import Settings
 
-def _server(settings):
+
+def _server(settings: Settings):
     from sg3d.graphdb.embedded import EmbeddedServer
 
     if not settings.embedded:
@@ -27,7 +30,7 @@ def db() -> None:
 @db.command()
 @click.option("--json", "as_json", is_flag=True, help="Machine-readable output.")
 @click.pass_obj
-def status(settings, as_json: bool) -> None:
+def status(settings: Settings, as_json: bool) -> None:
     """Say whether the embedded store runs, where, and since when."""
     server = _server(settings)
     st = server.status()
@@ -51,7 +54,7 @@ def status(settings, as_json: bool) -> None:
 
 @db.command()
 @click.pass_obj
-def start(settings) -> None:
+def start(settings: Settings) -> None:
     """Start the embedded store (no-op if it already runs)."""
     server = _server(settings)
     st = server.status()
@@ -69,7 +72,7 @@ def start(settings) -> None:
 
 @db.command()
 @click.pass_obj
-def stop(settings) -> None:
+def stop(settings: Settings) -> None:
     """Stop the embedded store cleanly. It stays stopped for `sg3d serve` and `sg3d mcp` (they
     answer "the store was stopped") until `sg3d db start` or another command starts it."""
     server = _server(settings)
@@ -81,7 +84,7 @@ def stop(settings) -> None:
 @db.command()
 @click.option("--yes", is_flag=True, help="Do not ask.")
 @click.pass_obj
-def reset(settings, yes: bool) -> None:
+def reset(settings: Settings, yes: bool) -> None:
     """Delete every node and edge of the store (asks first)."""
     if not yes:
         click.confirm(f"delete the whole graph in {settings.uri or 'the embedded store'}?", abort=True)
@@ -93,7 +96,7 @@ def reset(settings, yes: bool) -> None:
 @click.option("--repair", is_flag=True, help="Remove the unusable objects and clear unusable up directions.")
 @click.option("--json", "as_json", is_flag=True, help="Machine-readable output.")
 @click.pass_obj
-def check(settings, repair: bool, as_json: bool) -> None:
+def check(settings: Settings, repair: bool, as_json: bool) -> None:
     """Check the store: the embedded store's own integrity (ArcadeDB's CHECK DATABASE: pages,
     records, edges, indexes; whether its database folder is still there; each unique index against
     the records), exit status 1 when it is damaged; then stored values no reader can use (NaN,
@@ -161,7 +164,7 @@ def _damaged(damage: list[str], as_json: bool) -> NoReturn:
 @db.command("rebuild-tallies")
 @click.option("--json", "as_json", is_flag=True, help="Machine-readable output.")
 @click.pass_obj
-def rebuild_tallies_cmd(settings, as_json: bool) -> None:
+def rebuild_tallies_cmd(settings: Settings, as_json: bool) -> None:
     """Recount the per-room tallies that counting questions read from the Object records (after
     objects were edited with `sg3d cypher --write`; a schema upgrade recounts them itself)."""
     from sg3d.graphdb.tally import rebuild_tallies

@@ -3,11 +3,14 @@ from __future__ import annotations
 
 import json
 from pathlib import Path
-from typing import Optional
+from typing import TYPE_CHECKING, Optional
 
 import click
 
 from sg3d.errors import UserError
+
+if TYPE_CHECKING:
+    from sg3d.settings import Settings
 
 
 def _render(report: dict, names: dict[str, str], gt) -> None:
@@ -82,7 +85,7 @@ def _render(report: dict, names: dict[str, str], gt) -> None:
 @click.option("--report", "report_dir", type=click.Path(file_okay=False, path_type=Path), default=None,
               help="Also write DIR/report.md and DIR/report.html: metrics, node, edge and VQA tables, and the graph picture coloured by match.")
 @click.pass_obj
-def eval_command(settings, gt_path: Path, room: str, building: str, tolerance: Optional[float],
+def eval_command(settings: Settings, gt_path: Path, room: str, building: str, tolerance: Optional[float],
                  no_vqa: bool, as_json: bool, report_dir: Optional[Path]) -> None:
     """Compare the scene graph of ROOM with ground truth: nodes, edges and question answers."""
     from sg3d.evaluation.evaluate import evaluate

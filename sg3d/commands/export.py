@@ -3,11 +3,14 @@ from __future__ import annotations
 
 import sys
 from pathlib import Path
-from typing import Optional
+from typing import TYPE_CHECKING, Optional
 
 import click
 
 from sg3d.errors import UserError
+
+if TYPE_CHECKING:
+    from sg3d.settings import Settings
 
 
 @click.command()
@@ -24,7 +27,7 @@ from sg3d.errors import UserError
 @click.option("--histograms", is_flag=True,
               help="--format json only: include the 512-bin HSV histograms (spark-dsg has them always).")
 @click.pass_obj
-def export(settings, room: Optional[str], building: str, fmt: str, out: Optional[Path],
+def export(settings: Settings, room: Optional[str], building: str, fmt: str, out: Optional[Path],
            thumbnails: bool, histograms: bool) -> None:
     """Export the scene graph: nodes with their attributes and the relation edges (json, graphml,
     spark-dsg: the JSON of Hydra's spark_dsg.DynamicSceneGraph, or 3dssg: the 3DSSG benchmark's

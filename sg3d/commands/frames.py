@@ -3,54 +3,42 @@ keyframe groups (KGE); report what would go on to detection, and how fast."""
 from __future__ import annotations
 
 import json
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Optional
+from typing import TYPE_CHECKING, Any, Optional
 
 import click
 
 from sg3d.commands.bag_options import bag_options
+from sg3d.commands.config_options import config_options
 from sg3d.errors import UserError
+from sg3d.ingest.config import SelectConfig
+
+if TYPE_CHECKING:
+    from sg3d.ingest.readers.base import Sequence
+    from sg3d.ingest.select.selection import SelectionParams
 
 SHEET_PAIRS = 24
 SHEET_FACTOR = 4   # thumbnails at 1/4 of the colour size (160x120 for 640x480)
-
-
-def _defaults():
-    from sg3d.ingest.select.kge import DEFAULT_T_ANCHOR
-    from sg3d.ingest.select.selection import SelectionParams
-
-    return SelectionParams(), DEFAULT_T_ANCHOR
-
-
-_DEFAULTS, _PAPER_T_ANCHOR = _defaults()
 
 
 @click.command("frames")
 @click.argument("sequence", type=click.Path(path_type=Path))
 @click.option("--layout", default=None, metavar="NAME",
               help="7scenes (also 3DMatch), tum, scannet or open3d. Default: detected from the files.")
-@click.option("--abir-gain", type=float, default=None, show_default=False,
-              help=f"ABIR gain g of Eq. 4 [{_DEFAULTS.abir_gain:g}, the authors' code; the paper prints 30].")
-@click.option("--abir-offset", type=float, default=None, help=f"ABIR offset b of Eq. 4 [{_DEFAULTS.abir_offset:g}].")
-@click.option("--abir-alpha", type=float, default=None,
-              help=f"ABIR smoothing factor alpha of Eq. 2 [{_DEFAULTS.abir_alpha:g}].")
-@click.option("--t-key", type=float, default=None, help=f"KGE keyframe overlap threshold [{_DEFAULTS.t_key:g}].")
-@click.option("--t-anchor", type=float, default=None,
-              help=f"KGE anchor overlap threshold [{_DEFAULTS.t_anchor:g}, as `sg3d build` uses; the authors' "
-                   f"code: {_PAPER_T_ANCHOR:g}].")
+@config_options(SelectConfig, ("abir_gain", "abir_offset", "abir_alpha", "t_key", "t_anchor"), "select")
 @click.option("--limit", type=click.IntRange(min=1), default=None, metavar="N", help="Read at most N frames.")
 @click.option("--step", type=click.IntRange(min=1), default=1, show_default=True, help="Read every STEP-th frame.")
 @click.option("--json", "as_json", is_flag=True, help="Machine-readable output on stdout.")
 @click.option("--sheet", type=click.Path(dir_okay=False, path_type=Path), default=None, metavar="PNG",
               help="Write a contact sheet: frames rejected as blurry beside the last sharp frame before each.")
 @bag_options
-def frames_command(sequence: Path, layout: Optional[str], abir_gain, abir_offset, abir_alpha, t_key, t_anchor,
-                   limit: Optional[int], step: int, as_json: bool, sheet: Optional[Path], bag: dict) -> None:
+def frames_command(sequence: Path, layout: Optional[str], select: dict[str, Any], limit: Optional[int], step: int,
+                   as_json: bool, sheet: Optional[Path], bag: dict) -> None:
     """Blur rejection and keyframe groups over SEQUENCE (a sequence folder or a ROS bag)."""
     from sg3d.ingest.readers import SequenceError, open_sequence
 
-    params = _params(abir_alpha, abir_gain, abir_offset, t_key, t_anchor)
+    params = _params(select)
     try:
         seq = open_sequence(sequence, layout=layout, **bag)
     except SequenceError as exc:
@@ -75,14 +63,13 @@ def frames_command(sequence: Path, layout: Optional[str], abir_gain, abir_offset
     _print_report(sequence, seq, params_out, choice, sheet, len(run.pairs))
 
 
-def _params(abir_alpha, abir_gain, abir_offset, t_key, t_anchor):
+def _params(select: dict[str, Any]) -> SelectionParams:
     """The selection parameters, each given one or its default (as `sg3d build` uses them); a value
     out of range is one line on stderr."""
     from sg3d.ingest.select.abir import ABIR
     from sg3d.ingest.select.kge import KeyframeGrouper
 
-    given = dict(abir_alpha=abir_alpha, abir_gain=abir_gain, abir_offset=abir_offset, t_key=t_key, t_anchor=t_anchor)
-    params = replace(_DEFAULTS, **{k: v for k, v in given.items() if v is not None})
+    params = SelectConfig(**select).params
     try:
         ABIR(params.abir_alpha, params.abir_gain, params.abir_offset)
         KeyframeGrouper(params.t_key, params.t_anchor)
@@ -98,7 +85,7 @@ class _Selection:
     pairs: list = field(default_factory=list)       # (blurry index, decision, sharp index, decision)
 
 
-def _select(seq, params, stop: int, step: int, keep_pairs: bool, quiet: bool) -> _Selection:
+def _select(seq: Sequence, params, stop: int, step: int, keep_pairs: bool, quiet: bool) -> _Selection:
     """`choose_detected_frames` over frames 0..stop (every `step`-th), with a progress bar on
     stderr; `keep_pairs`: remember each blurry frame beside the last sharp one (the contact sheet)."""
     from rich.console import Console
@@ -133,7 +120,7 @@ def _select(seq, params, stop: int, step: int, keep_pairs: bool, quiet: bool) ->
     return run
 
 
-def _print_report(sequence: Path, seq, params: dict, choice, sheet: Optional[Path], n_pairs: int) -> None:
+def _print_report(sequence: Path, seq: Sequence, params: dict, choice, sheet: Optional[Path], n_pairs: int) -> None:
     """The human-readable report on stdout."""
     from rich.console import Console
 
@@ -171,7 +158,7 @@ def _print_report(sequence: Path, seq, params: dict, choice, sheet: Optional[Pat
         out.print(f"  contact sheet: {sheet} ({min(n_pairs, SHEET_PAIRS)} blurry/sharp pairs)")
 
 
-def _write_sheet(seq, pairs, path: Path) -> None:
+def _write_sheet(seq: Sequence, pairs, path: Path) -> None:
     """Rows of [rejected as blurry | last sharp frame before it], each labelled V and threshold."""
     import cv2
     import numpy as np

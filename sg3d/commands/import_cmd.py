@@ -3,12 +3,15 @@ from __future__ import annotations
 
 import json
 from pathlib import Path
-from typing import Optional
+from typing import TYPE_CHECKING, Optional
 
 import click
 
 from sg3d.commands.names import checked_name
 from sg3d.errors import UserError
+
+if TYPE_CHECKING:
+    from sg3d.settings import Settings
 
 
 @click.command("import")
@@ -21,7 +24,7 @@ from sg3d.errors import UserError
               help="Merge every object into this room (default: one room per room of the file).")
 @click.option("--json", "as_json", is_flag=True, help="Print the merge report as JSON.")
 @click.pass_obj
-def import_command(settings, file: Path, fmt: str, building: Optional[str], room: Optional[str], as_json: bool) -> None:
+def import_command(settings: Settings, file: Path, fmt: str, building: Optional[str], room: Optional[str], as_json: bool) -> None:
     """Merge a spark_dsg scene graph (Hydra, Clio; or `sg3d export --format spark-dsg`) into the
     store: objects with their labels, positions, boxes and colours, the relations our export wrote.
     Importing the same file again merges nothing."""

@@ -3,12 +3,15 @@ from __future__ import annotations
 
 import json
 from pathlib import Path
-from typing import Optional
+from typing import TYPE_CHECKING, Optional
 
 import click
 
 from sg3d.commands.names import checked_name
 from sg3d.errors import UserError
+
+if TYPE_CHECKING:
+    from sg3d.settings import Settings
 
 
 @click.command(name="map")
@@ -35,7 +38,7 @@ from sg3d.errors import UserError
                    "grow with the walk and keep their ids and names across publishes.")
 @click.option("--json", "as_json", is_flag=True, help="Print the summary as JSON at the end (no live line).")
 @click.pass_obj
-def map_cmd(settings, source: Path, room: str, building: str, layout: Optional[str], publish_every: float,
+def map_cmd(settings: Settings, source: Path, room: str, building: str, layout: Optional[str], publish_every: float,
             stop_when_idle: Optional[float], resume: bool, wait: bool, detector: Optional[str],
             trajectory_out: Optional[Path], rooms: Optional[str], as_json: bool) -> None:
     """Follow SOURCE and keep ROOM's scene graph in the store current while frames arrive. SOURCE
@@ -56,9 +59,9 @@ def map_cmd(settings, source: Path, room: str, building: str, layout: Optional[s
 
     from sg3d.app.build import BuildError
     from sg3d.app.mapping import MapError, MapRequest, map_room
-    from sg3d.ingest.pipeline import Settings
+    from sg3d.ingest.config import BuildConfig, DetectConfig
 
-    options = Settings(detector=detector) if detector else Settings()
+    options = BuildConfig(detect=DetectConfig(detector=detector)) if detector else BuildConfig()
     console = Console(stderr=True)
 
     def on_update(u: dict) -> None:

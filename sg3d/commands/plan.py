@@ -1,12 +1,17 @@
 """`sg3d plan`: a command or PDDL goal -> PDDL files -> a validated plan (paper Sec. VI-B)."""
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import json
 from pathlib import Path
 
 import click
 
 from sg3d.errors import UserError
+
+if TYPE_CHECKING:
+    from sg3d.settings import Settings
 
 PLANNER_CHOICES = ("pyperplan", "fast-downward")
 
@@ -23,7 +28,7 @@ PLANNER_CHOICES = ("pyperplan", "fast-downward")
               help="pyperplan: greedy best-first + FF heuristic; fast-downward needs unified-planning + up-fast-downward.")
 @click.option("--json", "as_json", is_flag=True, help="The plan as JSON (for scripts).")
 @click.pass_obj
-def plan(settings, command, goal, room, building, start, out_dir, planner, as_json) -> None:
+def plan(settings: Settings, command, goal, room, building, start, out_dir, planner, as_json) -> None:
     """Plan a task in a scanned room: 'clean up the table', 'put the cups in the sink',
     'bring the red cup to the table', or any conjunctive PDDL goal with --goal. Clean-up sends
     each item where the placement rule of its kind says (tableware to the sink, books to a shelf
@@ -34,13 +39,14 @@ def plan(settings, command, goal, room, building, start, out_dir, planner, as_js
     import tempfile
 
     from sg3d.app.errors import AppError
+    from sg3d.app.plan import PlanRun, PlanScope
     from sg3d.app.plan import plan as plan_task
     from sg3d.app.stores import reader
 
     scratch = None if out_dir else Path(tempfile.mkdtemp(prefix="sg3d-plan-"))
     try:
-        outcome = plan_task(reader(settings), command, goal=goal, room=room, building=building,
-                            out_dir=out_dir or scratch, planner=planner, start=start)
+        outcome = plan_task(reader(settings), command, goal=goal, scope=PlanScope(room, building, start),
+                            run=PlanRun(planner, out_dir or scratch))
     except AppError as exc:
         raise UserError(str(exc)) from exc
     finally:

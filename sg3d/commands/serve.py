@@ -1,11 +1,16 @@
 """`sg3d serve` (HTTP API) and `sg3d mcp` (MCP server over stdio) for robots and agents."""
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import errno
 
 import click
 
 from sg3d.app.bounds import DEFAULT_MAX_BODY, DEFAULT_THREADS, DEFAULT_WORKERS
+
+if TYPE_CHECKING:
+    from sg3d.settings import Settings
 
 
 @click.command()
@@ -23,7 +28,7 @@ from sg3d.app.bounds import DEFAULT_MAX_BODY, DEFAULT_THREADS, DEFAULT_WORKERS
               help="Worker processes (uvicorn's process model) sharing the one store, each with --threads threads. "
                    "The default is one, plus one per two cores beyond the store's two (at most 4).")
 @click.pass_obj
-def serve(settings, host: str, port: int, access_log: bool, max_body: int, threads: int, workers: int) -> None:
+def serve(settings: Settings, host: str, port: int, access_log: bool, max_body: int, threads: int, workers: int) -> None:
     """Serve the scene graph over HTTP: /ask, /plan, /rooms, /graph, /ingest (OpenAPI at /docs).
 
     Callers send `Authorization: Bearer <token>`; the token is generated into api-token (mode
@@ -84,7 +89,7 @@ def _bind(host: str, port: int):
 
 @click.command()
 @click.pass_obj
-def mcp(settings) -> None:
+def mcp(settings: Settings) -> None:
     """Run the MCP server on stdio for LLM agents (tools: ask, plan, list_rooms, list_objects,
     cypher (read-only), graph_schema). Configure your agent to start `sg3d mcp`."""
     from sg3d.server.mcp import build_server

@@ -2,11 +2,14 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Optional
+from typing import TYPE_CHECKING, Optional
 
 import click
 
 from sg3d.errors import UserError
+
+if TYPE_CHECKING:
+    from sg3d.settings import Settings
 
 FORMATS = {".png": "png", ".svg": "svg", ".pdf": "pdf", ".html": "html", ".htm": "html"}
 
@@ -38,7 +41,7 @@ def parse_size(text: str) -> tuple[int, int]:
 @click.option("--max-points", type=click.IntRange(100, 200000), default=20000, show_default=True,
               help="HTML: at most this many cloud points (one per cm cube, then subsampled).")
 @click.pass_obj
-def show(settings, room: Optional[str], building: str, out: Path, layout: str, all_edges: bool,
+def show(settings: Settings, room: Optional[str], building: str, out: Path, layout: str, all_edges: bool,
          size_text: str, sequence: Optional[Path], frames: int, max_points: int) -> None:
     """Draw the scene graph: a 2-D diagram (PNG/SVG/PDF) or a 3-D view (HTML)."""
     fmt = FORMATS.get(out.suffix.lower())

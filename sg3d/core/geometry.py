@@ -3,8 +3,10 @@ furniture that stand on the floor, and the part-of-furniture rules both a build
 (`sg3d.ingest.discover`) and the merge of a later scan (`sg3d.merge.plan`) apply."""
 from __future__ import annotations
 
+import functools
 import math
-from typing import Optional
+from dataclasses import dataclass
+from typing import Any, Optional
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -94,3 +96,16 @@ def carrel_panel(lo: np.ndarray, hi: np.ndarray, top_lo: np.ndarray, top_hi: np.
     thin = float(np.min(hi[:2] - lo[:2])) <= CARREL_PANEL_MAX_THICKNESS_M + SIZE_SLACK_M
     return (thin and float(hi[2]) > float(top_hi[2])
             and boxes_touch(lo, hi, top_lo, top_hi, CARREL_REACH_M))
+
+
+@dataclass(frozen=True)
+class Ground:
+    """The room's gravity frame: its up direction (world frame) and the floor's height along it,
+    when the build knows it."""
+
+    up: Any                         # 3-vector
+    floor: Optional[float] = None
+
+    @functools.cached_property
+    def basis(self) -> np.ndarray:
+        return horizontal_frame(self.up)

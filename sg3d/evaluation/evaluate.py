@@ -9,13 +9,16 @@ COCO object and over those the annotator counted as `sure`.
 from __future__ import annotations
 
 from dataclasses import replace
-from typing import Callable, Optional
+from typing import TYPE_CHECKING, Callable, Optional
 
 from sg3d.core.model import RELATION_TYPES, UNNAMED_LABEL
 from sg3d.evaluation.edges import edge_metrics
 from sg3d.evaluation.ground_truth import GroundTruth
 from sg3d.evaluation.matching import DEFAULT_TOLERANCE, Matching, Node, match
 from sg3d.evaluation.vqa import vqa_metrics
+
+if TYPE_CHECKING:
+    from sg3d.graphdb.protocol import GraphStore
 
 
 def category_matcher() -> Callable[[str, str], bool]:
@@ -37,7 +40,7 @@ def category_matcher() -> Callable[[str, str], bool]:
     return same
 
 
-def read_nodes(store, room_id: str) -> list[Node]:
+def read_nodes(store: GraphStore, room_id: str) -> list[Node]:
     nodes = []
     for r in store.read("eval_objects", room=room_id):
         if r["x"] is None:
@@ -151,7 +154,7 @@ def structure_metrics(nodes: list[Node], named: list[Node], m: Matching) -> dict
     }
 
 
-def evaluate(store, gt: GroundTruth, room_id: str, *, room: str, building: str,
+def evaluate(store: GraphStore, gt: GroundTruth, room_id: str, *, room: str, building: str,
              tolerance: float = DEFAULT_TOLERANCE, answerer: Optional[Callable] = None,
              with_vqa: bool = True) -> dict:
     """The full report as a JSON-ready dict: COCO-named nodes against COCO-named GT objects

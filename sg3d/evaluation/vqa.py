@@ -9,11 +9,14 @@ object ids and the reply names graph nodes, which the matching turns into GT ids
 from __future__ import annotations
 
 import re
-from typing import Any, Callable, Optional
+from typing import TYPE_CHECKING, Any, Callable, Optional
 
 from sg3d.evaluation.ground_truth import GroundTruth, GTQuestion
 from sg3d.evaluation.matching import Matching
 from sg3d.graphdb.values import jsonable
+
+if TYPE_CHECKING:
+    from sg3d.graphdb.protocol import GraphStore
 
 YES_NO = {"yes": "yes", "no": "no", "true": "yes", "false": "no"}
 
@@ -73,7 +76,7 @@ def score(question: GTQuestion, reply: Any, matching: Matching, gt_ids: set[str]
     return None
 
 
-def vqa_metrics(store, gt: GroundTruth, matching: Matching, room: str, building: str,
+def vqa_metrics(store: GraphStore, gt: GroundTruth, matching: Matching, room: str, building: str,
                 answerer: Optional[Callable] = None) -> dict:
     answerer = answerer if answerer is not None else load_answerer()
     sure = [q for q in gt.questions if q.sure]

@@ -29,7 +29,7 @@ from __future__ import annotations
 import threading
 import time
 from dataclasses import dataclass, field, replace
-from typing import Callable, Optional, Protocol
+from typing import Any, Callable, Optional, Protocol
 
 import numpy as np
 
@@ -38,11 +38,14 @@ from sg3d.core.model import LocalGraph, ObjectObservation, ScanInfo
 from sg3d.ingest.pipeline import (
     PipelineStats,
     Settings,
-    depth_discovery,
+    Target,
     detections_of,
     graph_of_evidence,
     sightings_of,
 )
+from sg3d.ingest.stages import Discovered as Found
+from sg3d.ingest.stages import Evidence, Ground, depth_discovery
+from sg3d.ingest.detect.models import Detector
 from sg3d.ingest.objects import existence, fusion
 from sg3d.ingest.poses.gravity import Gravity, estimate_gravity, sample_frames
 from sg3d.ingest.poses.online import NotTracked
@@ -152,7 +155,7 @@ class LiveCounts:
 class LiveMapper:
     """A room's evidence as frames arrive; `look()`, `detect_next()`, `graph()`, `finish()`."""
 
-    def __init__(self, source: LiveSource, detector, settings: Settings, room: str, building: str,
+    def __init__(self, source: LiveSource, detector: Detector, settings: Settings, room: str, building: str,
                  colour_of: Optional[Callable[[int], Optional[np.ndarray]]] = None):
         self.source = source
         self.detector = detector
@@ -340,9 +343,8 @@ class LiveMapper:
         except FrameError as exc:
             self.counts.skipped[exc.name] = exc.reason
             return False
-        up = self.gravity.up
         dets = detections_of(frame, self.detector, self.settings, self.stats)
-        found = sightings_of(frame, dets, up, horizontal_frame(up), self.stats, self.gravity.floor_height)
+        found = sightings_of(frame, dets, Ground(self.gravity.up, self.gravity.floor_height), self.stats)
         ev = _Evidence(dets, found, existence.View.of(frame))
         frame.release()
         with self._lock:
@@ -351,7 +353,7 @@ class LiveMapper:
         self.counts.detected += 1
         return True
 
-    def skipped(self, seq=None) -> dict[str, str]:
+    def skipped(self, seq: Any = None) -> dict[str, str]:
         """Frame name -> reason of every bad frame met: those this mapper met, and (with `seq`, the
         recording it followed) those its reader met anywhere else (gravity, a whole-recording
         pass, the motion check), as a build names them."""
@@ -382,21 +384,21 @@ class LiveMapper:
         if fast and found is not None:
             basis = horizontal_frame(self.gravity.up)
 
-            def discover(colour_of, views, objects, up, floor, stats):
-                return carried_over(objects, found, basis)
+            def discover(evidence: Evidence, objects: list[ObjectObservation]) -> Found:
+                return Found(objects=carried_over(objects, found, basis))
         elif fast:
-            def discover(colour_of, views, objects, up, floor, stats):
-                return []
+            def discover(evidence: Evidence, objects: list[ObjectObservation]) -> Found:
+                return Found(objects=[])
         else:
-            def discover(colour_of, views, objects, up, floor, stats):
+            def discover(evidence: Evidence, objects: list[ObjectObservation]) -> Found:
                 before = [(o.label, np.asarray(o.mean, float)) for o in objects]
-                nodes = depth_discovery(self.settings)(colour_of, views, objects, up, floor, stats)
-                self.discovered = Discovered(list(nodes), [(label, centre, after) for (label, centre), after
-                                                           in zip(before, objects)], version)
-                return nodes
-        graph = graph_of_evidence(sightings, views, self.colour_of, self.gravity.up, self.settings, self.room,
-                                  self.building, None, stats or PipelineStats(), scan=scan,
-                                  floor=self.gravity.floor_height, discover=discover)
+                result = depth_discovery(self.settings)(evidence, objects)
+                self.discovered = Discovered(list(result.objects), [(label, centre, after) for (label, centre), after
+                                                                    in zip(before, objects)], version)
+                return result
+        seen = Evidence(sightings, views, self.colour_of, Ground(self.gravity.up, self.gravity.floor_height))
+        graph = graph_of_evidence(seen, Target(self.room, self.building, scan=scan), self.settings,
+                                  stats or PipelineStats(), discover=discover)
         return graph, chosen
 
     def _colour(self, i: int) -> Optional[np.ndarray]:
@@ -406,7 +408,7 @@ class LiveMapper:
             return None
 
     # -- the end of the source -------------------------------------------------------------------
-    def finish(self, seq=None) -> list[int]:
+    def finish(self, seq: Any = None) -> list[int]:
         """The source ended: judge what is left, then (when `seq`, the whole recording, can be read
         again) make the evidence a build's: gravity as a build estimates it (sightings measured
         again under it when it differs), the coverage choice over all sharp frames, the chosen
@@ -448,7 +450,6 @@ class LiveMapper:
         boxes are kept; attributes depend on the up direction)."""
         assert self.gravity is not None
         up = self.gravity.up
-        basis = horizontal_frame(up)
         for i in frames:
             ev = self._evidence.get(i)
             if ev is None:
@@ -458,7 +459,7 @@ class LiveMapper:
                 frame.load()
             except FrameError:
                 continue
-            found = sightings_of(frame, ev.dets, up, basis, self.stats, self.gravity.floor_height)
+            found = sightings_of(frame, ev.dets, Ground(up, self.gravity.floor_height), self.stats)
             frame.release()
             with self._lock:
                 self._evidence[i] = _Evidence(ev.dets, found, ev.view)

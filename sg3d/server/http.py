@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import logging
 from pathlib import Path
-from typing import Any, Literal, Optional
+from typing import TYPE_CHECKING, Any, Literal, Optional
 
 from fastapi import Depends, FastAPI, HTTPException, Query, Request
 from fastapi import Path as PathParam
@@ -53,6 +53,9 @@ from sg3d.server.dispatch import (
 from sg3d.server.guard import PARSED, TOKEN_HINT, Guard
 from sg3d.server.schemas import ROUTE_ERRORS
 from sg3d.server.watch import STOPPED, UP, StoreWatch
+
+if TYPE_CHECKING:
+    from sg3d.settings import Settings
 
 _log = logging.getLogger("sg3d.server")
 
@@ -117,7 +120,7 @@ def _status(exc: AppError) -> int:
     return 404 if isinstance(exc, NotFound) else 403 if isinstance(exc, Refused) else 400
 
 
-def store_failure(exc: Exception, settings) -> tuple[int, str, dict]:
+def store_failure(exc: Exception, settings: Settings) -> tuple[int, str, dict]:
     """Status, detail and headers for a failure that is not the caller's: an explicit stop is 503
     with the way out; a store that is restarting, briefly unreachable or past a call's deadline is
     503 with Retry-After; a full disk is 507 naming it; a statement too large for one message to
@@ -201,7 +204,7 @@ def validation_details(errors) -> list[Row]:
     return details
 
 
-def create_app(settings, token: str, handle: Optional[StoreHandle] = None,
+def create_app(settings: Settings, token: str, handle: Optional[StoreHandle] = None,
                max_body: int = bounds.DEFAULT_MAX_BODY, quick_timeout_s: float = QUICK_TIMEOUT_S,
                long_timeout_s: float = LONG_TIMEOUT_S, max_threads: int = MAX_THREADS,
                answer_cache: int = bounds.ANSWER_CACHE_ENTRIES) -> FastAPI:
@@ -251,7 +254,7 @@ def _reconnect(stores: StoreHandle) -> None:
     stores.get(write=True)
 
 
-def _add_error_handlers(api: FastAPI, settings) -> None:
+def _add_error_handlers(api: FastAPI, settings: Settings) -> None:
     # async: Starlette runs a plain handler in the thread pool
     @api.exception_handler(AppError)
     async def _app_error(request: Request, exc: AppError):
@@ -282,7 +285,7 @@ class Failures:
     and then re-raises, and uvicorn closes the connection of an exception raised after its answer:
     the client's next request on it met a reset.)"""
 
-    def __init__(self, app, settings):
+    def __init__(self, app, settings: Settings):
         self.app = app
         self.settings = settings
 
@@ -311,7 +314,7 @@ class Failures:
 DISK_FULL = "disk full"
 
 
-def disk_full(settings) -> Optional[str]:
+def disk_full(settings: Settings) -> Optional[str]:
     """Why the embedded store's disk counts as full (less free space in its folder than
     `sg3d.graphdb.embedded.min_free_mb()`, SG3D_MIN_FREE_MB), or None (also for a --uri store)."""
     if not getattr(settings, "embedded", False):
@@ -321,7 +324,7 @@ def disk_full(settings) -> Optional[str]:
     return disk_full_message(store_dir(Path(settings.embedded_home()).expanduser().resolve()))
 
 
-def _add_health_route(api: FastAPI, stores: StoreHandle, settings, calls: Dispatcher, watch: StoreWatch) -> None:
+def _add_health_route(api: FastAPI, stores: StoreHandle, settings: Settings, calls: Dispatcher, watch: StoreWatch) -> None:
     def check() -> Optional[str]:
         watch.raise_if_down(probe=True)     # the daemon's process and port, without the driver
         stores.call(lambda s: s.driver.verify_connectivity())
@@ -382,7 +385,7 @@ def _add_read_routes(api: FastAPI, stores: StoreHandle, calls: Dispatcher, auth:
         if kept is not None:
             return json_response(kept)
         return await calls.quick(lambda: json_response(read(lambda s: app_answers.answer_and_keep(
-            s, answers, snapshot, body.question, room=body.room, building=body.building, viewpoint=viewpoint))))
+            s, answers, snapshot, app_answers.Asking(body.question, body.room, body.building, viewpoint)))))
 
     @api.post("/plan", response_model=schemas.Plan, **opts)
     async def plan(body: PlanBody):
@@ -411,7 +414,7 @@ def _add_read_routes(api: FastAPI, stores: StoreHandle, calls: Dispatcher, auth:
         """A room's objects with readable names, filtered by label, colour and distance to a point."""
         point = _near(near)
         return await calls.quick(lambda: json_response(read(lambda s: app_rooms.room_objects(
-            s, building, room, label=label, colour=colour, near=point, radius=radius))))
+            s, building, room, app_rooms.ObjectFilter(label, colour, point, radius)))))
 
     @api.get("/graph", response_model=schemas.Graph, dependencies=auth, tags=["read"],
              responses={**ROUTE_ERRORS, 200: {"content": {"application/graphml+xml": {}},

@@ -12,7 +12,7 @@ plugin ignores that timeout (26.10); the embedded store stops any statement afte
 (`sg3d.graphdb.embedded.store_timeout_s`, 30 s)."""
 from __future__ import annotations
 
-from typing import Any, Optional
+from typing import TYPE_CHECKING, Any, Optional
 
 from sg3d.app import ask as app_ask
 from sg3d.app.graph import CYPHER_TIMEOUT_S
@@ -22,6 +22,9 @@ from sg3d.app import rooms as app_rooms
 from sg3d.app.errors import AppError
 from sg3d.app.stores import StoreHandle
 from sg3d.server.dispatch import LONG_TIMEOUT_S, QUICK_TIMEOUT_S
+
+if TYPE_CHECKING:
+    from sg3d.settings import Settings
 
 INSTRUCTIONS = (
     "sg3d holds 3-D scene graphs of scanned rooms: Object nodes (label, colour, position in metres, "
@@ -49,7 +52,7 @@ def store_message(exc: Exception) -> str:
     return text if len(text) <= STORE_MESSAGE_CHARS else text[:STORE_MESSAGE_CHARS - 1] + "…"
 
 
-def build_server(settings, handle: Optional[StoreHandle] = None, dispatcher=None,
+def build_server(settings: Settings, handle: Optional[StoreHandle] = None, dispatcher=None,
                  timeouts: Optional[dict[str, float]] = None):
     """The MCP server for `settings`' store (run it with `.run("stdio")`). `timeouts`: seconds per
     kind of call ("cypher", "read", "plan"), defaults `TIMEOUTS`."""
@@ -109,8 +112,8 @@ def build_server(settings, handle: Optional[StoreHandle] = None, dispatcher=None
                      radius: Optional[float] = None) -> list[dict[str, Any]]:
         """The objects of a room with readable names, label, colour, position [x, y, z] (m) and size;
         filter by label ("cup"), colour ("red") or distance from a point `near` [x, y, z]."""
-        return await read(lambda s: app_rooms.room_objects(s, building, room, label=label, colour=colour,
-                                                     near=near, radius=radius))
+        return await read(lambda s: app_rooms.room_objects(s, building, room,
+                                                           app_rooms.ObjectFilter(label, colour, near, radius)))
 
     @server.tool()
     async def cypher(statement: str, params: Optional[dict[str, Any]] = None) -> dict[str, Any]:

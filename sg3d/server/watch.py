@@ -15,10 +15,13 @@ import socket
 import threading
 import time
 from pathlib import Path
-from typing import Callable, Optional
+from typing import TYPE_CHECKING, Callable, Optional
 from urllib.parse import urlsplit
 
 from sg3d.server.dispatch import StoreUnavailable
+
+if TYPE_CHECKING:
+    from sg3d.settings import Settings
 
 log = logging.getLogger("sg3d.serve")
 
@@ -35,7 +38,7 @@ class StoreWatch:
     """The state of `settings`' store; `restart` (run in a daemon thread) brings a dead embedded
     store back."""
 
-    def __init__(self, settings, restart: Optional[Callable[[], None]] = None):
+    def __init__(self, settings: Settings, restart: Optional[Callable[[], None]] = None):
         self.embedded = bool(getattr(settings, "embedded", False))
         self._restart_fn = restart
         self._restarting = threading.Lock()

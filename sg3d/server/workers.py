@@ -18,6 +18,10 @@ import os
 import shutil
 import tempfile
 from pathlib import Path
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from sg3d.settings import Settings
 
 SERVE_ENV = "SG3D_SERVE_WORKER"
 FACTORY = "sg3d.server.workers:app"
@@ -36,7 +40,7 @@ def app():
     return create_app(settings, token, max_body=given["max_body"], max_threads=given["threads"])
 
 
-def serve_workers(settings, sock, workers: int, max_body: int, threads: int, access_log: bool) -> None:
+def serve_workers(settings: Settings, sock, workers: int, max_body: int, threads: int, access_log: bool) -> None:
     """Serve on the bound socket `sock` with `workers` processes until SIGTERM/SIGINT."""
     import uvicorn
     from uvicorn.supervisors import Multiprocess

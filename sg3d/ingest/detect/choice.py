@@ -18,6 +18,7 @@ from sg3d.ingest.detect.models import (
     SCORE_THRESHOLD,
     Detector,
     OnnxDetector,
+    Postprocess,
     SsdMobilenetDetector,
     TiledDetector,
     _DnnDetector,
@@ -47,7 +48,7 @@ def ssd_runtime() -> str:
     return "openvino" if openvino_available() else "opencv"
 
 
-def ssd_detector(**options) -> SsdMobilenetDetector:
+def ssd_detector(**options: Any) -> SsdMobilenetDetector:
     """The packaged SSD on the runtime `ssd_runtime` names."""
     cls = OpenVinoSsdDetector if ssd_runtime() == "openvino" else SsdMobilenetDetector
     return cls(**options)
@@ -96,7 +97,7 @@ def detector_for(name: Optional[str] = None, score_threshold: float = SCORE_THRE
         base_detector: _DnnDetector = ssd_detector(score_threshold=score_threshold)
     elif base.lower().endswith(".onnx"):
         path = Path(base)
-        base_detector = OnnxDetector(path, _onnx_labels(path), score_threshold=score_threshold)
+        base_detector = OnnxDetector(path, _onnx_labels(path), post=Postprocess(score_threshold=score_threshold))
     else:
         raise ValueError(f"unknown detector {base!r}: use {DEFAULT_DETECTOR!r} or a .onnx path")
     detector: Detector = TiledDetector(base_detector) if tiles else base_detector
@@ -124,7 +125,7 @@ def make_detector(config: Union[None, str, Mapping[str, Any]] = None) -> Detecto
     if kind in _SSD_NAMES:
         detector: Detector = ssd_detector(**options)
     elif kind == "onnx":
-        detector = OnnxDetector(**options)
+        detector = OnnxDetector.of(**options)
     else:
         raise ValueError(f"unknown detector kind {kind!r}")
     if recognize:

@@ -16,7 +16,7 @@ import json
 import os
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Mapping, Optional, Protocol, Sequence, Union, cast
+from typing import Any, Mapping, Optional, Protocol, Sequence, Union, cast
 
 import cv2
 import numpy as np
@@ -100,7 +100,7 @@ def box_iou(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return np.where(union > 0, inter / np.maximum(union, 1e-12), 0.0)
 
 
-def _nms(boxes: np.ndarray, scores: np.ndarray, iou: float, class_ids=None) -> list[int]:
+def _nms(boxes: np.ndarray, scores: np.ndarray, iou: float, class_ids: Optional[np.ndarray] = None) -> list[int]:
     if len(boxes) == 0:
         return []
     xywh = [[float(x1), float(y1), float(x2 - x1), float(y2 - y1)] for x1, y1, x2, y2 in boxes]
@@ -112,25 +112,29 @@ def _nms(boxes: np.ndarray, scores: np.ndarray, iou: float, class_ids=None) -> l
     return sorted((int(i) for i in np.asarray(keep).reshape(-1)), key=lambda i: -sc[i])
 
 
-def detections_from_candidates(
-    boxes: np.ndarray,
-    class_ids: np.ndarray,
-    scores: np.ndarray,
-    label_map: Mapping[int, str],
-    score_threshold: float = SCORE_THRESHOLD,
-    nms_iou: float = NMS_IOU,
-    same_region_iou: float = SAME_REGION_IOU,
-    candidate_min_score: float = CANDIDATE_MIN_SCORE,
-    top_k: int = TOP_K,
-) -> list[Detection]:
+@dataclass(frozen=True)
+class Postprocess:
+    """How raw candidates become detections (`detections_from_candidates`)."""
+
+    score_threshold: float = SCORE_THRESHOLD
+    nms_iou: float = NMS_IOU
+    same_region_iou: float = SAME_REGION_IOU
+    top_k: int = TOP_K
+    candidate_min_score: float = CANDIDATE_MIN_SCORE
+
+
+def detections_from_candidates(boxes: np.ndarray, class_ids: np.ndarray, scores: np.ndarray,
+                               label_map: Mapping[int, str], post: Postprocess = Postprocess()) -> list[Detection]:
     """Collapse raw single-label candidates (pixel boxes) into objects with top-k labels.
 
-    1. seeds = candidates scoring >= score_threshold with a known label;
-    2. NMS per class (SDR part 1, Sec. IV-C), then across classes at `same_region_iou`:
+    1. seeds = candidates scoring >= post.score_threshold with a known label;
+    2. NMS per class (SDR part 1, Sec. IV-C), then across classes at `post.same_region_iou`:
        two seeds of different classes on the same region are one object;
     3. each surviving seed gathers, from all raw candidates over the same region
        (IoU > same_region_iou), the best score per class: its top-k labels.
     """
+    score_threshold, nms_iou, same_region_iou = post.score_threshold, post.nms_iou, post.same_region_iou
+    candidate_min_score, top_k = post.candidate_min_score, post.top_k
     boxes = np.asarray(boxes, dtype=np.float64).reshape(-1, 4)
     class_ids = np.asarray(class_ids).astype(int).reshape(-1)
     scores = np.asarray(scores, dtype=np.float64).reshape(-1)
@@ -189,41 +193,38 @@ def default_num_threads() -> int:
 class _DnnDetector:
     """Shared lazy-loading and post-processing of OpenCV-dnn detectors."""
 
-    def __init__(self, label_map, score_threshold, nms_iou, same_region_iou, top_k, num_threads):
+    def __init__(self, label_map: Mapping[int, str], post: Postprocess, num_threads: Optional[int]) -> None:
         self.label_map = dict(label_map)
-        self.score_threshold = score_threshold
-        self.nms_iou = nms_iou
-        self.same_region_iou = same_region_iou
-        self.top_k = top_k
+        self.post = post
         self.num_threads = num_threads if num_threads is not None else default_num_threads()
         self._net = None
 
     @property
-    def net(self):
+    def score_threshold(self) -> float:
+        return self.post.score_threshold
+
+    @property
+    def net(self) -> Any:
         if self._net is None:
             cv2.setNumThreads(self.num_threads)
             self._net = self._load()
         return self._net
 
-    def _load(self):
+    def _load(self) -> Any:
         raise NotImplementedError
 
     def prepare(self) -> None:
         """Load the network now (a build does it while frames are being selected)."""
         _ = self.net
 
-    def _candidates(self, image_bgr) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    def _candidates(self, image_bgr: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         raise NotImplementedError
 
     def detect(self, image_bgr: np.ndarray) -> list[Detection]:
         if image_bgr is None or image_bgr.ndim != 3:
             raise ValueError("detect() needs an HxWx3 BGR image")
         boxes, class_ids, scores = self._candidates(image_bgr)
-        return detections_from_candidates(
-            boxes, class_ids, scores, self.label_map,
-            score_threshold=self.score_threshold, nms_iou=self.nms_iou,
-            same_region_iou=self.same_region_iou, top_k=self.top_k,
-        )
+        return detections_from_candidates(boxes, class_ids, scores, self.label_map, self.post)
 
 
 class SsdMobilenetDetector(_DnnDetector):
@@ -238,15 +239,15 @@ class SsdMobilenetDetector(_DnnDetector):
         model_dir: Union[str, Path, None] = None,
         num_threads: Optional[int] = None,
     ):
-        super().__init__(load_label_map(COCO_LABELS_FILE), score_threshold, nms_iou,
-                         same_region_iou, top_k, num_threads)
+        super().__init__(load_label_map(COCO_LABELS_FILE), Postprocess(score_threshold, nms_iou, same_region_iou, top_k),
+                         num_threads)
         self.model_dir = Path(model_dir) if model_dir is not None else None
 
-    def _load(self):
+    def _load(self) -> Any:
         folder = self.model_dir or packaged_model_dir()
         return cv2.dnn.readNetFromTensorflow(str(folder / SSD_MODEL_FILE), str(folder / SSD_CONFIG_FILE))
 
-    def _candidates(self, image_bgr):
+    def _candidates(self, image_bgr: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         h, w = image_bgr.shape[:2]
         blob = cv2.dnn.blobFromImage(image_bgr, size=SSD_INPUT_SIZE, swapRB=True, crop=False)
         net = self.net
@@ -255,6 +256,17 @@ class SsdMobilenetDetector(_DnnDetector):
         # the graph keeps up to 100 per-class-NMS'd candidates down to score 0.01.
         raw = net.forward().reshape(-1, 7)
         return _clip_boxes(raw[:, 3:7], w, h), raw[:, 1], raw[:, 2]
+
+
+@dataclass(frozen=True)
+class OnnxInput:
+    """What an ONNX detector's network takes: the image resized to `size` (width, height), scaled
+    by `scale` after subtracting `mean`, RGB unless `swap_rb=False`."""
+
+    size: Sequence[int] = (640, 640)
+    scale: float = 1.0 / 255.0
+    mean: Sequence[float] = (0.0, 0.0, 0.0)
+    swap_rb: bool = True
 
 
 class OnnxDetector(_DnnDetector):
@@ -268,34 +280,32 @@ class OnnxDetector(_DnnDetector):
     (width, height), scaled by `scale` after subtracting `mean`, RGB unless `swap_rb=False`.
     """
 
-    def __init__(
-        self,
-        path: Union[str, Path],
-        labels_file: Union[str, Path],
-        input_size: Sequence[int] = (640, 640),
-        scale: float = 1.0 / 255.0,
-        mean: Sequence[float] = (0.0, 0.0, 0.0),
-        swap_rb: bool = True,
-        score_threshold: float = SCORE_THRESHOLD,
-        nms_iou: float = NMS_IOU,
-        same_region_iou: float = SAME_REGION_IOU,
-        top_k: int = TOP_K,
-        num_threads: Optional[int] = None,
-    ):
-        super().__init__(load_label_map(labels_file), score_threshold, nms_iou,
-                         same_region_iou, top_k, num_threads)
+    def __init__(self, path: Union[str, Path], labels_file: Union[str, Path], net_input: Optional[OnnxInput] = None,
+                 post: Postprocess = Postprocess(), num_threads: Optional[int] = None) -> None:
+        super().__init__(load_label_map(labels_file), post, num_threads)
+        net_input = net_input or OnnxInput()
         self.path = Path(path)
-        self.input_size = (int(input_size[0]), int(input_size[1]))
-        self.scale = float(scale)
-        self.mean = tuple(float(m) for m in mean)
-        self.swap_rb = bool(swap_rb)
+        self.input_size = (int(net_input.size[0]), int(net_input.size[1]))
+        self.scale = float(net_input.scale)
+        self.mean = tuple(float(m) for m in net_input.mean)
+        self.swap_rb = bool(net_input.swap_rb)
 
-    def _load(self):
+    @classmethod
+    def of(cls, path: Union[str, Path], labels_file: Union[str, Path], **options: Any) -> "OnnxDetector":
+        """An ONNX detector from flat options, as a detector mapping names them (`input_size`, `scale`,
+        `mean`, `swap_rb`, `score_threshold`, `nms_iou`, `same_region_iou`, `top_k`, `num_threads`)."""
+        net: dict[str, Any] = {k: options.pop(k) for k in ("scale", "mean", "swap_rb") if k in options}
+        if "input_size" in options:
+            net["size"] = options.pop("input_size")
+        num_threads = options.pop("num_threads", None)
+        return cls(path, labels_file, OnnxInput(**net), Postprocess(**options), num_threads)
+
+    def _load(self) -> Any:
         if not self.path.exists():
             raise FileNotFoundError(f"ONNX model not found: {self.path}")
         return cv2.dnn.readNetFromONNX(str(self.path))
 
-    def _candidates(self, image_bgr):
+    def _candidates(self, image_bgr: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         h, w = image_bgr.shape[:2]
         blob = cv2.dnn.blobFromImage(image_bgr, scalefactor=self.scale, size=self.input_size,
                                      mean=self.mean, swapRB=self.swap_rb, crop=False)
@@ -391,8 +401,7 @@ class TiledDetector:
             scores.append(np.asarray(s, dtype=np.float64).reshape(-1)[keep])
         base = self.base
         found = detections_from_candidates(np.vstack(boxes), np.concatenate(ids), np.concatenate(scores),
-                                           base.label_map, score_threshold=base.score_threshold, nms_iou=base.nms_iou,
-                                           same_region_iou=base.same_region_iou, top_k=base.top_k)
+                                           base.label_map, base.post)
         for det in found:
             det.full_frame = named_by_full_frame(det, boxes[0], ids[0], scores[0], base.label_map, base.score_threshold)
         return found

@@ -20,7 +20,7 @@ import os
 import shutil
 import tempfile
 from pathlib import Path
-from typing import Optional, Union
+from typing import Any, Optional, Union
 
 import cv2
 import numpy as np
@@ -130,7 +130,7 @@ def _sha256(path: Path) -> str:
     return h.hexdigest()
 
 
-def _cut_graph(pb: Path):
+def _cut_graph(pb: Path) -> Any:
     """The frozen graph as an OpenVINO model with a fixed 300x300 uint8 RGB input, ending at the
     decoded boxes and class scores."""
     import openvino as ov
@@ -144,7 +144,7 @@ def _cut_graph(pb: Path):
                     full.get_parameters(), "ssd_mobilenet_v2_coco_raw")
 
 
-def _read_cached(folder: Path, expected: dict):
+def _read_cached(folder: Path, expected: dict) -> Any:
     """The cached model when its manifest matches and its files hash as written, else None."""
     import openvino as ov
 
@@ -160,7 +160,7 @@ def _read_cached(folder: Path, expected: dict):
         return None
 
 
-def converted_model(pb: Path, cache_root: Optional[Path] = None):
+def converted_model(pb: Path, cache_root: Optional[Path] = None) -> Any:
     """The cut OpenVINO model of the frozen graph `pb`, from the cache or converted (and cached)
     now. A cache entry that fails to load or to match its manifest is replaced."""
     import openvino as ov
@@ -198,12 +198,12 @@ class OpenVinoSsdDetector(SsdMobilenetDetector):
     """The packaged SSD through OpenVINO (fp32), candidates chosen as cv2.dnn chooses them; the
     rest (NMS, top-k labels, tiles) is `SsdMobilenetDetector`'s."""
 
-    def __init__(self, *args, cache_dir: Union[str, Path, None] = None, **kwargs):
+    def __init__(self, *args: Any, cache_dir: Union[str, Path, None] = None, **kwargs: Any) -> None:
         super().__init__(*args, **kwargs)
         self.cache_dir = Path(cache_dir) if cache_dir is not None else None
-        self._request = None
+        self._request: Any = None
 
-    def _load(self):
+    def _load(self) -> Any:
         import openvino as ov
 
         folder = self.model_dir or packaged_model_dir()
@@ -212,7 +212,7 @@ class OpenVinoSsdDetector(SsdMobilenetDetector):
         self._request = compiled.create_infer_request()
         return compiled
 
-    def _candidates(self, image_bgr):
+    def _candidates(self, image_bgr: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         h, w = image_bgr.shape[:2]
         compiled = self.net
         # the same bilinear resize as cv2.dnn.blobFromImage; the graph's own resize of a 300x300

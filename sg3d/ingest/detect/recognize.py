@@ -97,7 +97,7 @@ class EfficientNetRecognizer:
         return [(self._names[i], float(probs[i])) for i in best]
 
 
-def crop(image_bgr: np.ndarray, box, margin: float = CROP_MARGIN) -> np.ndarray:
+def crop(image_bgr: np.ndarray, box: Any, margin: float = CROP_MARGIN) -> np.ndarray:
     h, w = image_bgr.shape[:2]
     x1, y1, x2, y2 = box
     mx, my = (x2 - x1) * margin, (y2 - y1) * margin

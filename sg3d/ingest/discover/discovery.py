@@ -40,7 +40,7 @@ chunk's named objects meet the room's cloud (`sg3d.ingest.discover.room_cloud`),
 from __future__ import annotations
 
 from dataclasses import replace
-from typing import Callable, Iterable, Optional, Sequence
+from typing import TYPE_CHECKING, Callable, Iterable, Optional, Sequence
 
 import cv2
 import numpy as np
@@ -67,6 +67,9 @@ from sg3d.ingest.discover.segments import (
 from sg3d.ingest.discover.structure import SURFACE_SLAB_M, Element
 from sg3d.ingest.objects import colour as colour_model
 from sg3d.ingest.objects.attributes import hsv_histogram, thumbnail
+
+if TYPE_CHECKING:
+    from sg3d.ingest.objects.existence import View
 
 # Furniture whose top is a surface others stand on (a chair tucked under a table does not own
 # the table's top).
@@ -412,13 +415,13 @@ def shape_word(size: Iterable[float]) -> Optional[str]:
     return None
 
 
-def _to_camera(world: np.ndarray, view) -> np.ndarray:
+def _to_camera(world: np.ndarray, view: View) -> np.ndarray:
     """World points in a view's camera frame (z forward)."""
     w2c = np.linalg.inv(view.pose)
     return world @ w2c[:3, :3].T + w2c[:3, 3]
 
 
-def _project(world: np.ndarray, view) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def _project(world: np.ndarray, view: View) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Pixel coordinates (u, v) and camera depth z of the world points in front of a view."""
     cam = _to_camera(world, view)
     cam = cam[cam[:, 2] > 0.1]
@@ -426,7 +429,7 @@ def _project(world: np.ndarray, view) -> tuple[np.ndarray, np.ndarray, np.ndarra
     return K[0, 0] * cam[:, 0] / cam[:, 2] + K[0, 2], K[1, 1] * cam[:, 1] / cam[:, 2] + K[1, 2], cam[:, 2]
 
 
-def _pixels(u: np.ndarray, v: np.ndarray, view) -> Optional[tuple[int, int, int, int]]:
+def _pixels(u: np.ndarray, v: np.ndarray, view: View) -> Optional[tuple[int, int, int, int]]:
     """The pixel box (x1, y1, x2, y2) of projected points, clipped to the image; None when empty."""
     if len(u) == 0:
         return None
@@ -446,7 +449,7 @@ def surface_sample(world: np.ndarray, n: int = SURFACE_SAMPLE) -> tuple[float, .
 
 
 def screens_in_view(screens: Sequence[tuple[np.ndarray, np.ndarray]], cloud: RoomCloud,
-                    view) -> list[tuple[int, int, int, int]]:
+                    view: View) -> list[tuple[int, int, int, int]]:
     """The pixel boxes in a view of the named screens' gravity-frame boxes (lo, hi): the box of
     each one's projected corners (`_pixels`), those in front of the camera; a side within
     SCREEN_BORDER_SHARE of the image border runs to it (the screen was seen cut there, so its
@@ -466,13 +469,14 @@ def screens_in_view(screens: Sequence[tuple[np.ndarray, np.ndarray]], cloud: Roo
     return out
 
 
-def segment_reading(u: np.ndarray, v: np.ndarray, z: np.ndarray, view, image: np.ndarray,
+def segment_reading(projected: tuple[np.ndarray, np.ndarray, np.ndarray], view: View, image: np.ndarray,
                     box: tuple[int, int, int, int],
                     screens: Sequence[tuple[int, int, int, int]] = ()) -> Optional[colour_model.ColourReading]:
     """One view's colour reading of a segment from its own pixels: its projected voxel centres
-    (`_project`), each marking the disc a voxel covers there, read with the cast of the light
+    (`projected` = u, v, z of `_project`), each marking the disc a voxel covers there, read with the cast of the light
     around its pixel box divided out (`sg3d.ingest.objects.colour.surround_cast`, the pixel boxes of the
     `screens` in view left out; `read_colour`), as for named objects. None without pixels."""
+    u, v, z = projected
     h, w = image.shape[:2]
     mask = np.zeros((h, w), np.uint8)
     for x, y, d in zip(u, v, z):
@@ -499,7 +503,7 @@ def segment_colour(seg: Segment, world: np.ndarray, cloud: RoomCloud,
         if image is None:
             continue
         assert box is not None          # an image is read only for a view with a pixel box
-        reading = segment_reading(u, v, z, view, image, box, screens_in_view(screens, cloud, view))
+        reading = segment_reading((u, v, z), view, image, box, screens_in_view(screens, cloud, view))
         if reading is not None:
             readings.append(reading)
             weights.append(colour_model.view_weight(reading.n, 1.0, False))
@@ -615,7 +619,7 @@ def points_object(local_id: str, lo: np.ndarray, hi: np.ndarray, idx: np.ndarray
 def _desks(surfaces: Sequence[Element], cloud: RoomCloud,
            colour_image: Callable[[int], Optional[np.ndarray]]) -> list[tuple[Element, ObjectObservation]]:
     """The surfaces shaped like desks (`furniture.desk_shaped`), each with its desk node."""
-    def as_object(local_id, lo, hi, idx):
+    def as_object(local_id: str, lo: np.ndarray, hi: np.ndarray, idx: np.ndarray) -> ObjectObservation:
         return points_object(local_id, lo, hi, idx, cloud, colour_image)
 
     out: list[tuple[Element, ObjectObservation]] = []
@@ -653,7 +657,7 @@ def _couches(seats: Sequence[Element], segments: Sequence[Segment], cloud: RoomC
              ) -> tuple[list[tuple[Element, tuple[np.ndarray, np.ndarray], ObjectObservation]], list[Segment]]:
     """The seat levels shaped like couches (`furniture.couch_shaped`), lowest first, each with its
     whole box and its couch node; and the segments that are no couch's part."""
-    def as_object(local_id, lo, hi, idx):
+    def as_object(local_id: str, lo: np.ndarray, hi: np.ndarray, idx: np.ndarray) -> ObjectObservation:
         return points_object(local_id, lo, hi, idx, cloud, colour_image)
 
     out: list[tuple[Element, tuple[np.ndarray, np.ndarray], ObjectObservation]] = []

@@ -23,7 +23,7 @@ from __future__ import annotations
 
 import functools
 from dataclasses import dataclass
-from typing import Callable, Optional, Sequence
+from typing import TYPE_CHECKING, Callable, Optional, Sequence
 
 import cv2
 import numpy as np
@@ -33,6 +33,9 @@ from sg3d.ingest.discover.room_cloud import NORMAL_JUMP_M, NORMAL_JUMP_REL, Room
 from sg3d.ingest.discover.segments import Segment
 from sg3d.ingest.discover.structure import SURFACE_CELL_M, SURFACE_SLAB_M, UP_NORMAL_COS, Element
 from sg3d.ingest.objects import colour as colour_model
+
+if TYPE_CHECKING:
+    from sg3d.ingest.objects.existence import View
 
 # Axial depth noise of a structured-light / stereo RGB-D camera (Kinect v1 model, Nguyen et al.
 # 2012, which the RealSense D4xx roughly follows at desk range): sigma(z) = NOISE_A + NOISE_B (z - NOISE_Z0)^2.
@@ -464,7 +467,7 @@ def flat_regions(plane: np.ndarray, cells: TopCells, taken: Sequence[tuple[np.nd
     return out
 
 
-def pixel_footprint(view, z: np.ndarray) -> float:
+def pixel_footprint(view: View, z: np.ndarray) -> float:
     """The width (m) one pixel of a view's small depth grid covers at the median range z of its
     pixels on a top (z / focal length of the small grid)."""
     fx = float(view.K[0, 0]) * view.depth.shape[1] / view.size[0]

@@ -9,11 +9,14 @@ Coordinates in this module are gravity-frame: (a, b, h) with h = p . up - floor 
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Optional, Sequence
+from typing import TYPE_CHECKING, Optional, Sequence
 
 import numpy as np
 
 from sg3d.core.geometry import horizontal_frame
+
+if TYPE_CHECKING:
+    from sg3d.ingest.objects.existence import View
 
 # Farther than this, Kinect-type depth is too noisy to outline an object.
 MAX_RANGE_M = 4.0
@@ -47,7 +50,7 @@ class RoomCloud:
         return q @ self.basis
 
 
-def camera_grid(view) -> tuple[np.ndarray, np.ndarray]:
+def camera_grid(view: View) -> tuple[np.ndarray, np.ndarray]:
     """Eq. 8 on a view's small depth grid: camera-frame points (H x W x 3) and the depth (H x W)."""
     d = view.depth.astype(np.float64)
     h, w = d.shape
@@ -60,14 +63,14 @@ def camera_grid(view) -> tuple[np.ndarray, np.ndarray]:
     return np.stack([(uu - K[0, 2]) / K[0, 0] * d, (vv - K[1, 2]) / K[1, 1] * d, d], axis=-1), d
 
 
-def grid_points(view, basis: np.ndarray, floor: float) -> tuple[np.ndarray, np.ndarray]:
+def grid_points(view: View, basis: np.ndarray, floor: float) -> tuple[np.ndarray, np.ndarray]:
     """A view's small depth grid as gravity-frame points (H x W x 3, h above `floor`; garbage
     where the depth is 0) and its depth (H x W)."""
     cam, d = camera_grid(view)
     return to_gravity(cam, view, basis, floor), d
 
 
-def to_gravity(cam: np.ndarray, view, basis: np.ndarray, floor: float) -> np.ndarray:
+def to_gravity(cam: np.ndarray, view: View, basis: np.ndarray, floor: float) -> np.ndarray:
     """Camera-frame points of a view -> gravity-frame points (h above `floor`)."""
     R, t = view.pose[:3, :3], view.pose[:3, 3]
     local = (cam @ R.T + t) @ basis.T
@@ -75,7 +78,7 @@ def to_gravity(cam: np.ndarray, view, basis: np.ndarray, floor: float) -> np.nda
     return local
 
 
-def view_points(view, basis: np.ndarray, floor: float) -> tuple[np.ndarray, np.ndarray]:
+def view_points(view: View, basis: np.ndarray, floor: float) -> tuple[np.ndarray, np.ndarray]:
     """Eq. 8 on a view's small depth grid: gravity-frame points and unit normals (zero where a
     neighbour lies across a depth jump or has no depth)."""
     cam, d = camera_grid(view)

@@ -354,8 +354,8 @@ def fitted_walls(cloud: RoomCloud, found: list[Element]) -> list[Element]:
                 break
             acc[max(0, tb - 3):tb + 4, max(0, rb - 3):rb + 4] = 0
             tried.append((tb, rmin + (rb + 0.5) * WALL_OFFSET_BIN_M))
-            wall = _fitted_wall(q, nq, taken, planes, cams, sample,
-                                (tb + 0.5) * np.radians(WALL_ANGLE_BIN_DEG), tried[-1][1])
+            wall = _fitted_wall((q, nq), taken, planes, cams, sample,
+                                ((tb + 0.5) * np.radians(WALL_ANGLE_BIN_DEG), tried[-1][1]))
             if wall is not None:
                 break
         if wall is None or wall.plane is None:
@@ -367,8 +367,13 @@ def fitted_walls(cloud: RoomCloud, found: list[Element]) -> list[Element]:
     return out
 
 
-def _fitted_wall(q, nq, taken, planes, cams, sample, theta: float, rho: float) -> Optional[Element]:
-    th, rh = fitted_plane(q[~taken, :2], theta, rho)
+def _fitted_wall(vertical: tuple[np.ndarray, np.ndarray], taken: np.ndarray, planes: list, cams: np.ndarray,
+                 sample: np.ndarray, line: tuple[float, float]) -> Optional[Element]:
+    """The wall fitted to the vertical points (`vertical`: points and normals, `taken` by walls
+    found) near the voted `line` (theta, rho), or None when it is no wall (`planes`: the walls'
+    lines so far; `cams`: the views' positions; `sample`: the room's points)."""
+    q, nq = vertical
+    th, rh = fitted_plane(q[~taken, :2], *line)
     if any(_angle_gap_deg(th, t) <= WALL_SAME_DEG and abs(np.cos(th - t) * rh - r) <= WALL_SAME_M for t, r in planes):
         return None
     inl = (np.abs(q[:, 0] * np.cos(th) + q[:, 1] * np.sin(th) - rh) <= WALL_SLAB_M) & ~taken

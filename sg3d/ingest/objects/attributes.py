@@ -32,7 +32,7 @@ import cv2
 import numpy as np
 from numpy.typing import ArrayLike
 
-from sg3d.core.geometry import horizontal_frame
+from sg3d.core.geometry import Ground, horizontal_frame
 from sg3d.core.model import HIST_BINS, vec3
 from sg3d.ingest.objects import colour as colour_model
 from sg3d.ingest.readers.frames import Frame
@@ -162,12 +162,14 @@ def object_mask(depth: np.ndarray, bounds: tuple[int, int, int, int], stride: in
     return labels == int(np.argmax(counts))
 
 
-def floor_pixels(depth_crop: np.ndarray, bounds: tuple[int, int, int, int], stride: int, K: np.ndarray,
-                 pose: np.ndarray, up: ArrayLike, floor: float, band: float = FLOOR_BAND_M) -> np.ndarray:
-    """Pixels of a box's sampled grid (`depth_crop` = depth[y1:y2:stride, x1:x2:stride]) whose
-    point lies within `band` of the floor's height (`floor` = p . up of the floor plane, the
-    build's gravity estimate): the floor seen around and under a chair's legs or through its
-    open base is no part of it, and no bridge to the wall it stands against."""
+def floor_pixels(depth_crop: np.ndarray, bounds: tuple[int, int, int, int], stride: int, frame: Frame,
+                 ground: Ground, band: float = FLOOR_BAND_M) -> np.ndarray:
+    """Pixels of a box's sampled grid (`depth_crop` = depth[y1:y2:stride, x1:x2:stride] of `frame`)
+    whose point lies within `band` of the floor's height (`ground.floor` = p . up of the floor
+    plane, the build's gravity estimate): the floor seen around and under a chair's legs or through
+    its open base is no part of it, and no bridge to the wall it stands against."""
+    K, pose, up, floor = frame.K, frame.pose, ground.up, ground.floor
+    assert floor is not None
     x1, y1 = bounds[0], bounds[1]
     h, w = depth_crop.shape
     v, u = np.mgrid[0:h, 0:w]
@@ -197,7 +199,7 @@ def object_box(frame: Frame, box: Box, up: Optional[ArrayLike] = None,
     if floor is not None and up is not None:
         x1, y1, x2, y2 = bounds
         crop = frame.depth[y1:y2:stride, x1:x2:stride]
-        on_floor = floor_pixels(crop, bounds, stride, frame.K, frame.pose, up, floor)
+        on_floor = floor_pixels(crop, bounds, stride, frame, Ground(up, floor))
         if np.count_nonzero((crop > 0) & ~on_floor) >= MIN_OFF_FLOOR_SHARE * np.count_nonzero(crop > 0):
             leave_out = on_floor
     mask = object_mask(frame.depth, bounds, stride, leave_out)

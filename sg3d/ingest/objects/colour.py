@@ -26,7 +26,7 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass
 from functools import lru_cache
-from typing import Optional, Sequence, cast
+from typing import Any, Optional, Sequence, cast
 
 import cv2
 import numpy as np
@@ -263,13 +263,13 @@ def is_achromatic(lab: np.ndarray) -> np.ndarray:
     return np.minimum(CHROMA_GAIN * c, np.maximum(c, CHROMA_CAP)) < achromatic_chroma()
 
 
-def lab_luminance(lightness):
+def lab_luminance(lightness: Any) -> Any:
     """CIE relative luminance Y (0-1) of CIELAB lightness L* (0-100) (CIE 1976 inverse)."""
     f = (np.asarray(lightness, np.float32) + 16.0) / 116.0
     return np.where(f > 6 / 29, f * f * f, 3 * (6 / 29) ** 2 * (f - 4 / 29))
 
 
-def luminance_lightness(y):
+def luminance_lightness(y: Any) -> Any:
     """CIELAB lightness L* (0-100) of CIE relative luminance Y (0-1) (CIE 1976)."""
     y = np.asarray(y, np.float64)
     f = np.where(y > (6 / 29) ** 3, np.cbrt(y), y / (3 * (6 / 29) ** 2) + 4 / 29)
@@ -286,7 +286,7 @@ def _neutral_survey() -> tuple[np.ndarray, np.ndarray]:
     return lab[neutral, 0][order], term[neutral][order]
 
 
-def achromatic_term(lightness) -> np.ndarray:
+def achromatic_term(lightness: Any) -> np.ndarray:
     """COLOUR_NAMES index (white, grey or black) of surface lightness L* (array): the survey's
     neutral colour (achromatic term, chroma under `achromatic_chroma`) nearest in lightness once
     the surface's lightness is stretched onto the survey's (`surface_lightness`); a look-up in
@@ -306,19 +306,19 @@ def _achromatic_table() -> np.ndarray:
     return term[np.where(nearer_low, i - 1, i)].astype(np.int64)
 
 
-def relative_luminance(lightness, white: float) -> np.ndarray:
+def relative_luminance(lightness: Any, white: float) -> np.ndarray:
     """Luminance (CIE Y) of lightness L* relative to a white reference of luminance `white`
     (CIE Y, 0-1): the white reference reads 1, nothing reads past it."""
     return np.clip(lab_luminance(lightness) / max(float(white), 1e-3), 0.0, 1.0)
 
 
-def relative_lightness(lightness, white: float) -> np.ndarray:
+def relative_lightness(lightness: Any, white: float) -> np.ndarray:
     """Lightness L* relative to a white reference of luminance `white` (`relative_luminance`,
     as lightness: the white reference reads L* 100)."""
     return luminance_lightness(relative_luminance(lightness, white))
 
 
-def _at_percentile(ascending: np.ndarray, percentile: float):
+def _at_percentile(ascending: np.ndarray, percentile: float) -> Any:
     """The value at `percentile` of an ascending array (nearest rank)."""
     return ascending[round((len(ascending) - 1) * percentile / 100.0)]
 

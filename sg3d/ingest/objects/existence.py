@@ -14,7 +14,7 @@ import math
 from dataclasses import dataclass
 from functools import lru_cache
 from pathlib import Path
-from typing import Optional, Sequence, Union
+from typing import Any, Optional, Sequence, Union
 
 import cv2
 import numpy as np
@@ -166,7 +166,7 @@ class View:
         return self.size[0] / self.depth.shape[1]
 
     @classmethod
-    def of(cls, frame) -> "View":
+    def of(cls, frame: Any) -> "View":
         w, h = frame.size
         f = depth_factor(w)
         small = cv2.resize(frame.depth, (max(1, w // f), max(1, h // f)),
@@ -174,7 +174,7 @@ class View:
         return cls(frame.index, frame.K, frame.pose, (w, h), small)
 
 
-def expected_in_view(centre, extent: float, view: View) -> Optional[float]:
+def expected_in_view(centre: Any, extent: float, view: View) -> Optional[float]:
     """How much should an object with box centre `centre` (world) and largest extent `extent` (m)
     have been seen in `view`? A weight in (0, 1] when it projects inside the image
     (BORDER_MARGIN), at least MIN_PIXELS across, within MAX_RANGE_M, and the depth around its
@@ -234,7 +234,7 @@ class Evidence:
         return self.detected / self.expected if self.expected else 0.0
 
 
-def evidence(centre, extent: float, detected_frames: set[int], views: list[View], **params) -> Evidence:
+def evidence(centre: Any, extent: float, detected_frames: set[int], views: list[View], **params: Any) -> Evidence:
     """Count views that should have shown the object (weighted by apparent size) and the ones that
     did; a detection counts as a full view even where the visibility test cannot tell."""
     expected = 0.0

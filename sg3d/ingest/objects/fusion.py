@@ -28,7 +28,7 @@ from __future__ import annotations
 from collections import defaultdict
 from dataclasses import dataclass, field, replace
 from functools import cached_property
-from typing import Iterable, Optional, Sequence
+from typing import Any, Iterable, Optional, Sequence
 
 import numpy as np
 from scipy.optimize import linear_sum_assignment
@@ -134,7 +134,7 @@ class Sighting:
         return Sighting.of(self.frame, self.detection, replace(self.attrs, mean=mean, centre=centre), basis)
 
 
-def box_overlap(lo_a, hi_a, lo_b, hi_b) -> float:
+def box_overlap(lo_a: Any, hi_a: Any, lo_b: Any, hi_b: Any) -> float:
     """Intersection volume of two axis-aligned boxes over the smaller one's volume, in [0, 1]
     (degenerate sizes get a 1 cm floor so flat objects can still overlap)."""
     inter = np.clip(np.minimum(hi_a, hi_b) - np.maximum(lo_a, lo_b), 0.0, None)

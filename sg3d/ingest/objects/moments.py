@@ -2,10 +2,13 @@
 updates a node with a new observation (paper Sec. V-C.2)."""
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 
 
-def combine_gaussians(mean_o, var_o, n_o: int, mean_c, var_c, n_c: int):
+def combine_gaussians(mean_o: Any, var_o: Any, n_o: int, mean_c: Any, var_c: Any,
+                      n_c: int) -> tuple[np.ndarray, np.ndarray, int]:
     """Mean and variance of the union of both point sets, from their moments (per axis).
 
     Equivalent to recomputing over all points: E[x²] of each set is var + mean².

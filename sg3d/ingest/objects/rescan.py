@@ -45,7 +45,7 @@ SURFACE_NOISE_REL = 0.02
 MAX_JUDGED_EXTENT_M = 1.5
 
 
-def _slab(origin: np.ndarray, direction: np.ndarray, lo: np.ndarray, hi: np.ndarray):
+def _slab(origin: np.ndarray, direction: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Entry and exit parameters of rays origin + t direction through the box [lo, hi] (per ray)."""
     with np.errstate(divide="ignore", invalid="ignore"):
         inv = 1.0 / direction

@@ -11,6 +11,8 @@ probabilistic, because a posed RGB-D walk gives every cell many observations).
 """
 from __future__ import annotations
 
+from typing import Any
+
 from dataclasses import dataclass
 
 import numpy as np
@@ -87,7 +89,8 @@ class FloorMap:
             (ij[..., 1] < self.state.shape[1])
 
 
-def grid_around(points: np.ndarray, cameras: np.ndarray, cell: float, margin: float = 0.5):
+def grid_around(points: np.ndarray, cameras: np.ndarray, cell: float,
+                margin: float = 0.5) -> tuple[np.ndarray, tuple[int, ...]]:
     """The grid's corner and shape covering every point and camera with `margin` m to spare."""
     ab = np.concatenate([points[:, :2], cameras[:, :2]]) if len(cameras) else points[:, :2]
     lo = np.floor((ab.min(axis=0) - margin) / cell) * cell
@@ -152,7 +155,7 @@ def floor_map(points: np.ndarray, cameras: np.ndarray, cfg: PlacesConfig = Place
     return fm
 
 
-def walk_points(frames, basis: np.ndarray, floor: float, stride: int = 4,
+def walk_points(frames: Any, basis: np.ndarray, floor: float, stride: int = 4,
                 max_range: float = PlacesConfig.max_range_m) -> tuple[np.ndarray, np.ndarray]:
     """Gravity-frame points of every `stride`-th pixel of each frame's depth within `max_range`
     (h above the floor at `floor` = p . up), and the cameras' positions in the same frame."""

@@ -16,7 +16,7 @@ from typing import Sequence
 
 import numpy as np
 
-from sg3d.ingest.poses.tracking import Fit, View, motion_gap
+from sg3d.ingest.poses.tracking import Fit, Odometry, View, motion_gap
 
 LOOP_MIN_OVERLAP = 0.5       # a loop closure sees at least this share of the other keyframe's depth
 LOOP_MIN_AGREEMENT = 0.85    # and this share of that agrees within 3 cm
@@ -38,7 +38,7 @@ def consistent(predicted: np.ndarray, fit: Fit) -> bool:
     return gap_m < LOOP_MAX_GAP_M and gap_deg < LOOP_MAX_GAP_DEG
 
 
-def neighbour_edges(odometry, view: View, poses: dict[int, np.ndarray], keyframes: Sequence[View]) -> list[Edge]:
+def neighbour_edges(odometry: Odometry, view: View, poses: dict[int, np.ndarray], keyframes: Sequence[View]) -> list[Edge]:
     """Edges from the last `KEYFRAME_NEIGHBOURS` of `keyframes` (oldest first) to the new keyframe
     `view`, each fitted from the current estimate (`poses`)."""
     out = []
@@ -67,7 +67,7 @@ def loop_candidates(view: View, poses: dict[int, np.ndarray], keyframes: Sequenc
     return [kf for _, kf in sorted(near, key=lambda x: x[0])[:LOOP_CANDIDATES]]
 
 
-def loop_edges(odometry, view: View, poses: dict[int, np.ndarray], keyframes: Sequence[View]) -> list[Edge]:
+def loop_edges(odometry: Odometry, view: View, poses: dict[int, np.ndarray], keyframes: Sequence[View]) -> list[Edge]:
     """Loop-closure edges of the new keyframe `view` to the `loop_candidates` among the earlier
     `keyframes` (oldest first), each fitted from the current estimate."""
     out = []

@@ -276,10 +276,12 @@ def _far(a: np.ndarray, b: np.ndarray, metres: float, degrees: float) -> bool:
     return gap_m > metres or gap_deg > degrees
 
 
-def estimate_poses(n: int, load: Loader, K: np.ndarray, size: tuple[int, int], times: Optional[list[float]] = None,
-                   step: int = DEFAULT_STEP, progress: Optional[Callable[[int, int], None]] = None) -> PoseEstimate:
+def estimate_poses(n: int, load: Loader, camera: tuple[np.ndarray, tuple[int, int]],
+                   times: Optional[list[float]] = None, step: int = DEFAULT_STEP,
+                   progress: Optional[Callable[[int, int], None]] = None) -> PoseEstimate:
     """Camera-to-world poses of frames 0..n-1 (`load(i)` gives depth in metres registered to the
-    grey image, raising FrameError for a bad frame); `K` and `size` are the colour camera's."""
+    grey image, raising FrameError for a bad frame); `camera`: the colour camera's K and size."""
+    K, size = camera
     t0 = time.perf_counter()
     est = _Estimator(n, load, K, size, step, progress)
     est.track()

@@ -25,13 +25,16 @@ roughly upright, so:
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Iterable, Optional
+from typing import TYPE_CHECKING, Iterable, Optional
 
 import numpy as np
 
 from sg3d.core.geometry import DIRECTION_DECIMALS, fixed_precision
 from sg3d.core.model import vec3
 from sg3d.ingest.readers.frames import Frame, FrameError
+
+if TYPE_CHECKING:
+    from sg3d.ingest.readers.base import Sequence
 
 PRIOR_CONE_DEG = 35.0
 WIDE_CONE_DEG = 60.0        # `level_camera_up`: a desk scan's top lies this far from the image-up
@@ -60,7 +63,7 @@ class Gravity:
     camera_prior: tuple[float, float, float]    # mean image-up of the cameras
     n_normals: int                              # normals that voted for `up`
 
-    def height(self, point) -> float:
+    def height(self, point: Iterable[float]) -> float:
         """Height of a world point above the floor (above the origin's level without a floor)."""
         h = float(np.dot(np.asarray(point, dtype=np.float64), self.up))
         return h - (self.floor_height or 0.0)
@@ -228,7 +231,7 @@ def estimate_up(frames: Iterable[Frame], stride: int = GRID_STRIDE) -> np.ndarra
     return np.asarray(estimate_gravity(frames, stride).up)
 
 
-def sample_frames(seq, n: int = 20, start: int = 0, stop: Optional[int] = None) -> list[Frame]:
+def sample_frames(seq: Sequence, n: int = 20, start: int = 0, stop: Optional[int] = None) -> list[Frame]:
     """n readable frames spread evenly over a sequence, or over its frames [start, stop) (for
     estimate_gravity)."""
     out = []

@@ -48,7 +48,7 @@ from __future__ import annotations
 import threading
 import time
 from collections import deque
-from typing import Optional
+from typing import Any, Optional
 
 import numpy as np
 
@@ -155,7 +155,7 @@ class NotTracked(FrameError):
 class OnlinePoses:
     """A `LiveSource` that gives the frames of a pose-less one a pose by odometry (module doc)."""
 
-    def __init__(self, source, max_depth: float = 4.0):
+    def __init__(self, source: Any, max_depth: float = 4.0) -> None:
         self.source = source
         self.max_depth = max_depth
         self.poses: dict[int, np.ndarray] = {}
@@ -240,12 +240,12 @@ class OnlinePoses:
         return getattr(self.source, "posed", False) is True
 
     @property
-    def seq(self):
+    def seq(self) -> Any:
         """The recording to read again at the end (a folder: with or without poses of its own);
         None for a source that cannot be read again (a camera, a stream)."""
         return getattr(self.source, "seq", None)
 
-    def whole(self):
+    def whole(self) -> Any:
         """The recording as a build reads it, once the source ended (None when it cannot be read
         again): with its own poses, or, pose-less, with the poses tracked live (`filled_poses`:
         the frames tracking went past take poses interpolated between the placed ones, as the

@@ -1,7 +1,8 @@
 """Estimate the poses of a `Sequence` (any layout, or a bag) and hand them to its frames."""
 from __future__ import annotations
 
-from typing import Callable, Optional
+from pathlib import Path
+from typing import TYPE_CHECKING, Callable, Optional
 
 import cv2
 import numpy as np
@@ -9,8 +10,12 @@ import numpy as np
 from sg3d.ingest.poses.estimate import DEFAULT_STEP, PoseEstimate, estimate_poses
 from sg3d.ingest.poses.tracking import reduce_factor
 
+if TYPE_CHECKING:
+    from sg3d.ingest.readers.base import Sequence
 
-def _grey_into_depth_pixels(seq, factor: int, depth_size: tuple[int, int]):
+
+def _grey_into_depth_pixels(seq: Sequence, factor: int,
+                            depth_size: tuple[int, int]) -> Optional[tuple[np.ndarray, np.ndarray]]:
     """Remap tables that resample a reduced grey image into the (equally reduced) depth image,
     inverting the sequence's depth-to-colour registration u_d = c + s (u - c) + o, i.e.
     u = c + (u_d - c - o) / s; None when depth is already in colour pixels."""
@@ -33,7 +38,7 @@ class DepthCameraImages:
     metres in the depth camera's pixels, grey image at 1/`factor` of the colour size resampled into
     those pixels); FrameError for a bad frame."""
 
-    def __init__(self, seq, start: int = 0):
+    def __init__(self, seq: Sequence, start: int = 0) -> None:
         self.seq, self.start = seq, start
         self.factor = reduce_factor(seq.image_size[0])
         self._maps: dict = {}
@@ -52,7 +57,7 @@ class DepthCameraImages:
         return depth, grey
 
 
-def estimate_sequence_poses(seq, start: int = 0, stop: Optional[int] = None, step: int = DEFAULT_STEP,
+def estimate_sequence_poses(seq: Sequence, start: int = 0, stop: Optional[int] = None, step: int = DEFAULT_STEP,
                             progress: Optional[Callable[[int, int], None]] = None) -> PoseEstimate:
     """Estimate camera poses of frames [start, stop) of `seq` from their pixels alone, ignoring
     any poses it carries, and make the frames use them (`Sequence.use_poses`). Indices in the
@@ -70,7 +75,7 @@ def estimate_sequence_poses(seq, start: int = 0, stop: Optional[int] = None, ste
     except Exception:       # a bad first frame: the colour size is the best guess
         depth_size = seq.image_size
     times = [seq.timestamp_of(i) for i in range(start, stop)]
-    est = estimate_poses(stop - start, load, seq.depth_K, tuple(depth_size), times=times, step=step,
+    est = estimate_poses(stop - start, load, (seq.depth_K, tuple(depth_size)), times=times, step=step,
                          progress=progress)
     est.poses = {start + i: T for i, T in est.poses.items()}
     est.unplaced = {start + i: why for i, why in est.unplaced.items()}
@@ -78,7 +83,7 @@ def estimate_sequence_poses(seq, start: int = 0, stop: Optional[int] = None, ste
     return est
 
 
-def estimate_summary(seq, est: PoseEstimate, trajectory_file: Optional[str] = None) -> dict:
+def estimate_summary(seq: Sequence, est: PoseEstimate, trajectory_file: Optional[str] = None) -> dict:
     """The build summary's "poses" section."""
     return {"source": "estimated", "trajectory_m": round(est.length_m, 3), "loop_closures": est.loop_closures,
             "segments": est.segments, "segments_linked": est.linked_segments, "keyframes": est.keyframes,
@@ -88,7 +93,7 @@ def estimate_summary(seq, est: PoseEstimate, trajectory_file: Optional[str] = No
             "seconds": round(est.seconds, 3), "trajectory_file": trajectory_file}
 
 
-def write_trajectory(path, seq, est: PoseEstimate) -> None:
+def write_trajectory(path: Path, seq: Sequence, est: PoseEstimate) -> None:
     """The estimated trajectory as a TUM file (placed frames only, in frame order)."""
     from sg3d.ingest.poses.trajectory import write_tum
 

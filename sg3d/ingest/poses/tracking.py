@@ -77,7 +77,7 @@ class Odometry:
         ok, Rt = self._odometry.compute(source.prepared, target.prepared)
         return self._judged(ok, Rt, source, target, min_inliers)
 
-    def _judged(self, ok: bool, Rt, source: View, target: View, min_inliers: float) -> Fit:
+    def _judged(self, ok: bool, Rt: Optional[np.ndarray], source: View, target: View, min_inliers: float) -> Fit:
         if not ok or Rt is None or not np.all(np.isfinite(Rt)):
             return Fit(False, np.eye(4), 0.0, float("inf"), "odometry did not converge")
         Rt = np.asarray(Rt, dtype=np.float64)

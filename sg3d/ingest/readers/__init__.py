@@ -30,7 +30,7 @@ non-rigid pose, no timestamp match) is skipped and listed in `Sequence.skipped` 
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Optional, Union
+from typing import Any, Optional, Union
 
 from sg3d.ingest.readers import bag as bags
 from sg3d.ingest.readers.base import Sequence, SequenceError, quaternion_to_matrix
@@ -69,7 +69,7 @@ def detect_layout(path: Path) -> str:
 
 
 def open_sequence(path: Union[str, Path], layout: Optional[str] = None,
-                  registration: Optional[Registration] = None, **bag_options) -> Sequence:
+                  registration: Optional[Registration] = None, **bag_options: Any) -> Sequence:
     """Open a posed RGB-D sequence folder, or a ROS bag (`sg3d.ingest.readers.bag`: a ROS1 .bag, a ROS2 bag
     folder, a bare .mcap or .db3). `layout`: one of LAYOUTS or "rosbag" (auto-detected when None);
     `registration`: depth-to-colour registration (None: the layout's default); `bag_options`:

@@ -33,7 +33,7 @@ import threading
 from collections import defaultdict
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING, Optional
+from typing import TYPE_CHECKING, Any, Optional
 
 import cv2
 import numpy as np
@@ -109,11 +109,11 @@ def header_stamp(raw: bytes, ros1: bool) -> int:
     return sec * 1_000_000_000 + nsec
 
 
-def _stamp_ns(stamp) -> int:
+def _stamp_ns(stamp: Any) -> int:
     return int(stamp.sec) * 1_000_000_000 + int(getattr(stamp, "nanosec", 0))
 
 
-def _rigid(translation, rotation) -> np.ndarray:
+def _rigid(translation: Any, rotation: Any) -> np.ndarray:
     T = np.eye(4)
     q = np.array([rotation.x, rotation.y, rotation.z, rotation.w], dtype=np.float64)
     if not np.all(np.isfinite(q)) or np.linalg.norm(q) == 0:
@@ -141,12 +141,12 @@ class PoseSeries:
     """Timed rigid transforms of one link; `at(t)` interpolates between the samples around t
     (translation linearly, rotation by slerp) or takes the nearest within the tolerance."""
 
-    def __init__(self):
+    def __init__(self) -> None:
         self._t: list[int] = []
         self._v: list[np.ndarray] = []   # tx ty tz qx qy qz qw
         self._sorted: Optional[tuple[np.ndarray, np.ndarray]] = None
 
-    def add(self, t_ns: int, translation, rotation) -> None:
+    def add(self, t_ns: int, translation: Any, rotation: Any) -> None:
         self._t.append(t_ns)
         self._v.append(np.array([translation.x, translation.y, translation.z,
                                  rotation.x, rotation.y, rotation.z, rotation.w], dtype=np.float64))
@@ -186,12 +186,12 @@ class TfTree:
     """/tf and /tf_static: parent of each frame, a PoseSeries per dynamic link and one transform
     per static link; `lookup(world, camera, t)` chains them (camera-to-world)."""
 
-    def __init__(self):
+    def __init__(self) -> None:
         self.parent: dict[str, str] = {}
         self.dynamic: dict[str, PoseSeries] = defaultdict(PoseSeries)
         self.static: dict[str, np.ndarray] = {}
 
-    def add(self, msg, static: bool) -> None:
+    def add(self, msg: Any, static: bool) -> None:
         for tf in msg.transforms:
             child = tf.child_frame_id.lstrip("/")
             self.parent[child] = tf.header.frame_id.lstrip("/")
@@ -229,7 +229,7 @@ class TfTree:
 
 # -- image decoding -------------------------------------------------------------------------
 
-def decode_colour(msg, msgtype: str, where: str, grey: bool = False) -> np.ndarray:
+def decode_colour(msg: Any, msgtype: str, where: str, grey: bool = False) -> np.ndarray:
     """BGR uint8 (or grey) from an Image or CompressedImage; FrameError names what is wrong."""
     if msgtype == COMPRESSED:
         fmt = msg.format.lower()
@@ -255,7 +255,7 @@ def decode_colour(msg, msgtype: str, where: str, grey: bool = False) -> np.ndarr
     return cv2.cvtColor(img, cv2.COLOR_GRAY2BGR) if img.ndim == 2 else img
 
 
-def decode_depth(msg, msgtype: str, where: str) -> np.ndarray:
+def decode_depth(msg: Any, msgtype: str, where: str) -> np.ndarray:
     """float32 metres (0 = invalid) from a depth Image (16UC1/mono16 mm, 32FC1 m) or a
     compressedDepth CompressedImage (12-byte header: int32 format, float32 depthQuantA, B; then
     a PNG of 16-bit mm, or of quantised inverse depth for 32FC1: d = A / (v - B))."""
@@ -342,26 +342,36 @@ class _BagSource:
         return self.seq.registrar(decode_depth(msg, msgtype, self.entry.name))
 
 
+@dataclass(frozen=True)
+class _OpenBag:
+    """An open bag: its reader, its images' size, and what `BagSequence.sources` says."""
+
+    reader: Any
+    image_size: tuple[int, int]
+    sources: dict
+
+
 class BagSequence(Sequence):
     """A ROS bag read as a posed RGB-D sequence; `sources` says which topics and frames it uses."""
 
     layout = "rosbag"
 
-    def __init__(self, path: Path, reader, entries, K, registration, skipped, image_size, sources):
-        self._reader = reader
+    def __init__(self, path: Path, bag: _OpenBag, entries: list, K: np.ndarray, registration: Any,
+                 skipped: list[tuple[str, str]]) -> None:
+        self._reader = bag.reader
         # rosbags' readers are not thread-safe, and frames are decoded ahead on a reader thread
         self._lock = threading.Lock()
-        self._size = image_size
-        self.sources = sources
+        self._size = bag.image_size
+        self.sources = bag.sources
         super().__init__(path, entries, K, registration, skipped)
 
     def _probe_size(self, probes: int = 5) -> tuple[int, int]:
         return self._size
 
-    def _source(self, entry) -> _BagSource:
+    def _source(self, entry: Any) -> _BagSource:
         return _BagSource(entry, self)
 
-    def message(self, ref: _Ref, name: str):
+    def message(self, ref: _Ref, name: str) -> tuple[Any, str]:
         """The message at `ref`, deserialised (raises FrameError when it cannot be read)."""
         try:
             with self._lock:
@@ -390,12 +400,11 @@ def _why(exc: BaseException) -> str:
     return text or type(exc).__name__
 
 
-def _topics_line(conns) -> str:
+def _topics_line(conns: Any) -> str:
     return ", ".join(f"{c.topic} ({c.msgtype.replace('/msg/', '/')})" for c in conns)
 
 
-def _pick(role: str, flag: str, candidates: list, chosen: Optional[str], all_conns, path: Path,
-          required: bool = True):
+def _pick(role: str, flag: str, candidates: list, chosen: Optional[str], all_conns: list, path: Path) -> list:
     if chosen is not None:
         hits = [c for c in all_conns if c.topic == chosen]
         if not hits:
@@ -405,15 +414,13 @@ def _pick(role: str, flag: str, candidates: list, chosen: Optional[str], all_con
     if len(topics) == 1:
         return [c for c in candidates if c.topic == topics[0]]
     if not topics:
-        if not required:
-            return []
         raise SequenceError(f"no {role} topic in {path}; topics: {_topics_line(all_conns) or 'none'}")
     raise SequenceError(f"{len(topics)} {role} topics in {path}: "
                         f"{_topics_line(sorted({c.topic: c for c in candidates}.values(), key=lambda c: c.topic))}; "
                         f"choose one with {flag}")
 
 
-def _open_reader(path: Path):
+def _open_reader(path: Path) -> Any:
     from rosbags.highlevel import AnyReader
     from rosbags.typesys import Stores, get_typestore
 
@@ -427,7 +434,7 @@ def _open_reader(path: Path):
     return reader
 
 
-def _refuse_missing(path: Path, conns, colour, depth, infos) -> None:
+def _refuse_missing(path: Path, conns: list, colour: list, depth: list, infos: list) -> None:
     """One error naming every piece the bag lacks and what would supply it."""
     missing = []
     if not colour:
@@ -442,13 +449,13 @@ def _refuse_missing(path: Path, conns, colour, depth, infos) -> None:
         raise SequenceError(f"{path} lacks " + "; ".join(missing) + f"; topics: {_topics_line(conns) or 'none'}")
 
 
-def _first(reader, conns):
+def _first(reader: Any, conns: list) -> tuple[Any, Any]:
     for conn, _, raw in reader.messages(conns):
         return conn, reader.deserialize(raw, conn.msgtype)
     return None, None
 
 
-def _image_kind(reader, conn) -> Optional[str]:
+def _image_kind(reader: Any, conn: Any) -> Optional[str]:
     """'colour' or 'depth' from the first message's encoding/format (None: no message)."""
     _, msg = _first(reader, [conn])
     if msg is None:
@@ -458,7 +465,7 @@ def _image_kind(reader, conn) -> Optional[str]:
     return "depth" if msg.encoding.lower() in DEPTH_ENCODINGS else "colour"
 
 
-def open_bag(path, registration: Optional[Registration] = None, **options) -> BagSequence:
+def open_bag(path: Any, registration: Optional[Registration] = None, **options: Any) -> BagSequence:
     """Open a ROS bag as a `BagSequence`; `options`: `BagOptions` fields."""
     opts = BagOptions(**options)
     path = Path(path).expanduser()
@@ -480,7 +487,7 @@ class _PoseSource:
     none: bool
 
 
-def _index(reader, path: Path, opts: BagOptions, registration) -> BagSequence:
+def _index(reader: Any, path: Path, opts: BagOptions, registration: Optional[Registration]) -> BagSequence:
     """The bag's frames: the topics picked, one pass over their message headers, each colour
     image paired with the nearest depth image and its pose."""
     max_dt = 0.02 if opts.max_dt is None else float(opts.max_dt)
@@ -509,10 +516,10 @@ def _index(reader, path: Path, opts: BagOptions, registration) -> BagSequence:
                "poses": ("none (estimated from the images)" if poses.none else
                          f"/tf: {camera} in {world}" if poses.use_tf else _topics_line((poses.topic or [])[:1])),
                "max_dt": max_dt, "colour_messages": len(refs["colour"]), "depth_messages": len(refs["depth"])}
-    return BagSequence(path, reader, entries, K, registration, skipped, size, sources)
+    return BagSequence(path, _OpenBag(reader, size, sources), entries, K, registration, skipped)
 
 
-def _image_topics(reader, conns: list, path: Path, opts: BagOptions) -> tuple[list, list, list]:
+def _image_topics(reader: Any, conns: list, path: Path, opts: BagOptions) -> tuple[list, list, list]:
     """The colour, depth and camera-info connections: the ones asked for, else the only topic of
     each kind (an image topic's kind is read from its first message); the camera info beside
     the colour topic first."""
@@ -530,7 +537,7 @@ def _image_topics(reader, conns: list, path: Path, opts: BagOptions) -> tuple[li
     return colour, depth, info
 
 
-def _intrinsics(reader, info: list, path: Path):
+def _intrinsics(reader: Any, info: list, path: Path) -> tuple[np.ndarray, Any]:
     """K from the first CameraInfo message (ROS2 `k`, ROS1 `K`), and the message."""
     _, info_msg = _first(reader, info)
     if info_msg is None:
@@ -557,7 +564,7 @@ def _pose_source(conns: list, opts: BagOptions, path: Path) -> _PoseSource:
     return _PoseSource(use_tf, pose_topic, tf_conns, none)
 
 
-def _read_headers(reader, path: Path, colour: list, depth: list, poses: _PoseSource):
+def _read_headers(reader: Any, path: Path, colour: list, depth: list, poses: _PoseSource) -> tuple[dict, str, Any, Any]:
     """One pass over the frames' messages (header stamps only, no pixels kept), then the poses:
     (refs by role, the colour images' frame_id, the pose series, the /tf tree)."""
     ros1 = not reader.is2
@@ -593,7 +600,7 @@ def _read_headers(reader, path: Path, colour: list, depth: list, poses: _PoseSou
     return refs, colour_frame, series, tree
 
 
-def _pair_frames(refs: dict, depth: list, poses: _PoseSource, series: PoseSeries, tf_pose,
+def _pair_frames(refs: dict, depth: list, poses: _PoseSource, series: PoseSeries, tf_pose: Any,
                  max_dt: float) -> tuple[list, list]:
     """Each colour image with the depth image nearest in time (within max_dt) and its pose (from
     /tf through `tf_pose(t, tol)`, or the pose series); (entries, skipped with reasons)."""
@@ -629,7 +636,7 @@ def _pair_frames(refs: dict, depth: list, poses: _PoseSource, series: PoseSeries
     return entries, skipped
 
 
-def _image_size(reader, info_msg, first: _BagEntry, colour: list, path: Path) -> tuple[int, int]:
+def _image_size(reader: Any, info_msg: Any, first: _BagEntry, colour: list, path: Path) -> tuple[int, int]:
     """(width, height) from CameraInfo, else from the first colour image."""
     width, height = int(info_msg.width), int(info_msg.height)
     if width <= 0 or height <= 0:
@@ -642,7 +649,7 @@ def _image_size(reader, info_msg, first: _BagEntry, colour: list, path: Path) ->
     return width, height
 
 
-def _raw_of(reader, ref: _Ref) -> bytes:
+def _raw_of(reader: Any, ref: _Ref) -> bytes:
     for k, (_, _, raw) in enumerate(reader.messages([ref.conn], start=ref.bag_ns, stop=ref.bag_ns + 1)):
         if k == ref.nth:
             return raw

@@ -11,7 +11,7 @@ import cv2
 import numpy as np
 
 from sg3d.core.errors import Sg3dError
-from sg3d.ingest.readers.frames import Frame, FrameError, FrameSource
+from sg3d.ingest.readers.frames import Frame, FrameError, FrameInfo, FrameSource
 from sg3d.ingest.readers.image_checks import PNG_SIGNATURE, image_problem
 from sg3d.ingest.readers.pose_check import implausible_motion, pose_problem, rigid
 from sg3d.ingest.readers.registration import DepthRegistrar, Registration
@@ -201,7 +201,7 @@ class Sequence:
                                               [e.name for e in self._entries])
         return self._motion or {}
 
-    def _source(self, entry) -> FrameSource:
+    def _source(self, entry: Entry) -> FrameSource:
         """What decodes one entry's pixels (a bag reader decodes messages instead of files)."""
         return _FileSource(entry, self)
 
@@ -238,7 +238,7 @@ class Sequence:
                 [e.depth for e in self._entries[:SIZE_WINDOW] if isinstance(e.depth, Path)])
         return self._depth_size
 
-    def _depth_size_problem(self, entry) -> Optional[str]:
+    def _depth_size_problem(self, entry: Entry) -> Optional[str]:
         """Why the frame's depth file is of another size than the recording's (read from its
         header when the frame is reached, so every frame a build or a map passes is checked, not
         only those whose depth is decoded), or None."""
@@ -281,8 +281,8 @@ class Sequence:
         if problem:
             self.skip(entry.name, problem)
             raise FrameError(entry.name, problem)
-        frame = Frame(i, None, None, self.K, pose, entry.timestamp, entry.name,
-                      size=self.image_size, source=self._source(entry), on_error=self.skip)
+        frame = Frame(i, None, None, self.K, pose, FrameInfo(entry.timestamp, entry.name, self.image_size,
+                                                             self._source(entry), self.skip))
         return frame if lazy else frame.load()
 
     def unposed_frame(self, i: int) -> Frame:
@@ -293,8 +293,8 @@ class Sequence:
         if problem:
             self.skip(entry.name, problem)
             raise FrameError(entry.name, problem)
-        return Frame(i, None, None, self.K, np.full((4, 4), np.nan), entry.timestamp, entry.name,
-                     size=self.image_size, source=self._source(entry), on_error=self.skip)
+        return Frame(i, None, None, self.K, np.full((4, 4), np.nan),
+                     FrameInfo(entry.timestamp, entry.name, self.image_size, self._source(entry), self.skip))
 
 
 def _image_header_size(path: Path, decode: bool = True) -> Optional[tuple[int, int]]:

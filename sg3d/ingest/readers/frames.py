@@ -10,7 +10,8 @@ from __future__ import annotations
 import re
 from collections import deque
 from concurrent.futures import ThreadPoolExecutor
-from typing import Callable, Iterable, Iterator, Optional, Protocol
+from dataclasses import dataclass
+from typing import Any, Callable, Iterable, Iterator, Optional, Protocol
 
 import cv2
 import numpy as np
@@ -36,6 +37,25 @@ class FrameSource(Protocol):
     def preview(self, factor: int) -> np.ndarray: ...  # BGR uint8, about 1/factor of the colour size
 
 
+@dataclass(frozen=True)
+class FrameInfo:
+    """What a frame is besides its pixels and camera: its time (s) and name in the recording, and
+    for a lazily decoded frame its image size, the source decoding its pixels and who hears of a
+    decoding failure (once)."""
+
+    timestamp: float = 0.0
+    name: str = ""
+    size: Optional[tuple[int, int]] = None
+    source: Optional[FrameSource] = None
+    on_error: Optional[Callable[[str, str], None]] = None
+
+
+class Frames(Protocol):
+    """Anything that gives frame i: a recorded sequence, a live source."""
+
+    def frame(self, i: int) -> "Frame": ...
+
+
 class Frame:
     """An RGB-D frame: colour (BGR uint8), depth (float32 metres, 0 = invalid, registered to the
     colour image), K (3x3 colour intrinsics), pose (4x4 camera-to-world, float64).
@@ -49,9 +69,8 @@ class Frame:
                  "_source", "_on_error", "_size")
 
     def __init__(self, index: int, color: Optional[np.ndarray], depth: Optional[np.ndarray],
-                 K: np.ndarray, pose: np.ndarray, timestamp: float = 0.0, name: str = "",
-                 *, size: Optional[tuple[int, int]] = None, source: Optional[FrameSource] = None,
-                 on_error: Optional[Callable[[str, str], None]] = None):
+                 K: np.ndarray, pose: np.ndarray, info: FrameInfo = FrameInfo()):
+        timestamp, name, size, source, on_error = info.timestamp, info.name, info.size, info.source, info.on_error
         self.index = int(index)
         self.K = np.asarray(K, dtype=np.float64)
         self.pose = np.asarray(pose, dtype=np.float64)
@@ -74,7 +93,7 @@ class Frame:
             raise FrameError(self.name, f"no {what} image")
         return self._call(getattr(self._source, what))
 
-    def _call(self, fn):
+    def _call(self, fn: Callable[[], np.ndarray]) -> np.ndarray:
         try:
             return fn()
         except FrameError as exc:
@@ -108,8 +127,9 @@ class Frame:
 
     def preview(self, factor: int = 4) -> np.ndarray:
         """A small BGR image (about 1/factor per side), cheap to decode for contact sheets."""
-        if self._color is None and self._source is not None:
-            return self._call(lambda: self._source.preview(factor))
+        source = self._source
+        if self._color is None and source is not None:
+            return self._call(lambda: source.preview(factor))
         h, w = self.color.shape[:2]
         return cv2.resize(self.color, (max(1, w // factor), max(1, h // factor)), interpolation=cv2.INTER_AREA)
 
@@ -174,7 +194,7 @@ def reason_kind(name: str, reason: str) -> str:
     return _FIGURE.sub("N", _FRAME_NAME.sub("frame-N", text))
 
 
-def ring_item(items, count: int, i: int, name: str, ring: int):
+def ring_item(items: Any, count: int, i: int, name: str, ring: int) -> Any:
     """Frame i of a live source that keeps only its last `ring` frames (`items`, the newest last,
     `count` received so far): FrameError when it has not arrived or is no longer held."""
     first = count - len(items)

@@ -62,7 +62,7 @@ from sg3d.ingest.readers.bag import (
     header_stamp,
 )
 from sg3d.ingest.readers.base import SequenceError
-from sg3d.ingest.readers.frames import Frame, FrameError, ring_item
+from sg3d.ingest.readers.frames import Frame, FrameError, FrameInfo, ring_item
 
 MAGIC = b"\x89MCAP0\r\n"
 OP_FOOTER = 0x02
@@ -201,8 +201,8 @@ class McapFollower:
         if held.error:
             raise FrameError(held.name, held.error)
         assert held.K is not None and held.pose is not None
-        return Frame(i, None, None, held.K, held.pose, held.stamp / 1e9, held.name, size=held.size,
-                     source=_Pixels(held, self))
+        return Frame(i, None, None, held.K, held.pose, FrameInfo(held.stamp / 1e9, held.name, held.size,
+                                                                 _Pixels(held, self)))
 
     @property
     def posed(self) -> Optional[bool]:
@@ -387,14 +387,14 @@ class McapFollower:
             self._pending.popleft()
             self._emit(c, info)
 
-    def _emit(self, c: _Colour, info) -> None:
+    def _emit(self, c: _Colour, info: Any) -> None:
         held = _Held(f"frame-{self._count:06d}", c.stamp, colour=(c.raw, c.msgtype))
         held.error = self._pair(c, held, info)
         self._frames.append(held)
         self._times.append(c.arrived)
         self._count += 1
 
-    def _pair(self, c: _Colour, held: _Held, info) -> str:
+    def _pair(self, c: _Colour, held: _Held, info: Any) -> str:
         """Fill `held` with depth, pose and intrinsics; the reason when one is missing."""
         t = c.stamp
         if info is None:

@@ -32,7 +32,7 @@ import cv2
 import numpy as np
 
 from sg3d.ingest.readers.base import SequenceError
-from sg3d.ingest.readers.frames import Frame, ring_item
+from sg3d.ingest.readers.frames import Frame, FrameInfo, ring_item
 
 PREFIX = "realsense"
 RING_FRAMES = 90              # frames held in memory (3 s at 30 frames/s)
@@ -50,7 +50,7 @@ def is_realsense(spec: str) -> bool:
     return spec == PREFIX or spec.startswith(PREFIX + ":")
 
 
-def import_realsense():
+def import_realsense() -> Any:
     """The `pyrealsense2` module, or a SequenceError saying how to install it."""
     try:
         import pyrealsense2 as rs
@@ -166,7 +166,7 @@ class RealSenseSource:
         except RuntimeError:
             return True
 
-    def _take(self, frames) -> None:
+    def _take(self, frames: Any) -> None:
         aligned = self._align.process(frames)
         depth, colour = aligned.get_depth_frame(), aligned.get_color_frame()
         if not depth or not colour:
@@ -198,7 +198,7 @@ class RealSenseSource:
         with self._lock:
             colour, depth, stamp = ring_item(self._frames, self._count, i, name, self.ring)
         assert self.K is not None
-        return Frame(i, colour, depth, self.K, np.full((4, 4), np.nan), stamp, name)
+        return Frame(i, colour, depth, self.K, np.full((4, 4), np.nan), FrameInfo(stamp, name))
 
     def written_at(self, i: int) -> float:
         with self._lock:

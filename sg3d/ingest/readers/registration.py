@@ -28,7 +28,7 @@ A plain resolution change without calibration maps pixel centres (`Registration.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Optional
+from typing import Any, Optional
 
 import cv2
 import numpy as np
@@ -86,7 +86,7 @@ class DepthRegistrar:
         self.color_size = (int(color_size[0]), int(color_size[1]))
         self._maps: dict[tuple[int, int], Optional[tuple[np.ndarray, np.ndarray]]] = {}
 
-    def _maps_for(self, depth_size: tuple[int, int]):
+    def _maps_for(self, depth_size: tuple[int, int]) -> Any:
         if depth_size not in self._maps:
             reg = self.registration
             if reg is None or reg.is_identity:

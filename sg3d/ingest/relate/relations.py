@@ -50,7 +50,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from itertools import combinations
-from typing import Optional, Sequence
+from typing import Any, Optional, Sequence
 
 import numpy as np
 
@@ -193,7 +193,7 @@ def floor_under_room(floor: ObjectGeometry, others: Sequence[ObjectGeometry],
     return ObjectGeometry(floor.local_id, floor.label, vec3(R.T @ ((lo + hi) / 2)), vec3(hi - lo))
 
 
-def _overlap_1d(lo_a, hi_a, lo_b, hi_b) -> float:
+def _overlap_1d(lo_a: Any, hi_a: Any, lo_b: Any, hi_b: Any) -> float:
     return max(0.0, min(hi_a, hi_b) - max(lo_a, lo_b))
 
 

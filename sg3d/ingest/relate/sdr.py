@@ -95,7 +95,7 @@ def with_whole_geometry(voted: Sequence[RelationObservation],
     edge), so per-frame placement is often silent or says "beside", while the fused box holds
     every part; but fused boxes of neighbours can swell into each other, so what the views that
     saw the pair together agreed on otherwise stands."""
-    def statements(relations):
+    def statements(relations: Iterable[RelationObservation]) -> dict[tuple[str, str, str], tuple[Statement, float]]:
         out: dict[tuple[str, str, str], tuple[Statement, float]] = {}
         for r in relations:
             st = statement_of(r.subject, r.predicate, r.object)

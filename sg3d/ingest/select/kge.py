@@ -16,7 +16,7 @@ or an anchor (so garbage frames are never decoded beyond what blur rejection nee
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Iterator, Optional
+from typing import Iterable, Iterator, Optional
 
 import numpy as np
 
@@ -185,7 +185,7 @@ class KeyframeGrouper:
         self._keyframe = self._anchor = None
         return group
 
-    def feed(self, frames) -> Iterator[KeyframeGroup]:
+    def feed(self, frames: Iterable[Frame]) -> Iterator[KeyframeGroup]:
         """Run Algorithm 1 over non-blurry frames, yielding each group once it is complete."""
         for frame in frames:
             self.add(frame)

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import time
 from dataclasses import asdict, dataclass, field
-from typing import Callable, Iterator, Optional
+from typing import Any, Callable, Iterator, Optional
 
 from sg3d.ingest.readers import Sequence
 from sg3d.ingest.readers.frames import Frame, FrameError, decoded_ahead
@@ -114,7 +114,7 @@ class FrameSelector:
 
 
 def select_frames(seq: Sequence, abir: Optional[ABIR] = None, grouper: Optional[KeyframeGrouper] = None,
-                  **kwargs) -> tuple[list[KeyframeGroup], SelectionStats]:
+                  **kwargs: Any) -> tuple[list[KeyframeGroup], SelectionStats]:
     """All keyframe groups of a sequence at once (convenient for small sequences and tests)."""
     selector = FrameSelector(abir or ABIR(), grouper or KeyframeGrouper())
     groups = list(selector.groups(seq, **kwargs))

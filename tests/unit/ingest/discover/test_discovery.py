@@ -172,7 +172,7 @@ def test_a_voxel_marks_a_disc_of_12_5_mm_radius():                    # VOXEL_DI
     from sg3d.ingest.discover.discovery import segment_reading
 
     image = np.full((480, 640, 3), 120, np.uint8)
-    one = segment_reading(np.array([320.0]), np.array([240.0]), np.array([1.0]), _camera_at_origin(), image,
+    one = segment_reading((np.array([320.0]), np.array([240.0]), np.array([1.0])), _camera_at_origin(), image,
                           (300, 220, 340, 260))
     assert one.n == 113            # 1 m away at f = 500 px: a disc of radius 6 px
 

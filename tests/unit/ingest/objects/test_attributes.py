@@ -17,7 +17,7 @@ from sg3d.ingest.objects.attributes import (
     world_points,
 )
 from sg3d.ingest.readers import quaternion_to_matrix
-from sg3d.ingest.readers.frames import Frame
+from sg3d.ingest.readers.frames import Frame, FrameInfo
 
 W, H = 160, 120
 K = np.array([[100.0, 0, 80.0], [0, 100.0, 60.0], [0, 0, 1]])
@@ -40,7 +40,7 @@ def _scene(depth_hook=None) -> Frame:
         depth_hook(depth)
     color = np.full((H, W, 3), 200, np.uint8)
     color[y1:y2, x1:x2] = (0, 0, 255)
-    return Frame(0, color, depth, K, _pose(), 0.0, "synthetic")
+    return Frame(0, color, depth, K, _pose(), FrameInfo(0.0, "synthetic"))
 
 
 def _true_centre() -> np.ndarray:
@@ -204,7 +204,7 @@ def _patchy_frame(valid_cols: int) -> tuple[Frame, tuple[int, int, int, int]]:
     depth[20:80, 20:20 + valid_cols] = 1.0
     color = np.full((100, 100, 3), 120, np.uint8)
     K = np.array([[100.0, 0, 50], [0, 100.0, 50], [0, 0, 1]])
-    return Frame(0, color, depth, K, np.eye(4), 0.0, "synthetic"), (0, 0, 100, 100)
+    return Frame(0, color, depth, K, np.eye(4), FrameInfo(0.0, "synthetic")), (0, 0, 100, 100)
 
 
 def test_a_colour_is_read_on_the_surface_depth_shows_when_it_covers_a_quarter_of_the_box():   # MIN_MASK_SHARE
@@ -253,13 +253,14 @@ def _floor_scene() -> Frame:
 
 
 def test_floor_pixels_are_those_within_5_cm_of_the_floor():           # FLOOR_BAND_M
+    from sg3d.core.geometry import Ground
     from sg3d.ingest.objects.attributes import floor_pixels
 
     frame = _floor_scene()
     crop = frame.depth
     up = (0.0, 0.0, 1.0)
-    assert floor_pixels(crop, (0, 0, W, H), 1, K, frame.pose, up, floor=-0.04).any()       # the floor 4 cm under
-    assert not floor_pixels(crop, (0, 0, W, H), 1, K, frame.pose, up, floor=-0.06)[crop > 0].any()
+    assert floor_pixels(crop, (0, 0, W, H), 1, frame, Ground(up, -0.04)).any()       # the floor 4 cm under
+    assert not floor_pixels(crop, (0, 0, W, H), 1, frame, Ground(up, -0.06))[crop > 0].any()
 
 
 def test_a_box_standing_on_the_floor_is_measured_without_the_floor():

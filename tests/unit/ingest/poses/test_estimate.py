@@ -48,7 +48,7 @@ class Scene:
         """Estimate the poses tracking every `step`-th frame (None: the default step)."""
         monkeypatch.setattr(estimate, "Odometry", lambda K, size: _Odometry(self))
         kwargs = {} if step is None else {"step": step}
-        return estimate.estimate_poses(len(self.poses), self.load, K, (160, 120), **kwargs)
+        return estimate.estimate_poses(len(self.poses), self.load, (K, (160, 120)), **kwargs)
 
 
 class _Odometry:

@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from sg3d.ingest.poses.gravity import depth_normals, estimate_gravity, floor_not_a_top, horizontal_span, level_camera_up
-from sg3d.ingest.readers.frames import Frame
+from sg3d.ingest.readers.frames import Frame, FrameInfo
 
 FLOOR = ((0.0, 0.0, 1.0), 0.0, None)
 
@@ -38,7 +38,7 @@ def frame(pose: np.ndarray, planes, size=(160, 120), f: float = 120.0) -> Frame:
             t = np.where(mask(u, v), t, np.inf)
         depth = np.minimum(depth, t)
     depth = np.where(np.isfinite(depth), depth, 0.0).astype(np.float32)
-    return Frame(0, np.zeros((h, w, 3), np.uint8), depth, K, pose, 0.0, "rendered")
+    return Frame(0, np.zeros((h, w, 3), np.uint8), depth, K, pose, FrameInfo(0.0, "rendered"))
 
 
 def test_up_is_sought_within_35_degrees_of_the_cameras_image_up():    # PRIOR_CONE_DEG

@@ -124,11 +124,11 @@ class _Frames:
         return i / self.fps
 
     def frame(self, i: int):
-        from sg3d.ingest.readers.frames import Frame
+        from sg3d.ingest.readers.frames import Frame, FrameInfo
 
         K = np.array([[100.0, 0, 20], [0, 100.0, 15], [0, 0, 1]])
         return Frame(i, np.zeros((30, 40, 3), np.uint8), np.ones((30, 40), np.float32), K, np.full((4, 4), np.nan),
-                     i / self.fps, f"frame-{i}")
+                     FrameInfo(i / self.fps, f"frame-{i}"))
 
 
 def _restarts(monkeypatch, fps: float, bad: range) -> int:

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from sg3d.ingest.readers import quaternion_to_matrix
-from sg3d.ingest.readers.frames import Frame
+from sg3d.ingest.readers.frames import Frame, FrameInfo
 from sg3d.ingest.select.kge import KeyframeGrouper, overlap
 
 W, H = 100, 50
@@ -29,7 +29,7 @@ def _frame(i: int, shift_m: float = 0.0, pose: np.ndarray | None = None) -> Fram
         pose[:3, 3] = pose[:3, 3] + pose[:3, 0] * shift_m
     depth = np.full((H, W), DEPTH, np.float32)
     color = np.zeros((H, W, 3), np.uint8)
-    return Frame(i, color, depth, K, pose, i / 30.0, f"synthetic-{i}")
+    return Frame(i, color, depth, K, pose, FrameInfo(i / 30.0, f"synthetic-{i}"))
 
 
 def _slide(i: int) -> Frame:

@@ -3,7 +3,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from sg3d.ingest.readers.frames import Frame
+from sg3d.ingest.readers.frames import Frame, FrameInfo
 from sg3d.ingest.select.selection import SelectionParams
 
 W, H = 100, 50
@@ -14,7 +14,7 @@ def _slide(i: int) -> Frame:
     """A camera 1 m from a wall, moved sideways 7 px of image motion per frame."""
     pose = np.eye(4)
     pose[0, 3] = i * 7 / K[0, 0]
-    return Frame(i, np.zeros((H, W, 3), np.uint8), np.ones((H, W), np.float32), K, pose, i / 30.0, f"s-{i}")
+    return Frame(i, np.zeros((H, W, 3), np.uint8), np.ones((H, W), np.float32), K, pose, FrameInfo(i / 30.0, f"s-{i}"))
 
 
 def test_a_build_anchors_a_frame_below_90_percent_overlap():          # BUILD_T_ANCHOR
