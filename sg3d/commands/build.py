@@ -39,8 +39,10 @@ def _summary_table(summary: dict):
     t.add_row("objects found", f"{h['formed']} candidates, {h['kept']} kept (rejected: {rejected})")
     d = summary.get("from_depth") or {}
     if d.get("unnamed") or d.get("structure"):
+        # only a walk's build looks for windows (`--rooms auto`)
+        kinds = "floor, walls, windows, surfaces" if summary.get("rooms_found") is not None else "floor, walls, surfaces"
         t.add_row("from depth", f"{d.get('unnamed', 0)} objects no detector named, {d.get('structure', 0)} of the "
-                                "room's structure (floor, walls, windows, surfaces)")
+                                f"room's structure ({kinds})")
     if summary.get("floor") == "not seen":
         t.add_row("floor", "not seen (no floor in view: the tops seen are objects, with what lies on them)")
     g = summary["graph"]
