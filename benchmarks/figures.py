@@ -3,7 +3,7 @@
 Each writer owns its keys: `python -m benchmarks.bench_rooms` the rooms' quality
 (`rooms.<room>`), `python -m benchmarks.bench_build` the build speed (`build.<method>`), and
 `python scripts/refresh_docs_examples.py` the built kitchen's graph and its `sg3d eval` figures
-(`kitchen`). tests/test_figures_quoted.py fails when a page quotes a figure that differs from
+(`kitchen`). tests/repo/test_figures_quoted.py fails when a page quotes a figure that differs from
 this file, so a figure is changed here (by rerunning its writer), then in the pages."""
 from __future__ import annotations
 

@@ -1,5 +1,5 @@
 """A RealSense recording made from recorded frames by librealsense's own recorder (pyrealsense2's
-software device), for `sg3d map realsense:FILE` without a camera: used by tests/test_map_sources.py
+software device), for `sg3d map realsense:FILE` without a camera: used by tests/e2e/test_map_sources.py
 and `benchmarks.map_noposes --realsense`."""
 from __future__ import annotations
 

@@ -8,7 +8,7 @@
   its word lists, or after upgrading lark (the hash covers both; without a current file the
   parser is built and kept in the user cache, as before).
 
-tests/test_cold_start.py checks that they are current.
+tests/e2e/test_cold_start.py checks that they are current.
 """
 from __future__ import annotations
 

@@ -5,7 +5,7 @@
 Needs nothing but ../shared (the kitchen and its ground truth). It builds the kitchen with the
 README's command into a fresh store (a scratch SG3D_HOME, stopped at the end), then:
 
-- runs every `$ sg3d ask|export|show` example of the pages tests/test_docs_examples.py checks, in
+- runs every `$ sg3d ask|export|show` example of the pages tests/e2e/test_docs_examples.py checks, in
   a scratch folder holding the pages' own `mkdir -p` folders; an example whose output still reads
   as the page shows (tests/docs_examples.py `matches`) is left as it is, any other is rewritten
   from the new output, trimmed where the page trimmed it (the same table rows, the same lines, a
@@ -14,7 +14,7 @@ README's command into a fresh store (a scratch SG3D_HOME, stopped at the end), t
 - redraws docs/img/kitchen.png (`sg3d show`);
 - writes `kitchen` in docs/figures.json: the graph's counts (`sg3d export`) and its quality
   against ../shared/eval/kitchen_gt.json (`sg3d eval`), which the pages quote
-  (tests/test_figures_quoted.py).
+  (tests/repo/test_figures_quoted.py).
 
 `--check` rewrites nothing and exits 1 when an example or a figure would change.
 """
@@ -46,7 +46,7 @@ from tests.docs_examples import (  # noqa: E402
     matches,
 )
 
-WIDTH = 100                     # the docs' console width (tests/test_docs_examples.py runs at it)
+WIDTH = 100                     # the docs' console width (tests/e2e/test_docs_examples.py runs at it)
 KITCHEN_GT = SHARED / "eval" / "kitchen_gt.json"
 PICTURE = REPO / "docs" / "img" / "kitchen.png"
 ELLIPSIS = "..."

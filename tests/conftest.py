@@ -108,3 +108,17 @@ def own_store(tmp_path):
     server = EmbeddedServer(home)
     yield home, server
     server.stop()
+
+
+# Each folder of tests/ is a lane, and its tests carry its marker (`pytest -m unit`, `-m "not quality"`):
+# unit (no store, no process, no data), e2e (a real store, server, CLI or data), quality (a room's
+# figures against its ground truth), repo (the repository's own files: code shape, docs, README).
+LANES = ("unit", "e2e", "quality", "repo")
+
+
+def pytest_collection_modifyitems(config, items):
+    tests = Path(__file__).resolve().parent
+    for item in items:
+        parts = Path(item.path).resolve().relative_to(tests).parts
+        if parts and parts[0] in LANES:
+            item.add_marker(parts[0])

@@ -1,4 +1,4 @@
-"""One build's local graph, written as JSON for tests/test_determinism.py (run in a process of its
+"""One build's local graph, written as JSON for tests/e2e/test_determinism.py (run in a process of its
 own, so the thread and instruction-set settings in its environment apply to every library):
 
     python -m tests.determinism_build SEQUENCE STOP THREADS OUT.json

@@ -1,4 +1,4 @@
-"""The docs' console examples, shared by tests/test_docs_examples.py (which checks that they hold)
+"""The docs' console examples, shared by tests/e2e/test_docs_examples.py (which checks that they hold)
 and scripts/refresh_docs_examples.py (which rewrites them from real output): where they are, how
 a page's `$ command` lines and the output under them are read, and how an output is compared."""
 from __future__ import annotations

@@ -34,7 +34,7 @@ SIGMA_CAP_M = 0.75
 # seen from either end gives two patches a metre apart. Between views that share a label, σ is
 # also floored at this fraction of the stored object's largest extent (sg3d.graphdb.merge).
 # In-sample: chosen on the kitchen (its table seen from either end). On the living room a fresh
-# default build keeps one chair, one tv and at most three objects (tests/test_quality.py), so
+# default build keeps one chair, one tv and at most three objects (tests/quality/test_quality.py), so
 # its views merge there without duplicates; with no living-room ground truth, that floor cannot
 # show the widening is not too loose there (two chairs merged into one would pass it too).
 SIGMA_SIZE_FRACTION = 0.5

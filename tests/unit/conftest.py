@@ -3,7 +3,7 @@
 While one of them runs (set-up, call and tear-down), an audit hook turns starting a process,
 connecting a socket (Bolt, HTTP) or opening a file under ../shared into a `LaneError`, and the
 fixtures that hand out a store or real data fail with the reason. A test that needs any of them
-belongs in tests/ beside this folder.
+belongs in tests/e2e (or tests/quality for a room's figures).
 """
 from __future__ import annotations
 

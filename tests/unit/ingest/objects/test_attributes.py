@@ -1,5 +1,5 @@
 """Per-object attributes on synthetic frames with known answers (gravity on the real kitchen:
-tests/test_kitchen_ingest.py)."""
+tests/quality/kitchen/test_kitchen_ingest.py)."""
 from __future__ import annotations
 
 import cv2

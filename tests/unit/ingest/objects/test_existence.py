@@ -1,6 +1,6 @@
 """Does a hypothesis exist (`sg3d.ingest.objects.existence`): Bayes over detections and the views that
 should have shown it, the size prior, tile artefacts, the visibility test (on real kitchen
-frames: tests/test_kitchen_ingest.py)."""
+frames: tests/quality/kitchen/test_kitchen_ingest.py)."""
 from __future__ import annotations
 
 import numpy as np

@@ -1,6 +1,6 @@
 """Pose estimation's decisions (`sg3d.ingest.poses.estimate`): tracking, keyframes, loop closures and
 segment links, with a stand-in odometry that knows the true camera path and reports, for each fit,
-the measurements a scene script gives it (the real odometry on rendered depth: tests/test_poses.py)."""
+the measurements a scene script gives it (the real odometry on rendered depth: tests/e2e/test_poses.py)."""
 from __future__ import annotations
 
 import numpy as np

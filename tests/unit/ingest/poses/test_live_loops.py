@@ -1,7 +1,7 @@
 """Online tracking's second opinion and loop closure (`sg3d.ingest.poses.online`,
 `sg3d.ingest.poses.live_loops`) and the live evidence following corrected poses
 (`Sighting.moved`), with stand-in odometry that reports scripted fits (the real odometry on
-real frames: tests/test_map_no_poses.py)."""
+real frames: tests/e2e/test_map_no_poses.py)."""
 from __future__ import annotations
 
 import time

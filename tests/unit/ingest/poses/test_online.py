@@ -1,7 +1,7 @@
 """Online tracking's rules for a camera without poses (`sg3d.ingest.poses.online`) and the live
 loop's budget for it (`sg3d.ingest.live`): the constant-velocity prediction, and when mapping
 jumps to the newest frame or lets detection wait (the real odometry on real frames:
-tests/test_map_no_poses.py)."""
+tests/e2e/test_map_no_poses.py)."""
 from __future__ import annotations
 
 from types import SimpleNamespace

@@ -1,5 +1,5 @@
 """KGE: overlap (Eq. 5-6) on synthetic frames with known answers, and Algorithm 1 (the real
-kitchen: tests/test_kitchen_ingest.py)."""
+kitchen: tests/quality/kitchen/test_kitchen_ingest.py)."""
 from __future__ import annotations
 
 import numpy as np

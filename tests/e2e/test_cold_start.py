@@ -10,7 +10,7 @@ from pathlib import Path
 
 import numpy as np
 
-REPO = Path(__file__).resolve().parents[1]
+REPO = Path(__file__).resolve().parents[2]
 
 
 def test_shipped_vectors_cover_the_vocabulary_and_are_unit_vectors():
@@ -63,7 +63,7 @@ def test_the_label_cache_lives_in_sg3d_home(tmp_path):
     env["SG3D_HOME"] = str(tmp_path)
     out = subprocess.run([sys.executable, "-c", "from sg3d.core.embedding import default_embedding as d; "
                                                 "print(d()._cache_file)"],
-                         capture_output=True, text=True, env=env, cwd=str(Path(__file__).resolve().parents[1]))
+                         capture_output=True, text=True, env=env, cwd=str(Path(__file__).resolve().parents[2]))
     assert out.returncode == 0, out.stderr
     assert out.stdout.strip().startswith(str(tmp_path / "sg3d-cache"))
 

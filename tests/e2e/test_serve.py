@@ -15,7 +15,7 @@ import pytest
 
 from tests.serve_helpers import kitchen_body, running_server
 
-REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 ROUTES = [("post", "/ask"), ("post", "/plan"), ("get", "/rooms"), ("get", "/rooms/home/kitchen/objects"),
           ("get", "/graph"), ("post", "/ingest")]
 

@@ -18,7 +18,7 @@ from click.testing import CliRunner
 from tests.cli_helpers import sg3d_env
 from tests.serve_helpers import kitchen_body
 
-REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
 
 def _jpeg() -> str:

@@ -12,7 +12,7 @@ import pytest
 
 from benchmarks.figures import FIGURES, load, lookup
 
-ROOT = Path(__file__).resolve().parent.parent
+ROOT = Path(__file__).resolve().parents[2]
 FIELD = re.compile(r"\{([a-z_][\w.]*)(?::([^}]*))?\}")
 
 E = "kitchen.eval"

@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pytest
 
-REPO = Path(__file__).resolve().parents[1]
+REPO = Path(__file__).resolve().parents[2]
 LINT_DIR = REPO / ".ci" / "cypher-lint"
 LINT = LINT_DIR / "lint.mjs"
 PACKAGE = LINT_DIR / "node_modules" / "@neo4j-cypher" / "language-support"

@@ -1,6 +1,6 @@
 """General constructions a held-out set found refused (issue 37, round three), each in several
 phrasings with other nouns than the set's; as logical forms (no store). Store-backed answers:
-tests/test_ask_round_two.py."""
+tests/e2e/test_ask_typos_rooms_and_comparisons.py."""
 from __future__ import annotations
 
 import pytest

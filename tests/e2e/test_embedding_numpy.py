@@ -12,7 +12,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-REPO = Path(__file__).resolve().parents[1]
+REPO = Path(__file__).resolve().parents[2]
 
 LABELS = ["mug", "cup", "sofa", "chair", "table", "dining table", "potted plant", "tv monitor",
           "refrigerator", "coffee table", "kitchen counter", "microwave oven", "toaster", "sink",

@@ -24,7 +24,7 @@ MIB = 1024 * 1024
 STORE_LIMIT = 16 * MIB          # what ArcadeDB's Bolt plugin reads of one message
 KITCHEN = "home/kitchen"
 DELETE_KITCHEN = f"MATCH (o:Object {{room:'{KITCHEN}'}}) DETACH DELETE o"
-REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
 
 # -- helpers -------------------------------------------------------------------------------------

@@ -157,7 +157,7 @@ def test_the_carrels_side_panels_are_part_of_their_desks(study_fragment_1):
     assert not panels
 
 
-LIVING_GT = Path(__file__).resolve().parents[1] / "benchmarks" / "rooms" / "livingroom_gt.json"
+LIVING_GT = Path(__file__).resolve().parents[2] / "benchmarks" / "rooms" / "livingroom_gt.json"
 
 
 def _truth(path, category):

@@ -10,7 +10,7 @@ import pytest
 
 from tests.cli_helpers import one_error_line, sg3d
 
-KITCHEN = Path(__file__).resolve().parents[2] / "shared" / "data" / "7scenes-redkitchen"
+KITCHEN = Path(__file__).resolve().parents[3] / "shared" / "data" / "7scenes-redkitchen"
 
 
 @pytest.mark.parametrize("args", [

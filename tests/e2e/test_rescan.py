@@ -1,6 +1,6 @@
 """Re-scans (issue #17) on hand-made scenes: the free-space rule, removed and moved objects in the
 real store, tallies after a removal, history, idempotent re-runs. The kitchen scans on real
-frames are in tests/test_rescan_kitchen.py."""
+frames are in tests/quality/kitchen/test_rescan_kitchen.py."""
 from __future__ import annotations
 
 import json

@@ -13,7 +13,7 @@ from sg3d.graphdb.places import object_rooms, read_places
 from sg3d.graphdb.values import room_id
 from sg3d.ingest.pipeline import Settings
 
-DATA = Path(__file__).resolve().parents[2] / "shared" / "data"
+DATA = Path(__file__).resolve().parents[3] / "shared" / "data"
 REAL = ("open3d-livingroom1-micro", "7scenes-redkitchen", "3dmatch-studyroom/fragment-1", "3dmatch-studyroom/fragment-2")
 
 

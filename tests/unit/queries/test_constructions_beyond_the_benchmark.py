@@ -1,6 +1,6 @@
 """General constructions added after the paraphrase benchmark (benchmarks/paraphrases.md): each is
 checked here in other words than the benchmark's questions, as the logical form it reads to (no
-store). Store-backed answers: tests/test_ask_round_two.py."""
+store). Store-backed answers: tests/e2e/test_ask_typos_rooms_and_comparisons.py."""
 from __future__ import annotations
 
 import pytest

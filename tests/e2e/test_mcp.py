@@ -17,7 +17,7 @@ from sg3d.app.graph import (
 )
 from tests.serve_helpers import kitchen_body
 
-REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 TOOLS = {"ask", "plan", "list_rooms", "list_objects", "cypher", "graph_schema"}
 
 
