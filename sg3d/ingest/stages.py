@@ -265,12 +265,9 @@ def discover_from_depth(evidence: Evidence, objects: list[ObjectObservation]) ->
     """The room's structure and its unnamed objects from the views' depth (`sg3d.ingest.discover.discovery`);
     the named objects get their whole boxes in place."""
     from sg3d.ingest.discover.room_cloud import room_cloud
-    from sg3d.ingest.discover.structure import room_structure
 
-    colour_image = functools.lru_cache(maxsize=16)(evidence.colour_of)   # objects side by side are read in the same views
     cloud = room_cloud(evidence.views, evidence.ground.up, evidence.ground.floor)
-    structure = room_structure(cloud)
-    unnamed, nodes = discovery.discover(objects, cloud, structure, colour_image)
+    unnamed, nodes = _discovered(evidence, objects, cloud)
     return Discovered(objects=unnamed + nodes, unnamed=len(unnamed), structure=len(nodes))
 
 
@@ -278,15 +275,22 @@ def discover_with_windows(evidence: Evidence, objects: list[ObjectObservation]) 
     """What `discover_from_depth` finds, and the windows where the floor was seen
     (`sg3d.ingest.discover.windows`: a sill's height is measured from the floor)."""
     from sg3d.ingest.discover.room_cloud import room_cloud
-    from sg3d.ingest.discover.structure import room_structure
     from sg3d.ingest.discover.windows import windows
 
-    colour_image = functools.lru_cache(maxsize=16)(evidence.colour_of)
     cloud = room_cloud(evidence.views, evidence.ground.up, evidence.ground.floor)
-    unnamed, nodes = discovery.discover(objects, cloud, room_structure(cloud), colour_image)
+    unnamed, nodes = _discovered(evidence, objects, cloud)
     if cloud.floor_seen:
         nodes += [discovery.structure_node(f"w{k}", e, cloud) for k, e in enumerate(windows(cloud))]
     return Discovered(objects=unnamed + nodes, unnamed=len(unnamed), structure=len(nodes))
+
+
+def _discovered(evidence: Evidence, objects: list[ObjectObservation],
+                cloud: Any) -> tuple[list[ObjectObservation], list[ObjectObservation]]:
+    """The unnamed objects and the structure's nodes of the room's `cloud` (`discovery.discover`)."""
+    from sg3d.ingest.discover.structure import room_structure
+
+    colour_image = functools.lru_cache(maxsize=16)(evidence.colour_of)   # objects side by side are read in the same views
+    return discovery.discover(objects, cloud, room_structure(cloud), colour_image)
 
 
 def depth_discovery(config: BuildConfig) -> DiscoverFn:
