@@ -140,6 +140,7 @@ def _row(summary: dict, traj: dict) -> dict:
             "tracked": t.get("ran"), "tracking_skipped": t.get("skipped"), "lost": t.get("lost"),
             "restarts": t.get("restarts"), "longest_loss_s": t.get("longest_loss_s"),
             "loop_closures": t.get("loop_closures"),
+            "loop_keyframes": t.get("loop_keyframes"),
             "track_ms_mean": t.get("ms_mean"), "track_ms_p95": t.get("ms_p95"),
             "ate_m": traj["ate_m"], "evo_ate_m": traj["evo_ate_m"], "ate_poses": traj["poses"],
             "objects": summary["objects"], "stages": summary.get("stages"), "load_avg": summary.get("load_avg")}

@@ -244,6 +244,7 @@ class LiveMapper:
             self.counts.skipped[exc.name] = exc.reason
             return
         self.candidates.append(coverage.Candidate(frame.index, frame.pose, decision.variance))
+        self._keep(frame)
         if role in ("keyframe", "anchor"):
             self.required.append(frame.index)
             if role == "keyframe":
@@ -261,6 +262,17 @@ class LiveMapper:
         self.grouper.completed.clear()        # groups matter to a build's reports only
         if self.gravity is None and len(self._gravity_frames) >= GRAVITY_FRAMES:
             self._estimate_gravity()
+
+    def _keep(self, frame: Frame) -> None:
+        """A sharp frame judged is kept by a source that forgets its frames (a camera's ring:
+        `keep`), so the end of the map can still detect it (`finish`: the coverage choice over
+        every judged frame)."""
+        keep = getattr(self.source, "keep", None)
+        if keep is not None:
+            try:
+                keep(frame)
+            except FrameError as exc:
+                self.counts.skipped.setdefault(exc.name, exc.reason)
 
     def follow_corrections(self) -> None:
         """When the source's poses were corrected (loop closure of online tracking: its `revision`

@@ -115,8 +115,44 @@ def test_realsense_playback_keeps_a_bounded_ring_of_aligned_frames(realsense_rec
         with pytest.raises(FrameError, match="no longer held"):
             source.frame(n - 31)
         assert len(source._frames) == 30                # memory is the ring, whatever the length
+        source.keep(source.frame(n - 1))                # kept: still read after it left the ring
+        source._frames.clear()
+        again = source.frame(n - 1)
+        assert again.name == last.name and np.array_equal(again.depth, last.depth)
+        assert np.mean(np.abs(again.color.astype(int) - last.color.astype(int))) < 3
     finally:
         source.close()
+
+
+def test_the_frames_mapping_judged_outlive_the_cameras_ring(realsense_recording):
+    """A camera's source holds its last `ring` frames; every sharp frame the mapper judged is
+    kept past it (`sg3d.ingest.readers.kept`), so the end of a map can still detect each."""
+    from sg3d.ingest.live import LiveMapper
+    from sg3d.ingest.pipeline import Settings
+    from sg3d.ingest.poses.online import OnlinePoses
+    from sg3d.ingest.readers.frames import FrameError
+    from sg3d.ingest.readers.realsense import RealSenseSource
+
+    follower = OnlinePoses(RealSenseSource(f"realsense:{realsense_recording}", ring=10))
+    mapper = LiveMapper(follower, None, Settings(), "rs-ring", "b")
+    try:
+        t0 = time.monotonic()
+        while not follower.source.ended and time.monotonic() - t0 < 60:
+            mapper.look()
+            time.sleep(0.01)
+        mapper.look()
+        n = follower.poll()
+        judged = [c.index for c in mapper.candidates]
+        old = [i for i in judged if i < n - 10]
+        assert len(old) >= 5, (n, judged)                    # judged frames the ring forgot
+        for i in old:
+            frame = follower.frame(i)
+            assert frame.depth.shape == (480, 640) and np.all(np.isfinite(frame.pose))
+        unjudged = next(i for i in range(n - 10) if i not in judged)
+        with pytest.raises(FrameError):
+            follower.frame(unjudged)
+    finally:
+        follower.source.close()
 
 
 def test_map_a_realsense_recording_with_poses_tracked_online(store, realsense_recording):
@@ -135,7 +171,8 @@ def test_map_a_realsense_recording_with_poses_tracked_online(store, realsense_re
     assert f["received"] >= 110 and f["read"] >= 5, f
     assert f["read"] + f["jumped"] + f["skipped"] >= f["received"] - 2, f
     reasons = [s["reason"] for kind in f["skipped_by_reason"] for s in kind["frames"]]
-    assert all(r.startswith(("lost track", "not tracked", "no longer held")) for r in reasons), reasons
+    # every frame the mapper judged was kept past the camera's ring: the end read each it chose
+    assert all(r.startswith(("lost track", "not tracked")) for r in reasons), reasons
 
 
 def test_a_realsense_source_names_what_is_missing(tmp_path):

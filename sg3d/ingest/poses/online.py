@@ -278,6 +278,11 @@ class OnlinePoses:
     def written_at(self, i: int) -> float:
         return self.source.written_at(i)
 
+    @property
+    def keep(self) -> Optional[Any]:
+        """The source's `keep` (frames kept past a camera's ring), None when it has none."""
+        return getattr(self.source, "keep", None)
+
     def pose_of(self, i: int) -> Optional[np.ndarray]:
         """Frame i's current pose (loop closure moves placed frames: `revision`), None if unplaced."""
         pose = self.poses.get(i)
@@ -485,7 +490,8 @@ class OnlinePoses:
     # -- what tracking did -------------------------------------------------------------------------
     def summary(self) -> dict:
         """The `--json` summary's "tracking": frames tracked ("ran"), placed, lost ("lost track"),
-        never tracked because mapping went past them ("skipped"), restarts, and the longest time
+        never tracked because mapping went past them ("skipped"), restarts, loop closures and the
+        loop keyframes closed (`LoopCloser`), and the longest time
         without a pose between two placed frames (`longest_loss_s`, by the frames' timestamps)."""
         placed = sorted(self.poses)
         times = [self.times[i] for i in placed if i in self.times]
@@ -495,6 +501,7 @@ class OnlinePoses:
                 "skipped": max(0, self._next - len(self._names)), "restarts": self.restarts,
                 "loop_closures": self._closer.loops if self._closer is not None else 0,
                 "optimisations": self._closer.optimisations if self._closer is not None else 0,
+                "loop_keyframes": len(self._closer.views) if self._closer is not None else 0,
                 "longest_loss_s": round(float(gaps.max()), 3) if gaps.size else 0.0,
                 "ms_mean": round(1000 * float(np.mean(self.seconds)), 1) if self.seconds else None,
                 "ms_p95": round(1000 * float(np.percentile(self.seconds, 95)), 1) if self.seconds else None}

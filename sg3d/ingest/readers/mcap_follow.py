@@ -63,6 +63,7 @@ from sg3d.ingest.readers.bag import (
 )
 from sg3d.ingest.readers.base import SequenceError
 from sg3d.ingest.readers.frames import Frame, FrameError, FrameInfo, ring_item
+from sg3d.ingest.readers.kept import KeptFrames
 
 MAGIC = b"\x89MCAP0\r\n"
 OP_FOOTER = 0x02
@@ -183,6 +184,7 @@ class McapFollower:
         self.series = PoseSeries()
         self._camera = self._world = ""
         self._frames: deque[_Held] = deque(maxlen=self.ring)
+        self.kept = KeptFrames()                # frames mapping judged, past the ring
         self._times: deque[float] = deque(maxlen=max(TIMES_HELD, self.ring))
         self._count = 0
         self._lock = threading.Lock()
@@ -197,12 +199,23 @@ class McapFollower:
     def frame(self, i: int) -> Frame:
         name = f"frame-{i:06d}"
         with self._lock:
-            held = ring_item(self._frames, self._count, i, name, self.ring)
+            try:
+                held = ring_item(self._frames, self._count, i, name, self.ring)
+            except FrameError:
+                kept = self.kept.frame(i)
+                if kept is None:
+                    raise
+                return kept
         if held.error:
             raise FrameError(held.name, held.error)
         assert held.K is not None and held.pose is not None
         return Frame(i, None, None, held.K, held.pose, FrameInfo(held.stamp / 1e9, held.name, held.size,
                                                                  _Pixels(held, self)))
+
+    def keep(self, frame: Frame) -> None:
+        """Keep a frame past the ring (`sg3d.ingest.readers.kept`): mapping judged it sharp, and
+        the end of the map may detect it."""
+        self.kept.keep(frame)
 
     @property
     def posed(self) -> Optional[bool]:

@@ -14,8 +14,9 @@ device's depth scale, K is the colour stream's intrinsics. A RealSense has no po
 carry a NaN pose and `sg3d.ingest.poses.online.OnlinePoses` tracks them.
 
 Frames live in memory only: a ring keeps the last `ring` frames (90: three seconds), and
-`frame(i)` of an older one raises FrameError("... no longer held ..."), so memory never grows
-while a camera streams. A thread waits for the camera; `poll()` never blocks. Like a camera, a
+`frame(i)` of an older one raises FrameError("... no longer held ..."), unless mapping asked to
+`keep` it (a sharp frame it judged, encoded within a memory budget: `sg3d.ingest.readers.kept`),
+so memory stays bounded while a camera streams. A thread waits for the camera; `poll()` never blocks. Like a camera, a
 recording plays at its recorded rate (`real_time`); framesets wait in a bounded queue while the
 thread is busy, and those librealsense drops all the same are counted in `dropped` (gaps in the
 frame numbers).
@@ -32,7 +33,8 @@ import cv2
 import numpy as np
 
 from sg3d.ingest.readers.base import SequenceError
-from sg3d.ingest.readers.frames import Frame, FrameInfo, ring_item
+from sg3d.ingest.readers.frames import Frame, FrameError, FrameInfo, ring_item
+from sg3d.ingest.readers.kept import KeptFrames
 
 PREFIX = "realsense"
 RING_FRAMES = 90              # frames held in memory (3 s at 30 frames/s)
@@ -98,6 +100,7 @@ class RealSenseSource:
         self.K: Optional[np.ndarray] = None
         self.depth_scale = 0.0
         self._frames: deque = deque(maxlen=self.ring)      # (colour BGR, depth metres, timestamp s)
+        self.kept = KeptFrames()                           # frames mapping judged, past the ring
         self._times: deque = deque(maxlen=max(TIMES_HELD, self.ring))
         self._count = 0
         self.dropped = 0           # framesets the camera sent that were not taken (frame-number gaps)
@@ -196,9 +199,20 @@ class RealSenseSource:
     def frame(self, i: int) -> Frame:
         name = f"realsense-{i:06d}"
         with self._lock:
-            colour, depth, stamp = ring_item(self._frames, self._count, i, name, self.ring)
+            try:
+                colour, depth, stamp = ring_item(self._frames, self._count, i, name, self.ring)
+            except FrameError:
+                kept = self.kept.frame(i)
+                if kept is None:
+                    raise
+                return kept
         assert self.K is not None
         return Frame(i, colour, depth, self.K, np.full((4, 4), np.nan), FrameInfo(stamp, name))
+
+    def keep(self, frame: Frame) -> None:
+        """Keep a frame past the ring (`sg3d.ingest.readers.kept`): mapping judged it sharp, and
+        the end of the map may detect it."""
+        self.kept.keep(frame)
 
     def written_at(self, i: int) -> float:
         with self._lock:
