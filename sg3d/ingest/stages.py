@@ -15,12 +15,13 @@ from typing import Any, Callable, ClassVar, Iterator, Mapping, Optional, Sequenc
 
 import numpy as np
 
-from sg3d.core.geometry import METRES_DECIMALS, Ground, fixed_precision
+from sg3d.core.geometry import METRES_DECIMALS, Ground, fixed_precision, horizontal_frame
 from sg3d.core.model import KnownObject, ObjectObservation, RelationObservation, vec3
 from sg3d.ingest.config import BuildConfig, Method
 from sg3d.ingest.detect.irrelevant import reject_irrelevant
 from sg3d.ingest.detect.models import Detection, Detector
 from sg3d.ingest.discover import discovery
+from sg3d.ingest.discover.shelves import frame_of_board
 from sg3d.ingest.objects import existence, fusion, rescan
 from sg3d.ingest.objects.attributes import measure_object
 from sg3d.ingest.objects.colour import is_screen
@@ -391,8 +392,32 @@ def _structure_relations(objects: list[ObjectObservation], up: Any) -> list[Rela
              if o.layer != "structure" or o.local_id in structure]
     things = [g for g in geoms if g.local_id not in structure]
     geoms = [floor_under_room(g, things, up) if g.label == "floor" else g for g in geoms]
-    return [r for r in spatial_relations(geoms, up)
-            if r.predicate == "ON" and r.object in structure and r.subject not in structure]
+    on = [r for r in spatial_relations(geoms, up)
+          if r.predicate == "ON" and r.object in structure and r.subject not in structure]
+    return on + on_the_frames_of_boards(on, objects, up)
+
+
+def on_the_frames_of_boards(on: list[RelationObservation], objects: list[ObjectObservation],
+                            up: Any) -> list[RelationObservation]:
+    """Rule "what rests on a board rests on its frame": a surface of the room's structure that is
+    a board of an object around it (`shelves.frame_of_board`: a bookcase's, a cabinet's open
+    shelf) makes each thing ON it ON that object too ("the cup on the bookcase")."""
+    R = horizontal_frame(up)
+
+    def box(o: ObjectObservation) -> tuple[np.ndarray, np.ndarray]:
+        c, half = R @ np.asarray(_centre(o), float), np.asarray(o.size, float) / 2
+        return c - half, c + half
+
+    boards = {r.object for r in on}
+    frames = [(o.local_id, *box(o)) for o in objects if o.layer != "structure" and o.size is not None]
+    owner = {}
+    for o in objects:
+        if o.local_id in boards and o.size is not None:
+            lo, hi = box(o)
+            if (f := frame_of_board(float(hi[2]), lo, hi, frames)) is not None:
+                owner[o.local_id] = f
+    return [RelationObservation(r.subject, "ON", owner[r.object], r.score) for r in on
+            if r.object in owner and r.subject != owner[r.object]]
 
 
 # --------------------------------------------------------------------------------------- rescan

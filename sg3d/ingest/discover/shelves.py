@@ -49,19 +49,31 @@ BOARD_EDGE_COVER = 0.7
 BOARD_BELOW_M = 0.05
 
 
+def board_share(level: float, lo: np.ndarray, hi: np.ndarray, frame_lo: np.ndarray, frame_hi: np.ndarray) -> float:
+    """Rule "a board of a frame": the share of a horizontal surface's footprint box (`lo`, `hi`)
+    within the frame's footprint when its `level` lies BOARD_INSIDE_M inside the frame's height
+    on both sides, else 0; it is one of the frame's boards from BOARD_FOOTPRINT_SHARE on."""
+    if not frame_lo[2] + BOARD_INSIDE_M <= level <= frame_hi[2] - BOARD_INSIDE_M:
+        return 0.0
+    inter = np.clip(np.minimum(frame_hi[:2], hi[:2]) - np.maximum(frame_lo[:2], lo[:2]), 0, None)
+    area = float(np.prod(np.maximum(hi[:2] - lo[:2], 1e-3)))
+    return float(np.prod(inter)) / area
+
+
 def boards_inside(seg: Segment, surfaces: Sequence[Element]) -> list[Element]:
-    """Rule "boards of a frame": the horizontal surfaces whose level lies BOARD_INSIDE_M inside
-    the segment's height on both sides and BOARD_FOOTPRINT_SHARE of whose footprint box lies
-    within the segment's footprint."""
-    out = []
-    for e in surfaces:
-        if e.footprint is None or not seg.lo[2] + BOARD_INSIDE_M <= e.height <= seg.hi[2] - BOARD_INSIDE_M:
-            continue
-        inter = np.clip(np.minimum(seg.hi[:2], e.hi[:2]) - np.maximum(seg.lo[:2], e.lo[:2]), 0, None)
-        area = float(np.prod(np.maximum(e.hi[:2] - e.lo[:2], 1e-3)))
-        if float(np.prod(inter)) / area >= BOARD_FOOTPRINT_SHARE:
-            out.append(e)
-    return out
+    """The horizontal surfaces that are boards of the segment (`board_share`)."""
+    return [e for e in surfaces if e.footprint is not None
+            and board_share(e.height, e.lo, e.hi, seg.lo, seg.hi) >= BOARD_FOOTPRINT_SHARE]
+
+
+def frame_of_board(level: float, lo: np.ndarray, hi: np.ndarray,
+                   frames: Sequence[tuple[str, np.ndarray, np.ndarray]]) -> str | None:
+    """The frame (id, lo, hi) a board found among the room's surfaces belongs to (`board_share`;
+    the one holding most of its footprint, the smaller on a tie), None when it is no frame's."""
+    shares = [(board_share(level, lo, hi, f_lo, f_hi), -float(np.prod(f_hi[:2] - f_lo[:2])), fid)
+              for fid, f_lo, f_hi in frames]
+    best = max(shares, default=None)
+    return best[2] if best is not None and best[0] >= BOARD_FOOTPRINT_SHARE else None
 
 
 def _panel_at(x: np.ndarray, lo: float, hi: float) -> float:

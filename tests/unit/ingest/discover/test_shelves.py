@@ -107,3 +107,31 @@ def test_an_edge_covers_70_percent_of_the_case():                      # BOARD_E
         return shelves.board_edges(seg, shelves.frame_faces(seg, CAMERAS))
     assert any(abs(v - 1.0) < 0.02 for v in levels(0.80))             # 0.75 of the case's 0.95 inside
     assert not any(abs(v - 1.0) < 0.02 for v in levels(0.65))
+
+
+def _frame(fid: str, lo, hi) -> tuple[str, np.ndarray, np.ndarray]:
+    return fid, np.asarray(lo, float), np.asarray(hi, float)
+
+
+def test_a_board_among_the_rooms_surfaces_belongs_to_the_frame_around_it():   # frame_of_board
+    case = _frame("case", (0, 0, 0), (1.0, 0.35, 1.4))
+    board_lo, board_hi = np.array([0.05, 0.02, 0.42]), np.array([0.95, 0.33, 0.45])
+    assert shelves.frame_of_board(0.45, board_lo, board_hi, [case]) == "case"
+    # BOARD_INSIDE_M: a level 10 cm inside the frame's height is a board, 9 cm is its foot or top
+    assert shelves.frame_of_board(0.10, board_lo, board_hi, [case]) == "case"
+    assert shelves.frame_of_board(0.09, board_lo, board_hi, [case]) is None
+    assert shelves.frame_of_board(1.29, board_lo, board_hi, [case]) == "case"
+    assert shelves.frame_of_board(1.31, board_lo, board_hi, [case]) is None
+    # BOARD_FOOTPRINT_SHARE: half the board's footprint within the frame's, not less
+    half = _frame("half", (0.5, 0, 0), (1.5, 0.35, 1.4))
+    assert shelves.frame_of_board(0.45, np.array([0.0, 0.0, 0.42]), np.array([1.0, 0.3, 0.45]), [half]) == "half"
+    less = _frame("less", (0.51, 0, 0), (1.5, 0.35, 1.4))
+    assert shelves.frame_of_board(0.45, np.array([0.0, 0.0, 0.42]), np.array([1.0, 0.3, 0.45]), [less]) is None
+
+
+def test_a_board_goes_to_the_frame_holding_most_of_it():
+    board_lo, board_hi = np.array([0.0, 0.0, 0.42]), np.array([1.0, 0.3, 0.45])
+    most = _frame("most", (0.0, 0, 0), (0.9, 0.35, 1.4))
+    some = _frame("some", (0.3, 0, 0), (1.2, 0.35, 1.4))
+    assert shelves.frame_of_board(0.45, board_lo, board_hi, [some, most]) == "most"
+    assert shelves.frame_of_board(0.45, board_lo, board_hi, []) is None
