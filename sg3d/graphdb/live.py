@@ -26,7 +26,7 @@ from sg3d.core.model import RELATION_TYPES, LocalGraph, ScanInfo
 from sg3d.core.stored import Row
 from sg3d.graphdb import cypher
 from sg3d.graphdb.consistency import resolve_pairs
-from sg3d.graphdb.merge import Fence, ensure_room
+from sg3d.graphdb.merge import Fence, ensure_room, lock_room
 from sg3d.graphdb.protocol import GraphStore
 from sg3d.graphdb.store import size_batches
 from sg3d.graphdb.tally import create_objects_and_tallies
@@ -112,12 +112,11 @@ def publish_in_tx(tx: ManagedTransaction, graph: LocalGraph, scan: ScanInfo, sta
         fence(tx)
     rid = room_id(graph.building, graph.room)
     now = time.time()
-    tx.run(cypher.load("room_ensure"), building=graph.building, room=rid, name=graph.room,
-           up=[float(v) for v in graph.up] if graph.up is not None else None).consume()
+    ids = lock_room(tx, graph)
     tx.run(cypher.load("scan_ensure"), id=scan.id, room=rid, at=scan.at, kind="map").consume()
     rows = [dict(r) for r in tx.run(cypher.load("live_objects"), room=rid)]
     old = [o for o in rows if made_by_map(o)]
-    plan = plan_merge(graph, [], None, [], embedding, scan, now, rid)
+    plan = plan_merge(graph, [], None, [], embedding, scan, now, ids)
     keep = resumed_ids([row["props"] for row in plan.creates], old, unseen)
     updates, creates = _split_plan(plan, keep, {o["id"]: o.get("first_seen") for o in old})
     kept_ids = set(keep.values())

@@ -39,6 +39,7 @@ from sg3d.merge.plan import (
     plan_merge,
     position_scores,
 )
+from sg3d.merge.ids import MergeIds
 from sg3d.merge.rescan import scan_of
 from sg3d.merge.similarity import MAX_EXTENT_M, SimilarityParams
 
@@ -79,8 +80,8 @@ def _fetch_candidates(tx: ManagedTransaction, rid: str, objects: list[ObjectObse
     near = _rows(tx.run(cypher.load("merge_candidates"), room=rid, **_window(objects, margin)))
     if not near:
         return [], np.zeros((len(objects), 0))
-    # in the order of their place, not of their (random) ids: equal scores are then paired the
-    # same way in every build of the same frames
+    # in the order of their place, not of their ids: equal scores are then paired the same way
+    # in every build of the same frames, whatever the room held before
     near.sort(key=lambda c: (c["x"], c["y"], c["z"], c["label"]))
     # a batch spans the room, so most pairs are far apart: a cheap test drops the candidates
     # nothing local can reach before the exact scores (same result, without their tails)
@@ -127,20 +128,28 @@ def merge_in_tx(tx: ManagedTransaction, graph: LocalGraph, embedding: Optional[L
     embedding = embedding or default_embedding()
     rid = room_id(graph.building, graph.room)
     now = time.time()
-    scan = scan_of(graph, now)
-    # first write of the transaction: the room lock (see cypher/room_ensure.cypher)
-    tx.run(cypher.load("room_ensure"), building=graph.building, room=rid, name=graph.room,
-           up=[float(v) for v in graph.up] if graph.up is not None else None).consume()
+    ids = lock_room(tx, graph)
+    scan = scan_of(graph, now, ids)
     tx.run(cypher.load("scan_ensure"), id=scan.id, room=rid, at=scan.at,
            kind="ingest" if (graph.key or "").startswith("ingest:") else "build").consume()
     objects = graph.objects
     cands, s_pos = (_fetch_candidates(tx, rid, objects, params, gravity_basis(graph.up)) if objects
                     else ([], None))
     moved_from = rescan.move_candidates(tx, rid, graph)
-    plan = plan_merge(graph, cands, s_pos, moved_from, embedding, scan, now, rid, params)
+    plan = plan_merge(graph, cands, s_pos, moved_from, embedding, scan, now, ids, params)
     report = apply(tx, plan)
     report.seconds = time.perf_counter() - t0
     return report
+
+
+def lock_room(tx: ManagedTransaction, graph: LocalGraph) -> MergeIds:
+    """The first write of a merge or publish transaction: the room (and its building) made if new,
+    locked, its revision bumped (cypher/room_ensure); the ids of the nodes this transaction makes
+    follow from the room and that revision (`sg3d.merge.ids`)."""
+    rid = room_id(graph.building, graph.room)
+    row = tx.run(cypher.load("room_ensure"), building=graph.building, room=rid, name=graph.room,
+                 up=[float(v) for v in graph.up] if graph.up is not None else None).single()
+    return MergeIds(rid, int(row["revision"]) if row is not None else 0)
 
 
 def apply(tx: ManagedTransaction, plan: MergePlan) -> MergeReport:

@@ -10,7 +10,6 @@ the paper's rules (`sg3d.merge.update`).
 """
 from __future__ import annotations
 
-import uuid
 from dataclasses import dataclass, field
 from typing import Iterable, Optional, TypeVar
 
@@ -32,6 +31,7 @@ from sg3d.core.stored import Row
 from sg3d.merge import rescan
 from sg3d.merge.consistency import canonical_rows
 from sg3d.merge.histograms import pack_hist, unpack_hist
+from sg3d.merge.ids import MergeIds
 from sg3d.merge.similarity import (
     SimilarityParams,
     box_may_pass,
@@ -260,13 +260,14 @@ def stored_shape(label: str, layer: str, size: Iterable[float], surface: Optiona
     return shape_class(size, surface, basis, centre)
 
 
-def _new_props(obj: ObjectObservation, rid: str, now: float, scan: ScanInfo,
+def _new_props(obj: ObjectObservation, oid: str, rid: str, now: float, scan: ScanInfo,
                basis: Optional[np.ndarray] = None) -> dict:
+    """The properties of the node `oid` that observation `obj` makes in room `rid`."""
     mean = [float(v) for v in obj.mean]
     size = [float(v) for v in obj.size]
     basis = gravity_basis(None) if basis is None else basis
     return {
-        "id": f"o-{uuid.uuid4().hex[:16]}", "room": rid,
+        "id": oid, "room": rid,
         "label": obj.label, "labels": list(obj.labels), "scores": [float(s) for s in obj.scores],
         "score": float(max(obj.scores)),
         "x": mean[0], "y": mean[1], "z": mean[2], "var": [float(v) for v in obj.var],
@@ -329,11 +330,13 @@ def _appearance_split(props: dict) -> dict:
 
 def plan_merge(graph: LocalGraph, candidates: list[Row], s_pos: Optional[np.ndarray],
                moved_from: list[Row], embedding: LabelEmbedding, scan: ScanInfo, now: float,
-               room: str, params: SimilarityParams = SimilarityParams()) -> MergePlan:
+               ids: MergeIds, params: SimilarityParams = SimilarityParams()) -> MergePlan:
     """The plan of one merge. `candidates`: the stored nodes near the local graph (with their
     histograms) and `s_pos` their (n_local, n_cand) position similarity (Eq. 12-13);
     `moved_from`: the stored nodes whose place this graph's frames saw empty (rows of
-    cypher/rescan_candidates, with histograms)."""
+    cypher/rescan_candidates, with histograms); `ids`: the room and its revision in the merge
+    transaction, which name the nodes the merge makes (`sg3d.merge.ids`)."""
+    room = ids.room
     plan = MergePlan(key=graph.key, room=room, scan=scan, now=now, frames=[int(f) for f in graph.frames],
                      candidates=len(candidates))
     objects, basis = graph.objects, gravity_basis(graph.up)
@@ -353,7 +356,7 @@ def plan_merge(graph: LocalGraph, candidates: list[Row], s_pos: Optional[np.ndar
             plan.node_ids[obj.local_id] = owner      # a piece of a stored chair is that chair
             plan.claimed += 1
         else:
-            props = _new_props(obj, room, now, scan, basis)
+            props = _new_props(obj, ids.object_id(i), room, now, scan, basis)
             plan.node_ids[obj.local_id] = props["id"]
             plan.creates.append(_appearance_split(props))
             plan.counted.append((props["label"], props["colour"]))

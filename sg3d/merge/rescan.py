@@ -17,8 +17,6 @@ of a scan changes nothing, and a crash mid-scan leaves the previous state of eve
 """
 from __future__ import annotations
 
-import uuid
-
 import numpy as np
 from scipy.optimize import linear_sum_assignment
 
@@ -26,6 +24,7 @@ from sg3d.core.embedding import LabelEmbedding
 from sg3d.core.model import LocalGraph, ObjectObservation, ScanInfo
 from sg3d.core.stored import Row
 from sg3d.merge.histograms import unpack_hist
+from sg3d.merge.ids import MergeIds
 from sg3d.merge.similarity import histogram_intersection, label_similarity_matrix
 
 # A place seen empty in at least this many frames of a scan (like the existence test's
@@ -43,11 +42,12 @@ MOVE_SIZE_RATIO = 2.0
 MOVE_MIN_EXTENT_M = 0.05
 
 
-def scan_of(graph: LocalGraph, now: float) -> ScanInfo:
-    """The scan a local graph belongs to; a graph without one is a scan of its own."""
+def scan_of(graph: LocalGraph, now: float, ids: MergeIds) -> ScanInfo:
+    """The scan a local graph belongs to; a graph without one is a scan of its own, named by its
+    key, else by the merge (`MergeIds.scan_id`)."""
     if graph.scan is not None:
         return graph.scan
-    return ScanInfo(id=graph.key or f"merge-{uuid.uuid4().hex[:12]}", at=now, closes=True)
+    return ScanInfo(id=graph.key or ids.scan_id(), at=now, closes=True)
 
 
 def first_sighting(scan: ScanInfo) -> dict:

@@ -36,7 +36,7 @@ def test_merged_objects_carry_no_bytes_and_their_appearance_does(store):
     assert len(records) == 2
     # object_create spells the properties out: every one the merge computes is stored, no bytes
     # (a null property, such as the shape of a named object, is not stored)
-    props = _new_props(obj("z", "cup", (0, 0, 0)), ROOM, 0.0, ScanInfo("s", 0.0))
+    props = _new_props(obj("z", "cup", (0, 0, 0)), "o-z", ROOM, 0.0, ScanInfo("s", 0.0))
     own = {k for k, v in props.items() if v is not None} - {"hist", "thumbnail"}
     assert {"layer"} <= own
     assert all(set(o) == own for o in records)

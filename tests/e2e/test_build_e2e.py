@@ -68,7 +68,7 @@ def _room_state(home, room, building="test"):
                                 "-p", f"room={json.dumps(building + '/' + room)}", "--json").stdout)
     return (sorted((o["label"], round(o["x"], 3), round(o["y"], 3), round(o["z"], 3), o["obs"], o["frames"])
                    for o in objects),
-            # NEXT_TO/NEAR are stored once, from the smaller (random) id: compare them unordered
+            # NEXT_TO/NEAR are stored once, from the smaller id (ids differ from room to room): compare them unordered
             sorted((*sorted((r["a"], r["b"])), r["t"]) if r["t"] in ("NEXT_TO", "NEAR") else (r["a"], r["b"], r["t"])
                    for r in relations))
 

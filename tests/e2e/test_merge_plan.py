@@ -2,12 +2,15 @@
 (the rows cypher/merge_candidates returns), planned by `sg3d.merge.plan.plan_merge`."""
 from __future__ import annotations
 
+import itertools
+
 import numpy as np
 import pytest
 
 from sg3d.core.embedding import shipped_vectors
 from sg3d.core.geometry import gravity_basis
 from sg3d.core.model import ScanInfo
+from sg3d.merge.ids import MergeIds
 from sg3d.merge.plan import (
     _new_props,
     plan_merge,
@@ -19,6 +22,8 @@ from tests.factories import graph, hist_of, obj
 
 ROOM = "home/kitchen"
 EARLIER, NOW = ScanInfo("s1", 100.0), ScanInfo("s2", 200.0)
+STORED = MergeIds(ROOM, 1)              # the merge that made the hand-made stored nodes
+_made = itertools.count()
 
 
 class ShippedVectors:
@@ -43,7 +48,7 @@ def embedding():
 
 def stored(observation, scan=EARLIER, **changes) -> dict:
     """A stored node as the merge reads it: the properties a merge created it with."""
-    props = _new_props(observation, ROOM, scan.at, scan)
+    props = _new_props(observation, STORED.object_id(next(_made)), ROOM, scan.at, scan)
     return {**props, "removed_at": None, **changes}
 
 
@@ -51,7 +56,7 @@ def plan(local, nodes=(), moved_from=(), embedding=None, scan=NOW):
     nodes = list(nodes)
     params = SimilarityParams()
     s_pos = position_scores(local.objects, nodes, params, gravity_basis(local.up)) if nodes else None
-    return plan_merge(local, nodes, s_pos, list(moved_from), embedding, scan, scan.at, ROOM, params)
+    return plan_merge(local, nodes, s_pos, list(moved_from), embedding, scan, scan.at, MergeIds(ROOM, 2), params)
 
 
 def test_an_empty_room_creates_every_object_and_counts_it(embedding):
