@@ -469,6 +469,37 @@ def screens_in_view(screens: Sequence[tuple[np.ndarray, np.ndarray]], cloud: Roo
     return out
 
 
+def voxel_discs(u: np.ndarray, v: np.ndarray, z: np.ndarray, focal: float, shape: tuple[int, ...]) -> np.ndarray:
+    """The pixels projected voxels cover (uint8 mask of `shape`): each voxel a filled disc at its
+    rounded pixel (u, v) of radius max(1, round(focal * VOXEL_DISC_M / z)), exactly as
+    `cv2.circle` draws it, parts off the image dropped. Drawn one radius at a time as a dilation
+    of that radius's centres by the disc (the same union, without a Python loop over voxels: a
+    segment's 3,000 voxels took 10 ms one circle at a time, 1 ms this way)."""
+    h, w = shape[:2]
+    mask = np.zeros((h, w), np.uint8)
+    cx = np.round(np.asarray(u, dtype=np.float64)).astype(np.int64)
+    cy = np.round(np.asarray(v, dtype=np.float64)).astype(np.int64)
+    r = np.maximum(1, np.round(focal * VOXEL_DISC_M / np.asarray(z, dtype=np.float64)).astype(np.int64))
+    keep = (cx + r >= 0) & (cx - r < w) & (cy + r >= 0) & (cy - r < h)
+    if not keep.any():
+        return mask
+    cx, cy, r = cx[keep], cy[keep], r[keep]
+    R = int(r.max())
+    x0, y0 = int(cx.min()) - R, int(cy.min()) - R        # the canvas: the discs' bounding box
+    canvas = np.zeros((int(cy.max()) - y0 + R + 1, int(cx.max()) - x0 + R + 1), np.uint8)
+    for radius in np.unique(r):
+        centres = np.zeros_like(canvas)
+        sel = r == radius
+        centres[cy[sel] - y0, cx[sel] - x0] = 1
+        disc = np.zeros((2 * int(radius) + 1, 2 * int(radius) + 1), np.uint8)
+        cv2.circle(disc, (int(radius), int(radius)), int(radius), 1, -1)
+        canvas |= cv2.dilate(centres, disc)
+    ys, xs = max(0, y0), max(0, x0)
+    ye, xe = min(h, y0 + canvas.shape[0]), min(w, x0 + canvas.shape[1])
+    mask[ys:ye, xs:xe] = canvas[ys - y0:ye - y0, xs - x0:xe - x0]
+    return mask
+
+
 def segment_reading(projected: tuple[np.ndarray, np.ndarray, np.ndarray], view: View, image: np.ndarray,
                     box: tuple[int, int, int, int],
                     screens: Sequence[tuple[int, int, int, int]] = ()) -> Optional[colour_model.ColourReading]:
@@ -477,10 +508,7 @@ def segment_reading(projected: tuple[np.ndarray, np.ndarray, np.ndarray], view: 
     around its pixel box divided out (`sg3d.ingest.objects.colour.surround_cast`, the pixel boxes of the
     `screens` in view left out; `read_colour`), as for named objects. None without pixels."""
     u, v, z = projected
-    h, w = image.shape[:2]
-    mask = np.zeros((h, w), np.uint8)
-    for x, y, d in zip(u, v, z):
-        cv2.circle(mask, (int(round(x)), int(round(y))), max(1, int(round(view.K[0, 0] * VOXEL_DISC_M / d))), 1, -1)
+    mask = voxel_discs(u, v, z, float(view.K[0, 0]), image.shape[:2])
     pixels = image[mask > 0]
     if len(pixels) == 0:
         return None
