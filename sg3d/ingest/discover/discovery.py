@@ -493,7 +493,7 @@ def voxel_discs(u: np.ndarray, v: np.ndarray, z: np.ndarray, focal: float, shape
         centres[cy[sel] - y0, cx[sel] - x0] = 1
         disc = np.zeros((2 * int(radius) + 1, 2 * int(radius) + 1), np.uint8)
         cv2.circle(disc, (int(radius), int(radius)), int(radius), 1, -1)
-        canvas |= cv2.dilate(centres, disc)
+        np.bitwise_or(canvas, cv2.dilate(centres, disc), out=canvas)
     ys, xs = max(0, y0), max(0, x0)
     ye, xe = min(h, y0 + canvas.shape[0]), min(w, x0 + canvas.shape[1])
     mask[ys:ye, xs:xe] = canvas[ys - y0:ye - y0, xs - x0:xe - x0]
