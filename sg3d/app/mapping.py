@@ -271,6 +271,7 @@ def _follow(mapper, req: MapRequest, should_stop: Optional[Callable[[], bool]]) 
     from sg3d.ingest.readers.base import SequenceError
 
     last_frames, last_change = 0, time.monotonic()
+    last_seen = (0, 0)
     try:
         while True:
             if should_stop is not None and should_stop():
@@ -280,8 +281,11 @@ def _follow(mapper, req: MapRequest, should_stop: Optional[Callable[[], bool]]) 
             except SequenceError as exc:
                 raise MapError(str(exc))
             detected = mapper.detect_next() if mapper.may_detect() else False
-            if mapper.counts.received != last_frames:
-                last_frames, last_change = mapper.counts.received, time.monotonic()
+            # idle: nothing arrived and nothing became ready to judge (a recording tracked in
+            # order makes frames ready long after they arrived)
+            if (mapper.counts.received, mapper.next_frame) != last_seen:
+                last_seen, last_change = (mapper.counts.received, mapper.next_frame), time.monotonic()
+                last_frames = mapper.counts.received
             if not judged and not detected:
                 if req.stop_when_idle is not None:
                     # before the first frame the camera may still be starting: wait longer

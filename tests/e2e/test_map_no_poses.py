@@ -137,3 +137,18 @@ def test_a_trajectory_out_in_no_folder_is_refused_at_once(store, embedded_home, 
     out = sg3d(embedded_home, "map", tmp_path, "--room", "x", "--stop-when-idle", "1",
                "--trajectory-out", tmp_path / "nowhere" / "t.tum")
     assert out.returncode == 2 and "--trajectory-out" in one_error_line(out)
+
+
+# -- a recording written before the map ------------------------------------------------------------
+def test_a_folder_written_before_the_map_is_tracked_frame_by_frame(store, tmp_path):
+    """Frames that are there when the map starts are a recording nobody waits for: every one is
+    tracked, in order (a camera's newest-frame rule tracked 2 of them and left an end graph of
+    2 frames), and the last graph is the build's choice over the whole folder."""
+    need_shared(KITCHEN, "the kitchen")
+    folder = tmp_path / "written"
+    write_live(KITCHEN, folder, 1e6, 60, 0.0, poses=False)         # all 60 frames at once
+    summary = _map(store, folder, "kitchen-written", tmp_path / "t.tum", [])
+    t = summary.tracking
+    assert t is not None and t["ran"] == 60 and t["placed"] == 60 and t["skipped"] == 0, t
+    assert summary.final["as_build"] and summary.final["frames"] >= 5, summary.final
+    assert summary.objects > 0

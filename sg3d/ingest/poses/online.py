@@ -129,6 +129,16 @@ def predict_pose(history: list[tuple[float, np.ndarray]], t: float) -> Optional[
     return last @ screw_power(V, (t - t_last) / dt)
 
 
+def next_to_track(next_frame: int, arrived: int, present: int) -> int:
+    """Rule "a camera's newest frame, a recording's every frame": the frame tracking takes next
+    when `arrived` frames are there and frames before `next_frame` were dealt with. The frames the
+    source already held when mapping started (`present`: a folder written before, or while a
+    map was not running) are a recording nobody waits for, tracked in order as a build would;
+    past them tracking takes the newest frame that arrived (a camera's: the frames in between
+    are never tracked)."""
+    return next_frame if next_frame < present else arrived - 1
+
+
 def filled_poses(placed: dict[int, np.ndarray], times: list[float], unplaced: set[int]) -> dict[int, np.ndarray]:
     """A pose for every frame 0..len(times)-1 between the first and the last `placed` one but those
     in `unplaced`: placed frames keep theirs, the others are interpolated by their timestamps
@@ -176,6 +186,7 @@ class OnlinePoses:
         self._stop = threading.Event()
         self._idle = threading.Event()                # the tracking thread waits for a frame (loop closure may run)
         self._ready = 0                               # frames the tracking thread has dealt with
+        self._present: Optional[int] = None           # frames the source already held when it was first polled
         self.arrived = 0                              # frames the source holds (tracking may be a few behind)
         self.error: Optional[BaseException] = None
         self.seconds: deque[float] = deque(maxlen=10_000)   # per frame the tracking thread took (read + fit)
@@ -188,7 +199,8 @@ class OnlinePoses:
 
     # -- tracking on its own thread ------------------------------------------------------------------
     def start(self) -> None:
-        """Track on a thread of its own from now on: it always takes the newest frame that arrived
+        """Track on a thread of its own from now on: past the frames the source held when first
+        polled (tracked in order: `next_to_track`) it always takes the newest frame that arrived
         (the frames in between are never tracked: `NotTracked`), so tracking keeps up with the
         camera whatever detection and publishing cost, and gaps are bridged (`_fit`); `poll()`
         then says how many frames tracking has dealt with. A source with poses stops the thread."""
@@ -219,14 +231,17 @@ class OnlinePoses:
                     self.arrived = n
                     if self.posed:
                         return                        # nothing to track: poll() passes through
+                    if self._present is None and n:
+                        self._present = n
                     fresh = n - 1 >= self._next
                     if fresh:
                         self._idle.clear()
                         t0 = time.perf_counter()
-                        self._track(n - 1)
-                        self._next = n
+                        i = next_to_track(self._next, n, self._present or 0)
+                        self._track(i)
+                        self._next = i + 1
                         self.seconds.append(time.perf_counter() - t0)
-                    self._ready = n
+                    self._ready = self._next
                 if not fresh:
                     self._idle.set()
                     self._stop.wait(TRACK_POLL_S)

@@ -206,3 +206,10 @@ def test_frames_that_arrived_count_as_received_while_tracking_deals_with_one():
     mapper.next_frame = 12
     mapper.look()
     assert mapper.counts.received == 40
+
+
+def test_frames_there_at_the_start_are_tracked_in_order_then_the_newest():   # next_to_track
+    assert online.next_to_track(0, 1000, 1000) == 0          # a folder written before: in order
+    assert online.next_to_track(999, 1000, 1000) == 999
+    assert online.next_to_track(1000, 1030, 1000) == 1029    # past them: the camera's newest frame
+    assert online.next_to_track(3, 40, 3) == 39              # a camera: a few frames held at the start
