@@ -74,3 +74,21 @@ def test_a_plane_with_the_room_far_behind_it_is_no_wall():              # WALL_S
         behind = (np.column_stack([np.full(k, 1.9), np.linspace(-0.5, 0.5, k), np.full(k, 0.5)]),
                   np.tile([0.0, 0.0, 1.0], (k, 1)))
         assert _found_x(_room(wall, behind)) == expect
+
+
+def _front(x: float, length: float, height: float, jitter_deg: float, step: float, seed: int):
+    """A furniture front across x near the camera (a bed's side seen from a robot's height): dense,
+    its normals turned by up to +-jitter_deg at random, so its votes fill many angle bins."""
+    b, h = np.meshgrid(np.arange(-0.6, -0.6 + length, step), np.arange(0.05, 0.05 + height, step))
+    pts = np.stack([np.full(b.size, x), b.ravel(), h.ravel()], axis=1)
+    turn = np.radians(np.random.default_rng(seed).uniform(-jitter_deg, jitter_deg, len(pts)))
+    return pts, np.stack([-np.cos(turn), -np.sin(turn), np.zeros(len(pts))], axis=1)
+
+
+def test_fronts_found_no_wall_vote_no_more_and_the_far_wall_behind_them_is_found():
+    """Fronts with the room behind them are no walls; their noisy normals fill more vote bins than
+    WALL_FIT_CANDIDATES, each fitting onto a front again: their points leave the vote
+    (`rejected_votes`), so the far wall, its normals noisier still, is tried and found."""
+    fronts = [_front(x, 1.0, 0.9, jitter_deg=45.0, step=0.01, seed=k) for k, x in enumerate((0.4, 0.7, 1.0))]
+    assert _found_x(_room(*fronts, _sparse_wall(1.5, 2.0, 1.2, jitter_deg=20.0))) == [1.5]
+    assert _found_x(_room(*fronts)) == []                               # the fronts alone are no wall
