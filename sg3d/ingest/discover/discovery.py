@@ -19,7 +19,8 @@ chunk's named objects meet the room's cloud (`sg3d.ingest.discover.room_cloud`),
   nor is a flat piece lying on the floor (`floor_remnant`) or one under a surface's level, its
   board's thickness (`board_of_surface`);
 - `row_parts`: a kept segment longer than one thing is a row of things standing side by side (on
-  a shelf no surface rule found, against a wall) and is cut at its necks too;
+  a shelf no surface rule found, against a wall) and is cut at its necks too, unless it is one
+  face standing on the floor (`floor_face`: a bed's or a couch's side seen from low);
 - `separate_at_walls`: a segment welded along a wall no structure rule found (a far wall whose
   normals were too noisy to vote) is cut at that wall's plane (`segments.split_at_wall`: the bins
   before a whiteboard's wall); what lies flat on or just behind such a wall is the wall's
@@ -133,6 +134,10 @@ VOXEL_DISC_M = 0.0125
 REJOIN_GAP_M = 0.10
 REJOIN_HEIGHT_SHARE = 0.5
 REJOIN_MAX_THICKNESS_M = 0.20
+# A face standing on the floor (`floor_face`): its foot on the floor (LEG_FOOT_M) along at least
+# FACE_FOOT_SHARE of its length; a bed's or a couch's side stands on it all along (short legs
+# within LEG_FOOT_M), a row of things on a counter with one thing on the floor beside it does not.
+FACE_FOOT_SHARE = 0.8
 
 
 def gravity_box(obj: ObjectObservation, cloud: RoomCloud) -> tuple[np.ndarray, np.ndarray]:
@@ -369,8 +374,8 @@ def row_parts(seg: Segment, cloud: RoomCloud) -> list[Segment]:
     depth existence test on its own is returned. The row stood out of every plane more than a
     relief (`plane_remnant`), so its parts are the things standing against it, not relief (a
     booklet upright against the wall beside a mouse). A shorter segment, or one without necks, is
-    returned whole."""
-    if float(np.max(seg.size[:2])) < WELD_MIN_EXTENT_M:
+    returned whole, and so is one face standing on a seen floor (`floor_face`)."""
+    if float(np.max(seg.size[:2])) < WELD_MIN_EXTENT_M or cloud.floor_seen and floor_face(seg):
         return [seg]
     parts = split_at_necks(seg)
     if len(parts) == 1:
@@ -378,6 +383,32 @@ def row_parts(seg: Segment, cloud: RoomCloud) -> list[Segment]:
     for part in parts:
         depth_evidence(part, cloud)
     return [part for part in parts if exists(part)]
+
+
+def foot_share(voxels: np.ndarray) -> float:
+    """The share of a segment's VOXEL_M cells along its principal horizontal axis whose lowest
+    voxel lies at most LEG_FOOT_M above the floor: how much of its length stands on the floor."""
+    xy = voxels[:, :2] - voxels[:, :2].mean(axis=0)
+    if len(xy) < 2:
+        return float(np.min(voxels[:, 2], initial=1.0) <= LEG_FOOT_M)
+    _, vecs = np.linalg.eigh(xy.T @ xy)
+    cell = np.floor(xy @ vecs[:, 1] / VOXEL_M).astype(int)
+    cell -= cell.min()
+    lowest = np.full(cell.max() + 1, np.inf)
+    np.minimum.at(lowest, cell, voxels[:, 2])
+    seen = np.isfinite(lowest)
+    return float(np.mean(lowest[seen] <= LEG_FOOT_M))
+
+
+def floor_face(seg: Segment) -> bool:
+    """Rule "one face on the floor": a segment standing on the floor along FACE_FOOT_SHARE of its
+    length (`foot_share`: its lowest voxel at most LEG_FOOT_M above the floor) whose voxels lie on
+    one vertical plane (`plane_thickness` at most REJOIN_MAX_THICKNESS_M, one sheet's depth) is
+    the side of one body seen from low (a bed's or a couch's side from a robot's camera 0.3 m
+    above the floor, its top out of view): the seams between its cushions and what the cut of a
+    front left of it are no gaps between things. Things standing side by side on the floor each
+    have their own depth, and a row on a board or a counter does not reach the floor."""
+    return plane_thickness(seg.voxels) <= REJOIN_MAX_THICKNESS_M and foot_share(seg.voxels) >= FACE_FOOT_SHARE
 
 
 def relief_of_found_wall(seg: Segment, walls: Sequence[Element]) -> bool:
