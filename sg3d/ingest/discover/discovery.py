@@ -21,6 +21,9 @@ chunk's named objects meet the room's cloud (`sg3d.ingest.discover.room_cloud`),
 - `row_parts`: a kept segment longer than one thing is a row of things standing side by side (on
   a shelf no surface rule found, against a wall) and is cut at its necks too, unless it is one
   face standing on the floor (`floor_face`: a bed's or a couch's side seen from low);
+- `face_part`: a floor-standing detection (a "chair") whose box lies inside a kept face twice as
+  long as it is a detection of part of that face (a bed's side seen from low), not an object: it
+  leaves the named objects;
 - `separate_at_walls`: a segment welded along a wall no structure rule found (a far wall whose
   normals were too noisy to vote) is cut at that wall's plane (`segments.split_at_wall`: the bins
   before a whiteboard's wall); what lies flat on or just behind such a wall is the wall's
@@ -138,6 +141,12 @@ REJOIN_MAX_THICKNESS_M = 0.20
 # FACE_FOOT_SHARE of its length; a bed's or a couch's side stands on it all along (short legs
 # within LEG_FOOT_M), a row of things on a counter with one thing on the floor beside it does not.
 FACE_FOOT_SHARE = 0.8
+# A detection of part of a face (`face_part`): its box lies inside the face's box grown by
+# FACE_PART_MARGIN_M (the floor's slab, FLOOR_SLAB_M, is cut from every segment, so a face's box
+# starts a voxel above it while a floor-standing object's box reaches the floor), and the face
+# is at least FACE_PART_RATIO times as long as the box is wide.
+FACE_PART_MARGIN_M = 0.05
+FACE_PART_RATIO = 2.0
 
 
 def gravity_box(obj: ObjectObservation, cloud: RoomCloud) -> tuple[np.ndarray, np.ndarray]:
@@ -409,6 +418,21 @@ def floor_face(seg: Segment) -> bool:
     front left of it are no gaps between things. Things standing side by side on the floor each
     have their own depth, and a row on a board or a counter does not reach the floor."""
     return plane_thickness(seg.voxels) <= REJOIN_MAX_THICKNESS_M and foot_share(seg.voxels) >= FACE_FOOT_SHARE
+
+
+def face_part(lo: np.ndarray, hi: np.ndarray, seg: Segment) -> bool:
+    """Rule "a detection of part of a face": a named floor-standing object's box (lo, hi) that lies
+    inside a kept segment's box grown by FACE_PART_MARGIN_M, where that segment lies on one
+    vertical plane (`plane_thickness` at most REJOIN_MAX_THICKNESS_M) and is at least
+    FACE_PART_RATIO times as long as the box is wide, named part of that face: one body's side (a
+    bed's side seen from a robot's height, which the detector calls a chair), not a thing standing
+    there. A thing standing before a face is deeper than the face's slab; the face stays the
+    object."""
+    if not (np.all(lo >= seg.lo - FACE_PART_MARGIN_M) and np.all(hi <= seg.hi + FACE_PART_MARGIN_M)):
+        return False
+    if float(np.max(seg.size[:2])) < FACE_PART_RATIO * float(np.max(hi[:2] - lo[:2])):
+        return False
+    return plane_thickness(seg.voxels) <= REJOIN_MAX_THICKNESS_M
 
 
 def relief_of_found_wall(seg: Segment, walls: Sequence[Element]) -> bool:
@@ -742,7 +766,8 @@ def discover(named: list[ObjectObservation], cloud: RoomCloud, structure: Sequen
     carrel panels beside it (`furniture.carrel_panel`) are its desks'; a low piece under a seat
     (`furniture.base_under_seat`) is that seat's base. None of these is a node of its own. A
     detection of a kind solid to the floor with the floor seen under it (`furniture.open_below`)
-    is no object: it leaves `named` (in place), and its points are segmented like any others."""
+    is no object: it leaves `named` (in place), and its points are segmented like any others; so
+    does a floor-standing detection of part of a kept face (`face_part`)."""
     surfaces = [e for e in structure if e.footprint is not None]
     owned = _whole_named(named, cloud, surfaces)
     boxes = [gravity_box(o, cloud) for o in named]
@@ -787,6 +812,8 @@ def discover(named: list[ObjectObservation], cloud: RoomCloud, structure: Sequen
             if part is seg or not part_of_another(part, whole=False):
                 pieces.append((part, unnamed_object("u", part, cloud, colour_image, screens)))
     pieces = rejoin_sheets(pieces, lambda seg: unnamed_object("u", seg, cloud, colour_image, screens))
+    named[:] = [o for o in named if o.label not in FLOOR_STANDING_LABELS
+                or not any(face_part(*gravity_box(o, cloud), seg) for seg, _ in pieces)]
     found = boxes + [(seg.lo, seg.hi) for seg, _ in pieces]
     pieces += [(seg, unnamed_object("u", seg, cloud, colour_image, screens))
                for seg in flat_things.flat_things(surfaces, cloud, colour_image, found)]

@@ -313,8 +313,8 @@ def _face(foot: float, depth: float, length: float = 1.6, top: float = 0.6, rais
     `top` (its last `raised` voxel columns from 0.3 m: a counter's run), with a one-voxel neck
     halfway along it (a seam, or what a front's cut left)."""
     g = 0.025
-    bs = np.arange(0.0, depth, g) + g / 2
-    xs = np.arange(0.0, length, g) + g / 2
+    bs = np.arange(round(depth / g)) * g + g / 2
+    xs = np.arange(round(length / g)) * g + g / 2
     v = [(x, y, z) for i, x in enumerate(xs) for y in bs
          for z in np.arange(0.3 if i >= len(xs) - raised else foot, top, g) + g / 2
          if abs(x - length / 2) > 0.05 or abs(y - bs[len(bs) // 2]) < 0.01]
@@ -330,12 +330,12 @@ def test_a_face_stands_on_the_floor_10_cm_at_most(foot, whole):          # LEG_F
     assert floor_face(seg) is whole
 
 
-@pytest.mark.parametrize("depth,whole", [(0.15, True), (0.225, False)])
+@pytest.mark.parametrize("depth,whole", [(0.2, True), (0.25, False)])     # voxel centres 17.5 / 22.5 cm apart
 def test_a_face_on_the_floor_lies_on_one_sheets_plane(depth, whole):       # REJOIN_MAX_THICKNESS_M
     from sg3d.ingest.discover.discovery import floor_face, plane_thickness
 
     seg = _face(0.0, depth)
-    assert (plane_thickness(seg.voxels) <= 0.2) is whole
+    assert plane_thickness(seg.voxels) == pytest.approx(depth - 0.025)
     assert floor_face(seg) is whole
 
 
@@ -357,6 +357,50 @@ def test_a_face_on_a_seen_floor_is_one_body_not_a_row(monkeypatch):
     assert discovery.row_parts(face, SimpleNamespace(floor_seen=True)) == [face]
     assert len(discovery.row_parts(face, SimpleNamespace(floor_seen=False))) == 2     # h = 0 is no floor then
     assert len(discovery.row_parts(_face(0.2, 0.1), SimpleNamespace(floor_seen=True))) == 2   # a row on a board
+
+
+# --- a detection of part of a face (`face_part`) ----------------------------------------------------
+
+def _bed_side(depth: float = 0.1):
+    """A bed's side seen from low: a face 1.6 m long along a, `depth` deep, from 4 cm (the floor's
+    slab cut away) to 0.6 m."""
+    return _face(0.04, depth)
+
+
+def _named_box(a0: float, width: float, depth: float = 0.08, top: float = 0.5, b0: float = 0.01):
+    return np.array([a0, b0, 0.0]), np.array([a0 + width, b0 + depth, top])
+
+
+@pytest.mark.parametrize("margin,part", [(0.0475, True), (0.0525, False)])
+def test_a_named_box_lies_in_the_face_grown_by_5_cm(margin, part):          # FACE_PART_MARGIN_M
+    from sg3d.ingest.discover.discovery import face_part
+
+    seg = _bed_side()
+    lo, hi = _named_box(0.4, 0.5)
+    lo[2] = float(seg.lo[2]) - margin
+    assert face_part(lo, hi, seg) is part
+
+
+@pytest.mark.parametrize("width,part", [(0.79, True), (0.81, False)])
+def test_the_face_is_twice_as_long_as_the_named_box(width, part):           # FACE_PART_RATIO
+    from sg3d.ingest.discover.discovery import face_part
+
+    seg = _bed_side()
+    assert float(seg.size[0]) == pytest.approx(1.6)
+    assert face_part(*_named_box(0.4, width), seg) is part
+
+
+@pytest.mark.parametrize("depth,part", [(0.2, True), (0.25, False)])
+def test_a_face_that_claims_a_named_box_lies_on_one_sheets_plane(depth, part):   # REJOIN_MAX_THICKNESS_M
+    from sg3d.ingest.discover.discovery import face_part
+
+    assert face_part(*_named_box(0.4, 0.5, depth=0.08), _bed_side(depth)) is part
+
+
+def test_a_chair_standing_before_a_face_is_deeper_than_its_slab():
+    from sg3d.ingest.discover.discovery import face_part
+
+    assert not face_part(*_named_box(0.4, 0.45, depth=0.45), _bed_side())
 
 
 # --- a named object's own edge (`own_edge`) ----------------------------------------------------------
