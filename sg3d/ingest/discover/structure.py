@@ -49,8 +49,9 @@ MAX_WALLS = 10
 # walked past shows metres of it, a strip of furniture front seen between things far less).
 # Point normals from noisy depth spread a wall's votes over many angle bins; their mean
 # direction agrees with the fitted plane within WALL_NORMAL_AGREE_DEG (a line crossing a wall at
-# a slant does not). A fitted plane within WALL_SAME_DEG and WALL_SAME_M of a wall found before
-# is that wall (walls of one room are never parallel and this close).
+# a slant does not). A fitted plane within WALL_SAME_DEG of a wall found before that comes within
+# WALL_SAME_M of it where its points lie is that wall (`same_wall`: walls of one room are never
+# parallel and this close, and do not cross).
 WALL_FIT_MIN_AREA_M2 = 1.0
 WALL_FIT_MIN_VOTES = 30
 WALL_FIT_CANDIDATES = 40
@@ -326,7 +327,7 @@ def fitted_walls(cloud: RoomCloud, found: list[Element]) -> list[Element]:
     """Rule "a wall is a large bounding face" for the walls the vote missed: depth noise spreads
     a wall's normals, so its votes never reach the vote rule's count. Vote bins (at least
     WALL_FIT_MIN_VOTES) are taken in turn, each plane fitted to the points (`fitted_plane`); a
-    plane is a wall when it is none found before (WALL_SAME_DEG, WALL_SAME_M), spans
+    plane is a wall when it is none found before (`same_wall`), spans
     WALL_MIN_HEIGHT and WALL_MIN_LENGTH, its seen face covers WALL_FIT_MIN_AREA_M2
     (`seen_face_area`), its points' normals agree with it (`normals_agree`), and it bounds the
     room for sure: at most WALL_MAX_BEHIND of the room's points behind it and WALL_SURE_FAR more
@@ -398,12 +399,12 @@ def _fitted_wall(vertical: tuple[np.ndarray, np.ndarray], taken: np.ndarray, pla
     lines so far; `cams`: the views' positions; `sample`: the room's points)."""
     q, nq = vertical
     th, rh = fitted_plane(q[~taken, :2], *line)
-    if any(_angle_gap_deg(th, t) <= WALL_SAME_DEG and abs(np.cos(th - t) * rh - r) <= WALL_SAME_M for t, r in planes):
-        return None
     inl = (np.abs(q[:, 0] * np.cos(th) + q[:, 1] * np.sin(th) - rh) <= WALL_SLAB_M) & ~taken
     if np.count_nonzero(inl) < WALL_FIT_MIN_VOTES or not normals_agree(nq[inl], th):
         return None
     pts = q[inl]
+    if any(same_wall(pts[:, :2], th, plane) for plane in planes):
+        return None
     along = -pts[:, 0] * np.sin(th) + pts[:, 1] * np.cos(th)
     a_lo, a_hi = np.percentile(along, [2, 98])
     h_lo, h_hi = np.percentile(pts[:, 2], [2, 98])
@@ -416,6 +417,17 @@ def _fitted_wall(vertical: tuple[np.ndarray, np.ndarray], taken: np.ndarray, pla
         return None
     return Element("wall", np.min(pts, axis=0), np.max(pts, axis=0), int(inl.sum()), 0, plane=(th, rh), side=side,
                    far_behind=far)
+
+
+def same_wall(xy: np.ndarray, theta: float, found: tuple[float, float]) -> bool:
+    """Rule "walls do not cross": a plane (its points' top view `xy`, normal angle `theta`) within
+    WALL_SAME_DEG of a found wall's (`found`: theta, rho) that comes within WALL_SAME_M of it
+    where its points lie is that wall (its noisy remainder, or a slant across it): walls of one
+    room are never parallel and this close, and meet only at corners, at large angles."""
+    t, r = found
+    if _angle_gap_deg(theta, t) > WALL_SAME_DEG:
+        return False
+    return float(np.min(np.abs(xy[:, 0] * np.cos(t) + xy[:, 1] * np.sin(t) - r), initial=np.inf)) <= WALL_SAME_M
 
 
 def room_structure(cloud: RoomCloud) -> list[Element]:
