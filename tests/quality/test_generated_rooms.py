@@ -46,14 +46,6 @@ def test_a_robot_camera_a_foot_above_the_floor_finds_the_floor_and_the_walls_beh
     assert row["nodes"] - row["matched"] <= 15, row       # no pieces of those walls among the objects
 
 
-def test_a_robot_camera_sees_a_couchs_side_as_one_couch(store, tmp_path):
-    """From 0.3 m a couch is its side: a face 1.8 m long standing on the floor, its seams necks
-    that would cut it as a row of things; one face on the floor (`discovery.floor_face`) is one
-    body, and matches the couch."""
-    row = build_generated(store, "robot", 22, tmp_path, frames=60)
-    assert "couch" not in row["missing"], row["missing"]
-
-
 def test_a_robot_camera_keeps_a_beds_side_and_not_the_chair_the_detector_named_on_it(store, tmp_path):
     """From 0.3 m the detector names pieces of a bed's side "chair"; the side is one face twice as
     long as either box (`discovery.face_part`), so the named chairs on it are no nodes: 9 objects

@@ -19,8 +19,7 @@ chunk's named objects meet the room's cloud (`sg3d.ingest.discover.room_cloud`),
   nor is a flat piece lying on the floor (`floor_remnant`) or one under a surface's level, its
   board's thickness (`board_of_surface`);
 - `row_parts`: a kept segment longer than one thing is a row of things standing side by side (on
-  a shelf no surface rule found, against a wall) and is cut at its necks too, unless it is one
-  face standing on the floor (`floor_face`: a bed's or a couch's side seen from low);
+  a shelf no surface rule found, against a wall) and is cut at its necks too;
 - `face_part`: a floor-standing detection (a "chair") whose box lies inside a kept face twice as
   long as it is a detection of part of that face (a bed's side seen from low), not an object: it
   leaves the named objects;
@@ -137,10 +136,6 @@ VOXEL_DISC_M = 0.0125
 REJOIN_GAP_M = 0.10
 REJOIN_HEIGHT_SHARE = 0.5
 REJOIN_MAX_THICKNESS_M = 0.20
-# A face standing on the floor (`floor_face`): its foot on the floor (LEG_FOOT_M) along at least
-# FACE_FOOT_SHARE of its length; a bed's or a couch's side stands on it all along (short legs
-# within LEG_FOOT_M), a row of things on a counter with one thing on the floor beside it does not.
-FACE_FOOT_SHARE = 0.8
 # A detection of part of a face (`face_part`): its box lies inside the face's box grown by
 # FACE_PART_MARGIN_M (the floor's slab, FLOOR_SLAB_M, is cut from every segment, so a face's box
 # starts a voxel above it while a floor-standing object's box reaches the floor), and the face
@@ -383,8 +378,8 @@ def row_parts(seg: Segment, cloud: RoomCloud) -> list[Segment]:
     depth existence test on its own is returned. The row stood out of every plane more than a
     relief (`plane_remnant`), so its parts are the things standing against it, not relief (a
     booklet upright against the wall beside a mouse). A shorter segment, or one without necks, is
-    returned whole, and so is one face standing on a seen floor (`floor_face`)."""
-    if float(np.max(seg.size[:2])) < WELD_MIN_EXTENT_M or cloud.floor_seen and floor_face(seg):
+    returned whole."""
+    if float(np.max(seg.size[:2])) < WELD_MIN_EXTENT_M:
         return [seg]
     parts = split_at_necks(seg)
     if len(parts) == 1:
@@ -392,32 +387,6 @@ def row_parts(seg: Segment, cloud: RoomCloud) -> list[Segment]:
     for part in parts:
         depth_evidence(part, cloud)
     return [part for part in parts if exists(part)]
-
-
-def foot_share(voxels: np.ndarray) -> float:
-    """The share of a segment's VOXEL_M cells along its principal horizontal axis whose lowest
-    voxel lies at most LEG_FOOT_M above the floor: how much of its length stands on the floor."""
-    xy = voxels[:, :2] - voxels[:, :2].mean(axis=0)
-    if len(xy) < 2:
-        return float(np.min(voxels[:, 2], initial=1.0) <= LEG_FOOT_M)
-    _, vecs = np.linalg.eigh(xy.T @ xy)
-    cell = np.floor(xy @ vecs[:, 1] / VOXEL_M).astype(int)
-    cell -= cell.min()
-    lowest = np.full(cell.max() + 1, np.inf)
-    np.minimum.at(lowest, cell, voxels[:, 2])
-    seen = np.isfinite(lowest)
-    return float(np.mean(lowest[seen] <= LEG_FOOT_M))
-
-
-def floor_face(seg: Segment) -> bool:
-    """Rule "one face on the floor": a segment standing on the floor along FACE_FOOT_SHARE of its
-    length (`foot_share`: its lowest voxel at most LEG_FOOT_M above the floor) whose voxels lie on
-    one vertical plane (`plane_thickness` at most REJOIN_MAX_THICKNESS_M, one sheet's depth) is
-    the side of one body seen from low (a bed's or a couch's side from a robot's camera 0.3 m
-    above the floor, its top out of view): the seams between its cushions and what the cut of a
-    front left of it are no gaps between things. Things standing side by side on the floor each
-    have their own depth, and a row on a board or a counter does not reach the floor."""
-    return plane_thickness(seg.voxels) <= REJOIN_MAX_THICKNESS_M and foot_share(seg.voxels) >= FACE_FOOT_SHARE
 
 
 def face_part(lo: np.ndarray, hi: np.ndarray, seg: Segment) -> bool:
@@ -766,8 +735,8 @@ def discover(named: list[ObjectObservation], cloud: RoomCloud, structure: Sequen
     carrel panels beside it (`furniture.carrel_panel`) are its desks'; a low piece under a seat
     (`furniture.base_under_seat`) is that seat's base. None of these is a node of its own. A
     detection of a kind solid to the floor with the floor seen under it (`furniture.open_below`)
-    is no object: it leaves `named` (in place), and its points are segmented like any others; so
-    does a floor-standing detection of part of a kept face (`face_part`)."""
+    is no object: it leaves `named` (in place), and its points are segmented like any others; a
+    floor-standing detection of part of a kept face (`face_part`) leaves `named` too."""
     surfaces = [e for e in structure if e.footprint is not None]
     owned = _whole_named(named, cloud, surfaces)
     boxes = [gravity_box(o, cloud) for o in named]

@@ -293,7 +293,7 @@ def test_only_a_segment_longer_than_one_thing_is_cut_as_a_row(monkeypatch, lengt
     monkeypatch.setattr(discovery, "depth_evidence", lambda seg, cloud: None)
     monkeypatch.setattr(discovery, "exists", lambda seg: True)
     seg = _row(length)
-    parts = discovery.row_parts(seg, SimpleNamespace(floor_seen=True))
+    parts = discovery.row_parts(seg, None)
     assert (len(parts) == 2) is cut
     if not cut:
         assert parts == [seg]
@@ -304,59 +304,19 @@ def test_a_rows_parts_that_fail_depth_are_dropped(monkeypatch):
 
     monkeypatch.setattr(discovery, "depth_evidence", lambda seg, cloud: None)
     monkeypatch.setattr(discovery, "exists", lambda seg: float(seg.lo[0]) < 0.5)
-    parts = discovery.row_parts(_row(1.3), SimpleNamespace(floor_seen=True))
+    parts = discovery.row_parts(_row(1.3), None)
     assert len(parts) == 1 and float(parts[0].lo[0]) < 0.5
 
 
-def _face(foot: float, depth: float, length: float = 1.6, top: float = 0.6, raised: int = 0):
+def _face(foot: float, depth: float, length: float = 1.6, top: float = 0.6):
     """A bed's side seen from low: a face `length` long along a, `depth` deep in b, from `foot` to
-    `top` (its last `raised` voxel columns from 0.3 m: a counter's run), with a one-voxel neck
-    halfway along it (a seam, or what a front's cut left)."""
+    `top`, with a one-voxel neck halfway along it (a seam)."""
     g = 0.025
     bs = np.arange(round(depth / g)) * g + g / 2
     xs = np.arange(round(length / g)) * g + g / 2
-    v = [(x, y, z) for i, x in enumerate(xs) for y in bs
-         for z in np.arange(0.3 if i >= len(xs) - raised else foot, top, g) + g / 2
+    v = [(x, y, z) for x in xs for y in bs for z in np.arange(foot, top, g) + g / 2
          if abs(x - length / 2) > 0.05 or abs(y - bs[len(bs) // 2]) < 0.01]
     return _segment(v)
-
-
-@pytest.mark.parametrize("foot,whole", [(0.0875, True), (0.1125, False)])
-def test_a_face_stands_on_the_floor_10_cm_at_most(foot, whole):          # LEG_FOOT_M
-    from sg3d.ingest.discover.discovery import floor_face
-
-    seg = _face(foot, 0.1)
-    assert float(seg.lo[2]) == pytest.approx(foot)
-    assert floor_face(seg) is whole
-
-
-@pytest.mark.parametrize("depth,whole", [(0.2, True), (0.25, False)])     # voxel centres 17.5 / 22.5 cm apart
-def test_a_face_on_the_floor_lies_on_one_sheets_plane(depth, whole):       # REJOIN_MAX_THICKNESS_M
-    from sg3d.ingest.discover.discovery import floor_face, plane_thickness
-
-    seg = _face(0.0, depth)
-    assert plane_thickness(seg.voxels) == pytest.approx(depth - 0.025)
-    assert floor_face(seg) is whole
-
-
-@pytest.mark.parametrize("raised,whole", [(12, True), (13, False)])
-def test_a_face_stands_on_the_floor_along_80_percent_of_its_length(raised, whole):   # FACE_FOOT_SHARE
-    from sg3d.ingest.discover.discovery import floor_face, foot_share
-
-    seg = _face(0.0, 0.1, raised=raised)
-    assert foot_share(seg.voxels) == pytest.approx((64 - raised) / 64)
-    assert floor_face(seg) is whole
-
-
-def test_a_face_on_a_seen_floor_is_one_body_not_a_row(monkeypatch):
-    from sg3d.ingest.discover import discovery
-
-    monkeypatch.setattr(discovery, "depth_evidence", lambda seg, cloud: None)
-    monkeypatch.setattr(discovery, "exists", lambda seg: True)
-    face = _face(0.0, 0.1)
-    assert discovery.row_parts(face, SimpleNamespace(floor_seen=True)) == [face]
-    assert len(discovery.row_parts(face, SimpleNamespace(floor_seen=False))) == 2     # h = 0 is no floor then
-    assert len(discovery.row_parts(_face(0.2, 0.1), SimpleNamespace(floor_seen=True))) == 2   # a row on a board
 
 
 # --- a detection of part of a face (`face_part`) ----------------------------------------------------
