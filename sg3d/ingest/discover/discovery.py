@@ -20,6 +20,9 @@ chunk's named objects meet the room's cloud (`sg3d.ingest.discover.room_cloud`),
   board's thickness (`board_of_surface`);
 - `row_parts`: a kept segment longer than one thing is a row of things standing side by side (on
   a shelf no surface rule found, against a wall) and is cut at its necks too;
+- `face_part`: a floor-standing detection (a "chair") whose box lies inside a kept face twice as
+  long as it is a detection of part of that face (a bed's side seen from low), not an object: it
+  leaves the named objects;
 - `separate_at_walls`: a segment welded along a wall no structure rule found (a far wall whose
   normals were too noisy to vote) is cut at that wall's plane (`segments.split_at_wall`: the bins
   before a whiteboard's wall); what lies flat on or just behind such a wall is the wall's
@@ -133,6 +136,12 @@ VOXEL_DISC_M = 0.0125
 REJOIN_GAP_M = 0.10
 REJOIN_HEIGHT_SHARE = 0.5
 REJOIN_MAX_THICKNESS_M = 0.20
+# A detection of part of a face (`face_part`): its box lies inside the face's box grown by
+# FACE_PART_MARGIN_M (the floor's slab, FLOOR_SLAB_M, is cut from every segment, so a face's box
+# starts a voxel above it while a floor-standing object's box reaches the floor), and the face
+# is at least FACE_PART_RATIO times as long as the box is wide.
+FACE_PART_MARGIN_M = 0.05
+FACE_PART_RATIO = 2.0
 
 
 def gravity_box(obj: ObjectObservation, cloud: RoomCloud) -> tuple[np.ndarray, np.ndarray]:
@@ -378,6 +387,21 @@ def row_parts(seg: Segment, cloud: RoomCloud) -> list[Segment]:
     for part in parts:
         depth_evidence(part, cloud)
     return [part for part in parts if exists(part)]
+
+
+def face_part(lo: np.ndarray, hi: np.ndarray, seg: Segment) -> bool:
+    """Rule "a detection of part of a face": a named floor-standing object's box (lo, hi) that lies
+    inside a kept segment's box grown by FACE_PART_MARGIN_M, where that segment lies on one
+    vertical plane (`plane_thickness` at most REJOIN_MAX_THICKNESS_M) and is at least
+    FACE_PART_RATIO times as long as the box is wide, named part of that face: one body's side (a
+    bed's side seen from a robot's height, which the detector calls a chair), not a thing standing
+    there. A thing standing before a face is deeper than the face's slab; the face stays the
+    object."""
+    if not (np.all(lo >= seg.lo - FACE_PART_MARGIN_M) and np.all(hi <= seg.hi + FACE_PART_MARGIN_M)):
+        return False
+    if float(np.max(seg.size[:2])) < FACE_PART_RATIO * float(np.max(hi[:2] - lo[:2])):
+        return False
+    return plane_thickness(seg.voxels) <= REJOIN_MAX_THICKNESS_M
 
 
 def relief_of_found_wall(seg: Segment, walls: Sequence[Element]) -> bool:
@@ -739,7 +763,8 @@ def discover(named: list[ObjectObservation], cloud: RoomCloud, structure: Sequen
     carrel panels beside it (`furniture.carrel_panel`) are its desks'; a low piece under a seat
     (`furniture.base_under_seat`) is that seat's base. None of these is a node of its own. A
     detection of a kind solid to the floor with the floor seen under it (`furniture.open_below`)
-    is no object: it leaves `named` (in place), and its points are segmented like any others."""
+    is no object: it leaves `named` (in place), and its points are segmented like any others; a
+    floor-standing detection of part of a kept face (`face_part`) leaves `named` too."""
     surfaces = [e for e in structure if e.footprint is not None]
     owned = _whole_named(named, cloud, surfaces)
     boxes = [gravity_box(o, cloud) for o in named]
@@ -784,6 +809,8 @@ def discover(named: list[ObjectObservation], cloud: RoomCloud, structure: Sequen
             if part is seg or not part_of_another(part, whole=False):
                 pieces.append((part, unnamed_object("u", part, cloud, colour_image, screens)))
     pieces = rejoin_sheets(pieces, lambda seg: unnamed_object("u", seg, cloud, colour_image, screens))
+    named[:] = [o for o in named if o.label not in FLOOR_STANDING_LABELS
+                or not any(face_part(*gravity_box(o, cloud), seg) for seg, _ in pieces)]
     found = boxes + [(seg.lo, seg.hi) for seg, _ in pieces]
     pieces += [(seg, unnamed_object("u", seg, cloud, colour_image, screens))
                for seg in flat_things.flat_things(surfaces, cloud, colour_image, found)]

@@ -49,8 +49,9 @@ MAX_WALLS = 10
 # walked past shows metres of it, a strip of furniture front seen between things far less).
 # Point normals from noisy depth spread a wall's votes over many angle bins; their mean
 # direction agrees with the fitted plane within WALL_NORMAL_AGREE_DEG (a line crossing a wall at
-# a slant does not). A fitted plane within WALL_SAME_DEG and WALL_SAME_M of a wall found before
-# is that wall (walls of one room are never parallel and this close).
+# a slant does not). A fitted plane within WALL_SAME_DEG of a wall found before that comes within
+# WALL_SAME_M of it where its points lie is that wall (`same_wall`: walls of one room are never
+# parallel and this close, and do not cross).
 WALL_FIT_MIN_AREA_M2 = 1.0
 WALL_FIT_MIN_VOTES = 30
 WALL_FIT_CANDIDATES = 40
@@ -326,11 +327,14 @@ def fitted_walls(cloud: RoomCloud, found: list[Element]) -> list[Element]:
     """Rule "a wall is a large bounding face" for the walls the vote missed: depth noise spreads
     a wall's normals, so its votes never reach the vote rule's count. Vote bins (at least
     WALL_FIT_MIN_VOTES) are taken in turn, each plane fitted to the points (`fitted_plane`); a
-    plane is a wall when it is none found before (WALL_SAME_DEG, WALL_SAME_M), spans
+    plane is a wall when it is none found before (`same_wall`), spans
     WALL_MIN_HEIGHT and WALL_MIN_LENGTH, its seen face covers WALL_FIT_MIN_AREA_M2
     (`seen_face_area`), its points' normals agree with it (`normals_agree`), and it bounds the
     room for sure: at most WALL_MAX_BEHIND of the room's points behind it and WALL_SURE_FAR more
-    than WALL_FAR_M behind (a furniture front has the wall behind it)."""
+    than WALL_FAR_M behind (a furniture front has the wall behind it). A plane found to be no wall
+    votes no more (`rejected_votes`): a large front near the camera (a bed's side seen from a
+    robot's height) spreads its noisy normals over many bins, and each would fit onto that same
+    front again, leaving the far walls untried."""
     p, n = cloud.points, cloud.normals
     vert = (np.abs(n[:, 2]) < WALL_NORMAL_COS) & (np.linalg.norm(n[:, :2], axis=1) > 0.5)
     q, nq = p[vert], n[vert]
@@ -341,23 +345,22 @@ def fitted_walls(cloud: RoomCloud, found: list[Element]) -> list[Element]:
     cams = np.array([v.pose[:3, 3] @ cloud.basis.T for v in cloud.views])
     sample = p[:: max(1, len(p) // 200000)]
     out: list[Element] = []
-    tried: list[tuple[int, float]] = []
-    while len(found) + len(out) < MAX_WALLS and np.count_nonzero(~taken) >= WALL_FIT_MIN_VOTES:
-        acc, rmin = plane_votes(q[~taken], nq[~taken])
-        for tb, r in tried:
-            rb = int(np.floor((r - rmin) / WALL_OFFSET_BIN_M))
-            acc[max(0, tb - 3):tb + 4, max(0, rb - 3):max(0, rb + 4)] = 0
+    rejected = np.zeros(len(q), bool)
+    while len(found) + len(out) < MAX_WALLS and np.count_nonzero(~taken & ~rejected) >= WALL_FIT_MIN_VOTES:
         wall = None
         for _ in range(WALL_FIT_CANDIDATES):
+            free = ~taken & ~rejected
+            if np.count_nonzero(free) < WALL_FIT_MIN_VOTES:
+                break
+            acc, rmin = plane_votes(q[free], nq[free])
             tb, rb = (int(v) for v in np.unravel_index(int(np.argmax(acc)), acc.shape))
             if acc[tb, rb] < WALL_FIT_MIN_VOTES:
                 break
-            acc[max(0, tb - 3):tb + 4, max(0, rb - 3):rb + 4] = 0
-            tried.append((tb, rmin + (rb + 0.5) * WALL_OFFSET_BIN_M))
-            wall = _fitted_wall((q, nq), taken, planes, cams, sample,
-                                ((tb + 0.5) * np.radians(WALL_ANGLE_BIN_DEG), tried[-1][1]))
+            line = ((tb + 0.5) * np.radians(WALL_ANGLE_BIN_DEG), rmin + (rb + 0.5) * WALL_OFFSET_BIN_M)
+            wall = _fitted_wall((q, nq), taken, planes, cams, sample, line)
             if wall is not None:
                 break
+            rejected |= rejected_votes((q, nq), free, line)
         if wall is None or wall.plane is None:
             break
         th, rh = wall.plane
@@ -367,6 +370,28 @@ def fitted_walls(cloud: RoomCloud, found: list[Element]) -> list[Element]:
     return out
 
 
+def rejected_votes(vertical: tuple[np.ndarray, np.ndarray], free: np.ndarray, line: tuple[float, float]) -> np.ndarray:
+    """The vertical points (`vertical`: points and normals; of those still `free` to vote) that a
+    plane found to be no wall takes out of the vote: those within WALL_SLAB_M of the voted `line`
+    (theta, rho) or of the plane fitted from it (`fitted_plane`), and those that voted for the
+    line's bin (`plane_votes` sums 3 x 3 bins), so no rejected bin comes up again."""
+    q, nq = vertical
+    th, rh = fitted_plane(q[free, :2], *line)
+    near = np.zeros(len(q), bool)
+    for t, r in (line, (th, rh)):
+        near |= np.abs(q[:, 0] * np.cos(t) + q[:, 1] * np.sin(t) - r) <= WALL_SLAB_M
+    own = np.mod(np.arctan2(nq[:, 1], nq[:, 0]), np.pi)
+    own_rho = q[:, 0] * np.cos(own) + q[:, 1] * np.sin(own)
+    voted = ((_angle_gap_deg_all(own, line[0]) <= 1.5 * WALL_ANGLE_BIN_DEG)
+             & (np.abs(own_rho - line[1]) <= 1.5 * WALL_OFFSET_BIN_M))
+    return (near | voted) & free
+
+
+def _angle_gap_deg_all(a: np.ndarray, b: float) -> np.ndarray:
+    """Degrees between plane normal directions `a` (angles mod pi) and `b`."""
+    return np.abs(((np.degrees(a - b) + 90.0) % 180.0) - 90.0)
+
+
 def _fitted_wall(vertical: tuple[np.ndarray, np.ndarray], taken: np.ndarray, planes: list, cams: np.ndarray,
                  sample: np.ndarray, line: tuple[float, float]) -> Optional[Element]:
     """The wall fitted to the vertical points (`vertical`: points and normals, `taken` by walls
@@ -374,12 +399,12 @@ def _fitted_wall(vertical: tuple[np.ndarray, np.ndarray], taken: np.ndarray, pla
     lines so far; `cams`: the views' positions; `sample`: the room's points)."""
     q, nq = vertical
     th, rh = fitted_plane(q[~taken, :2], *line)
-    if any(_angle_gap_deg(th, t) <= WALL_SAME_DEG and abs(np.cos(th - t) * rh - r) <= WALL_SAME_M for t, r in planes):
-        return None
     inl = (np.abs(q[:, 0] * np.cos(th) + q[:, 1] * np.sin(th) - rh) <= WALL_SLAB_M) & ~taken
     if np.count_nonzero(inl) < WALL_FIT_MIN_VOTES or not normals_agree(nq[inl], th):
         return None
     pts = q[inl]
+    if any(same_wall(pts[:, :2], th, plane) for plane in planes):
+        return None
     along = -pts[:, 0] * np.sin(th) + pts[:, 1] * np.cos(th)
     a_lo, a_hi = np.percentile(along, [2, 98])
     h_lo, h_hi = np.percentile(pts[:, 2], [2, 98])
@@ -392,6 +417,17 @@ def _fitted_wall(vertical: tuple[np.ndarray, np.ndarray], taken: np.ndarray, pla
         return None
     return Element("wall", np.min(pts, axis=0), np.max(pts, axis=0), int(inl.sum()), 0, plane=(th, rh), side=side,
                    far_behind=far)
+
+
+def same_wall(xy: np.ndarray, theta: float, found: tuple[float, float]) -> bool:
+    """Rule "walls do not cross": a plane (its points' top view `xy`, normal angle `theta`) within
+    WALL_SAME_DEG of a found wall's (`found`: theta, rho) that comes within WALL_SAME_M of it
+    where its points lie is that wall (its noisy remainder, or a slant across it): walls of one
+    room are never parallel and this close, and meet only at corners, at large angles."""
+    t, r = found
+    if _angle_gap_deg(theta, t) > WALL_SAME_DEG:
+        return False
+    return float(np.min(np.abs(xy[:, 0] * np.cos(t) + xy[:, 1] * np.sin(t) - r), initial=np.inf)) <= WALL_SAME_M
 
 
 def room_structure(cloud: RoomCloud) -> list[Element]:

@@ -308,6 +308,61 @@ def test_a_rows_parts_that_fail_depth_are_dropped(monkeypatch):
     assert len(parts) == 1 and float(parts[0].lo[0]) < 0.5
 
 
+def _face(foot: float, depth: float, length: float = 1.6, top: float = 0.6):
+    """A bed's side seen from low: a face `length` long along a, `depth` deep in b, from `foot` to
+    `top`, with a one-voxel neck halfway along it (a seam)."""
+    g = 0.025
+    bs = np.arange(round(depth / g)) * g + g / 2
+    xs = np.arange(round(length / g)) * g + g / 2
+    v = [(x, y, z) for x in xs for y in bs for z in np.arange(foot, top, g) + g / 2
+         if abs(x - length / 2) > 0.05 or abs(y - bs[len(bs) // 2]) < 0.01]
+    return _segment(v)
+
+
+# --- a detection of part of a face (`face_part`) ----------------------------------------------------
+
+def _bed_side(depth: float = 0.1):
+    """A bed's side seen from low: a face 1.6 m long along a, `depth` deep, from 4 cm (the floor's
+    slab cut away) to 0.6 m."""
+    return _face(0.04, depth)
+
+
+def _named_box(a0: float, width: float, depth: float = 0.08, top: float = 0.5, b0: float = 0.01):
+    return np.array([a0, b0, 0.0]), np.array([a0 + width, b0 + depth, top])
+
+
+@pytest.mark.parametrize("margin,part", [(0.0475, True), (0.0525, False)])
+def test_a_named_box_lies_in_the_face_grown_by_5_cm(margin, part):          # FACE_PART_MARGIN_M
+    from sg3d.ingest.discover.discovery import face_part
+
+    seg = _bed_side()
+    lo, hi = _named_box(0.4, 0.5)
+    lo[2] = float(seg.lo[2]) - margin
+    assert face_part(lo, hi, seg) is part
+
+
+@pytest.mark.parametrize("width,part", [(0.79, True), (0.81, False)])
+def test_the_face_is_twice_as_long_as_the_named_box(width, part):           # FACE_PART_RATIO
+    from sg3d.ingest.discover.discovery import face_part
+
+    seg = _bed_side()
+    assert float(seg.size[0]) == pytest.approx(1.6)
+    assert face_part(*_named_box(0.4, width), seg) is part
+
+
+@pytest.mark.parametrize("depth,part", [(0.2, True), (0.25, False)])
+def test_a_face_that_claims_a_named_box_lies_on_one_sheets_plane(depth, part):   # REJOIN_MAX_THICKNESS_M
+    from sg3d.ingest.discover.discovery import face_part
+
+    assert face_part(*_named_box(0.4, 0.5, depth=0.08), _bed_side(depth)) is part
+
+
+def test_a_chair_standing_before_a_face_is_deeper_than_its_slab():
+    from sg3d.ingest.discover.discovery import face_part
+
+    assert not face_part(*_named_box(0.4, 0.45, depth=0.45), _bed_side())
+
+
 # --- a named object's own edge (`own_edge`) ----------------------------------------------------------
 
 SCREEN_LO, SCREEN_HI = np.array([0.0, 0.0, 1.2]), np.array([0.8, 0.1, 1.6])   # 0.8 wide, 0.4 tall
