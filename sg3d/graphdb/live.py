@@ -113,7 +113,8 @@ def publish_in_tx(tx: ManagedTransaction, graph: LocalGraph, scan: ScanInfo, sta
     rid = room_id(graph.building, graph.room)
     now = time.time()
     tx.run(cypher.load("room_ensure"), building=graph.building, room=rid, name=graph.room,
-           up=[float(v) for v in graph.up] if graph.up is not None else None).consume()
+           up=[float(v) for v in graph.up] if graph.up is not None else None,
+           heading=[float(v) for v in graph.heading] if graph.heading is not None else None).consume()
     tx.run(cypher.load("scan_ensure"), id=scan.id, room=rid, at=scan.at, kind="map").consume()
     rows = [dict(r) for r in tx.run(cypher.load("live_objects"), room=rid)]
     old = [o for o in rows if made_by_map(o)]
