@@ -257,7 +257,6 @@ class Discovered(StageResult):
     # measures boxes again along the room's heading (`sg3d.ingest.discover.heading`; in place) once
     # the relations are made in the frame discovery measured in; None: boxes stay along the world's axes
     along: Optional[Callable[[Sequence[ObjectObservation]], None]] = None
-    heading: Optional[tuple[float, float, float]] = None     # the heading `along` measures along
     COUNTED = ("unnamed", "structure")
 
 
@@ -271,9 +270,8 @@ def discover_from_depth(evidence: Evidence, objects: list[ObjectObservation]) ->
     from sg3d.ingest.discover.room_cloud import room_cloud
 
     cloud = room_cloud(evidence.views, evidence.ground.up, evidence.ground.floor)
-    unnamed, nodes, along, heading = _discovered(evidence, objects, cloud)
-    return Discovered(objects=unnamed + nodes, unnamed=len(unnamed), structure=len(nodes), along=along,
-                      heading=heading)
+    unnamed, nodes, along = _discovered(evidence, objects, cloud)
+    return Discovered(objects=unnamed + nodes, unnamed=len(unnamed), structure=len(nodes), along=along)
 
 
 def discover_with_windows(evidence: Evidence, objects: list[ObjectObservation]) -> Discovered:
@@ -283,36 +281,32 @@ def discover_with_windows(evidence: Evidence, objects: list[ObjectObservation]) 
     from sg3d.ingest.discover.windows import windows
 
     cloud = room_cloud(evidence.views, evidence.ground.up, evidence.ground.floor)
-    unnamed, nodes, along, heading = _discovered(evidence, objects, cloud)
+    unnamed, nodes, along = _discovered(evidence, objects, cloud)
     if cloud.floor_seen:
         nodes += [discovery.structure_node(f"w{k}", e, cloud) for k, e in enumerate(windows(cloud))]
-    return Discovered(objects=unnamed + nodes, unnamed=len(unnamed), structure=len(nodes), along=along,
-                      heading=heading)
+    return Discovered(objects=unnamed + nodes, unnamed=len(unnamed), structure=len(nodes), along=along)
 
 
-def _discovered(evidence: Evidence, objects: list[ObjectObservation], cloud: Any) -> tuple[
-        list[ObjectObservation], list[ObjectObservation], Optional[Callable[[Sequence[ObjectObservation]], None]],
-        Optional[tuple[float, float, float]]]:
+def _discovered(evidence: Evidence, objects: list[ObjectObservation], cloud: Any,
+                ) -> tuple[list[ObjectObservation], list[ObjectObservation], Optional[Callable[[Sequence[ObjectObservation]], None]]]:
     """The unnamed objects and the structure's nodes of the room's `cloud` (`discovery.discover`),
-    and, where the room has a heading (the found walls' (`walls_heading`), else the gravity step's),
-    what measures boxes again along it from the cloud's points (`along_heading`), and that heading."""
-    from sg3d.ingest.discover.heading import along_heading, points_off_planes, walls_heading
+    and, where the room has a heading, what measures boxes again along it from the cloud's points
+    (`sg3d.ingest.discover.heading.along_heading`)."""
+    from sg3d.ingest.discover.heading import along_heading, points_off_planes
     from sg3d.ingest.discover.structure import room_structure
 
     colour_image = functools.lru_cache(maxsize=16)(evidence.colour_of)   # objects side by side are read in the same views
     structure = room_structure(cloud)
     unnamed, nodes = discovery.discover(objects, cloud, structure, colour_image)
-    walls = walls_heading(structure, cloud)
-    heading = evidence.ground.heading if walls is None else vec3(walls)
-    if heading is None:
-        return unnamed, nodes, None, None
-    basis = replace(evidence.ground, heading=heading).room_basis
+    ground = evidence.ground
+    if ground.heading is None:
+        return unnamed, nodes, None
 
     def along(boxes: Sequence[ObjectObservation]) -> None:
         points = points_off_planes(cloud, structure)
         for o in boxes:
-            along_heading(o, points, cloud, basis)
-    return unnamed, nodes, along, heading
+            along_heading(o, points, cloud, ground.room_basis)
+    return unnamed, nodes, along
 
 
 def depth_discovery(config: BuildConfig) -> DiscoverFn:

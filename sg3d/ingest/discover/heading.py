@@ -6,22 +6,18 @@ sightings, the fused cloud and the voxel grid discovery segments it in, whose ru
 that frame. A box there is the axis-aligned hull of a thing turned by the room's heading: a
 1.6 x 0.6 m counter turned 13 degrees measures 1.69 x 0.94 m. Once discovery is done, each box is
 measured again along the heading from the cloud's points inside it (`along_heading`); the
-object's position stays in the recording's world coordinates. The heading is the found walls'
-(`walls_heading`) where discovery found walls, else the gravity step's estimate from every vertical
-surface's normals, else none (the world's axes).
+object's position stays in the recording's world coordinates.
 """
 from __future__ import annotations
 
-from typing import Optional, Sequence
+from typing import Sequence
 
 import numpy as np
 
-from sg3d.core.geometry import DIRECTION_DECIMALS, fixed_precision
 from sg3d.core.model import ObjectObservation, vec3
 from sg3d.ingest.discover.room_cloud import RoomCloud
 from sg3d.ingest.discover.segments import PLANE_CUT_M
 from sg3d.ingest.discover.structure import FLOOR_SLAB_M, Element
-from sg3d.ingest.poses.gravity import HEADING_DECIMALS
 
 # A box is measured again from at least ALONG_MIN_POINTS of the cloud's points inside it; the
 # extents of those points are taken between the ALONG_PERCENTILE-th percentiles on each side
@@ -67,19 +63,3 @@ def along_heading(obj: ObjectObservation, points: np.ndarray, cloud: RoomCloud, 
     up = room_basis[2]
     obj.size = vec3((new_size[0], new_size[1], size[2]))
     obj.box_centre = vec3(room_basis[:2].T @ mid + up * float(centre_world @ up))
-
-
-def walls_heading(structure: Sequence[Element], cloud: RoomCloud) -> Optional[np.ndarray]:
-    """Rule "the walls give the heading": the walls' fitted planes (their normals' angles in the
-    cloud's frame, each weighed by its points) folded modulo 90 degrees, their circular mean
-    turned the shorter way from the cloud's first axis (at most 45 degrees), its angle kept to
-    HEADING_DECIMALS of a degree, as a world direction; None without walls."""
-    walls = [el for el in structure if el.label == "wall" and el.plane is not None]
-    if not walls:
-        return None
-    quarter = np.array([4.0 * el.plane[0] for el in walls if el.plane is not None])
-    weight = np.array([max(1, el.n_points) for el in walls], dtype=np.float64)
-    mean = np.degrees(np.arctan2(float(weight @ np.sin(quarter)), float(weight @ np.cos(quarter)))) / 4.0
-    angle = float(np.round((mean + 45.0) % 90.0 - 45.0, HEADING_DECIMALS))
-    a = np.radians(angle)
-    return fixed_precision(cloud.basis.T @ np.array([np.cos(a), np.sin(a), 0.0]), DIRECTION_DECIMALS)

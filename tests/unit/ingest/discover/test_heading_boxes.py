@@ -1,7 +1,6 @@
 """Rule "a box along the room's heading" (`sg3d.ingest.discover.heading.along_heading`): a box
 measured along the world's axes is measured again along the room's heading from the cloud's
-points inside it; the floor and walls stay as found. Rule "the walls give the heading"
-(`walls_heading`)."""
+points inside it; the floor and walls stay as found."""
 from __future__ import annotations
 
 from types import SimpleNamespace
@@ -11,15 +10,9 @@ import pytest
 
 from sg3d.core.geometry import horizontal_frame
 from sg3d.core.model import ObjectObservation
-from sg3d.ingest.discover.heading import (
-    ALONG_MIN_POINTS,
-    ALONG_PERCENTILE,
-    along_heading,
-    points_off_planes,
-    walls_heading,
-)
+from sg3d.ingest.discover.heading import ALONG_MIN_POINTS, ALONG_PERCENTILE, along_heading, points_off_planes
 from sg3d.ingest.discover.room_cloud import RoomCloud
-from sg3d.ingest.discover.structure import FLOOR_SLAB_M, Element
+from sg3d.ingest.discover.structure import FLOOR_SLAB_M
 
 UP = (0.0, 0.0, 1.0)
 
@@ -96,33 +89,3 @@ def test_the_floor_and_walls_stay_as_found_and_a_surface_is_turned():
 def test_the_points_a_box_holds_leave_the_floor_slab_out():                # FLOOR_SLAB_M
     pts = np.array([[0.0, 0.0, FLOOR_SLAB_M], [0.0, 0.0, FLOOR_SLAB_M + 1e-3]])
     assert points_off_planes(cloud_of(pts), []) == pytest.approx(pts[1:])
-
-
-def wall(angle_deg: float, n_points: int = 100) -> Element:
-    return Element("wall", np.zeros(3), np.ones(3), n_points, 1, plane=(float(np.radians(angle_deg)), 1.0))
-
-
-def test_the_found_walls_give_the_heading_folded_modulo_90_degrees():
-    cloud = cloud_of(np.zeros((1, 3)))
-    h = walls_heading([wall(20.0), wall(110.0), wall(200.0)], cloud)
-    assert np.degrees(np.arctan2(h[1], h[0])) == pytest.approx(20.0, abs=1e-9)
-    # turned the shorter way from the cloud's first axis: a wall at 70 degrees gives -20
-    h = walls_heading([wall(70.0)], cloud)
-    assert np.degrees(np.arctan2(h[1], h[0])) == pytest.approx(-20.0, abs=1e-9)
-
-
-def test_a_wall_weighs_by_its_points_and_other_structure_gives_no_heading():
-    cloud = cloud_of(np.zeros((1, 3)))
-    h = walls_heading([wall(10.0, 300), wall(20.0, 100)], cloud)
-    assert np.degrees(np.arctan2(h[1], h[0])) == pytest.approx(12.5, abs=0.1)
-    front = Element("front", np.zeros(3), np.ones(3), 100, 1, plane=(0.3, 1.0))
-    assert walls_heading([front], cloud) is None
-    assert walls_heading([], cloud) is None
-
-
-def test_the_walls_heading_is_a_world_direction():
-    c, s = np.cos(np.radians(15)), np.sin(np.radians(15))
-    cloud = cloud_of(np.zeros((1, 3)))
-    cloud.basis = np.array([[c, s, 0.0], [-s, c, 0.0], [0.0, 0.0, 1.0]])      # the cloud's axes turned 15 degrees
-    h = walls_heading([wall(10.0)], cloud)
-    assert np.degrees(np.arctan2(h[1], h[0])) == pytest.approx(25.0, abs=1e-9)
