@@ -30,31 +30,20 @@ KEPT_AS_FOUND = frozenset({"floor", "wall", "window", "front"})
 
 def points_off_planes(cloud: RoomCloud, structure: Sequence[Element]) -> np.ndarray:
     """The cloud's points off the floor's slab and the walls' and fronts' planes: what a box
-    inside the room holds of its own, in the order of their first coordinate (`inside_box` looks
-    a box up by it)."""
+    inside the room holds of its own."""
     p = cloud.points
     keep = (p[:, 2] > FLOOR_SLAB_M) if cloud.floor_seen else np.ones(len(p), bool)
     for el in structure:
         if el.label in ("wall", "front"):
             keep &= ~el.contains(p, PLANE_CUT_M)
-    kept = p[keep]
-    return kept[np.argsort(kept[:, 0], kind="stable")]
-
-
-def inside_box(points: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
-    """The `points` (sorted by their first coordinate) within the box [lo, hi]: the slab of the
-    box's first extent found by bisection, then the other two tested (a room's cloud holds
-    ~10^6 points and a kitchen ~60 boxes: testing every point for every box took 1.9 s)."""
-    xs = points[:, 0]
-    slab = points[np.searchsorted(xs, lo[0], side="left"):np.searchsorted(xs, hi[0], side="right")]
-    return slab[np.all((slab >= lo) & (slab <= hi), axis=1)]
+    return p[keep]
 
 
 def along_heading(obj: ObjectObservation, points: np.ndarray, cloud: RoomCloud, room_basis: np.ndarray) -> None:
     """Rule "a box along the room's heading": `obj`'s box (size along the cloud's axes, centre
     in world coordinates) measured again along `room_basis` (rows e1, e2, up turned to the
     heading), in place: its horizontal extents become those of the points of `points` (the
-    cloud's, `points_off_planes`, sorted by their first coordinate) inside its box along e1 and e2, between their
+    cloud's, `points_off_planes`) inside its box along e1 and e2, between their
     ALONG_PERCENTILE-th percentiles; its height stays. Boxes of the floor and walls, and boxes
     holding under ALONG_MIN_POINTS points, stay as they are."""
     if obj.label in KEPT_AS_FOUND and obj.layer == "structure" or not any(obj.size):
@@ -64,7 +53,7 @@ def along_heading(obj: ObjectObservation, points: np.ndarray, cloud: RoomCloud, 
     c = cloud.basis @ centre_world
     c[2] -= cloud.floor
     lo, hi = c - size / 2, c + size / 2
-    inside = inside_box(points, lo, hi)
+    inside = points[np.all((points >= lo) & (points <= hi), axis=1)]
     if len(inside) < ALONG_MIN_POINTS:
         return
     turned = cloud.to_world(inside) @ room_basis[:2].T            # (e1, e2) of the heading

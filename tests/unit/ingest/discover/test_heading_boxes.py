@@ -10,7 +10,7 @@ import pytest
 
 from sg3d.core.geometry import horizontal_frame
 from sg3d.core.model import ObjectObservation
-from sg3d.ingest.discover.heading import ALONG_MIN_POINTS, ALONG_PERCENTILE, along_heading, inside_box, points_off_planes
+from sg3d.ingest.discover.heading import ALONG_MIN_POINTS, ALONG_PERCENTILE, along_heading, points_off_planes
 from sg3d.ingest.discover.room_cloud import RoomCloud
 from sg3d.ingest.discover.structure import FLOOR_SLAB_M
 
@@ -45,7 +45,7 @@ def test_a_counter_turned_13_degrees_measures_its_own_size_along_the_heading():
     pts = top_points(1.6, 0.6, 0.9, 13.0)
     obj = world_box(pts)
     assert obj.size[:2] == pytest.approx((1.69, 0.94), abs=0.02)          # the world's hull
-    along_heading(obj, by_x(pts), cloud_of(pts), horizontal_frame(UP, turned(13.0)))
+    along_heading(obj, pts, cloud_of(pts), horizontal_frame(UP, turned(13.0)))
     assert obj.size[:2] == pytest.approx((1.6, 0.6), abs=0.04)
     assert obj.box_centre == pytest.approx((1.0, 2.0, 0.9), abs=0.01)     # it stays where it stands
 
@@ -53,7 +53,7 @@ def test_a_counter_turned_13_degrees_measures_its_own_size_along_the_heading():
 def test_a_box_is_the_extent_of_its_points_whatever_margin_the_world_box_had():
     pts = top_points(1.0, 0.5, 0.7, 20.0)
     obj = world_box(pts, margin=0.0125)                                    # a voxel box: half a voxel out
-    along_heading(obj, by_x(pts), cloud_of(pts), horizontal_frame(UP, turned(20.0)))
+    along_heading(obj, pts, cloud_of(pts), horizontal_frame(UP, turned(20.0)))
     assert obj.size[:2] == pytest.approx((1.0, 0.5), abs=0.02)
 
 
@@ -63,7 +63,7 @@ def test_a_box_needs_20_points_inside_to_be_measured_again():               # AL
         few = pts[np.linspace(0, len(pts) - 1, n).round().astype(int)]
         obj = world_box(pts)
         before = obj.size
-        along_heading(obj, by_x(few), cloud_of(few), horizontal_frame(UP, turned(20.0)))
+        along_heading(obj, few, cloud_of(few), horizontal_frame(UP, turned(20.0)))
         assert (obj.size != before) == moved
 
 
@@ -72,7 +72,7 @@ def test_a_stray_point_inside_the_box_does_not_widen_it():                 # ALO
     obj = world_box(pts)
     corner = np.array([[obj.box_centre[0] + obj.size[0] / 2 - 1e-3, obj.box_centre[1] + obj.size[1] / 2 - 1e-3, 0.7]])
     stray = np.vstack([pts, np.repeat(corner, int(len(pts) * ALONG_PERCENTILE / 100 * 0.5), axis=0)])
-    along_heading(obj, by_x(stray), cloud_of(stray), horizontal_frame(UP, turned(20.0)))
+    along_heading(obj, stray, cloud_of(stray), horizontal_frame(UP, turned(20.0)))
     assert obj.size[:2] == pytest.approx((1.0, 0.5), abs=0.04)
 
 
@@ -82,25 +82,10 @@ def test_the_floor_and_walls_stay_as_found_and_a_surface_is_turned():
         obj = world_box(pts)
         obj.labels, obj.layer = [label], "structure"
         before = obj.size
-        along_heading(obj, by_x(pts), cloud_of(pts), horizontal_frame(UP, turned(13.0)))
+        along_heading(obj, pts, cloud_of(pts), horizontal_frame(UP, turned(13.0)))
         assert (obj.size == before) == kept
 
 
 def test_the_points_a_box_holds_leave_the_floor_slab_out():                # FLOOR_SLAB_M
     pts = np.array([[0.0, 0.0, FLOOR_SLAB_M], [0.0, 0.0, FLOOR_SLAB_M + 1e-3]])
     assert points_off_planes(cloud_of(pts), []) == pytest.approx(pts[1:])
-
-
-def by_x(points: np.ndarray) -> np.ndarray:
-    """Points as `points_off_planes` hands them on: sorted by their first coordinate."""
-    return points[np.argsort(points[:, 0], kind="stable")]
-
-
-def test_a_box_holds_the_points_of_its_slab_within_its_other_extents():     # inside_box
-    rng = np.random.default_rng(3)
-    pts = by_x(rng.uniform(-2, 2, (5000, 3)))
-    lo, hi = np.array([-0.5, -1.0, 0.2]), np.array([0.7, 0.3, 1.1])
-    every = pts[np.all((pts >= lo) & (pts <= hi), axis=1)]
-    assert len(every) > 50 and np.array_equal(inside_box(pts, lo, hi), every)
-    edge = np.array([[0.7, 0.0, 0.5], [0.70001, 0.0, 0.5]])        # on the box's face: inside; past it: out
-    assert np.array_equal(inside_box(by_x(edge), lo, hi), edge[:1])
