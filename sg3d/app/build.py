@@ -11,8 +11,7 @@ from __future__ import annotations
 
 import time
 from pathlib import Path
-from dataclasses import replace
-from typing import Any, Optional, Sequence
+from typing import Any, Optional
 
 from sg3d.app.build_chunks import Chunks, DiskCheck
 from sg3d.app.build_place import ProgressFn, merged_chunks, open_range, place_cameras, place_room, scan_key
@@ -27,7 +26,6 @@ from sg3d.app.build_request import (
     validate,
 )
 from sg3d.app.build_summary import BuildFacts, BuildSummary, summarize
-from sg3d.core.geometry import Ground
 from sg3d.graphdb.protocol import GraphStore
 
 __all__ = ["BuildError", "BuildRequest", "BuildSummary", "PreparedBuild", "build_room", "check_detector",
@@ -68,20 +66,6 @@ def run_build(store: GraphStore, prepared: PreparedBuild, embedding: Any = None,
         return _run_held(chunks, prepared, seq, stop, poses, t_start)
 
 
-def kept_heading(ground: Ground, stored: Sequence[dict]) -> Ground:
-    """Rule "a room keeps its heading": a later build into a room a build has merged into (its
-    Room row in `stored` has an up direction) measures its boxes along the room's stored heading
-    (`sg3d.core.geometry.horizontal_basis`), or along the world's axes where the room has none (its
-    boxes were measured so), so the room's boxes, old and new, lie along one pair of axes and its
-    merges compare like with like; a new room takes this build's heading
-    (`sg3d.ingest.poses.gravity.manhattan_heading`)."""
-    row = stored[0] if stored else None
-    if row is None or row.get("up") is None:
-        return ground
-    heading = row.get("heading")
-    return replace(ground, heading=None if heading is None else tuple(float(v) for v in heading))
-
-
 def _run_held(chunks: Chunks, prepared: PreparedBuild, seq: Any, stop: int, poses: dict,
               t_start: float) -> BuildSummary:
     from sg3d.graphdb.values import room_id
@@ -99,7 +83,7 @@ def _run_held(chunks: Chunks, prepared: PreparedBuild, seq: Any, stop: int, pose
         grounded = find_ground(seq, (req.start, stop))
     except ValueError:
         raise BuildError(f"no frame of {req.sequence} has usable depth") from None
-    ground = kept_heading(grounded.ground, store.read("vqa_room_up", rooms=[rid]))
+    ground = grounded.ground
     chunks.merge_all(seq, req, run, scan, ground, stop)
     placed = None if chunks.interrupted else place_room(store, req, prepared.placement)
     seconds = {**({"poses": poses["seconds"]} if "seconds" in poses else {}), **grounded.seconds}

@@ -32,8 +32,7 @@ def fetch_scene(store: GraphStore, building: str, room: Optional[str] = None) ->
     rooms = {
         r["room"]: RoomFrame(r["id"], list(r["up"]) if r.get("up") else None,
                              (np.asarray(r["to_building"], dtype=float).reshape(4, 4).tolist()
-                              if r.get("to_building") else None),
-                             list(r["heading"]) if r.get("heading") else None)
+                              if r.get("to_building") else None))
         for r in store.read("show_rooms", building=building, room=room)}
     return Scene(graph, rooms)
 

@@ -36,43 +36,32 @@ def fixed_precision(values: ArrayLike, decimals: int = METRES_DECIMALS) -> np.nd
     return np.round(np.asarray(values, dtype=np.float64), decimals) + 0.0   # + 0.0: no -0.0
 
 
-def horizontal_basis(up: ArrayLike, heading: Optional[ArrayLike] = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def horizontal_basis(up: ArrayLike) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """A right-handed orthonormal frame (e1, e2, up) with e1, e2 horizontal.
 
-    e1 is the room's `heading` made horizontal: the direction its walls run along (Manhattan
-    world, `sg3d.ingest.poses.gravity.manhattan_heading`), so a box measured in this frame is the
-    size of a thing standing along the walls. Without a heading (a room stored before headings,
-    or one without two perpendicular directions) e1 is the world x axis made horizontal (world
-    y if x is nearly vertical). The same `up` and heading always give the same frame: sizes
-    computed by other modules in this frame agree. The vectors are kept to DIRECTION_DECIMALS
-    (`fixed_precision`), so they are the same on any CPU.
+    e1 is the world x axis made horizontal (world y if x is nearly vertical), so the same
+    `up` always gives the same frame: sizes computed by other modules in this frame agree. The
+    vectors are kept to DIRECTION_DECIMALS (`fixed_precision`), so they are the same on any CPU.
     """
     u = np.asarray(up, dtype=np.float64)
     u = u / math.hypot(*(float(v) for v in u))
-    seed = _world_seed(u) if heading is None else np.asarray(heading, dtype=np.float64)
+    seed = np.array([1.0, 0.0, 0.0]) if abs(u[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
     e1 = seed - float(seed[0] * u[0] + seed[1] * u[1] + seed[2] * u[2]) * u
-    if math.hypot(*(float(v) for v in e1)) < 1e-6:     # a heading along up: the world's
-        seed = _world_seed(u)
-        e1 = seed - float(seed[0] * u[0] + seed[1] * u[1] + seed[2] * u[2]) * u
     e1 /= math.hypot(*(float(v) for v in e1))
     e2 = np.cross(u, e1)
     return tuple(fixed_precision(v, DIRECTION_DECIMALS) for v in (e1, e2, u))  # type: ignore[return-value]
 
 
-def _world_seed(u: np.ndarray) -> np.ndarray:
-    return np.array([1.0, 0.0, 0.0]) if abs(u[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
+def horizontal_frame(up: ArrayLike) -> np.ndarray:
+    """`horizontal_basis(up)` as the rows of one 3x3 matrix (e1, e2, up): `points @ frame.T` gives
+    each point's coordinates along e1, e2 and up."""
+    return np.stack(horizontal_basis(up))
 
 
-def horizontal_frame(up: ArrayLike, heading: Optional[ArrayLike] = None) -> np.ndarray:
-    """`horizontal_basis(up, heading)` as the rows of one 3x3 matrix (e1, e2, up): `points @ frame.T`
-    gives each point's coordinates along e1, e2 and up."""
-    return np.stack(horizontal_basis(up, heading))
-
-
-def gravity_basis(up: Optional[ArrayLike], heading: Optional[ArrayLike] = None) -> np.ndarray:
+def gravity_basis(up: Optional[ArrayLike]) -> np.ndarray:
     """Rows e1, e2, up of a room's gravity frame (`horizontal_frame`); the world axes when the
     room has no up, so sizes measured along them stay axis-aligned."""
-    return np.eye(3) if up is None else horizontal_frame(up, heading)
+    return np.eye(3) if up is None else horizontal_frame(up)
 
 
 # The kind of node a carrel's panels belong to (`sg3d.ingest.discover.furniture.DESK_LABEL`).
@@ -111,20 +100,12 @@ def carrel_panel(lo: np.ndarray, hi: np.ndarray, top_lo: np.ndarray, top_hi: np.
 
 @dataclass(frozen=True)
 class Ground:
-    """The room's gravity frame: its up direction (world frame), the floor's height along it when
-    the build knows it, and the heading its walls run along. The build's stages measure in
-    `basis` (the world's x axis made horizontal: sightings, the fused cloud and its voxel grid,
-    whose rules were set in it); the boxes a graph keeps are measured along the heading
-    (`room_basis`, `sg3d.ingest.discover.heading.along_heading`)."""
+    """The room's gravity frame: its up direction (world frame) and the floor's height along it,
+    when the build knows it."""
 
     up: Any                         # 3-vector
     floor: Optional[float] = None
-    heading: Any = None             # the room's first horizontal axis (3-vector); None: the world's
 
     @functools.cached_property
     def basis(self) -> np.ndarray:
         return horizontal_frame(self.up)
-
-    @functools.cached_property
-    def room_basis(self) -> np.ndarray:
-        return horizontal_frame(self.up, self.heading)

@@ -131,8 +131,6 @@ class LocalGraph:
     key: Optional[str] = None
     frames: list[int] = field(default_factory=list)
     up: Optional[tuple[float, float, float]] = None  # room's up direction in world frame
-    # the direction the room's walls run along (world frame): sizes were measured along it; None: the world's axes
-    heading: Optional[tuple[float, float, float]] = None
     scan: Optional[ScanInfo] = None        # None: a scan of its own, named by the key
     # stored object id -> frames of this graph that saw its place empty (sg3d.ingest.objects.rescan)
     empty_places: dict[str, list[int]] = field(default_factory=dict)

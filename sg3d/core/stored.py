@@ -118,13 +118,11 @@ class StoredGraph:
 @dataclass(frozen=True)
 class RoomFrame:
     """A room's own frame as stored: its id (building/room), its up direction (3 floats, or None:
-    not known), its room-to-building transform (4x4, or None: not linked) and the heading its walls
-    run along (3 floats, or None: the world's axes; `sg3d.core.geometry.horizontal_basis`)."""
+    not known) and its room-to-building transform (4x4, or None: not linked)."""
 
     id: str
     up: Optional[list[float]] = None
     to_building: Optional[list[list[float]]] = None
-    heading: Optional[list[float]] = None
 
 
 @dataclass(frozen=True)

@@ -9,6 +9,6 @@ MERGE (b:Building {id: $building})
 ON CREATE SET b.name = $building
 MERGE (r:Room {id: $room})
 ON CREATE SET r.name = $name, r.building = $building, r.born = timestamp()
-SET r.up = coalesce($up, r.up), r.heading = coalesce($heading, r.heading), r.merges = coalesce(r.merges, 0) + 1, r.revision = coalesce(r.revision, 0) + 1
+SET r.up = coalesce($up, r.up), r.merges = coalesce(r.merges, 0) + 1, r.revision = coalesce(r.revision, 0) + 1
 MERGE (b)-[:HAS_ROOM]->(r)
 RETURN r.revision AS revision

@@ -1,4 +1,4 @@
-// The up direction and heading of rooms (world frame of their sequence), for viewpoint relations.
+// The up direction of rooms (world frame of their sequence), for viewpoint relations.
 MATCH (r:Room)
 WHERE r.id IN $rooms
-RETURN r.id AS id, r.up AS up, r.heading AS heading
+RETURN r.id AS id, r.up AS up

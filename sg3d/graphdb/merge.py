@@ -133,7 +133,7 @@ def merge_in_tx(tx: ManagedTransaction, graph: LocalGraph, embedding: Optional[L
     tx.run(cypher.load("scan_ensure"), id=scan.id, room=rid, at=scan.at,
            kind="ingest" if (graph.key or "").startswith("ingest:") else "build").consume()
     objects = graph.objects
-    cands, s_pos = (_fetch_candidates(tx, rid, objects, params, gravity_basis(graph.up, graph.heading)) if objects
+    cands, s_pos = (_fetch_candidates(tx, rid, objects, params, gravity_basis(graph.up)) if objects
                     else ([], None))
     moved_from = rescan.move_candidates(tx, rid, graph)
     plan = plan_merge(graph, cands, s_pos, moved_from, embedding, scan, now, ids, params)
@@ -148,8 +148,7 @@ def lock_room(tx: ManagedTransaction, graph: LocalGraph) -> MergeIds:
     follow from the room and that revision (`sg3d.merge.ids`)."""
     rid = room_id(graph.building, graph.room)
     row = tx.run(cypher.load("room_ensure"), building=graph.building, room=rid, name=graph.room,
-                 up=[float(v) for v in graph.up] if graph.up is not None else None,
-                 heading=[float(v) for v in graph.heading] if graph.heading is not None else None).single()
+                 up=[float(v) for v in graph.up] if graph.up is not None else None).single()
     return MergeIds(rid, int(row["revision"]) if row is not None else 0)
 
 

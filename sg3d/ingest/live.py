@@ -33,6 +33,7 @@ from typing import Any, Callable, Optional, Protocol
 
 import numpy as np
 
+from sg3d.core.geometry import horizontal_frame
 from sg3d.core.model import LocalGraph, ObjectObservation, ScanInfo
 from sg3d.ingest.pipeline import (
     PipelineStats,
@@ -43,7 +44,7 @@ from sg3d.ingest.pipeline import (
     sightings_of,
 )
 from sg3d.ingest.stages import Discovered as Found
-from sg3d.ingest.stages import Evidence, depth_discovery
+from sg3d.ingest.stages import Evidence, Ground, depth_discovery
 from sg3d.ingest.detect.models import Detector
 from sg3d.ingest.objects import existence, fusion
 from sg3d.ingest.poses.gravity import Gravity, estimate_gravity, sample_frames
@@ -283,7 +284,7 @@ class LiveMapper:
             return
         self._revision = revision
         pose_of = self.source.pose_of  # type: ignore[attr-defined]  # a source whose poses move (a revision)
-        basis = self.gravity.ground.basis
+        basis = horizontal_frame(self.gravity.up)
         with self._lock:
             for i, ev in list(self._evidence.items()):
                 pose = pose_of(i)
@@ -355,7 +356,7 @@ class LiveMapper:
             self.counts.skipped[exc.name] = exc.reason
             return False
         dets = detections_of(frame, self.detector, self.settings, self.stats)
-        found = sightings_of(frame, dets, self.gravity.ground, self.stats)
+        found = sightings_of(frame, dets, Ground(self.gravity.up, self.gravity.floor_height), self.stats)
         ev = _Evidence(dets, found, existence.View.of(frame))
         frame.release()
         with self._lock:
@@ -393,7 +394,7 @@ class LiveMapper:
         views = [ev.view for ev in evidence]
         found = self.discovered
         if fast and found is not None:
-            basis = self.gravity.ground.basis
+            basis = horizontal_frame(self.gravity.up)
 
             def discover(evidence: Evidence, objects: list[ObjectObservation]) -> Found:
                 return Found(objects=carried_over(objects, found, basis))
@@ -407,7 +408,7 @@ class LiveMapper:
                 self.discovered = Discovered(list(result.objects), [(label, centre, after) for (label, centre), after
                                                                     in zip(before, objects)], version)
                 return result
-        seen = Evidence(sightings, views, self.colour_of, self.gravity.ground)
+        seen = Evidence(sightings, views, self.colour_of, Ground(self.gravity.up, self.gravity.floor_height))
         graph = graph_of_evidence(seen, Target(self.room, self.building, scan=scan), self.settings,
                                   stats or PipelineStats(), discover=discover)
         return graph, chosen
@@ -441,7 +442,8 @@ class LiveMapper:
                 built: Optional[Gravity] = estimate_gravity(sample_frames(seq, 20, 0, len(seq)))
             except ValueError:
                 built = None
-            if built is not None and (self.gravity is None or built.ground != self.gravity.ground):
+            if built is not None and (self.gravity is None or (built.up, built.floor_height)
+                                      != (self.gravity.up, self.gravity.floor_height)):
                 self.gravity = built
                 self._measure_again(final)
         if self.gravity is None and self._gravity_frames:
@@ -459,6 +461,7 @@ class LiveMapper:
         """Sightings of `frames` lifted to 3-D again under the current gravity (the detector's
         boxes are kept; attributes depend on the up direction)."""
         assert self.gravity is not None
+        up = self.gravity.up
         for i in frames:
             ev = self._evidence.get(i)
             if ev is None:
@@ -468,7 +471,7 @@ class LiveMapper:
                 frame.load()
             except FrameError:
                 continue
-            found = sightings_of(frame, ev.dets, self.gravity.ground, self.stats)
+            found = sightings_of(frame, ev.dets, Ground(up, self.gravity.floor_height), self.stats)
             frame.release()
             with self._lock:
                 self._evidence[i] = _Evidence(ev.dets, found, ev.view)

@@ -40,7 +40,6 @@ from sg3d.ingest.stages import (
     Ground,
     ProgressFn,
     R,
-    along_heading,
     at_fixed_precision,
     detect_frames,
     depth_discovery,
@@ -165,23 +164,14 @@ def graph_of_evidence(evidence: Evidence, target: Target, settings: BuildConfig,
     method = settings.method
     found = stats.add(fuse_objects(evidence, method, settings))
     objects, by_id = list(found.objects), found.by_id
-    along = None
     if method.sdr and settings.discover.enabled and evidence.views:
-        discovered = stats.add(discover_objects(evidence, objects, discover or depth_discovery(settings)))
-        objects += discovered.objects
-        along = discovered.along
+        objects += stats.add(discover_objects(evidence, objects, discover or depth_discovery(settings))).objects
         by_id = {k: h for k, h in by_id.items() if k in {o.local_id for o in objects}}   # discovery may drop a misreading
     objects = [at_fixed_precision(o) for o in objects]
-    # relations in the frame every stage measured in (the world's axes), then the boxes kept are
-    # measured again along the room's heading where discovery's cloud can
     relations = stats.add(relate(by_id, objects, evidence.ground, method, settings)).relations
-    heading = None
-    if along is not None:
-        objects, heading = stats.add(along_heading(objects, along)).objects, evidence.ground.heading
     empty = stats.add(rescanned(target.known, evidence)).empty_places
     return LocalGraph(room=target.room, building=target.building, objects=objects, relations=relations,
                       key=target.key, frames=[v.index for v in evidence.views], up=vec3(evidence.ground.up),
-                      heading=None if heading is None else vec3(heading),
                       scan=target.scan, empty_places=empty)
 
 

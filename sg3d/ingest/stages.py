@@ -255,9 +255,6 @@ class Discovered(StageResult):
     objects: list[ObjectObservation]          # unnamed objects, then the structure's nodes
     unnamed: int = 0                          # objects found from depth that no detector named
     structure: int = 0                        # floor, walls and surfaces
-    # measures boxes again along the room's heading (`sg3d.ingest.discover.heading`; in place) once
-    # the relations are made in the frame discovery measured in; None: boxes stay along the world's axes
-    along: Optional[Callable[[Sequence[ObjectObservation]], None]] = None
     COUNTED = ("unnamed", "structure")
 
 
@@ -271,8 +268,8 @@ def discover_from_depth(evidence: Evidence, objects: list[ObjectObservation]) ->
     from sg3d.ingest.discover.room_cloud import room_cloud
 
     cloud = room_cloud(evidence.views, evidence.ground.up, evidence.ground.floor)
-    unnamed, nodes, along = _discovered(evidence, objects, cloud)
-    return Discovered(objects=unnamed + nodes, unnamed=len(unnamed), structure=len(nodes), along=along)
+    unnamed, nodes = _discovered(evidence, objects, cloud)
+    return Discovered(objects=unnamed + nodes, unnamed=len(unnamed), structure=len(nodes))
 
 
 def discover_with_windows(evidence: Evidence, objects: list[ObjectObservation]) -> Discovered:
@@ -282,32 +279,19 @@ def discover_with_windows(evidence: Evidence, objects: list[ObjectObservation]) 
     from sg3d.ingest.discover.windows import windows
 
     cloud = room_cloud(evidence.views, evidence.ground.up, evidence.ground.floor)
-    unnamed, nodes, along = _discovered(evidence, objects, cloud)
+    unnamed, nodes = _discovered(evidence, objects, cloud)
     if cloud.floor_seen:
         nodes += [discovery.structure_node(f"w{k}", e, cloud) for k, e in enumerate(windows(cloud))]
-    return Discovered(objects=unnamed + nodes, unnamed=len(unnamed), structure=len(nodes), along=along)
+    return Discovered(objects=unnamed + nodes, unnamed=len(unnamed), structure=len(nodes))
 
 
-def _discovered(evidence: Evidence, objects: list[ObjectObservation], cloud: Any,
-                ) -> tuple[list[ObjectObservation], list[ObjectObservation], Optional[Callable[[Sequence[ObjectObservation]], None]]]:
-    """The unnamed objects and the structure's nodes of the room's `cloud` (`discovery.discover`),
-    and, where the room has a heading, what measures boxes again along it from the cloud's points
-    (`sg3d.ingest.discover.heading.along_heading`)."""
-    from sg3d.ingest.discover.heading import along_heading, points_off_planes
+def _discovered(evidence: Evidence, objects: list[ObjectObservation],
+                cloud: Any) -> tuple[list[ObjectObservation], list[ObjectObservation]]:
+    """The unnamed objects and the structure's nodes of the room's `cloud` (`discovery.discover`)."""
     from sg3d.ingest.discover.structure import room_structure
 
     colour_image = functools.lru_cache(maxsize=16)(evidence.colour_of)   # objects side by side are read in the same views
-    structure = room_structure(cloud)
-    unnamed, nodes = discovery.discover(objects, cloud, structure, colour_image)
-    ground = evidence.ground
-    if ground.heading is None:
-        return unnamed, nodes, None
-
-    def along(boxes: Sequence[ObjectObservation]) -> None:
-        points = points_off_planes(cloud, structure)
-        for o in boxes:
-            along_heading(o, points, cloud, ground.room_basis)
-    return unnamed, nodes, along
+    return discovery.discover(objects, cloud, room_structure(cloud), colour_image)
 
 
 def depth_discovery(config: BuildConfig) -> DiscoverFn:
@@ -321,20 +305,6 @@ def depth_discovery(config: BuildConfig) -> DiscoverFn:
 def discover_objects(evidence: Evidence, objects: list[ObjectObservation], find: DiscoverFn) -> Discovered:
     """Discovery from depth by `find` (`discover_from_depth`, or a live map's stand-in), timed."""
     return find(evidence, objects)
-
-
-@dataclass(frozen=True, kw_only=True)
-class Turned(StageResult):
-    objects: list[ObjectObservation]
-
-
-@timed("discovery")
-def along_heading(objects: Sequence[ObjectObservation], along: Callable[[Sequence[ObjectObservation]], None]) -> Turned:
-    """Copies of `objects`, their boxes measured again along the room's heading (`along`, from
-    `Discovered.along`), at a fixed precision; a live map keeps discovery's own objects as they were."""
-    copies = [replace(o) for o in objects]
-    along(copies)
-    return Turned(objects=[at_fixed_precision(o) for o in copies])
 
 
 def at_fixed_precision(o: ObjectObservation) -> ObjectObservation:
@@ -477,4 +447,4 @@ def find_ground(seq: Any, span: tuple[int, int]) -> Grounded:
     from sg3d.ingest.poses.gravity import estimate_gravity, sample_frames
 
     gravity = estimate_gravity(sample_frames(seq, 20, *span))
-    return Grounded(ground=Ground(gravity.up, gravity.floor_height, gravity.heading))
+    return Grounded(ground=Ground(gravity.up, gravity.floor_height))

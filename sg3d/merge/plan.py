@@ -339,7 +339,7 @@ def plan_merge(graph: LocalGraph, candidates: list[Row], s_pos: Optional[np.ndar
     room = ids.room
     plan = MergePlan(key=graph.key, room=room, scan=scan, now=now, frames=[int(f) for f in graph.frames],
                      candidates=len(candidates))
-    objects, basis = graph.objects, gravity_basis(graph.up, graph.heading)
+    objects, basis = graph.objects, gravity_basis(graph.up)
     matches, absorbed = (match_nodes(objects, candidates, s_pos, embedding, params)
                          if candidates and s_pos is not None else ({}, {}))
     matches.update(stored_pieces_named(objects, candidates, matches, absorbed, basis))

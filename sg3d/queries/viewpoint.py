@@ -74,12 +74,10 @@ def _overlap(a: tuple[float, float], b: tuple[float, float]) -> float:
     return max(0.0, min(a[1], b[1]) - max(a[0], b[0]))
 
 
-def viewpoint_relations(target: dict, anchor: dict, eye: ArrayLike, up: ArrayLike,
-                        heading: Optional[ArrayLike] = None) -> set[str]:
+def viewpoint_relations(target: dict, anchor: dict, eye: ArrayLike, up: ArrayLike) -> set[str]:
     """Which of IN_FRONT_OF / BEHIND / LEFT_OF / RIGHT_OF the target holds to the anchor, seen
-    from `eye` (module docstring). Rows carry box_centre (or x, y, z) and size (w, d, h) along the
-    room's frame (`horizontal_basis(up, heading)`)."""
-    R = horizontal_frame(up, heading)
+    from `eye` (module docstring). Rows carry box_centre (or x, y, z) and size (w, d, h)."""
+    R = horizontal_frame(up)
     tc, ts = _box(target, R)
     ac, as_ = _box(anchor, R)
     d = (ac - R @ np.asarray(eye, dtype=float))[:2]
@@ -117,7 +115,7 @@ def related(run, q, rooms, viewpoint, seen_from: Optional[str]) -> list[Row]:
                          "or pass a viewpoint (a camera pose, a point, or an object)")
     targets = run.read("vqa_boxes", labels=q.target.labels, rooms=rooms, colour=q.colour)
     anchors = run.read("vqa_boxes", labels=q.anchor.labels, rooms=rooms, colour=None)
-    frames = {r["id"]: (r["up"], r.get("heading")) for r in run.read("vqa_room_up", rooms=sorted({a["room"] for a in anchors}))}
+    ups = {r["id"]: r["up"] for r in run.read("vqa_room_up", rooms=sorted({a["room"] for a in anchors}))}
     eyes: dict[str, np.ndarray] = {}
     eye_ids: set[str] = set()
     if name is not None:
@@ -139,8 +137,7 @@ def related(run, q, rooms, viewpoint, seen_from: Optional[str]) -> list[Row]:
             at = eye if name is None else eyes.get(a["room"])
             if at is None:
                 continue
-            up, heading = frames.get(a["room"]) or (None, None)
-            if q.relation in viewpoint_relations(t, a, at, up or (0.0, 0.0, 1.0), heading):
+            if q.relation in viewpoint_relations(t, a, at, ups.get(a["room"]) or (0.0, 0.0, 1.0)):
                 rows.append({**{k: t.get(k) for k in ("id", "label", "colour", "volume", "size", "room")},
                              "anchor_id": a["id"], "anchor_label": a["label"]})
     seen, unique = set(), []

@@ -58,16 +58,14 @@ def drawing_frame(scene: Scene) -> Frame:
         ref = names[0]
         T_ref = np.asarray(info[ref].to_building, dtype=np.float64)
         up_ref = info[ref].up or [0.0, 0.0, 1.0]
-        heading_ref = info[ref].heading
-        B = gravity_basis(T_ref[:3, :3] @ np.asarray(up_ref, dtype=np.float64),
-                          None if heading_ref is None else T_ref[:3, :3] @ np.asarray(heading_ref, dtype=np.float64))
+        B = gravity_basis(T_ref[:3, :3] @ np.asarray(up_ref, dtype=np.float64))
         for r in names:
             T = np.asarray(info[r].to_building, dtype=np.float64)
-            placements[r] = Placement(B @ T[:3, :3], B @ T[:3, 3], gravity_basis(info[r].up, info[r].heading))
+            placements[r] = Placement(B @ T[:3, :3], B @ T[:3, 3], gravity_basis(info[r].up))
     else:
         offset = 0.0
         for r in names:
-            B = gravity_basis(info[r].up, info[r].heading)
+            B = gravity_basis(info[r].up)
             pts = np.array([_pos(n) for n in scene.nodes if _room_of(n) == r]) @ B.T
             shift = np.array([offset - pts[:, 0].min(), 0.0, 0.0]) if len(names) > 1 else np.zeros(3)
             placements[r] = Placement(B, shift, B)

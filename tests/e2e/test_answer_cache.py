@@ -107,7 +107,7 @@ def test_concurrent_asks_share_revision_reads_never_one_begun_before_they_arrive
 
     def bump(k: int) -> None:
         store.execute_write(lambda tx: tx.run(text, building="default", room=f"default/revs{k % 4}",
-                                              name=f"revs{k % 4}", up=None, heading=None).consume())
+                                              name=f"revs{k % 4}", up=None).consume())
 
     for k in range(4):                          # made one at a time: two MERGEs making one node collide
         bump(k)

@@ -469,27 +469,3 @@ def test_what_show_wrote_is_its_result_on_stdout(store, embedded_home, tmp_path)
     assert r.exit_code == 0, r.output
     assert r.stdout.startswith(f"wrote {out} (") and out.is_file(), (r.stdout, r.stderr)
     assert "wrote" not in r.stderr
-
-
-def test_a_rooms_drawing_runs_along_the_heading_its_boxes_were_measured_along(store):
-    """A room stored with a heading (its walls' direction, `sg3d.core.geometry.horizontal_basis`)
-    is drawn along it: a table and a chair standing one behind the other along the heading lie
-    on one drawing axis, and the table's box is its own 1.5 x 0.8 m, not the world's hull."""
-    from sg3d.app.scene import fetch_scene
-    from sg3d.render.geometry import box_corners, drawing_frame
-
-    heading = (float(np.cos(np.radians(30))), float(np.sin(np.radians(30))), 0.0)
-    along = np.array(heading)
-    g = graph([obj("t", "dining table", tuple(np.array([1.0, 1.0, 0.35])), size=(1.5, 0.8, 0.7)),
-               obj("h", "chair", tuple(np.array([1.0, 1.0, 0.45]) + 1.2 * along), size=(0.45, 0.45, 0.9))],
-              room="headed", building=BUILDING)
-    g.up, g.heading = (0.0, 0.0, 1.0), heading
-    merge_local_graph(store, g)
-    scene = fetch_scene(store, BUILDING, "headed")
-    assert scene.rooms["headed"].heading == pytest.approx(list(heading))
-    frame = drawing_frame(scene)
-    by_label = {n.label: n for n in scene.nodes}
-    a, b = (frame.coords[by_label[k].id] for k in ("dining table", "chair"))
-    assert (b - a)[:2] == pytest.approx((1.2, 0.0), abs=1e-6)
-    table = box_corners(by_label["dining table"], frame.placements["headed"])
-    assert np.ptp(table, axis=0) == pytest.approx((1.5, 0.8, 0.7), abs=1e-6)

@@ -20,10 +20,7 @@ roughly upright, so:
 4. floor: heights (p . up) of points on horizontal surfaces; the lowest height bin holding a
    real share of them, at least `MIN_FLOOR_DROP` below the cameras, is the floor candidate: nothing
    was seen below it. It is the floor when it is what the room stands on, not a top the cameras
-   were held over (`floor_not_a_top`); otherwise the recording never saw the floor (None);
-5. heading: walls and most furniture stand along two perpendicular horizontal directions (a
-   Manhattan world), so the normals of vertical surfaces, folded modulo 90 degrees about up,
-   pile up at the room's heading (`manhattan_heading`); boxes and sizes are measured along it.
+   were held over (`floor_not_a_top`); otherwise the recording never saw the floor (None).
 """
 from __future__ import annotations
 
@@ -31,9 +28,8 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, Iterable, Optional
 
 import numpy as np
-from numpy.typing import ArrayLike
 
-from sg3d.core.geometry import DIRECTION_DECIMALS, Ground, fixed_precision, horizontal_basis
+from sg3d.core.geometry import DIRECTION_DECIMALS, fixed_precision
 from sg3d.core.model import vec3
 from sg3d.ingest.readers.frames import Frame, FrameError
 
@@ -58,18 +54,6 @@ LEVEL_GAZE_DEG = 25.0
 FLOOR_MIN_SPAN_M = 2.0
 FLOOR_BIN_M = 0.02
 FLOOR_MIN_SHARE = 0.01      # of all points on horizontal surfaces
-# Rule "a Manhattan heading" (`manhattan_heading`): a normal within WALL_NORMAL_DEG of horizontal
-# belongs to a vertical surface (a wall, a cabinet's front, a desk's side); at least
-# HEADING_MIN_NORMALS of them, folded modulo 90 degrees into HEADING_BIN_DEG bins, must hold
-# HEADING_MIN_SHARE within +-HEADING_PEAK_DEG of their densest direction (scattered directions
-# hold 2 x 5 / 90 = 0.11 of them), else the room keeps the world's axes.
-WALL_NORMAL_DEG = 10.0
-HEADING_MIN_NORMALS = 500
-HEADING_BIN_DEG = 1.0
-HEADING_PEAK_DEG = 5.0
-HEADING_MIN_SHARE = 0.25
-# The heading's angle is kept to this many decimals of a degree: the same on any CPU.
-HEADING_DECIMALS = 4
 
 
 @dataclass(frozen=True)
@@ -78,17 +62,11 @@ class Gravity:
     floor_height: Optional[float]               # p . up of the floor plane; None when not seen
     camera_prior: tuple[float, float, float]    # mean image-up of the cameras
     n_normals: int                              # normals that voted for `up`
-    heading: Optional[tuple[float, float, float]] = None  # the room's first horizontal axis; None: the world's
 
     def height(self, point: Iterable[float]) -> float:
         """Height of a world point above the floor (above the origin's level without a floor)."""
         h = float(np.dot(np.asarray(point, dtype=np.float64), self.up))
         return h - (self.floor_height or 0.0)
-
-    @property
-    def ground(self) -> Ground:
-        """The room's gravity frame as the build's stages take it."""
-        return Ground(self.up, self.floor_height, self.heading)
 
 
 def camera_up_prior(frames: Iterable[Frame]) -> np.ndarray:
@@ -154,9 +132,7 @@ def estimate_gravity(frames: Iterable[Frame], stride: int = GRID_STRIDE) -> Grav
     # and another CPU's BLAS leaves other last bits in `up`
     up = fixed_precision(up, DIRECTION_DECIMALS)
     floor = _floor_height(P, N, up, frames)
-    heading = manhattan_heading(N, up)
-    return Gravity(vec3(up), None if floor is None else float(fixed_precision(floor)), vec3(prior), used,
-                   None if heading is None else vec3(heading))
+    return Gravity(vec3(up), None if floor is None else float(fixed_precision(floor)), vec3(prior), used)
 
 
 def _mean_shift(cand: np.ndarray, start: np.ndarray) -> np.ndarray:
@@ -228,38 +204,6 @@ def _floor_height(P: np.ndarray, N: np.ndarray, up: np.ndarray, frames: list[Fra
     floor = float(np.median(heights[level]))
     gaze = float(np.median([np.degrees(np.arcsin(np.clip(-f.pose[:3, 2] @ up, -1, 1))) for f in frames]))
     return floor if floor_not_a_top(P[flat][level], up, cameras - floor, gaze) else None
-
-
-def manhattan_heading(normals: np.ndarray, up: ArrayLike) -> Optional[np.ndarray]:
-    """Rule "a Manhattan heading": walls and most furniture stand along two perpendicular
-    horizontal directions, so the normals of vertical surfaces (within WALL_NORMAL_DEG of
-    horizontal), their angles about `up` folded modulo 90 degrees, pile up at one angle: the
-    densest HEADING_BIN_DEG bin (counted round the circle with its neighbours +-2 bins at
-    weights 3, 2, 1), refined
-    to the circular mean of the folded angles within HEADING_PEAK_DEG of it. The room's heading is
-    that direction, turned the shorter way (at most 45 degrees) from the world's (`up`'s default
-    e1 of `horizontal_basis`), angle kept to HEADING_DECIMALS of a degree; None (the world's axes)
-    with under HEADING_MIN_NORMALS vertical-surface normals or under HEADING_MIN_SHARE of them at
-    the peak (no two perpendicular directions stand out)."""
-    e1, e2, u = horizontal_basis(up)
-    N = np.asarray(normals, dtype=np.float64).reshape(-1, 3)
-    vertical = np.abs(N @ u) < np.sin(np.radians(WALL_NORMAL_DEG))
-    if np.count_nonzero(vertical) < HEADING_MIN_NORMALS:
-        return None
-    folded = np.degrees(np.arctan2(N[vertical] @ e2, N[vertical] @ e1)) % 90.0
-    bins = int(round(90.0 / HEADING_BIN_DEG))
-    counts, _ = np.histogram(folded, bins=bins, range=(0.0, 90.0))
-    smooth = sum((3 - abs(k)) * np.roll(counts, k) for k in range(-2, 3))   # a pile's own bin weighs most
-    peak = (int(np.argmax(smooth)) + 0.5) * HEADING_BIN_DEG
-    off = (folded - peak + 45.0) % 90.0 - 45.0          # each angle's folded offset from the peak
-    near = np.abs(off) <= HEADING_PEAK_DEG
-    if np.count_nonzero(near) < HEADING_MIN_SHARE * len(folded):
-        return None
-    quarter = np.radians(4.0 * off[near])                # the circular mean of angles modulo 90
-    angle = peak + np.degrees(np.arctan2(np.sin(quarter).mean(), np.cos(quarter).mean())) / 4.0
-    angle = float(np.round((angle + 45.0) % 90.0 - 45.0, HEADING_DECIMALS))
-    a = np.radians(angle)
-    return fixed_precision(np.cos(a) * e1 + np.sin(a) * e2, DIRECTION_DECIMALS)
 
 
 def horizontal_span(points: np.ndarray, up: np.ndarray) -> float:
