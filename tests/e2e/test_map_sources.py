@@ -148,9 +148,13 @@ def test_the_frames_mapping_judged_outlive_the_cameras_ring(realsense_recording)
         for i in old:
             frame = follower.frame(i)
             assert frame.depth.shape == (480, 640) and np.all(np.isfinite(frame.pose))
-        unjudged = next(i for i in range(n - 10) if i not in judged)
-        with pytest.raises(FrameError):
-            follower.frame(unjudged)
+        # only the judged frames are kept (memory), each once
+        kept = follower.source.kept
+        assert len(kept) == len(set(judged)) and all(i in kept for i in judged)
+        unjudged = [i for i in range(n - 10) if i not in judged]
+        for i in unjudged[:3]:                               # a frame no one judged is gone
+            with pytest.raises(FrameError):
+                follower.frame(i)
     finally:
         follower.source.close()
 
