@@ -26,7 +26,7 @@ from sg3d.core.model import RELATION_TYPES, LocalGraph, ScanInfo
 from sg3d.core.stored import Row
 from sg3d.graphdb import cypher
 from sg3d.graphdb.consistency import resolve_pairs
-from sg3d.graphdb.merge import Fence, ensure_room, lock_room
+from sg3d.graphdb.merge import Fence, ensure_room, lock_room, write_room
 from sg3d.graphdb.protocol import GraphStore
 from sg3d.graphdb.store import size_batches
 from sg3d.graphdb.tally import create_objects_and_tallies
@@ -176,7 +176,7 @@ def publish(store: GraphStore, graph: LocalGraph, scan: ScanInfo, status: dict,
     embedding = embedding or default_embedding()
     store.ensure_schema()
     ensure_room(store, graph.building, graph.room)
-    report = store.execute_write(lambda tx: publish_in_tx(tx, graph, scan, status, embedding, fence, unseen))
+    report = write_room(store, lambda tx: publish_in_tx(tx, graph, scan, status, embedding, fence, unseen))
     report.committed_at = time.time()
     return report
 

@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass, field
-from typing import Callable, Optional
+from typing import Callable, Optional, TypeVar, cast
 
 import numpy as np
 from neo4j import ManagedTransaction, Result
@@ -45,6 +45,8 @@ from sg3d.merge.similarity import MAX_EXTENT_M, SimilarityParams
 
 # A writer's check, run first in each of its transactions (`sg3d.graphdb.lease.RoomLease.fence`).
 Fence = Callable[[ManagedTransaction], None]
+
+_R = TypeVar("_R")
 
 
 @dataclass
@@ -195,26 +197,39 @@ def merge_local_graph(store: GraphStore, graph: LocalGraph, embedding: Optional[
                       room_in_tx: bool = False) -> MergeReport:
     """Merge one local graph as ONE transaction; the store is unchanged if anything fails.
     `room_in_tx`: a new room is created by the merge transaction itself (room_ensure), not in a
-    transaction of its own before it, so a merge that fails leaves no room behind (an ingest)."""
+    transaction of its own before it, so a merge that fails leaves no room behind (an ingest).
+    A merge that loses a race with another writer of the room runs again (`write_room`)."""
     embedding = embedding or default_embedding()
     store.ensure_schema()
     if not room_in_tx:
         ensure_room(store, graph.building, graph.room)
+    return write_room(store, lambda tx: merge_in_tx(tx, graph, embedding, params, fence), graph.key)
+
+
+# A room's writers race at most a few at once (a build, a map, an ingest): more losses in a row
+# than this mean the constraint is not a race
+ROOM_WRITE_ATTEMPTS = 5
+
+
+def write_room(store: GraphStore, work: Callable[[ManagedTransaction], _R], key: Optional[str] = None) -> _R:
+    """Rule "a room write that loses a race is retried": run `work` (a merge or publish, which
+    locks the room first, `lock_room`) as one write transaction. On an optimistic store
+    (ArcadeDB) two writers of one room both read its revision before either commits, so both
+    name their new nodes alike (`sg3d.merge.ids`) and the loser's commit fails on the unique id,
+    or on the unique room two writers created: a ConstraintError, not the retryable conflict
+    the driver retries. The loser runs again and reads the winner's revision. A loser with the
+    winner's merge `key` is the same local graph: the winner's commit is its merge (skipped)."""
     from neo4j.exceptions import ConstraintError
 
-    for attempt in range(3):
+    for attempt in range(ROOM_WRITE_ATTEMPTS):
         try:
-            return store.execute_write(lambda tx: merge_in_tx(tx, graph, embedding, params, fence))
+            return store.execute_write(work)
         except ConstraintError:
-            # Two merges of one key raced (two runs of one build): the store may report the loser
-            # as a duplicate MergeLog key rather than a retryable conflict. The same key means the
-            # same local graph, so the winner's commit is this merge.
-            if graph.key and store.read("merge_log_exists", key=graph.key):
-                return MergeReport(key=graph.key, skipped=True)
-            # two merges creating one new room in their own transactions: the winner's room is
-            # there now, so the loser's next try finds it
-            if not room_in_tx or attempt == 2:
+            if key and store.read("merge_log_exists", key=key):
+                return cast(_R, MergeReport(key=key, skipped=True))
+            if attempt == ROOM_WRITE_ATTEMPTS - 1:
                 raise
+            time.sleep(0.02 * (attempt + 1))
     raise AssertionError("unreachable")
 
 

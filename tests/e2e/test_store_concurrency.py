@@ -60,3 +60,64 @@ def test_two_concurrent_merges_of_one_new_room_equal_a_sequential_merge(store):
         assert not errors, errors
         assert len(reports) == 2
         assert summary(store, room) == expected, attempt
+
+
+
+def elsewhere(room: str, prefix: str, label, dx: float):
+    """The test's six objects moved `dx` along x (nothing there yet), labelled `label` or their own."""
+    return graph([obj(f"{prefix}{i}", label or own, (dx + m[0], m[1], m[2]), size=size, hist=hist_of(h))
+                  for i, (own, m, size, h) in enumerate(OBJECTS)], room=room, building="race")
+
+
+def map_publish(store, room: str) -> None:
+    import time
+
+    from sg3d.core.model import ScanInfo
+    from sg3d.graphdb.live import publish
+
+    publish(store, elsewhere(room, "m", "vase", 20.0), ScanInfo(f"map:race/{room}", time.time(), closes=False),
+            {"state": "live", "frames": 1})
+
+
+def build_merge(store, room: str) -> None:
+    merge_local_graph(store, elsewhere(room, "b", None, 10.0))
+
+
+def at_once(store, room: str, writers) -> list:
+    """Run each writer(store, room) on its own thread, released together; the errors they raised."""
+    barrier = threading.Barrier(len(writers))
+    errors = []
+
+    def run(write):
+        barrier.wait()
+        try:
+            write(store, room)
+        except Exception as exc:  # noqa: BLE001 - the test reports what failed
+            errors.append(exc)
+
+    threads = [threading.Thread(target=run, args=(w,)) for w in writers]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join(120)
+    return errors
+
+
+def test_a_live_publish_and_a_build_racing_on_one_room_both_commit_with_their_own_ids(store):
+    """A map publishing while a build merges into the same room, each making new objects:
+    neither fails, every node of both is there once with its own id, and the room's revision
+    went up once for each write."""
+    def revision(room):
+        return store.run_raw("MATCH (r:Room) WHERE r.id = $room RETURN r.revision", {"room": room_id("race", room)})[1][0][0]
+
+    for attempt in range(4):
+        room = f"mixed{attempt}"
+        merge_local_graph(store, local_graph(room, 1))
+        before = revision(room)
+        errors = at_once(store, room, [map_publish, build_merge])
+        assert not errors, [str(e) for e in errors]
+        rows = store.run_raw("MATCH (o:Object) WHERE o.room = $room RETURN o.id, o.label",
+                             {"room": room_id("race", room)})[1]
+        assert len(rows) == len({r[0] for r in rows}) == 3 * len(OBJECTS)
+        assert sum(1 for r in rows if r[1] == "vase") == len(OBJECTS)
+        assert revision(room) == before + 2
