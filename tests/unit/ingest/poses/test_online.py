@@ -209,7 +209,25 @@ def test_frames_that_arrived_count_as_received_while_tracking_deals_with_one():
 
 
 def test_frames_there_at_the_start_are_tracked_in_order_then_the_newest():   # next_to_track
-    assert online.next_to_track(0, 1000, 1000) == 0          # a folder written before: in order
-    assert online.next_to_track(999, 1000, 1000) == 999
-    assert online.next_to_track(1000, 1030, 1000) == 1029    # past them: the camera's newest frame
-    assert online.next_to_track(3, 40, 3) == 39              # a camera: a few frames held at the start
+    assert online.next_to_track(0, 1000, 1000, 6, 45) == 0          # a folder written before: in order
+    assert online.next_to_track(999, 1000, 1000, 6, 45) == 999
+    assert online.next_to_track(1000, 1003, 1000, 6, 45) == 1002    # past them: the camera's newest frame
+    assert online.next_to_track(3, 6, 3, 6, 45) == 5                # a camera: a few frames held at the start
+    assert online.next_to_track(0, 40, 0, 6, 45) == 39              # the first frame: the newest
+
+
+def test_behind_the_camera_tracking_steps_at_most_a_stride_then_jumps_past_the_lag():   # next_to_track
+    assert online.next_to_track(101, 106, 0, 6, 45) == 105          # within a stride: the newest
+    assert online.next_to_track(101, 107, 0, 6, 45) == 106          # a stride ahead: the newest still
+    assert online.next_to_track(101, 108, 0, 6, 45) == 106          # past a stride: one stride on
+    assert online.next_to_track(101, 152, 0, 6, 45) == 106          # 45 frames behind the step: still steps
+    assert online.next_to_track(101, 153, 0, 6, 45) == 152          # 46 behind: jumps to the newest
+    assert online.next_to_track(101, 120, 0, 0, 45) == 101          # a stride of 0 still moves on
+
+
+def test_track_steps_follow_the_frame_rate_and_the_cameras_ring():
+    assert online.track_steps(1 / 30, None) == (6, 45)              # 0.2 s and 1.5 s at 30 frames/s
+    assert online.track_steps(1 / 15, None) == (3, 22)
+    assert online.track_steps(1 / 30, 90) == (6, 45)                # half of a 90-frame ring: the same
+    assert online.track_steps(1 / 30, 60) == (6, 30)                # a smaller ring bounds the lag
+    assert online.track_steps(1.0, None) == (1, 2)                  # one frame a second: every frame
