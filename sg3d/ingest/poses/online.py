@@ -68,6 +68,9 @@ TRACK_MIN_INLIERS = 0.5      # share of a frame's depth the keyframe must confir
 TRACK_TRUST = 0.85           # a fit confirming less gets a second opinion (`_fit`): on the kitchen, RGB-D
                              # fits to a keyframe 6-9 frames back that confirmed 0.65-0.8 slid 4-14 cm
                              # (the true motion confirms 0.8-0.9), fits 2-3 frames apart confirm 0.9+
+TRACK_IMAGE_NCC = 0.93      # a fit's images agree at least this much (`image_agreement`): kitchen fits within
+                             # 2 cm of the given motion agreed 0.94-0.95 at their 1st percentile, those 7-31 cm
+                             # off 0.74-0.93 but for one in 15 (0.966)
 KEYFRAME_M, KEYFRAME_DEG = 0.05, 5.0   # measured on the kitchen: 0.05 m / 5 deg ATE 6 mm, 0.1 m / 10 deg 37 mm
 KEYFRAME_INLIERS = 0.7       # a frame sharing less than this with the keyframe becomes the next one
 RELOCALISE_KEYFRAMES = 5     # recent keyframes held for relocalisation
@@ -440,7 +443,7 @@ class OnlinePoses:
         if bridged:                      # still weak: from the constant-velocity prediction
             fits.append((self._bridge(view, key, np.linalg.inv(self.poses[key.index]) @ predicted, TRACK_MIN_INLIERS),
                          key))
-        placed = [(f, ref) for f, ref in fits if f.ok]
+        placed = [(f, ref) for f, ref in fits if self._confirmed(f, view, ref)]
         if placed:                                # the fit confirming the most
             best, ref = max(placed, key=lambda fr: fr[0].inliers)
             return self.poses[ref.index] @ best.motion, best.inliers if ref is key else 0.0
@@ -450,7 +453,7 @@ class OnlinePoses:
                 if ref is key and bridged:
                     continue             # tried above
                 fit = self._bridge(view, ref, np.linalg.inv(self.poses[ref.index]) @ predicted, TRACK_MIN_INLIERS)
-                if fit.ok:
+                if self._confirmed(fit, view, ref):
                     return self.poses[ref.index] @ fit.motion, fit.inliers if ref is key else 0.0
         deadline = time.perf_counter() + LOSS_BUDGET_S     # frames in between, then older keyframes
         filled = self._fill_gap(view, deadline) if deep else None
@@ -463,13 +466,22 @@ class OnlinePoses:
                 break
             fit = self._bridge(view, kf, np.linalg.inv(self.poses[kf.index]) @ start, rounds=RELOCALISE_ROUNDS,
                                deadline=deadline)
-            if fit.ok:
+            if self._confirmed(fit, view, kf):
                 return self.poses[kf.index] @ fit.motion, 0.0
         self._why = (f"lost track: not placed by odometry ({why}; nor from the predicted pose, the last frame or "
                      f"{min(len(self._keyframes), 1 + RELOCALISE_TRIES)} recent keyframes)")
         return None
 
     _why = ""
+
+    def _confirmed(self, fit: Fit, view: View, ref: View) -> bool:
+        """A fit the depth accepted whose images agree too (`image_agreement` at least
+        `TRACK_IMAGE_NCC`, or too little texture to judge)."""
+        if not fit.ok:
+            return False
+        assert self._odometry is not None
+        ncc = self._odometry.images_agree(view, ref, fit.motion)
+        return ncc is None or ncc >= TRACK_IMAGE_NCC
 
     def _place_fitted(self, view: View, placed: tuple[np.ndarray, float]) -> None:
         """Place a fitted frame; it becomes the next keyframe when it lies `KEYFRAME_M` /

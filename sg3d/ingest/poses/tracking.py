@@ -12,6 +12,8 @@ TARGET_WIDTH = 320           # odometry runs on images about this wide (speed; a
 MIN_DEPTH_SHARE = 0.1        # a frame with less valid depth than this cannot be tracked
 INLIER_M = 0.03              # a point agrees when its depth is within this of the other frame's
 FIT_GRID = 4                 # the fit check samples every 4th pixel
+MIN_TEXTURE = 8.0            # grey levels: below this spread the images cannot judge a fit (`image_agreement`)
+MIN_TEXTURE_POINTS = 200     # confirmed points the image check needs
 
 
 @dataclass
@@ -99,6 +101,10 @@ class Odometry:
             view.depth_prepared = cv2.OdometryFrame(depth=view.depth, image=view.gray)
             self._depth_odometry.prepareFrame(view.depth_prepared)
         return view.depth_prepared
+
+    def images_agree(self, source: View, target: View, motion: np.ndarray) -> Optional[float]:
+        """`image_agreement` of a motion of `source` into `target` (None: too little texture)."""
+        return image_agreement(source, target, self.K, motion)
 
     def fit_from(self, source: View, target: View, predicted: np.ndarray, min_overlap: float,
                  min_agreement: float) -> Fit:
@@ -201,6 +207,36 @@ def depth_agreement(source: np.ndarray, target: np.ndarray, K: np.ndarray, motio
     rms = float(np.sqrt(np.mean(diff[good] ** 2))) if good.any() else float("inf")
     overlap = float(np.isfinite(diff).sum()) / len(Q)
     return share, rms, overlap
+
+
+def image_agreement(source: View, target: View, K: np.ndarray, motion: np.ndarray, grid: int = FIT_GRID,
+                    tol: float = INLIER_M) -> Optional[float]:
+    """Normalised cross-correlation of the grey levels of the source's points whose depth the
+    target confirms (within `tol` after `motion`) and the target's grey levels where they land:
+    brightness constancy, the check depth alone cannot make (a fit sliding along a plane keeps
+    the depth agreeing, not the texture). None when the confirmed points show too little texture
+    to judge (grey spread under `MIN_TEXTURE` levels, or fewer than `MIN_TEXTURE_POINTS`)."""
+    sd, td = source.depth, target.depth
+    v, u = np.mgrid[0:sd.shape[0]:grid, 0:sd.shape[1]:grid]
+    z = sd[v, u]
+    valid = z > 0
+    u, v, z = u[valid], v[valid], z[valid]
+    fx, fy, cx, cy = K[0, 0], K[1, 1], K[0, 2], K[1, 2]
+    Q = _moved((u - cx) * z / fx, (v - cy) * z / fy, z, motion)
+    front = Q[:, 2] > 1e-3
+    pu = np.round(Q[:, 0] / np.where(front, Q[:, 2], 1) * fx + cx).astype(int)
+    pv = np.round(Q[:, 1] / np.where(front, Q[:, 2], 1) * fy + cy).astype(int)
+    inside = front & (pu >= 0) & (pu < td.shape[1]) & (pv >= 0) & (pv < td.shape[0])
+    d = np.zeros(len(Q), np.float32)
+    d[inside] = td[pv[inside], pu[inside]]
+    good = inside & (d > 0) & (np.abs(d - Q[:, 2]) < tol)
+    if good.sum() < MIN_TEXTURE_POINTS:
+        return None
+    a = source.gray[v[good], u[good]].astype(np.float32)
+    b = target.gray[pv[good], pu[good]].astype(np.float32)
+    if a.std() < MIN_TEXTURE or b.std() < MIN_TEXTURE:
+        return None
+    return float(np.corrcoef(a, b)[0, 1])
 
 
 def similarity(a: View, b: View) -> float:

@@ -38,6 +38,9 @@ class _Scripted:
     def fit_depth(self, view, target, min_inliers):
         return self._fit("depth", min_inliers)
 
+    def images_agree(self, source, target, motion):
+        return None                        # hand-made views: no images to judge by
+
     def fit_from(self, view, target, predicted, min_overlap, min_agreement):
         self.calls.append("predicted")
         share = self.shares.get("predicted", 0.0)
@@ -216,6 +219,9 @@ class _Reach:
         return Fit(True, shift(0.01 * d), 0.9, 0.01)
 
     fit_depth = fit
+
+    def images_agree(self, source, target, motion):
+        return None                        # hand-made views: no images to judge by
 
     def fit_from(self, view, target, predicted, min_overlap, min_agreement):
         return Fit(False, predicted, 0.0, float("inf"))

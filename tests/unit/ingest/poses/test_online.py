@@ -103,6 +103,9 @@ class _Odometry:
 
     fit_depth = fit
 
+    def images_agree(self, source, target, motion):
+        return None                        # hand-made views: no images to judge by
+
     def fit_from(self, view, target, guess, min_overlap, min_agreement):
         from sg3d.ingest.poses.tracking import Fit
 
@@ -231,3 +234,25 @@ def test_track_steps_follow_the_frame_rate_and_the_cameras_ring():
     assert online.track_steps(1 / 30, 90) == (6, 45)                # half of a 90-frame ring: the same
     assert online.track_steps(1 / 30, 60) == (6, 30)                # a smaller ring bounds the lag
     assert online.track_steps(1.0, None) == (1, 2)                  # one frame a second: every frame
+
+
+def test_a_fit_counts_when_its_images_agree_at_least_0_93(monkeypatch):   # TRACK_IMAGE_NCC
+    from sg3d.ingest.poses.tracking import Fit, Odometry, image_agreement
+
+    K = np.array([[100.0, 0, 79.5], [0, 100.0, 59.5], [0, 0, 1]])
+    odometry = Odometry(K, (160, 120))
+    stripes = (np.arange(160)[None, :].repeat(120, 0) // 8 % 2 * 120 + 60).astype(np.float32)
+    noise = np.random.default_rng(1).normal(0, 1, (120, 160))
+    wall = np.full((120, 160), 1.5, np.float32)
+
+    def seen_with(sigma):
+        return odometry.view(1, wall, np.clip(stripes + sigma * noise, 0, 255).astype(np.uint8))
+
+    tracker = online.OnlinePoses(_Frames(30.0))
+    tracker._odometry = odometry
+    source, fit = odometry.view(0, wall, stripes.astype(np.uint8)), Fit(True, np.eye(4), 0.9, 0.01)
+    below, above = seen_with(30.0), seen_with(18.0)
+    assert image_agreement(source, below, K, np.eye(4)) < online.TRACK_IMAGE_NCC < image_agreement(source, above, K, np.eye(4))
+    assert not tracker._confirmed(fit, source, below)
+    assert tracker._confirmed(fit, source, above)
+    assert not tracker._confirmed(Fit(False, np.eye(4), 0.9, 0.01), source, above)   # the depth said no
