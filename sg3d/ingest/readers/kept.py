@@ -13,12 +13,12 @@ from __future__ import annotations
 
 import threading
 from collections import OrderedDict
-from typing import Optional
+from typing import Any, Optional
 
 import cv2
 import numpy as np
 
-from sg3d.ingest.readers.frames import Frame, FrameError, FrameInfo
+from sg3d.ingest.readers.frames import Frame, FrameError, FrameInfo, ring_item
 
 KEPT_MIB = 512               # memory the kept frames may take
 JPEG_QUALITY = 95            # colour kept as a camera's JPEG would store it (detection sees no difference)
@@ -108,3 +108,16 @@ class KeptFrames:
             return None
         encoded, K, pose, stamp = held
         return Frame(i, None, None, K, pose.copy(), FrameInfo(stamp, encoded.name, source=encoded))
+
+
+def ring_or_kept(items: Any, count: int, i: int, name: str, ring: int, kept: KeptFrames) -> tuple[Any, Optional[Frame]]:
+    """Frame i of a live source with a ring of its last `ring` frames (`ring_item`) and the frames
+    kept past it: (its ring item, None) while the ring holds it, else (None, the kept frame);
+    the ring's FrameError when neither holds it."""
+    try:
+        return ring_item(items, count, i, name, ring), None
+    except FrameError:
+        frame = kept.frame(i)
+        if frame is None:
+            raise
+        return None, frame

@@ -62,8 +62,8 @@ from sg3d.ingest.readers.bag import (
     header_stamp,
 )
 from sg3d.ingest.readers.base import SequenceError
-from sg3d.ingest.readers.frames import Frame, FrameError, FrameInfo, ring_item
-from sg3d.ingest.readers.kept import KeptFrames
+from sg3d.ingest.readers.frames import Frame, FrameError, FrameInfo
+from sg3d.ingest.readers.kept import KeptFrames, ring_or_kept
 
 MAGIC = b"\x89MCAP0\r\n"
 OP_FOOTER = 0x02
@@ -199,13 +199,9 @@ class McapFollower:
     def frame(self, i: int) -> Frame:
         name = f"frame-{i:06d}"
         with self._lock:
-            try:
-                held = ring_item(self._frames, self._count, i, name, self.ring)
-            except FrameError:
-                kept = self.kept.frame(i)
-                if kept is None:
-                    raise
-                return kept
+            held, kept = ring_or_kept(self._frames, self._count, i, name, self.ring, self.kept)
+        if kept is not None:
+            return kept
         if held.error:
             raise FrameError(held.name, held.error)
         assert held.K is not None and held.pose is not None

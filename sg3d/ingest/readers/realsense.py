@@ -33,8 +33,8 @@ import cv2
 import numpy as np
 
 from sg3d.ingest.readers.base import SequenceError
-from sg3d.ingest.readers.frames import Frame, FrameError, FrameInfo, ring_item
-from sg3d.ingest.readers.kept import KeptFrames
+from sg3d.ingest.readers.frames import Frame, FrameInfo
+from sg3d.ingest.readers.kept import KeptFrames, ring_or_kept
 
 PREFIX = "realsense"
 RING_FRAMES = 90              # frames held in memory (3 s at 30 frames/s)
@@ -199,13 +199,10 @@ class RealSenseSource:
     def frame(self, i: int) -> Frame:
         name = f"realsense-{i:06d}"
         with self._lock:
-            try:
-                colour, depth, stamp = ring_item(self._frames, self._count, i, name, self.ring)
-            except FrameError:
-                kept = self.kept.frame(i)
-                if kept is None:
-                    raise
-                return kept
+            item, kept = ring_or_kept(self._frames, self._count, i, name, self.ring, self.kept)
+        if kept is not None:
+            return kept
+        colour, depth, stamp = item
         assert self.K is not None
         return Frame(i, colour, depth, self.K, np.full((4, 4), np.nan), FrameInfo(stamp, name))
 

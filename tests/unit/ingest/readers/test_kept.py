@@ -63,3 +63,20 @@ def test_a_frame_kept_twice_is_kept_once():
     size = store.bytes
     store.keep(_frame(1, seed=5))
     assert len(store) == 1 and store.bytes == size
+
+
+def test_a_live_source_reads_its_ring_first_then_what_it_kept():      # ring_or_kept
+    from collections import deque
+
+    from sg3d.ingest.readers.frames import FrameError
+
+    store = kept.KeptFrames()
+    store.keep(_frame(2))
+    ring = deque(["item 8", "item 9"], maxlen=2)                      # frames 8 and 9 of 10 received
+    assert kept.ring_or_kept(ring, 10, 9, "frame-9", 2, store) == ("item 9", None)
+    item, frame = kept.ring_or_kept(ring, 10, 2, "frame-2", 2, store)
+    assert item is None and frame is not None and frame.index == 2
+    with pytest.raises(FrameError, match="no longer held"):
+        kept.ring_or_kept(ring, 10, 3, "frame-3", 2, store)                 # past the ring, never kept
+    with pytest.raises(FrameError, match="has not arrived"):
+        kept.ring_or_kept(ring, 10, 10, "frame-10", 2, store)
