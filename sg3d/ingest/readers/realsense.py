@@ -11,7 +11,9 @@ A camera streams depth (z16) and colour (bgr8) at 640x480, 30 frames/s; a record
 streams it holds. Every frameset is aligned to colour (``rs.align(rs.stream.color)``: depth
 registered to colour pixels, as every sg3d frame has it), depth is scaled to metres with the
 device's depth scale, K is the colour stream's intrinsics. A RealSense has no poses: the frames
-carry a NaN pose and `sg3d.ingest.poses.online.OnlinePoses` tracks them.
+carry a NaN pose and `sg3d.ingest.poses.online.OnlinePoses` tracks them, on each frame's depth as
+the depth camera measured it (`depth_camera`: its own pixels and intrinsics, the colour's grey
+levels brought into them by the device's calibration), not on the depth aligned to colour.
 
 Frames live in memory only: a ring keeps the last `ring` frames (90: three seconds), and
 `frame(i)` of an older one raises FrameError("... no longer held ..."), unless mapping asked to
@@ -33,7 +35,8 @@ import cv2
 import numpy as np
 
 from sg3d.ingest.readers.base import SequenceError
-from sg3d.ingest.readers.frames import Frame, FrameInfo
+from sg3d.ingest.readers.depth_pixels import grey_in_depth_pixels
+from sg3d.ingest.readers.frames import Frame, FrameError, FrameInfo, ring_item
 from sg3d.ingest.readers.kept import KeptFrames, ring_or_kept
 
 PREFIX = "realsense"
@@ -63,6 +66,24 @@ def import_realsense() -> Any:
                                 f"apt-get install libusb-1.0-0)")
         raise SequenceError(f"a RealSense source needs pyrealsense2: pip install 'sg3d[live]' ({why})")
     return rs
+
+
+def depth_camera_of(profile: Any) -> tuple[Optional[np.ndarray], np.ndarray]:
+    """The depth stream's K and its 4x4 motion into the colour camera (librealsense's calibration;
+    a recording carries the device's), or (None, identity) when the streams do not say."""
+    import pyrealsense2 as rs
+
+    try:
+        depth = profile.get_stream(rs.stream.depth).as_video_stream_profile()
+        colour = profile.get_stream(rs.stream.color).as_video_stream_profile()
+        i = depth.get_intrinsics()
+        e = depth.get_extrinsics_to(colour)
+    except RuntimeError:
+        return None, np.eye(4)
+    T = np.eye(4)
+    T[:3, :3] = np.asarray(e.rotation, dtype=np.float64).reshape(3, 3).T    # librealsense: column-major
+    T[:3, 3] = e.translation
+    return np.array([[i.fx, 0, i.ppx], [0, i.fy, i.ppy], [0, 0, 1]], dtype=np.float64), T
 
 
 def colour_to_bgr(img: np.ndarray, fmt: str) -> np.ndarray:
@@ -99,7 +120,7 @@ class RealSenseSource:
         self.error: Optional[str] = None
         self.K: Optional[np.ndarray] = None
         self.depth_scale = 0.0
-        self._frames: deque = deque(maxlen=self.ring)      # (colour BGR, depth metres, timestamp s)
+        self._frames: deque = deque(maxlen=self.ring)      # (colour BGR, depth metres, timestamp s, raw depth)
         self.kept = KeptFrames()                           # frames mapping judged, past the ring
         self._times: deque = deque(maxlen=max(TIMES_HELD, self.ring))
         self._count = 0
@@ -138,6 +159,7 @@ class RealSenseSource:
             raise SequenceError(f"{self.what} has no depth sensor: {exc}")
         colour = profile.get_stream(rs.stream.color).as_video_stream_profile().get_intrinsics()
         self.K = np.array([[colour.fx, 0, colour.ppx], [0, colour.fy, colour.ppy], [0, 0, 1]], dtype=np.float64)
+        self.K_depth, self.depth_to_colour = depth_camera_of(profile)
         self._align = rs.align(rs.stream.color)
         self._thread = threading.Thread(target=self._run, name="sg3d-realsense", daemon=True)
         self._thread.start()
@@ -170,6 +192,8 @@ class RealSenseSource:
             return True
 
     def _take(self, frames: Any) -> None:
+        raw = frames.get_depth_frame()
+        raw_mm = np.asanyarray(raw.get_data()).copy() if raw else None   # the frameset's memory goes back to librealsense
         aligned = self._align.process(frames)
         depth, colour = aligned.get_depth_frame(), aligned.get_color_frame()
         if not depth or not colour:
@@ -183,7 +207,7 @@ class RealSenseSource:
             self.dropped += number - self._last_number - 1
         self._last_number = number
         with self._lock:
-            self._frames.append((bgr, metres, stamp))
+            self._frames.append((bgr, metres, stamp, raw_mm))
             self._times.append(time.time())
             self._count += 1
 
@@ -202,9 +226,27 @@ class RealSenseSource:
             item, kept = ring_or_kept(self._frames, self._count, i, name, self.ring, self.kept)
         if kept is not None:
             return kept
-        colour, depth, stamp = item
+        colour, depth, stamp, _ = item
         assert self.K is not None
         return Frame(i, colour, depth, self.K, np.full((4, 4), np.nan), FrameInfo(stamp, name))
+
+    def depth_camera(self, i: int) -> Optional[tuple[np.ndarray, np.ndarray, np.ndarray]]:
+        """Frame i as odometry reads it: (depth in metres in the depth camera's own pixels, the
+        colour's grey levels brought into them: `grey_in_depth_pixels`, the depth camera's K);
+        None when the streams do not say how the depth camera sits (odometry then reads the
+        aligned depth of every frame); FrameError when the ring no longer holds the frame (a frame
+        kept past the ring keeps only its aligned depth)."""
+        if self.K_depth is None:
+            return None
+        name = f"realsense-{i:06d}"
+        with self._lock:
+            colour, _, _, raw = ring_item(self._frames, self._count, i, name, self.ring)
+        if raw is None:
+            raise FrameError(name, "no depth of its own in the frameset")
+        depth = raw.astype(np.float32) * np.float32(self.depth_scale)
+        grey = cv2.cvtColor(colour, cv2.COLOR_BGR2GRAY)
+        assert self.K is not None
+        return depth, grey_in_depth_pixels(depth, self.K_depth, grey, self.K, self.depth_to_colour), self.K_depth
 
     def keep(self, frame: Frame) -> None:
         """Keep a frame past the ring (`sg3d.ingest.readers.kept`): mapping judged it sharp, and
