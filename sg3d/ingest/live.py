@@ -434,8 +434,8 @@ class LiveMapper:
             choice = choose_detected_frames(seq, 0, len(seq), params=self.params)
             final, self.required = choice.detected, choice.required
         else:
-            budget = coverage.frame_budget(len(self.candidates), self.params.detect_fraction,
-                                           self.params.min_detect_frames)
+            budget = coverage.recording_budget(len(self.candidates), self.counts.read, self.counts.received,
+                                               self.params.detect_fraction, self.params.min_detect_frames)
             final = coverage.choose_frames(self.candidates, self.required, budget)
         if seq is not None and len(seq):
             try:     # gravity as a build estimates it; the sightings follow it

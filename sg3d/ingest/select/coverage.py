@@ -67,6 +67,19 @@ def frame_budget(n_sharp: int, fraction: float = DEFAULT_FRACTION, min_frames: i
     return int(min(n_sharp, max(min_frames, round(fraction * n_sharp))))
 
 
+def recording_budget(sharp_judged: int, judged: int, received: int, fraction: float = DEFAULT_FRACTION,
+                     min_frames: int = MIN_FRAMES) -> int:
+    """Rule "a live source's detection budget is a build's": `frame_budget` of the recording's
+    sharp frames, estimated as the frames `received` times the sharp share of those `judged` (a
+    source tracked live judges only the frames tracking took: a budget of the judged ones
+    shrank with the CPU tracking had), never more than the `sharp_judged` frames there are to
+    choose from."""
+    if judged <= 0 or sharp_judged <= 0:
+        return 0
+    sharp = round(sharp_judged * max(received, judged) / judged)
+    return min(sharp_judged, frame_budget(int(sharp), fraction, min_frames))
+
+
 def farthest_viewpoints(candidates: Sequence[Candidate], required: Sequence[int], budget: int) -> list[int]:
     """Every `required` frame (KGE keyframes and anchors) that is a candidate, then greedy
     farthest-point sampling over `candidates` in viewpoint space until `budget` frames are chosen

@@ -124,3 +124,17 @@ def test_a_choice_moves_within_a_window_of_5_sharp_frames():          # SNAP_WIN
     assert coverage.sharpest_in_windows(cands, [0]) == [4]
     assert coverage.sharpest_in_windows(cands, [5]) == [5]            # the next window holds no 9
     assert coverage.sharpest_in_windows(cands, [10]) == [14]
+
+
+def test_a_live_budget_is_a_share_of_the_recording_not_of_the_frames_tracking_took():   # recording_budget
+    from sg3d.ingest.select.coverage import MIN_FRAMES, frame_budget, recording_budget
+
+    # every frame judged: the build's budget over the sharp ones
+    assert recording_budget(870, 1000, 1000) == frame_budget(870) == 130
+    # a camera whose tracker took 464 of 1,000 frames, 400 of them sharp: the recording holds ~862
+    assert recording_budget(400, 464, 1000) == frame_budget(862) == 129
+    assert recording_budget(400, 464, 464) == frame_budget(400) == 60      # a budget of the judged ones
+    # never more than there are to choose from, nor a budget for nothing
+    assert recording_budget(30, 30, 1000) == 30
+    assert recording_budget(MIN_FRAMES + 5, 500, 5000) == MIN_FRAMES + 5
+    assert recording_budget(0, 0, 1000) == 0
