@@ -181,31 +181,39 @@ def _rays(h: int, w: int, K: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return _RAYS[key]
 
 
-def depth_agreement(source: np.ndarray, target: np.ndarray, K: np.ndarray, motion: np.ndarray,
-                    grid: int = FIT_GRID, tol: float = INLIER_M) -> tuple[float, float, float]:
-    """Projective check of a motion: back-project the source's depth (every `grid`-th pixel), move
-    the points into the target camera, project them and compare with the target's depth there.
-    Returns (share of the source's valid points within `tol`, RMS depth difference of those,
-    share of the source's valid points that land on valid target depth)."""
+def _projected(source: np.ndarray, target_shape: tuple[int, ...], K: np.ndarray, motion: np.ndarray,
+               grid: int) -> tuple[np.ndarray, ...]:
+    """The source's valid depth pixels (every `grid`-th) moved by `motion` into the target camera:
+    (u, v, their depth there, target column, target row, whether they land inside the target)."""
     v, u = np.mgrid[0:source.shape[0]:grid, 0:source.shape[1]:grid]
     z = source[v, u]
     valid = z > 0
-    if not valid.any():
-        return 0.0, float("inf"), 0.0
     u, v, z = u[valid], v[valid], z[valid]
     fx, fy, cx, cy = K[0, 0], K[1, 1], K[0, 2], K[1, 2]
     Q = _moved((u - cx) * z / fx, (v - cy) * z / fy, z, motion)
     front = Q[:, 2] > 1e-3
     pu = np.round(Q[:, 0] / np.where(front, Q[:, 2], 1) * fx + cx).astype(int)
     pv = np.round(Q[:, 1] / np.where(front, Q[:, 2], 1) * fy + cy).astype(int)
-    inside = front & (pu >= 0) & (pu < target.shape[1]) & (pv >= 0) & (pv < target.shape[0])
-    diff = np.full(len(Q), np.inf)
+    inside = front & (pu >= 0) & (pu < target_shape[1]) & (pv >= 0) & (pv < target_shape[0])
+    return u, v, Q[:, 2], pu, pv, inside
+
+
+def depth_agreement(source: np.ndarray, target: np.ndarray, K: np.ndarray, motion: np.ndarray,
+                    grid: int = FIT_GRID, tol: float = INLIER_M) -> tuple[float, float, float]:
+    """Projective check of a motion: back-project the source's depth (every `grid`-th pixel), move
+    the points into the target camera, project them and compare with the target's depth there.
+    Returns (share of the source's valid points within `tol`, RMS depth difference of those,
+    share of the source's valid points that land on valid target depth)."""
+    _, _, z, pu, pv, inside = _projected(source, target.shape, K, motion, grid)
+    if not len(z):
+        return 0.0, float("inf"), 0.0
+    diff = np.full(len(z), np.inf)
     d = target[pv[inside], pu[inside]]
-    diff[inside] = np.where(d > 0, np.abs(d - Q[inside, 2]), np.inf)
+    diff[inside] = np.where(d > 0, np.abs(d - z[inside]), np.inf)
     good = diff < tol
-    share = float(good.sum()) / len(Q)
+    share = float(good.sum()) / len(z)
     rms = float(np.sqrt(np.mean(diff[good] ** 2))) if good.any() else float("inf")
-    overlap = float(np.isfinite(diff).sum()) / len(Q)
+    overlap = float(np.isfinite(diff).sum()) / len(z)
     return share, rms, overlap
 
 
@@ -216,20 +224,10 @@ def image_agreement(source: View, target: View, K: np.ndarray, motion: np.ndarra
     brightness constancy, the check depth alone cannot make (a fit sliding along a plane keeps
     the depth agreeing, not the texture). None when the confirmed points show too little texture
     to judge (grey spread under `MIN_TEXTURE` levels, or fewer than `MIN_TEXTURE_POINTS`)."""
-    sd, td = source.depth, target.depth
-    v, u = np.mgrid[0:sd.shape[0]:grid, 0:sd.shape[1]:grid]
-    z = sd[v, u]
-    valid = z > 0
-    u, v, z = u[valid], v[valid], z[valid]
-    fx, fy, cx, cy = K[0, 0], K[1, 1], K[0, 2], K[1, 2]
-    Q = _moved((u - cx) * z / fx, (v - cy) * z / fy, z, motion)
-    front = Q[:, 2] > 1e-3
-    pu = np.round(Q[:, 0] / np.where(front, Q[:, 2], 1) * fx + cx).astype(int)
-    pv = np.round(Q[:, 1] / np.where(front, Q[:, 2], 1) * fy + cy).astype(int)
-    inside = front & (pu >= 0) & (pu < td.shape[1]) & (pv >= 0) & (pv < td.shape[0])
-    d = np.zeros(len(Q), np.float32)
-    d[inside] = td[pv[inside], pu[inside]]
-    good = inside & (d > 0) & (np.abs(d - Q[:, 2]) < tol)
+    u, v, z, pu, pv, inside = _projected(source.depth, target.depth.shape, K, motion, grid)
+    d = np.zeros(len(z), np.float32)
+    d[inside] = target.depth[pv[inside], pu[inside]]
+    good = inside & (d > 0) & (np.abs(d - z) < tol)
     if good.sum() < MIN_TEXTURE_POINTS:
         return None
     a = source.gray[v[good], u[good]].astype(np.float32)
